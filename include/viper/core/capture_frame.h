@@ -1,0 +1,90 @@
+// What one captured frame holds: only what a layer between an OpenGL program and its driver sees.
+// No object identities, classes, instance ids or object poses: those are derived downstream.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace viper {
+
+/// A 4x4 matrix exactly as the program passed it to OpenGL (column-major storage, OpenGL axes).
+using GlMatrix = Eigen::Matrix4f;
+
+/// Which of a draw's matrices the capture profile found for the draw's program.
+enum MatrixFlags : uint8_t {
+  kHasWorld = 1u << 0,
+  kHasView = 1u << 1,
+  kHasProjection = 1u << 2,
+};
+
+/// One draw call of a frame, as the interceptor recorded it.
+struct DrawRecord {
+  /// Index of the draw call within its frame (0-based). The id image stores index + 1.
+  uint32_t index = 0;
+  /// Content key of the mesh: hash of vertex data, index data and position layout of the draw range.
+  uint64_t mesh_key = 0;
+  /// Content keys of the vertex buffer holding positions and of the index buffer (0 if none).
+  uint64_t vertex_buffer_key = 0;
+  uint64_t index_buffer_key = 0;
+  /// Content key of the shader program (hash of its original shader sources).
+  uint64_t program_key = 0;
+  /// Content keys of the textures bound to the program's samplers, in sampler order.
+  std::vector<uint64_t> texture_keys;
+  /// Matrices named by the capture profile, as passed by the program (see `matrix_flags`).
+  uint8_t matrix_flags = 0;
+  GlMatrix world = GlMatrix::Identity();
+  GlMatrix view = GlMatrix::Identity();
+  GlMatrix projection = GlMatrix::Identity();
+  /// GL primitive mode (GL_TRIANGLES = 4) and number of primitives drawn.
+  uint32_t primitive_mode = 4;
+  uint32_t primitive_count = 0;
+  /// Number of pixels of the final id image that this draw owns (0 = left no visible pixel).
+  uint32_t visible_pixels = 0;
+  /// For draws whose vertex shader deforms vertices: clip-space position (x, y, z, w) of every
+  /// vertex of the mesh after the vertex shader, indexed like the mesh's vertices. Empty if rigid.
+  std::vector<float> deformed_clip_xyzw;
+};
+
+/// Object-space geometry of one mesh, sent once per mesh key.
+struct MeshRecord {
+  uint64_t key = 0;
+  /// Vertex positions x, y, z in the mesh's own coordinates (what the program uploaded).
+  std::vector<float> positions_xyz;
+  /// Triangle list: three vertex indices per primitive, in primitive order (primitive id order).
+  std::vector<uint32_t> indices;
+};
+
+/// One frame of a capture.
+struct CaptureFrame {
+  /// Frame number, counting buffer swaps from 0.
+  uint64_t number = 0;
+  /// Capture time in seconds (program's clock as seen at the swap; monotonic within a stream).
+  double time_s = 0.0;
+  /// Condition tag given by whoever ran the capture (e.g. "day", "night"); may be empty.
+  std::string condition;
+  uint32_t width = 0;
+  uint32_t height = 0;
+  /// Final color image, rgb8, row-major, top row first (width * height * 3 bytes).
+  std::vector<uint8_t> color_rgb;
+  /// Window-space depth of the opaque surfaces in [0, 1], top row first; 1 where nothing was drawn.
+  std::vector<float> depth_window;
+  /// Per pixel: index + 1 of the draw call that produced the visible surface, 0 = none.
+  std::vector<uint32_t> draw_ids;
+  /// Per pixel: primitive (triangle) index within that draw; meaningless where draw_ids is 0.
+  std::vector<uint32_t> primitive_ids;
+  std::vector<DrawRecord> draws;
+  /// Meshes first seen in this frame (the mesh store is the union over all earlier frames).
+  std::vector<MeshRecord> new_meshes;
+
+  size_t pixelCount() const { return static_cast<size_t>(width) * height; }
+};
+
+/// Checks sizes and consistency of a frame (image sizes match width*height, draw indices are
+/// 0..n-1, every draw id in the image names an existing draw). Returns an empty string when the
+/// frame is consistent, else a message saying what is wrong.
+std::string validateFrame(const CaptureFrame& frame);
+
+}  // namespace viper

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs every dependency of viper from Debian's packages (idempotent, as root) and builds the
+# package into build/ (a catkin devel space under build/devel). Usage: scripts/setup.sh [--no-build]
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+
+PKGS=(
+  build-essential cmake pkg-config clang
+  catkin ros-core-dev libroscpp-dev libtf2-ros-dev libtf2-eigen-dev librosbag-dev
+  librostest-dev python3-rostest python3-rosbag python3-roslaunch rosbash
+  libcv-bridge-dev libimage-transport-dev libnodeletlib-dev libnodeletlib-tools python3-rostopic python3-rosnode
+  ros-sensor-msgs ros-nav-msgs ros-visualization-msgs ros-std-msgs ros-geometry-msgs
+  ros-message-generation ros-message-runtime ros-rosgraph-msgs
+  libeigen3-dev libopencv-dev libyaml-cpp-dev libzstd-dev libxxhash-dev
+  libegl-dev libgl-dev libglx-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
+  libgtest-dev libbenchmark-dev
+  xvfb imagemagick
+)
+
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO=sudo
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+[ "${1:-}" = "--no-build" ] && exit 0
+
+mkdir -p "$here/build"
+cd "$here/build"
+cmake "$here" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+  -DCATKIN_DEVEL_PREFIX="$here/build/devel" >/dev/null
+make -j"$(nproc)"
+echo "setup: built; run 'source $here/build/devel/setup.bash' to use rosrun/roslaunch"

@@ -2,8 +2,9 @@
 file(GLOB VIPER_CORE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/core/*.cpp)
 add_library(viper_core ${VIPER_CORE_SOURCES})
 target_include_directories(viper_core PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_core SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR} ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_core PUBLIC ${OpenCV_LIBS} PRIVATE PkgConfig::ZSTD PkgConfig::XXHASH PkgConfig::YAMLCPP)
+target_include_directories(viper_core SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR})
+# Deliberately no OpenCV and no ROS: the capture layer preloads this library into foreign programs.
+target_link_libraries(viper_core PRIVATE PkgConfig::ZSTD PkgConfig::XXHASH PkgConfig::YAMLCPP)
 install(TARGETS viper_core
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})

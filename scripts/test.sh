@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Builds viper with its tests and runs every test: gtests and rostests (through catkin's run_tests),
+# then the capture-reader fuzzer for a short while. Ends with "N passed, N failed"; exits non-zero
+# if any test failed or none ran. Usage: scripts/test.sh [fuzz_seconds (default 20)]
+set -uo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+build="$here/build"
+fuzz_seconds="${1:-20}"
+
+if [ ! -f "$build/Makefile" ]; then
+  bash "$here/scripts/setup.sh" || { echo "0 passed, 1 failed"; exit 1; }
+fi
+export ROS_HOME="$build/ros_home" ROS_LOG_DIR="$build/ros_home/log"
+# shellcheck disable=SC1091
+source "$build/devel/setup.bash"
+cd "$build"
+make -j"$(nproc)" all tests || { echo "build failed"; echo "0 passed, 1 failed"; exit 1; }
+rm -rf "$build/test_results"
+make -j1 run_tests 2>&1 | tee "$build/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|FAILURE|ERROR:|rostest" || true
+
+/usr/bin/python3 - "$build/test_results" > "$build/test_counts.txt" <<'PY'
+import sys, glob, xml.etree.ElementTree as ET
+passed = failed = 0
+for path in sorted(glob.glob(sys.argv[1] + "/**/*.xml", recursive=True)):
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as e:
+        print(f"unreadable result {path}: {e}", file=sys.stderr); failed += 1; continue
+    cases = root.iter("testcase")
+    n = 0
+    for c in cases:
+        n += 1
+        if c.find("failure") is not None or c.find("error") is not None:
+            failed += 1; print(f"FAILED: {path}: {c.get('classname')}.{c.get('name')}", file=sys.stderr)
+        elif c.find("skipped") is None:
+            passed += 1
+    if n == 0 and root.get("failures", "0") + root.get("errors", "0") != "00":
+        failed += 1; print(f"FAILED (no test cases): {path}", file=sys.stderr)
+print(passed, failed)
+PY
+read -r passed failed < "$build/test_counts.txt"
+
+if [ -x "$here/test/fuzz/run_fuzzer.sh" ]; then
+  if bash "$here/test/fuzz/run_fuzzer.sh" "$fuzz_seconds"; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+fi
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]

@@ -1,0 +1,46 @@
+// Optical flow scores as VIPER and KITTI report them: WAUC, average endpoint error, outlier rate.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace viper {
+
+/// Accumulates flow errors over frames. Flows are interleaved (u, v) floats in pixels; a pixel is
+/// scored where both ground-truth components are finite and, if a mask is given, the mask is
+/// non-zero. A non-finite prediction on a scored pixel counts as an infinite error (it is never
+/// within any threshold and is an outlier); it is left out of the average endpoint error and
+/// counted in invalidPredictions().
+class FlowErrorAccumulator {
+ public:
+  /// Largest threshold of the WAUC curve, in pixels (VIPER: 5 px).
+  static constexpr double kWaucMaxPx = 5.0;
+
+  /// Adds `n` pixels. `mask` may be null (score every pixel with valid ground truth).
+  void add(const float* gt_uv, const float* pred_uv, const uint8_t* mask, size_t n);
+  void merge(const FlowErrorAccumulator& other);
+
+  /// Weighted area under the curve, 0..100: the fraction of pixels with endpoint error <= x,
+  /// integrated over x in [0, 5] px with weight 1 - x/5, normalised by the weights' integral.
+  /// Computed exactly: a pixel with error e contributes (1 - e/5)^2 if e < 5, else 0.
+  /// NaN if no pixel was scored.
+  double wauc() const;
+  /// Mean endpoint error (px) over scored pixels with a finite prediction; NaN if none.
+  double averageEndpointError() const;
+  /// KITTI outlier rate in percent: error > 3 px and > 5% of the ground-truth flow magnitude.
+  double outlierPercent() const;
+  /// Percentage of scored pixels with endpoint error below threshold_px, resolved to 0.01 px
+  /// (for curves); threshold_px in [0, 5] (larger thresholds count errors below 5 px).
+  double inlierPercent(double threshold_px) const;
+
+  uint64_t scoredPixels() const { return scored_; }
+  uint64_t invalidPredictions() const { return invalid_pred_; }
+
+ private:
+  static constexpr int kHistBins = 500;  // 0.01 px bins over [0, 5) for inlierPercent()
+  uint64_t scored_ = 0, invalid_pred_ = 0, outliers_ = 0;
+  double wauc_sum_ = 0.0, epe_sum_ = 0.0;
+  uint64_t hist_[kHistBins] = {};
+};
+
+}  // namespace viper

@@ -1,0 +1,65 @@
+// Instance segmentation scores with the Cityscapes protocol, as VIPER reports them:
+// region AP averaged over IoU thresholds 0.50:0.05:0.95, and AP at 50%.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace viper {
+
+/// One predicted instance: a full-frame mask (non-zero = inside), its class and confidence.
+struct PredictedInstance {
+  int class_id = 0;
+  double score = 0.0;
+  std::vector<uint8_t> mask;
+};
+
+/// Accumulates matches over frames and computes average precision per class.
+///
+/// Protocol (Cityscapes `evalInstanceLevelSemanticLabeling`): a prediction matches a ground-truth
+/// instance of its class when their IoU exceeds the threshold; of several matches of one ground
+/// truth the best-scored is a true positive and the rest are false positives; ground truth under
+/// `min_region_px` pixels is ignored; an unmatched prediction is a false positive unless more than
+/// the threshold's share of it lies on void pixels or ignored ground truth; AP is the step-wise
+/// integral of the precision-recall curve.
+class InstanceApAccumulator {
+ public:
+  /// `evaluated[c]`: whether class c is scored (ClassTable::instanceEvalMask()).
+  /// `void_class[c]`: whether ground-truth pixels of class c are void (not scored at all,
+  /// e.g. ClassTable's classes with class_eval = 0).
+  InstanceApAccumulator(std::vector<bool> evaluated, std::vector<bool> void_class, int min_region_px = 100);
+
+  /// Adds one frame. `gt_instance_ids`: per pixel instance id (0 = none), `gt_class_ids`: per pixel
+  /// class id; an instance's class is the majority class of its pixels. Throws
+  /// std::invalid_argument if a prediction's mask size differs from n.
+  void add(const int32_t* gt_instance_ids, const uint8_t* gt_class_ids, size_t n,
+           const std::vector<PredictedInstance>& predictions);
+
+  /// The IoU thresholds 0.50, 0.55, ..., 0.95.
+  static const std::vector<double>& thresholds();
+  /// AP of class c at threshold index t, in 0..1. 0 if the class has ground truth but no
+  /// prediction; NaN if it has no ground truth.
+  double ap(int c, size_t t) const;
+  /// AP of class c averaged over the thresholds (NaN if the class has no ground truth).
+  double classAp(int c) const;
+  /// AP of class c at IoU 0.5.
+  double classAp50(int c) const { return ap(c, 0); }
+  /// Mean over evaluated classes and thresholds, ignoring NaN (Cityscapes `allAp`).
+  double meanAp() const;
+  /// Mean over evaluated classes at IoU 0.5 (Cityscapes `allAp50%`).
+  double meanAp50() const;
+
+ private:
+  struct Curve {
+    std::vector<double> scores;
+    std::vector<uint8_t> is_true;
+    uint64_t hard_false_negatives = 0;
+  };
+  std::vector<bool> evaluated_, void_class_;
+  int min_region_px_;
+  std::vector<std::vector<Curve>> curves_;  // [class][threshold]
+  std::vector<bool> have_gt_, have_pred_;
+};
+
+}  // namespace viper

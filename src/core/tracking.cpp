@@ -1,0 +1,139 @@
+#include "viper/core/tracking.h"
+
+#include "viper/core/assignment.h"
+
+#include <algorithm>
+#include <iterator>
+
+namespace viper {
+namespace {
+
+// Price of a forbidden edge: larger than any sum of real motions, so the solver first maximises
+// the number of real matches and then minimises their total motion.
+constexpr double kForbidden = 1e12;
+
+std::vector<uint64_t> resourcesOf(const FrameObject& o) {
+  std::vector<uint64_t> r;
+  std::merge(o.mesh_keys.begin(), o.mesh_keys.end(), o.texture_keys.begin(), o.texture_keys.end(),
+             std::back_inserter(r));
+  r.erase(std::unique(r.begin(), r.end()), r.end());
+  return r;
+}
+
+bool intersects(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b) {
+  auto i = a.begin();
+  auto j = b.begin();
+  while (i != a.end() && j != b.end()) {
+    if (*i == *j) return true;
+    if (*i < *j) ++i; else ++j;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<double> TrackerOptions::defaultMaxSpeeds() {
+  std::vector<double> v(256, 0.5);
+  v[20] = 10.0;                                 // person
+  v[21] = v[22] = 20.0;                         // animal, bicycle
+  for (int c = 23; c <= 28; ++c) v[c] = 60.0;   // motorcycle .. trailer
+  v[29] = 100.0;                                // train
+  v[30] = 300.0;                                // plane
+  v[31] = 30.0;                                 // boat
+  return v;
+}
+
+std::vector<bool> TrackerOptions::defaultDynamicClasses() {
+  std::vector<bool> v(256, false);
+  for (int c = 20; c <= 31; ++c) v[c] = true;
+  return v;
+}
+
+Tracker::Tracker(TrackerOptions options) : options_(std::move(options)) {}
+
+void Tracker::reset() {
+  tracks_.clear();
+  have_time_ = false;
+}
+
+bool Tracker::edgeAllowed(const Track& t, const FrameObject& o, const Eigen::Vector3d& predicted,
+                          const Eigen::Vector3d& position, double dt) const {
+  if (t.class_id != o.class_id) return false;
+  const double speed = o.class_id < options_.max_speed_mps.size() ? options_.max_speed_mps[o.class_id] : 0.5;
+  const double miss = (position - predicted).norm();
+  if ((position - t.position).norm() > speed * dt + options_.slack_m && miss > options_.slack_m) return false;
+  const bool dynamic = o.class_id < options_.dynamic_classes.size() && options_.dynamic_classes[o.class_id];
+  if (dynamic && !intersects(t.resources, resourcesOf(o)) && miss > options_.lod_tolerance_m) return false;
+  return true;
+}
+
+std::vector<int32_t> Tracker::update(double time_s, const std::vector<FrameObject>& objects,
+                                     const std::vector<Eigen::Vector3d>& positions) {
+  was_reset_ = false;
+  if (have_time_ && time_s <= last_time_s_) {
+    reset();
+    was_reset_ = true;
+  }
+  std::vector<int32_t> ids(objects.size(), 0);
+  std::vector<size_t> things;
+  for (size_t k = 0; k < objects.size() && k < positions.size(); ++k)
+    if (objects[k].is_thing) things.push_back(k);
+
+  // Cost matrix over (things) x (tracks + one "new track" column per thing).
+  const size_t n = things.size(), m = tracks_.size();
+  std::vector<int> match(n, -1);
+  if (n > 0 && m > 0) {
+    Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(n, m + n, kForbidden);
+    for (size_t r = 0; r < n; ++r) {
+      const FrameObject& o = objects[things[r]];
+      const Eigen::Vector3d& p = positions[things[r]];
+      for (size_t c = 0; c < m; ++c) {
+        const Track& t = tracks_[c];
+        const double dt = time_s - t.time_s;
+        const Eigen::Vector3d predicted = t.position + t.velocity * dt;
+        if (edgeAllowed(t, o, predicted, p, dt)) cost(r, c) = (p - predicted).norm();
+      }
+      cost(r, m + r) = kForbidden / 2;  // starting a new track beats a forbidden edge
+    }
+    const std::vector<int> cols = solveAssignment(cost);
+    for (size_t r = 0; r < n; ++r)
+      if (cols[r] >= 0 && static_cast<size_t>(cols[r]) < m && cost(r, cols[r]) < kForbidden / 2) match[r] = cols[r];
+  }
+
+  std::vector<char> track_used(m, false);
+  std::vector<Track> born;
+  for (size_t r = 0; r < n; ++r) {
+    const FrameObject& o = objects[things[r]];
+    const Eigen::Vector3d& p = positions[things[r]];
+    std::vector<uint64_t> res = resourcesOf(o);
+    if (match[r] >= 0) {
+      Track& t = tracks_[match[r]];
+      const double dt = time_s - t.time_s;
+      if (dt > 0) t.velocity = (p - t.position) / dt;
+      t.position = p;
+      t.time_s = time_s;
+      t.missed = 0;
+      std::vector<uint64_t> merged;
+      std::set_union(t.resources.begin(), t.resources.end(), res.begin(), res.end(), std::back_inserter(merged));
+      t.resources.swap(merged);
+      track_used[match[r]] = true;
+      ids[things[r]] = t.id;
+    } else {
+      Track t{next_id_++, o.class_id, p, Eigen::Vector3d::Zero(), time_s, 0, std::move(res)};
+      ids[things[r]] = t.id;
+      born.push_back(std::move(t));
+    }
+  }
+  std::vector<Track> kept;
+  for (size_t c = 0; c < m; ++c) {
+    if (!track_used[c] && ++tracks_[c].missed > options_.extrapolate_frames) continue;
+    kept.push_back(std::move(tracks_[c]));
+  }
+  kept.insert(kept.end(), std::make_move_iterator(born.begin()), std::make_move_iterator(born.end()));
+  tracks_.swap(kept);
+  last_time_s_ = time_s;
+  have_time_ = true;
+  return ids;
+}
+
+}  // namespace viper

@@ -1,0 +1,57 @@
+// Dense optical flow and correspondences between two captured frames (ARCHITECTURE.md, "dense
+// optical flow"): rigid surfaces by lifting depth through the inverse of projection * view * world;
+// non-rigid surfaces by inverting the rasterizer's perspective-correct interpolation over the
+// triangle's post-vertex-shader positions. No image is resampled.
+#pragma once
+
+#include "viper/core/boxes.h"
+#include "viper/core/capture_frame.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace viper {
+
+/// For each draw of frame `a`, the index of the draw of frame `b` that shows the same surface, or
+/// -1. `a_object_ids[i]` is a stable identity of draw i's object (its track id), 0 if it has none.
+/// Draws of tracked objects associate by (object id, mesh key); other draws by (mesh key, world
+/// matrix), and failing that by a mesh key that occurs once in each frame.
+std::vector<int32_t> associateDraws(const CaptureFrame& a, const std::vector<int32_t>& a_object_ids,
+                                    const CaptureFrame& b, const std::vector<int32_t>& b_object_ids);
+
+/// Flow from frame a to frame b.
+struct FlowField {
+  uint32_t width = 0, height = 0;
+  /// Interleaved (u, v) in pixels (u right, v down); NaN where undefined (no surface, no
+  /// association, missing geometry).
+  std::vector<float> uv;
+  /// 255 where the corresponding point is visible in frame b (inside it and not behind b's depth),
+  /// 0 where it is occluded, out of view or undefined.
+  std::vector<uint8_t> visible;
+};
+
+/// Counts of what happened to the pixels of one flow computation.
+struct FlowStats {
+  size_t rigid = 0, non_rigid = 0;   ///< pixels with flow, by kind
+  size_t no_surface = 0;             ///< no draw, or no depth
+  size_t no_association = 0;         ///< the draw has no counterpart in frame b
+  size_t missing_geometry = 0;       ///< deformed draw without positions / mesh, or singular matrices
+};
+
+/// Options of computeFlow.
+struct FlowOptions {
+  /// A point is visible in b when b's depth there is at least the point's depth minus
+  /// (relative * depth + absolute).
+  double occlusion_relative = 0.005;
+  double occlusion_absolute_m = 0.02;
+};
+
+/// Computes flow a -> b. `a_to_b` comes from associateDraws; `b_depth_m` is b's depth in metres
+/// along the optical axis (NaN = no surface), width*height values; `meshes` holds the triangles
+/// of deformed draws. Throws std::invalid_argument if the frames' sizes differ, or a vector size
+/// does not match its frame.
+FlowField computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
+                      const std::vector<float>& b_depth_m, const MeshStore& meshes,
+                      const FlowOptions& options = FlowOptions(), FlowStats* stats = nullptr);
+
+}  // namespace viper

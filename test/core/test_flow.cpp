@@ -1,0 +1,254 @@
+#include "viper/core/flow.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
+#include <cmath>
+
+namespace viper {
+namespace {
+
+constexpr uint32_t kW = 96, kH = 64;
+
+GlMatrix perspective(double fovy, double aspect, double n, double f) {
+  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
+  const double t = 1.0 / std::tan(fovy / 2);
+  p(0, 0) = t / aspect, p(1, 1) = t, p(2, 2) = -(f + n) / (f - n), p(2, 3) = -2 * f * n / (f - n), p(3, 2) = -1;
+  return p.cast<float>();
+}
+
+GlMatrix lookAt(Eigen::Vector3d eye, Eigen::Vector3d target) {
+  const Eigen::Vector3d f = (target - eye).normalized(), s = f.cross(Eigen::Vector3d::UnitZ()).normalized(),
+                        u = s.cross(f);
+  Eigen::Matrix4d v = Eigen::Matrix4d::Identity();
+  v.row(0).head<3>() = s, v.row(1).head<3>() = u, v.row(2).head<3>() = -f;
+  v(0, 3) = -s.dot(eye), v(1, 3) = -u.dot(eye), v(2, 3) = f.dot(eye);
+  return v.cast<float>();
+}
+
+// Ray through the center of pixel (x, y) in world coordinates: origin and direction.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> pixelRay(const GlMatrix& proj, const GlMatrix& view, int x, int y) {
+  const Eigen::Matrix4d inv = (proj.cast<double>() * view.cast<double>()).inverse();
+  const double nx = 2.0 * (x + 0.5) / kW - 1, ny = 1.0 - 2.0 * (y + 0.5) / kH;
+  Eigen::Vector4d a = inv * Eigen::Vector4d(nx, ny, -1, 1), b = inv * Eigen::Vector4d(nx, ny, 1, 1);
+  const Eigen::Vector3d p0 = a.head<3>() / a.w(), p1 = b.head<3>() / b.w();
+  return {p0, (p1 - p0).normalized()};
+}
+
+Eigen::Vector2d projectPixel(const GlMatrix& proj, const GlMatrix& view, const Eigen::Vector3d& p) {
+  const Eigen::Vector4d c = proj.cast<double>() * view.cast<double>() * p.homogeneous();
+  return {(c.x() / c.w() + 1) * 0.5 * kW - 0.5, (1 - c.y() / c.w()) * 0.5 * kH - 0.5};
+}
+
+float windowDepth(const GlMatrix& proj, const GlMatrix& view, const Eigen::Vector3d& p) {
+  const Eigen::Vector4d c = proj.cast<double>() * view.cast<double>() * p.homogeneous();
+  return static_cast<float>((c.z() / c.w() + 1) * 0.5);
+}
+
+CaptureFrame emptyFrame() {
+  CaptureFrame f;
+  f.width = kW, f.height = kH;
+  f.depth_window.assign(kW * kH, 1.0f);
+  f.draw_ids.assign(kW * kH, 0);
+  f.primitive_ids.assign(kW * kH, 0);
+  f.color_rgb.assign(kW * kH * 3, 0);
+  return f;
+}
+
+// A unit square (object z = 0, |x|, |y| <= 1) placed with `world`, "rendered" by ray casting.
+struct RigidCase {
+  GlMatrix proj = perspective(0.9, double(kW) / kH, 0.1, 300);
+  GlMatrix view_a = lookAt({-6, -1, 2}, {0, 0, 0.5}), view_b = lookAt({-5.6, -0.8, 2.05}, {0, 0.1, 0.5});
+  GlMatrix world_a, world_b;
+  CaptureFrame a = emptyFrame(), b = emptyFrame();
+  RigidCase() {
+    Eigen::Affine3d wa = Eigen::Translation3d(0, 0, 1) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
+                         Eigen::AngleAxisd(1.2, Eigen::Vector3d::UnitY()) * Eigen::Scaling(2.0);
+    Eigen::Affine3d wb = Eigen::Translation3d(0.15, 0.05, 1) * Eigen::AngleAxisd(0.35, Eigen::Vector3d::UnitZ()) *
+                         Eigen::AngleAxisd(1.2, Eigen::Vector3d::UnitY()) * Eigen::Scaling(2.0);
+    world_a = wa.matrix().cast<float>(), world_b = wb.matrix().cast<float>();
+    render(a, view_a, world_a);
+    render(b, view_b, world_b);
+  }
+  void render(CaptureFrame& f, const GlMatrix& view, const GlMatrix& world) {
+    DrawRecord d;
+    d.mesh_key = 77, d.world = world, d.view = view, d.projection = proj;
+    d.matrix_flags = kHasWorld | kHasView | kHasProjection;
+    f.draws = {d};
+    for (int y = 0; y < int(kH); ++y)
+      for (int x = 0; x < int(kW); ++x)
+        if (auto hit = cast(view, world, x, y)) {
+          f.draw_ids[y * kW + x] = 1;
+          f.depth_window[y * kW + x] = windowDepth(proj, view, *hit);
+        }
+  }
+  std::optional<Eigen::Vector3d> cast(const GlMatrix& view, const GlMatrix& world, int x, int y) const {
+    auto [o, dir] = pixelRay(proj, view, x, y);
+    const Eigen::Affine3d w(world.cast<double>());
+    const Eigen::Vector3d n = w.linear().col(2), c = w.translation();
+    const double t = n.dot(c - o) / n.dot(dir);
+    const Eigen::Vector3d p = o + t * dir, local = w.inverse() * p;
+    if (t <= 0 || std::abs(local.x()) > 1 || std::abs(local.y()) > 1) return std::nullopt;
+    return p;
+  }
+  std::vector<float> depthB() const {
+    std::vector<float> m(kW * kH, std::numeric_limits<float>::quiet_NaN());
+    for (size_t i = 0; i < m.size(); ++i)
+      if (b.draw_ids[i]) {
+        const double z = 2.0 * b.depth_window[i] - 1;  // invert the standard perspective depth
+        m[i] = static_cast<float>(proj(2, 3) / (-z - proj(2, 2)) * -1.0);
+      }
+    return m;
+  }
+};
+
+TEST(Flow, RigidFlowMatchesTheAnalyticMotionOfTheSurface) {
+  RigidCase c;
+  FlowStats stats;
+  const FlowField f = computeFlow(c.a, c.b, {0}, c.depthB(), MeshStore(), FlowOptions(), &stats);
+  ASSERT_GT(stats.rigid, 500u);
+  double worst = 0;
+  for (int y = 0; y < int(kH); ++y)
+    for (int x = 0; x < int(kW); ++x) {
+      const size_t p = y * kW + x;
+      auto hit = c.cast(c.view_a, c.world_a, x, y);
+      if (!hit) {
+        EXPECT_TRUE(std::isnan(f.uv[2 * p])) << x << "," << y;
+        continue;
+      }
+      const Eigen::Vector3d local = Eigen::Affine3d(c.world_a.cast<double>()).inverse() * *hit;
+      const Eigen::Vector3d moved = Eigen::Affine3d(c.world_b.cast<double>()) * local;
+      const Eigen::Vector2d expected = projectPixel(c.proj, c.view_b, moved) - Eigen::Vector2d(x, y);
+      worst = std::max(worst, (Eigen::Vector2d(f.uv[2 * p], f.uv[2 * p + 1]) - expected).norm());
+    }
+  EXPECT_LT(worst, 2e-3) << "worst endpoint error (px) against the analytic motion";
+}
+
+TEST(Flow, ForwardThenBackwardReturnsToThePixel) {
+  RigidCase c;
+  std::vector<float> depth_a(kW * kH, std::numeric_limits<float>::quiet_NaN());
+  const FlowField fwd = computeFlow(c.a, c.b, {0}, c.depthB(), MeshStore());
+  const FlowField bwd = computeFlow(c.b, c.a, {0}, depth_a, MeshStore());
+  int checked = 0;
+  for (int y = 0; y < int(kH); ++y)
+    for (int x = 0; x < int(kW); ++x) {
+      const size_t p = y * kW + x;
+      if (std::isnan(fwd.uv[2 * p])) continue;
+      const double xb = x + fwd.uv[2 * p], yb = y + fwd.uv[2 * p + 1];
+      const long xi = std::lround(xb), yi = std::lround(yb);
+      if (xi < 0 || yi < 0 || xi >= long(kW) || yi >= long(kH)) continue;
+      const size_t q = yi * kW + xi;
+      if (std::isnan(bwd.uv[2 * q])) continue;
+      // The backward flow of b's pixel q lands near x, y; sub-pixel offsets differ by the
+      // rounding (xb - xi), which a locally affine flow carries over almost exactly.
+      const double back_x = xi + bwd.uv[2 * q] - (xi - xb), back_y = yi + bwd.uv[2 * q + 1] - (yi - yb);
+      EXPECT_NEAR(back_x, x, 0.05);
+      EXPECT_NEAR(back_y, y, 0.05);
+      ++checked;
+    }
+  EXPECT_GT(checked, 400);
+}
+
+TEST(Flow, NonRigidTriangleFollowsItsBarycentrics) {
+  const GlMatrix proj = perspective(0.9, double(kW) / kH, 0.1, 300);
+  const GlMatrix view = lookAt({-5, 0, 1}, {0, 0, 1});
+  const std::array<Eigen::Vector3d, 3> xa = {{{0, -1.5, 0}, {0.5, 1.5, 0.2}, {-0.3, 0, 2.4}}};
+  const std::array<Eigen::Vector3d, 3> xb = {{{0.1, -1.4, 0}, {0.2, 1.7, 0.4}, {0.4, 0.3, 2.2}}};  // deformed
+  MeshRecord mesh;
+  mesh.key = 5;
+  mesh.positions_xyz = {0, 0, 0, 1, 0, 0, 0, 1, 0};  // rest pose, unused by the non-rigid path
+  mesh.indices = {0, 1, 2};
+  MeshStore store;
+  store.add(mesh);
+  CaptureFrame a = emptyFrame(), b = emptyFrame();
+  DrawRecord d;
+  d.mesh_key = 5, d.view = view, d.projection = proj, d.matrix_flags = kHasWorld | kHasView | kHasProjection;
+  DrawRecord da = d, db = d;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector4f ca = (proj * view).cast<float>() * xa[i].cast<float>().homogeneous();
+    const Eigen::Vector4f cb = (proj * view).cast<float>() * xb[i].cast<float>().homogeneous();
+    da.deformed_clip_xyzw.insert(da.deformed_clip_xyzw.end(), {ca.x(), ca.y(), ca.z(), ca.w()});
+    db.deformed_clip_xyzw.insert(db.deformed_clip_xyzw.end(), {cb.x(), cb.y(), cb.z(), cb.w()});
+  }
+  a.draws = {da};
+  b.draws = {db};
+  // Ray-cast triangle a for the oracle: hit point and its true barycentrics.
+  std::vector<std::optional<Eigen::Vector3d>> bary(kW * kH);
+  for (int y = 0; y < int(kH); ++y)
+    for (int x = 0; x < int(kW); ++x) {
+      auto [o, dir] = pixelRay(proj, view, x, y);
+      const Eigen::Vector3d e1 = xa[1] - xa[0], e2 = xa[2] - xa[0];
+      Eigen::Matrix3d m;
+      m << -dir, e1, e2;
+      const Eigen::Vector3d sol = m.fullPivLu().solve(o - xa[0]);  // t, b1, b2
+      if (sol.x() <= 0 || sol.y() < 0 || sol.z() < 0 || sol.y() + sol.z() > 1) continue;
+      const size_t p = y * kW + x;
+      a.draw_ids[p] = 1;
+      a.depth_window[p] = windowDepth(proj, view, o + sol.x() * dir);
+      bary[p] = Eigen::Vector3d(1 - sol.y() - sol.z(), sol.y(), sol.z());
+    }
+  std::vector<float> depth_b(kW * kH, std::numeric_limits<float>::quiet_NaN());
+  FlowStats stats;
+  const FlowField f = computeFlow(a, b, {0}, depth_b, store, FlowOptions(), &stats);
+  ASSERT_GT(stats.non_rigid, 300u);
+  double worst = 0;
+  for (size_t p = 0; p < bary.size(); ++p) {
+    if (!bary[p]) continue;
+    const Eigen::Vector3d moved = (*bary[p])[0] * xb[0] + (*bary[p])[1] * xb[1] + (*bary[p])[2] * xb[2];
+    const Eigen::Vector2d expected = projectPixel(proj, view, moved) - Eigen::Vector2d(p % kW, p / kW);
+    worst = std::max(worst, (Eigen::Vector2d(f.uv[2 * p], f.uv[2 * p + 1]) - expected).norm());
+    EXPECT_EQ(f.visible[p], 255);
+  }
+  EXPECT_LT(worst, 1e-3);
+}
+
+TEST(Flow, OcclusionMaskComparesWithTheOtherFramesDepth) {
+  RigidCase c;
+  std::vector<float> wall(kW * kH, 0.5f);  // something 0.5 m in front of the camera everywhere
+  FlowStats stats;
+  const FlowField hidden = computeFlow(c.a, c.b, {0}, wall, MeshStore(), FlowOptions(), &stats);
+  const FlowField seen = computeFlow(c.a, c.b, {0}, c.depthB(), MeshStore());
+  size_t with_flow = 0, visible = 0, hidden_visible = 0;
+  for (size_t p = 0; p < kW * kH; ++p) {
+    if (std::isnan(seen.uv[2 * p])) continue;
+    ++with_flow;
+    visible += seen.visible[p] == 255;
+    hidden_visible += hidden.visible[p] == 255;
+    EXPECT_EQ(hidden.uv[2 * p], seen.uv[2 * p]) << "occluded points keep their flow";
+  }
+  EXPECT_EQ(hidden_visible, 0u);
+  EXPECT_GT(visible, with_flow * 9 / 10);
+}
+
+TEST(Flow, MissingAssociationAndBadSizes) {
+  RigidCase c;
+  FlowStats stats;
+  const FlowField f = computeFlow(c.a, c.b, {-1}, c.depthB(), MeshStore(), FlowOptions(), &stats);
+  EXPECT_EQ(stats.rigid, 0u);
+  EXPECT_GT(stats.no_association, 500u);
+  for (float v : f.uv) EXPECT_TRUE(std::isnan(v));
+  EXPECT_THROW(computeFlow(c.a, c.b, {0, 1}, c.depthB(), MeshStore()), std::invalid_argument);
+  CaptureFrame small = emptyFrame();
+  small.width = 10;
+  EXPECT_THROW(computeFlow(c.a, small, {0}, c.depthB(), MeshStore()), std::invalid_argument);
+}
+
+TEST(Flow, AssociationByTrackByPlacementAndByUniqueMesh) {
+  CaptureFrame a, b;
+  auto draw = [](uint64_t mesh, float x) {
+    DrawRecord d;
+    d.mesh_key = mesh;
+    d.world(0, 3) = x;
+    return d;
+  };
+  a.draws = {draw(1, 0), draw(1, 5), draw(2, 0), draw(3, 0), draw(9, 0)};
+  b.draws = {draw(3, 1), draw(1, 5), draw(9, 9), draw(1, 0), draw(2, 7)};
+  // Draw 4 (mesh 9) belongs to track 12 in both frames, but b's is at index 2.
+  const auto m = associateDraws(a, {0, 0, 0, 0, 12}, b, {0, 0, 12, 0, 0});
+  EXPECT_EQ(m, (std::vector<int32_t>{3, 1, 4, 0, 2}));
+}
+
+}  // namespace
+}  // namespace viper

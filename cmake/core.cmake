@@ -2,6 +2,8 @@
 file(GLOB VIPER_CORE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/core/*.cpp)
 add_library(viper_core ${VIPER_CORE_SOURCES})
 target_include_directories(viper_core PUBLIC ${PROJECT_SOURCE_DIR}/include)
+# The per-pixel kernels rely on loop vectorisation, which GCC 12 does fully only at -O3.
+target_compile_options(viper_core PRIVATE -O3)
 target_include_directories(viper_core SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR})
 # Deliberately no OpenCV and no ROS: the capture layer preloads this library into foreign programs.
 target_link_libraries(viper_core PRIVATE PkgConfig::ZSTD PkgConfig::XXHASH PkgConfig::YAMLCPP)

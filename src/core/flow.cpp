@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -35,6 +36,26 @@ struct DrawMapping {
 Eigen::Vector4d clipAt(const std::vector<float>& c, uint32_t vertex) {
   const size_t i = 4 * static_cast<size_t>(vertex);
   return Eigen::Vector4d(c[i], c[i + 1], c[i + 2], c[i + 3]);
+}
+
+// The point of a non-rigid pixel in b's clip space: screen-space barycentrics of the pixel
+// center in its triangle, made perspective-correct with the vertices' w, applied to b's vertices.
+std::optional<Eigen::Vector4d> nonRigidClip(const DrawMapping& m, uint32_t primitive, double ndc_x, double ndc_y) {
+  const size_t t = 3 * static_cast<size_t>(primitive);
+  const auto& idx = *m.indices;
+  const size_t verts = m.clip_a->size() / 4;
+  if (t + 2 >= idx.size() || idx[t] >= verts || idx[t + 1] >= verts || idx[t + 2] >= verts) return std::nullopt;
+  const Eigen::Vector4d c0 = clipAt(*m.clip_a, idx[t]), c1 = clipAt(*m.clip_a, idx[t + 1]),
+                        c2 = clipAt(*m.clip_a, idx[t + 2]);
+  const Eigen::Vector2d s0 = c0.head<2>() / c0.w(), s1 = c1.head<2>() / c1.w(), s2 = c2.head<2>() / c2.w();
+  const Eigen::Vector2d q(ndc_x, ndc_y), e1 = s1 - s0, e2 = s2 - s0, dq = q - s0;
+  const double area = e1.x() * e2.y() - e1.y() * e2.x();
+  if (area == 0.0) return std::nullopt;
+  const double l1 = (dq.x() * e2.y() - dq.y() * e2.x()) / area;
+  const double l2 = (e1.x() * dq.y() - e1.y() * dq.x()) / area;
+  const double b0 = (1.0 - l1 - l2) / c0.w(), b1 = l1 / c1.w(), b2 = l2 / c2.w();
+  return (b0 * clipAt(*m.clip_b, idx[t]) + b1 * clipAt(*m.clip_b, idx[t + 1]) + b2 * clipAt(*m.clip_b, idx[t + 2])) /
+         (b0 + b1 + b2);
 }
 
 }  // namespace
@@ -78,6 +99,14 @@ std::vector<int32_t> associateDraws(const CaptureFrame& a, const std::vector<int
 FlowField computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
                       const std::vector<float>& b_depth_m, const MeshStore& meshes, const FlowOptions& options,
                       FlowStats* stats_out) {
+  FlowField f;
+  computeFlow(a, b, a_to_b, b_depth_m, meshes, f, options, stats_out);
+  return f;
+}
+
+void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
+                 const std::vector<float>& b_depth_m, const MeshStore& meshes, FlowField& f,
+                 const FlowOptions& options, FlowStats* stats_out) {
   if (a.width != b.width || a.height != b.height)
     throw std::invalid_argument("computeFlow: frame sizes differ (" + std::to_string(a.width) + "x" +
                                 std::to_string(a.height) + " vs " + std::to_string(b.width) + "x" +
@@ -114,74 +143,97 @@ FlowField computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::v
     }
   }
 
-  FlowField f;
   f.width = a.width;
   f.height = a.height;
-  f.uv.assign(2 * n, kNaN);
-  f.visible.assign(n, 0);
-  FlowStats stats;
+  f.uv.resize(2 * n);
+  f.visible.resize(n);
   const double w = a.width, h = a.height;
   const uint32_t n_draws = static_cast<uint32_t>(maps.size());
-  for (uint32_t y = 0; y < a.height; ++y) {
+  const int width = static_cast<int>(a.width);
+  // Plain pointers and local counters: stores through the uint8_t mask may alias anything that
+  // lives in memory, which would force reloads of captured state on every pixel.
+  float* const uv = f.uv.data();
+  uint8_t* const visible = f.visible.data();
+  const float* const depth_b = b_depth_m.data();
+  const uint32_t* const ids = a.draw_ids.data();
+  const float* const depth_a = a.depth_window.data();
+  const double bw = b.width, bh = b.height;
+  const double occ_rel = 1.0 - options.occlusion_relative, occ_abs = options.occlusion_absolute_m;
+  size_t n_rigid = 0, n_non_rigid = 0, n_no_surface = 0, n_no_assoc = 0, n_missing = 0;
+
+  auto emit = [uv, visible, depth_b, w, h, bw, bh, occ_rel, occ_abs](size_t p, int x, int y, const Eigen::Vector4d& clip_b,
+                                                                     double depth_scale, size_t b_width) {
+    const double inv_w = 1.0 / clip_b.w();
+    const double xb = (clip_b.x() * inv_w + 1.0) * 0.5 * w - 0.5;
+    const double yb = (1.0 - clip_b.y() * inv_w) * 0.5 * h - 0.5;
+    uv[2 * p] = static_cast<float>(xb - x);
+    uv[2 * p + 1] = static_cast<float>(yb - y);
+    uint8_t vis = 0;
+    if (clip_b.w() > 0.0 && xb >= -0.5 && yb >= -0.5 && xb < bw - 0.5 && yb < bh - 0.5) {
+      const size_t q = static_cast<size_t>(yb + 0.5) * b_width + static_cast<size_t>(xb + 0.5);
+      const double depth = clip_b.w() * depth_scale;
+      // NaN there (b shows no surface) counts as visible: nothing is in front of the point.
+      vis = !(depth_b[q] < depth * occ_rel - occ_abs) ? 255 : 0;
+    }
+    visible[p] = vis;
+  };
+  auto undefined = [uv, visible](size_t p) {
+    uv[2 * p] = uv[2 * p + 1] = kNaN;
+    visible[p] = 0;
+  };
+
+  for (int y = 0; y < static_cast<int>(a.height); ++y) {
     const double ndc_y = 1.0 - 2.0 * (y + 0.5) / h;
-    for (uint32_t x = 0; x < a.width; ++x) {
-      const size_t p = static_cast<size_t>(y) * a.width + x;
-      const uint32_t id = a.draw_ids[p];
-      const float d = a.depth_window[p];
-      if (id == 0 || id > n_draws || !(d >= 0.0f && d < 1.0f)) {
-        ++stats.no_surface;
-        continue;
-      }
-      const DrawMapping& m = maps[id - 1];
-      const double ndc_x = 2.0 * (x + 0.5) / w - 1.0;
-      Eigen::Vector4d clip_b;
-      if (m.kind == DrawMapping::kRigid) {
-        clip_b = m.ndc_a_to_clip_b * Eigen::Vector4d(ndc_x, ndc_y, 2.0 * d - 1.0, 1.0);
-        ++stats.rigid;
-      } else if (m.kind == DrawMapping::kNonRigid) {
-        const size_t t = 3 * static_cast<size_t>(a.primitive_ids[p]);
-        const auto& idx = *m.indices;
-        const size_t verts = m.clip_a->size() / 4;
-        if (t + 2 >= idx.size() || idx[t] >= verts || idx[t + 1] >= verts || idx[t + 2] >= verts) {
-          ++stats.missing_geometry;
-          continue;
+    const size_t row = static_cast<size_t>(y) * width;
+    for (int x0 = 0; x0 < width;) {
+      // A run of pixels of one draw along the row shares its mapping.
+      const uint32_t id = ids[row + x0];
+      int x1 = x0 + 1;
+      while (x1 < width && ids[row + x1] == id) ++x1;
+      const DrawMapping* m = (id == 0 || id > n_draws) ? nullptr : &maps[id - 1];
+      if (m && m->kind == DrawMapping::kRigid) {
+        // clip_b = M (ndc_x, ndc_y, 2d - 1, 1) = k + x * step_x + d * step_d.
+        const Eigen::Matrix4d& M = m->ndc_a_to_clip_b;
+        const Eigen::Vector4d k = M.col(0) * (1.0 / w - 1.0) + M.col(1) * ndc_y - M.col(2) + M.col(3);
+        const Eigen::Vector4d step_x = M.col(0) * (2.0 / w), step_d = M.col(2) * 2.0;
+        const double scale = m->depth_scale_b;
+        for (int x = x0; x < x1; ++x) {
+          const size_t p = row + x;
+          const float d = depth_a[p];
+          if (!(d >= 0.0f && d < 1.0f)) {
+            ++n_no_surface;
+            undefined(p);
+            continue;
+          }
+          emit(p, x, y, k + step_x * x + step_d * d, scale, b.width);
+          ++n_rigid;
         }
-        const Eigen::Vector4d c0 = clipAt(*m.clip_a, idx[t]), c1 = clipAt(*m.clip_a, idx[t + 1]),
-                              c2 = clipAt(*m.clip_a, idx[t + 2]);
-        // Screen-space barycentrics of the pixel center, then perspective-correct ones.
-        const Eigen::Vector2d s0 = c0.head<2>() / c0.w(), s1 = c1.head<2>() / c1.w(), s2 = c2.head<2>() / c2.w();
-        const Eigen::Vector2d q(ndc_x, ndc_y);
-        const double area = (s1 - s0).x() * (s2 - s0).y() - (s1 - s0).y() * (s2 - s0).x();
-        if (area == 0.0) {
-          ++stats.missing_geometry;
-          continue;
-        }
-        const double l1 = ((q - s0).x() * (s2 - s0).y() - (q - s0).y() * (s2 - s0).x()) / area;
-        const double l2 = ((s1 - s0).x() * (q - s0).y() - (s1 - s0).y() * (q - s0).x()) / area;
-        const double l0 = 1.0 - l1 - l2;
-        const double b0 = l0 / c0.w(), b1 = l1 / c1.w(), b2 = l2 / c2.w(), sum = b0 + b1 + b2;
-        clip_b = (b0 * clipAt(*m.clip_b, idx[t]) + b1 * clipAt(*m.clip_b, idx[t + 1]) +
-                  b2 * clipAt(*m.clip_b, idx[t + 2])) / sum;
-        ++stats.non_rigid;
       } else {
-        ++(m.kind == DrawMapping::kNone ? stats.no_association : stats.missing_geometry);
-        continue;
+        for (int x = x0; x < x1; ++x) {
+          const size_t p = row + x;
+          const float d = depth_a[p];
+          if (!m || !(d >= 0.0f && d < 1.0f)) {
+            ++n_no_surface;
+            undefined(p);
+          } else if (m->kind != DrawMapping::kNonRigid) {
+            ++(m->kind == DrawMapping::kNone ? n_no_assoc : n_missing);
+            undefined(p);
+          } else if (auto clip_b = nonRigidClip(*m, a.primitive_ids[p], 2.0 * (x + 0.5) / w - 1.0, ndc_y)) {
+            emit(p, x, y, *clip_b, m->depth_scale_b, b.width);
+            ++n_non_rigid;
+          } else {
+            ++n_missing;
+            undefined(p);
+          }
+        }
       }
-      const double xb = (clip_b.x() / clip_b.w() + 1.0) * 0.5 * w - 0.5;
-      const double yb = (1.0 - clip_b.y() / clip_b.w()) * 0.5 * h - 0.5;
-      f.uv[2 * p] = static_cast<float>(xb - x);
-      f.uv[2 * p + 1] = static_cast<float>(yb - y);
-      const long xi = std::lround(xb), yi = std::lround(yb);
-      if (clip_b.w() <= 0.0 || xi < 0 || yi < 0 || xi >= static_cast<long>(b.width) || yi >= static_cast<long>(b.height))
-        continue;
-      const double depth = clip_b.w() * m.depth_scale_b;
-      const float there = b_depth_m[static_cast<size_t>(yi) * b.width + xi];
-      if (!std::isfinite(there) || there >= depth - (options.occlusion_relative * depth + options.occlusion_absolute_m))
-        f.visible[p] = 255;
+      x0 = x1;
     }
   }
+  FlowStats stats;
+  stats.rigid = n_rigid, stats.non_rigid = n_non_rigid, stats.no_surface = n_no_surface;
+  stats.no_association = n_no_assoc, stats.missing_geometry = n_missing;
   if (stats_out) *stats_out = stats;
-  return f;
 }
 
 }  // namespace viper

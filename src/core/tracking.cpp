@@ -79,25 +79,50 @@ std::vector<int32_t> Tracker::update(double time_s, const std::vector<FrameObjec
   for (size_t k = 0; k < objects.size() && k < positions.size(); ++k)
     if (objects[k].is_thing) things.push_back(k);
 
-  // Cost matrix over (things) x (tracks + one "new track" column per thing).
+  // Allowed edges, then one assignment per connected component of the edge graph: gating by
+  // class, speed and resources keeps components small, so this stays far below a dense n^2 m solve.
   const size_t n = things.size(), m = tracks_.size();
   std::vector<int> match(n, -1);
-  if (n > 0 && m > 0) {
-    Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(n, m + n, kForbidden);
-    for (size_t r = 0; r < n; ++r) {
-      const FrameObject& o = objects[things[r]];
-      const Eigen::Vector3d& p = positions[things[r]];
-      for (size_t c = 0; c < m; ++c) {
-        const Track& t = tracks_[c];
-        const double dt = time_s - t.time_s;
-        const Eigen::Vector3d predicted = t.position + t.velocity * dt;
-        if (edgeAllowed(t, o, predicted, p, dt)) cost(r, c) = (p - predicted).norm();
-      }
-      cost(r, m + r) = kForbidden / 2;  // starting a new track beats a forbidden edge
+  std::vector<std::vector<std::pair<size_t, double>>> edges(n);  // per thing: (track, cost)
+  for (size_t r = 0; r < n; ++r) {
+    const FrameObject& o = objects[things[r]];
+    const Eigen::Vector3d& p = positions[things[r]];
+    for (size_t c = 0; c < m; ++c) {
+      const Track& t = tracks_[c];
+      if (t.class_id != o.class_id) continue;
+      const double dt = time_s - t.time_s;
+      const Eigen::Vector3d predicted = t.position + t.velocity * dt;
+      if (edgeAllowed(t, o, predicted, p, dt)) edges[r].emplace_back(c, (p - predicted).norm());
     }
-    const std::vector<int> cols = solveAssignment(cost);
-    for (size_t r = 0; r < n; ++r)
-      if (cols[r] >= 0 && static_cast<size_t>(cols[r]) < m && cost(r, cols[r]) < kForbidden / 2) match[r] = cols[r];
+  }
+  // Union-find over things (0..n-1) and tracks (n..n+m-1).
+  std::vector<size_t> parent(n + m);
+  for (size_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto find = [&](size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (size_t r = 0; r < n; ++r)
+    for (const auto& e : edges[r]) parent[find(r)] = find(n + e.first);
+  std::vector<std::vector<size_t>> comp_rows(n + m), comp_cols(n + m);
+  for (size_t r = 0; r < n; ++r)
+    if (!edges[r].empty()) comp_rows[find(r)].push_back(r);
+  for (size_t c = 0; c < m; ++c) comp_cols[find(n + c)].push_back(c);
+  for (size_t root = 0; root < n + m; ++root) {
+    const auto& rows = comp_rows[root];
+    if (rows.empty()) continue;
+    const auto& cols = comp_cols[root];
+    // Columns: the component's tracks, then one "new track" column per row.
+    Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(rows.size(), cols.size() + rows.size(), kForbidden);
+    for (size_t i = 0; i < rows.size(); ++i) {
+      for (const auto& e : edges[rows[i]])
+        cost(i, std::lower_bound(cols.begin(), cols.end(), e.first) - cols.begin()) = e.second;
+      cost(i, cols.size() + i) = kForbidden / 2;  // starting a new track beats a forbidden edge
+    }
+    const std::vector<int> assigned = solveAssignment(cost);
+    for (size_t i = 0; i < rows.size(); ++i)
+      if (assigned[i] >= 0 && static_cast<size_t>(assigned[i]) < cols.size() && cost(i, assigned[i]) < kForbidden / 2)
+        match[rows[i]] = static_cast<int>(cols[assigned[i]]);
   }
 
   std::vector<char> track_used(m, false);

@@ -53,5 +53,9 @@ struct FlowOptions {
 FlowField computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
                       const std::vector<float>& b_depth_m, const MeshStore& meshes,
                       const FlowOptions& options = FlowOptions(), FlowStats* stats = nullptr);
+/// The same, writing into `out` (its buffers are reused when the size is unchanged).
+void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
+                 const std::vector<float>& b_depth_m, const MeshStore& meshes, FlowField& out,
+                 const FlowOptions& options = FlowOptions(), FlowStats* stats = nullptr);
 
 }  // namespace viper

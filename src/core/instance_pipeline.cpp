@@ -20,8 +20,16 @@ InstanceFrame InstancePipeline::process(const CaptureFrame& frame) {
 }
 
 void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) {
-  const std::string invalid = validateFrame(frame);
-  if (!invalid.empty()) throw std::invalid_argument(invalid);
+  // Only draws and draw ids are used (a node may have nothing else); ids past the draw list are
+  // ignored by every kernel, so they need no pass of their own.
+  const std::string at = "frame " + std::to_string(frame.number) + ": ";
+  if (frame.draw_ids.size() != frame.pixelCount())
+    throw std::invalid_argument(at + "draw id image has " + std::to_string(frame.draw_ids.size()) + " pixels, " +
+                                std::to_string(frame.width) + "x" + std::to_string(frame.height) + " expected");
+  for (size_t i = 0; i < frame.draws.size(); ++i)
+    if (frame.draws[i].index != i)
+      throw std::invalid_argument(at + "draw " + std::to_string(i) + " has index " +
+                                  std::to_string(frame.draws[i].index) + " (must be 0..n-1 in order)");
   meshes_.add(frame.new_meshes);
 
   out.objects.clear();

@@ -49,8 +49,9 @@ class InstancePipeline {
  public:
   InstancePipeline(LabelTable labels, InstancePipelineOptions options = InstancePipelineOptions());
 
-  /// Processes one frame (adds its new meshes to the store first). Throws std::invalid_argument
-  /// with validateFrame()'s message if the frame is inconsistent; nothing is changed then.
+  /// Processes one frame (adds its new meshes to the store first). Uses only the frame's draws,
+  /// draw id image, size, number and time. Throws std::invalid_argument naming the frame if the
+  /// draw id image does not match the size or the draw indices are not 0..n-1; nothing changes then.
   /// Objects whose world matrix is not finite are dropped and reported in `problems`.
   InstanceFrame process(const CaptureFrame& frame);
   /// The same, writing into `out`: its image buffers are reused when the frame size is unchanged.

@@ -32,7 +32,7 @@ fi
 
 mkdir -p "$here/build"
 cd "$here/build"
-cmake "$here" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+cmake "$here" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
   -DCATKIN_DEVEL_PREFIX="$here/build/devel" >/dev/null
 make -j"$(nproc)"
 echo "setup: built; run 'source $here/build/devel/setup.bash' to use rosrun/roslaunch"

@@ -1,1 +1,15 @@
-# (filled in by the bench part)
+# Benchmarks (Google Benchmark): every bench/bench_*.cpp becomes an executable linked to viper_core.
+# Run with rosrun viper bench_NAME. Skipped quietly where libbenchmark-dev is not installed.
+find_package(benchmark QUIET)
+if(benchmark_FOUND)
+  file(GLOB VIPER_BENCHES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/bench/bench_*.cpp)
+  foreach(b ${VIPER_BENCHES})
+    get_filename_component(name ${b} NAME_WE)
+    add_executable(${name} ${b})
+    target_link_libraries(${name} benchmark::benchmark viper_core)
+    set_target_properties(${name} PROPERTIES
+      RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  endforeach()
+else()
+  message(STATUS "Google Benchmark not found: benchmarks are not built (apt install libbenchmark-dev)")
+endif()

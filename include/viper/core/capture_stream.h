@@ -16,11 +16,13 @@ namespace viper {
 constexpr uint32_t kCaptureFormatVersion = 1;
 
 /// Thrown for any unreadable part of a stream. what() names the file, the frame number (if known)
-/// and the byte offset of the damaged chunk.
+/// and the byte offset of the damaged chunk: "<file>: offset <offset>: <what>".
 class CaptureFormatError : public std::runtime_error {
  public:
   CaptureFormatError(const std::string& file, uint64_t offset, const std::string& what);
+  /// Path (or name) of the stream.
   const std::string& file() const { return file_; }
+  /// Byte offset of the damaged chunk (0 for the file header).
   uint64_t offset() const { return offset_; }
 
  private:
@@ -28,8 +30,9 @@ class CaptureFormatError : public std::runtime_error {
   uint64_t offset_;
 };
 
-/// Options of the stream header: free-form metadata about who wrote it.
+/// The stream header: format version and free-form metadata about who wrote it.
 struct CaptureHeader {
+  /// Format version read from the file; the writer ignores it and always writes kCaptureFormatVersion.
   uint32_t version = kCaptureFormatVersion;
   /// Name of the captured program and the capture profile used (informational).
   std::string program;
@@ -38,8 +41,14 @@ struct CaptureHeader {
 
 /// Serialises one frame to the uncompressed chunk payload bytes, and back.
 std::string encodeFramePayload(const CaptureFrame& frame);
+/// Same, into `out` (replacing its contents; reusing its capacity between frames).
+void encodeFramePayload(const CaptureFrame& frame, std::string& out);
 /// Throws std::runtime_error with a description if the payload is malformed.
 CaptureFrame decodeFramePayload(const std::string& payload);
+/// Same, from `size` bytes at `data` into `frame` (reusing the capacity of its vectors).
+/// Bounds-checked: never reads outside [data, data + size) and never allocates more than the
+/// payload can hold. Throws std::runtime_error naming the field and byte position on bad input.
+void decodeFramePayload(const char* data, size_t size, CaptureFrame& frame);
 
 /// Writes a stream. Each frame is flushed as one whole chunk so a follower never sees a frame
 /// without its checksum. Not thread-safe.
@@ -52,9 +61,13 @@ class CaptureWriter {
   CaptureWriter(const CaptureWriter&) = delete;
   CaptureWriter& operator=(const CaptureWriter&) = delete;
 
+  /// Appends `frame` as one chunk (one fwrite of header and payload, then fflush).
+  /// Throws std::runtime_error if the stream is closed, the frame is too large (payload over
+  /// 1 GiB), compression fails or the file cannot be written.
   void write(const CaptureFrame& frame);
   /// Writes the end-of-stream marker and closes the file. Idempotent.
   void close();
+  /// Bytes written so far, file header included.
   uint64_t bytesWritten() const;
 
  private:
@@ -68,10 +81,14 @@ class CaptureReader {
   /// Opens `path` and reads its header. Throws CaptureFormatError (bad magic, unknown version,
   /// truncated header) or std::runtime_error (cannot open).
   explicit CaptureReader(const std::string& path);
+  /// Reads from an already open stdio stream (e.g. from fmemopen), which the reader takes over
+  /// and closes. `name` stands for the file in error messages. Throws like the path constructor.
+  CaptureReader(std::FILE* file, const std::string& name);
   ~CaptureReader();
   CaptureReader(const CaptureReader&) = delete;
   CaptureReader& operator=(const CaptureReader&) = delete;
 
+  /// The stream's header as read by the constructor.
   const CaptureHeader& header() const;
 
   /// Result of one read attempt.
@@ -90,6 +107,7 @@ class CaptureReader {
 
   /// Byte offset of the next chunk to read.
   uint64_t offset() const;
+  /// The path (or name) given to the constructor.
   const std::string& path() const;
 
  private:

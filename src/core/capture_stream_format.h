@@ -1,0 +1,69 @@
+// Private constants and helpers of the .vcap byte layout (see docs/capture_format.md).
+// Shared by the writer, the reader and the payload codec; not part of the public API.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+
+namespace viper {
+namespace capture_format {
+
+// The layout is defined as little-endian IEEE 754 and written with memcpy of whole vectors.
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the .vcap codec assumes a little-endian host");
+static_assert(std::numeric_limits<float>::is_iec559 && std::numeric_limits<double>::is_iec559,
+              "the .vcap codec assumes IEEE 754 floats");
+
+/// File header: magic[8], version u32, fields_size u32, fields, XXH3-64 of everything before it.
+constexpr char kFileMagic[8] = {'V', 'I', 'P', 'E', 'R', 'C', 'A', 'P'};
+constexpr size_t kFileHeaderFixedSize = 16;
+constexpr uint32_t kMaxHeaderFieldsSize = 1u << 20;
+
+/// Chunk header (48 bytes): magic[4], type u32, frame u64, compressed u64, raw u64,
+/// payload XXH3-64 u64, header XXH3-64 u64 (of the 40 bytes before it).
+constexpr char kChunkMagic[4] = {'V', 'C', 'H', 'K'};
+constexpr size_t kChunkHeaderSize = 48;
+constexpr size_t kChunkHeaderCheckedSize = 40;
+constexpr uint32_t kChunkFrame = 1;
+constexpr uint32_t kChunkEnd = 2;
+
+/// Largest uncompressed frame payload either side accepts (an 8K frame is about 0.5 GiB).
+constexpr uint64_t kMaxRawPayloadBytes = 1ull << 30;
+/// Largest image side the payload decoder accepts.
+constexpr uint32_t kMaxImageSide = 16384;
+
+inline void putU32(char* p, uint32_t v) { std::memcpy(p, &v, 4); }
+inline void putU64(char* p, uint64_t v) { std::memcpy(p, &v, 8); }
+inline uint32_t getU32(const char* p) {
+  uint32_t v;
+  std::memcpy(&v, p, 4);
+  return v;
+}
+inline uint64_t getU64(const char* p) {
+  uint64_t v;
+  std::memcpy(&v, p, 8);
+  return v;
+}
+
+/// A growable byte buffer that, unlike std::string, does not zero-fill when it grows
+/// (frames are tens of MB; the bytes are overwritten right away).
+class ByteBuffer {
+ public:
+  char* data() { return data_.get(); }
+  const char* data() const { return data_.get(); }
+  /// Makes room for `n` bytes; the previous contents are not kept.
+  void reserveDiscard(size_t n) {
+    if (n <= capacity_) return;
+    data_.reset(new char[n]);
+    capacity_ = n;
+  }
+
+ private:
+  std::unique_ptr<char[]> data_;
+  size_t capacity_ = 0;
+};
+
+}  // namespace capture_format
+}  // namespace viper

@@ -64,7 +64,7 @@ void BM_FlowForwardAndBackward(benchmark::State& state) {
   const int deformed_every = static_cast<int>(state.range(0));
   const CaptureFrame a = bench::syntheticFrame(kW, kH, kObjects, kParts, 0, nullptr, deformed_every);
   const CaptureFrame b = bench::syntheticFrame(kW, kH, kObjects, kParts, 1, nullptr, deformed_every);
-  MeshStore meshes;
+  MeshRegistry meshes;
   for (const auto& d : a.draws) meshes.add(bench::syntheticMesh(d.mesh_key));
   std::vector<int32_t> ids(a.draws.size());
   for (size_t k = 0; k < ids.size(); ++k) ids[k] = static_cast<int32_t>(k / kParts + 1);

@@ -5,11 +5,11 @@
 
 namespace viper {
 
-void MeshStore::add(const std::vector<MeshRecord>& meshes) {
+void MeshRegistry::add(const std::vector<MeshRecord>& meshes) {
   for (const MeshRecord& m : meshes) add(m);
 }
 
-void MeshStore::add(const MeshRecord& mesh) {
+void MeshRegistry::add(const MeshRecord& mesh) {
   Entry e;
   e.mesh = mesh;
   const size_t n = mesh.positions_xyz.size() / 3;
@@ -25,17 +25,17 @@ void MeshStore::add(const MeshRecord& mesh) {
   meshes_[mesh.key] = std::move(e);
 }
 
-const MeshRecord* MeshStore::find(uint64_t key) const {
+const MeshRecord* MeshRegistry::find(uint64_t key) const {
   auto it = meshes_.find(key);
   return it == meshes_.end() ? nullptr : &it->second.mesh;
 }
 
-const Bounds3* MeshStore::bounds(uint64_t key) const {
+const Bounds3* MeshRegistry::bounds(uint64_t key) const {
   auto it = meshes_.find(key);
   return it == meshes_.end() || it->second.bounds.empty() ? nullptr : &it->second.bounds;
 }
 
-double MeshStore::area(uint64_t key) const {
+double MeshRegistry::area(uint64_t key) const {
   auto it = meshes_.find(key);
   return it == meshes_.end() ? 0.0 : it->second.area;
 }
@@ -58,7 +58,7 @@ OrientedBox OrientedBox::transformed(const Eigen::Isometry3d& T) const {
   return b;
 }
 
-OrientedBox objectBox(const CaptureFrame& frame, const FrameObject& object, const MeshStore& meshes,
+OrientedBox objectBox(const CaptureFrame& frame, const FrameObject& object, const MeshRegistry& meshes,
                       BoxStatus* status) {
   const Eigen::Matrix4d world = object.world.cast<double>();
   const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();

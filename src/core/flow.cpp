@@ -97,7 +97,7 @@ std::vector<int32_t> associateDraws(const CaptureFrame& a, const std::vector<int
 }
 
 FlowField computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
-                      const std::vector<float>& b_depth_m, const MeshStore& meshes, const FlowOptions& options,
+                      const std::vector<float>& b_depth_m, const MeshRegistry& meshes, const FlowOptions& options,
                       FlowStats* stats_out) {
   FlowField f;
   computeFlow(a, b, a_to_b, b_depth_m, meshes, f, options, stats_out);
@@ -105,7 +105,7 @@ FlowField computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::v
 }
 
 void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
-                 const std::vector<float>& b_depth_m, const MeshStore& meshes, FlowField& f,
+                 const std::vector<float>& b_depth_m, const MeshRegistry& meshes, FlowField& f,
                  const FlowOptions& options, FlowStats* stats_out) {
   if (a.width != b.width || a.height != b.height)
     throw std::invalid_argument("computeFlow: frame sizes differ (" + std::to_string(a.width) + "x" +

@@ -32,8 +32,8 @@ GlMatrix perspective(float fovy, float aspect, float n, float f) {
   return p;
 }
 
-TEST(MeshStore, BoundsAndArea) {
-  MeshStore store;
+TEST(MeshRegistry, BoundsAndArea) {
+  MeshRegistry store;
   store.add({boxMesh(1, {0, 0, 0}, {2, 3, 4})});
   ASSERT_NE(store.bounds(1), nullptr);
   EXPECT_TRUE(store.bounds(1)->max.isApprox(Eigen::Vector3d(2, 3, 4)));
@@ -43,7 +43,7 @@ TEST(MeshStore, BoundsAndArea) {
 }
 
 TEST(ObjectBox, CornersAreTheWorldTransformedBoundsOfAllParts) {
-  MeshStore store;
+  MeshRegistry store;
   store.add(boxMesh(1, {-2, -1, 0}, {2, 1, 1}));      // body
   store.add(boxMesh(2, {1.5f, 1, 0}, {2.5f, 1.2f, 0.6f}));  // a wheel sticking out at +y
   CaptureFrame f;
@@ -92,7 +92,7 @@ TEST(ObjectBox, DeformedPartsComeBackThroughTheInverseMatrices) {
   o.draws = {0};
   o.world = d.world;
   BoxStatus status;
-  const OrientedBox box = objectBox(f, o, MeshStore(), &status);
+  const OrientedBox box = objectBox(f, o, MeshRegistry(), &status);
   ASSERT_EQ(status, BoxStatus::kOk);
   EXPECT_TRUE(box.size.isApprox(Eigen::Vector3d(0.6, 0.3, 1.8), 1e-4)) << box.size.transpose();
 }
@@ -106,13 +106,13 @@ TEST(ObjectBox, MissingMeshAndSingularMatrixAreReported) {
   FrameObject o;
   o.draws = {0};
   BoxStatus status;
-  objectBox(f, o, MeshStore(), &status);
+  objectBox(f, o, MeshRegistry(), &status);
   EXPECT_EQ(status, BoxStatus::kMissingMesh);
   o.world = GlMatrix::Zero();
-  objectBox(f, o, MeshStore(), &status);
+  objectBox(f, o, MeshRegistry(), &status);
   EXPECT_EQ(status, BoxStatus::kSingularMatrix);
   o.world(0, 0) = std::numeric_limits<float>::quiet_NaN();
-  objectBox(f, o, MeshStore(), &status);
+  objectBox(f, o, MeshRegistry(), &status);
   EXPECT_EQ(status, BoxStatus::kSingularMatrix);
 }
 

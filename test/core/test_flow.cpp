@@ -107,7 +107,7 @@ struct RigidCase {
 TEST(Flow, RigidFlowMatchesTheAnalyticMotionOfTheSurface) {
   RigidCase c;
   FlowStats stats;
-  const FlowField f = computeFlow(c.a, c.b, {0}, c.depthB(), MeshStore(), FlowOptions(), &stats);
+  const FlowField f = computeFlow(c.a, c.b, {0}, c.depthB(), MeshRegistry(), FlowOptions(), &stats);
   ASSERT_GT(stats.rigid, 500u);
   double worst = 0;
   for (int y = 0; y < int(kH); ++y)
@@ -129,8 +129,8 @@ TEST(Flow, RigidFlowMatchesTheAnalyticMotionOfTheSurface) {
 TEST(Flow, ForwardThenBackwardReturnsToThePixel) {
   RigidCase c;
   std::vector<float> depth_a(kW * kH, std::numeric_limits<float>::quiet_NaN());
-  const FlowField fwd = computeFlow(c.a, c.b, {0}, c.depthB(), MeshStore());
-  const FlowField bwd = computeFlow(c.b, c.a, {0}, depth_a, MeshStore());
+  const FlowField fwd = computeFlow(c.a, c.b, {0}, c.depthB(), MeshRegistry());
+  const FlowField bwd = computeFlow(c.b, c.a, {0}, depth_a, MeshRegistry());
   int checked = 0;
   for (int y = 0; y < int(kH); ++y)
     for (int x = 0; x < int(kW); ++x) {
@@ -160,7 +160,7 @@ TEST(Flow, NonRigidTriangleFollowsItsBarycentrics) {
   mesh.key = 5;
   mesh.positions_xyz = {0, 0, 0, 1, 0, 0, 0, 1, 0};  // rest pose, unused by the non-rigid path
   mesh.indices = {0, 1, 2};
-  MeshStore store;
+  MeshRegistry store;
   store.add(mesh);
   CaptureFrame a = emptyFrame(), b = emptyFrame();
   DrawRecord d;
@@ -208,8 +208,8 @@ TEST(Flow, OcclusionMaskComparesWithTheOtherFramesDepth) {
   RigidCase c;
   std::vector<float> wall(kW * kH, 0.5f);  // something 0.5 m in front of the camera everywhere
   FlowStats stats;
-  const FlowField hidden = computeFlow(c.a, c.b, {0}, wall, MeshStore(), FlowOptions(), &stats);
-  const FlowField seen = computeFlow(c.a, c.b, {0}, c.depthB(), MeshStore());
+  const FlowField hidden = computeFlow(c.a, c.b, {0}, wall, MeshRegistry(), FlowOptions(), &stats);
+  const FlowField seen = computeFlow(c.a, c.b, {0}, c.depthB(), MeshRegistry());
   size_t with_flow = 0, visible = 0, hidden_visible = 0;
   for (size_t p = 0; p < kW * kH; ++p) {
     if (std::isnan(seen.uv[2 * p])) continue;
@@ -225,14 +225,14 @@ TEST(Flow, OcclusionMaskComparesWithTheOtherFramesDepth) {
 TEST(Flow, MissingAssociationAndBadSizes) {
   RigidCase c;
   FlowStats stats;
-  const FlowField f = computeFlow(c.a, c.b, {-1}, c.depthB(), MeshStore(), FlowOptions(), &stats);
+  const FlowField f = computeFlow(c.a, c.b, {-1}, c.depthB(), MeshRegistry(), FlowOptions(), &stats);
   EXPECT_EQ(stats.rigid, 0u);
   EXPECT_GT(stats.no_association, 500u);
   for (float v : f.uv) EXPECT_TRUE(std::isnan(v));
-  EXPECT_THROW(computeFlow(c.a, c.b, {0, 1}, c.depthB(), MeshStore()), std::invalid_argument);
+  EXPECT_THROW(computeFlow(c.a, c.b, {0, 1}, c.depthB(), MeshRegistry()), std::invalid_argument);
   CaptureFrame small = emptyFrame();
   small.width = 10;
-  EXPECT_THROW(computeFlow(c.a, small, {0}, c.depthB(), MeshStore()), std::invalid_argument);
+  EXPECT_THROW(computeFlow(c.a, small, {0}, c.depthB(), MeshRegistry()), std::invalid_argument);
 }
 
 TEST(Flow, AssociationByTrackByPlacementAndByUniqueMesh) {

@@ -22,7 +22,7 @@ struct Bounds3 {
 };
 
 /// Every mesh of a capture, accumulated from the frames' new_meshes, with cached bounds.
-class MeshStore {
+class MeshRegistry {
  public:
   /// Adds the frame's new meshes (a key seen before is replaced).
   void add(const std::vector<MeshRecord>& meshes);
@@ -64,7 +64,7 @@ enum class BoxStatus { kOk, kMissingMesh, kSingularMatrix, kEmpty };
 /// matrix's rotation is taken from its polar decomposition, its column norms scale the size.
 /// Parts whose mesh never arrived are skipped and reported through `status` (kMissingMesh) when no
 /// part is left.
-OrientedBox objectBox(const CaptureFrame& frame, const FrameObject& object, const MeshStore& meshes,
+OrientedBox objectBox(const CaptureFrame& frame, const FrameObject& object, const MeshRegistry& meshes,
                       BoxStatus* status = nullptr);
 
 }  // namespace viper

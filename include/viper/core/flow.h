@@ -51,11 +51,11 @@ struct FlowOptions {
 /// of deformed draws. Throws std::invalid_argument if the frames' sizes differ, or a vector size
 /// does not match its frame.
 FlowField computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
-                      const std::vector<float>& b_depth_m, const MeshStore& meshes,
+                      const std::vector<float>& b_depth_m, const MeshRegistry& meshes,
                       const FlowOptions& options = FlowOptions(), FlowStats* stats = nullptr);
 /// The same, writing into `out` (its buffers are reused when the size is unchanged).
 void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
-                 const std::vector<float>& b_depth_m, const MeshStore& meshes, FlowField& out,
+                 const std::vector<float>& b_depth_m, const MeshRegistry& meshes, FlowField& out,
                  const FlowOptions& options = FlowOptions(), FlowStats* stats = nullptr);
 
 }  // namespace viper

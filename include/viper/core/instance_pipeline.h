@@ -59,13 +59,13 @@ class InstancePipeline {
 
   /// Adds meshes that arrive outside frames (e.g. a latched mesh store topic).
   void addMeshes(const std::vector<MeshRecord>& meshes) { meshes_.add(meshes); }
-  const MeshStore& meshes() const { return meshes_; }
+  const MeshRegistry& meshes() const { return meshes_; }
   void reset() { tracker_.reset(); }
 
  private:
   LabelTable labels_;
   InstancePipelineOptions options_;
-  MeshStore meshes_;
+  MeshRegistry meshes_;
   Tracker tracker_;
 };
 

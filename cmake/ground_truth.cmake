@@ -1,0 +1,29 @@
+# viper_ground_truth_ros: the ground-truth nodes (instances, boxes, odometry) and their nodelets.
+add_library(viper_ground_truth_ros
+  src/ros/ground_truth_conversions.cpp
+  src/ros/instances.cpp
+  src/ros/boxes.cpp
+  src/ros/odometry.cpp
+  src/ros/ground_truth_nodelets.cpp
+)
+target_include_directories(viper_ground_truth_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_ground_truth_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
+target_link_libraries(viper_ground_truth_ros PUBLIC viper_ros viper_core ${catkin_LIBRARIES})
+add_dependencies(viper_ground_truth_ros viper_generate_messages_cpp)
+set_target_properties(viper_ground_truth_ros PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+
+foreach(node instances boxes odometry)
+  add_executable(${node} nodes/${node}_node.cpp)
+  target_link_libraries(${node} viper_ground_truth_ros)
+  set_target_properties(${node} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  install(TARGETS ${node} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+endforeach()
+install(TARGETS viper_ground_truth_ros
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_ground_truth_conversions test/ros/test_ground_truth_conversions.cpp)
+  target_link_libraries(test_ground_truth_conversions viper_ground_truth_ros gtest_main)
+endif()

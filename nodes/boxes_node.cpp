@@ -1,0 +1,10 @@
+// boxes node (see docs/ground_truth_nodes.md).
+#include "viper/ros/boxes.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "boxes");
+  viper::Boxes node(ros::NodeHandle(), ros::NodeHandle("~"));
+  if (!node.start()) return 1;
+  ros::spin();
+  return 0;
+}

@@ -1,0 +1,10 @@
+// instances node (see docs/ground_truth_nodes.md).
+#include "viper/ros/instances.h"
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "instances");
+  viper::Instances node(ros::NodeHandle(), ros::NodeHandle("~"));
+  if (!node.start()) return 1;
+  ros::spin();
+  return 0;
+}

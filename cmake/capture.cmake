@@ -1,1 +1,62 @@
-# (filled in by the capture part)
+# Capture layer: libviper_intercept.so (loaded into OpenGL programs with LD_PRELOAD) and the
+# `capture` command that runs a program under it. Design and coverage: docs/capture_layer.md.
+find_package(Threads REQUIRED)
+
+set(VIPER_INTERCEPT_SOURCES
+  capture/gl_real.cpp
+  capture/frame_target.cpp
+  capture/frame_sink.cpp
+  capture/mesh_extract.cpp
+  capture/interceptor.cpp
+  capture/interceptor_resources.cpp
+  capture/interceptor_draw.cpp
+  capture/hooks_gl.cpp
+  capture/hooks_winsys.cpp)
+add_library(viper_intercept SHARED ${VIPER_INTERCEPT_SOURCES})
+# Only the hooked GL/EGL/GLX entry points and dlsym are exported; GL and EGL are not linked
+# (the real functions are looked up at run time, past the interceptor's own symbols).
+set_target_properties(viper_intercept PROPERTIES
+  CXX_VISIBILITY_PRESET hidden
+  VISIBILITY_INLINES_HIDDEN ON
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+target_link_libraries(viper_intercept PRIVATE viper_core Threads::Threads ${CMAKE_DL_LIBS})
+
+add_executable(viper_capture capture/capture_main.cpp)
+set_target_properties(viper_capture PROPERTIES
+  OUTPUT_NAME capture
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+target_compile_definitions(viper_capture PRIVATE VIPER_INTERCEPT_BUILD_PATH="$<TARGET_FILE:viper_intercept>")
+target_link_libraries(viper_capture PRIVATE viper_core)
+add_dependencies(viper_capture viper_intercept)
+
+install(TARGETS viper_intercept LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+install(TARGETS viper_capture RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(DIRECTORY config/profiles DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/config)
+
+if(CATKIN_ENABLE_TESTING)
+  find_package(X11 REQUIRED)
+  # GL test program: knows what it draws where (test/capture/test_scene_layout.h).
+  add_executable(viper_gl_test_program test/capture/gl_test_program.cpp)
+  target_include_directories(viper_gl_test_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
+  target_link_libraries(viper_gl_test_program PRIVATE PkgConfig::EGL PkgConfig::GL ${X11_LIBRARIES} ${CMAKE_DL_LIBS})
+
+  # The real-context part of the shader rewrite test needs EGL and GL.
+  if(TARGET test_shader_rewrite)
+    target_link_libraries(test_shader_rewrite PkgConfig::EGL PkgConfig::GL)
+  endif()
+
+  catkin_add_gtest(test_capture_mesh test/capture/test_capture_mesh.cpp capture/mesh_extract.cpp
+    capture/frame_sink.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_include_directories(test_capture_mesh PRIVATE ${PROJECT_SOURCE_DIR}/capture)
+  target_link_libraries(test_capture_mesh viper_core Threads::Threads ${CMAKE_DL_LIBS})
+
+  catkin_add_gtest(test_capture_run test/capture/test_capture_run.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_include_directories(test_capture_run PRIVATE ${PROJECT_SOURCE_DIR}/test/capture)
+  target_compile_definitions(test_capture_run PRIVATE
+    VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
+    VIPER_INTERCEPT_LIB="$<TARGET_FILE:viper_intercept>"
+    VIPER_GL_TEST_PROGRAM="$<TARGET_FILE:viper_gl_test_program>"
+    VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles")
+  target_link_libraries(test_capture_run viper_core)
+  add_dependencies(test_capture_run viper_capture viper_intercept viper_gl_test_program)
+endif()

@@ -1,0 +1,133 @@
+// `capture [options] -- PROGRAM ARGS...`: runs an OpenGL program with the viper interceptor
+// preloaded and writes a capture stream. Exit status: the program's (128 + signal if killed).
+#include "viper/core/capture_profile.h"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+pid_t g_child = 0;
+
+void forwardSignal(int sig) {
+  if (g_child > 0) kill(g_child, sig);
+}
+
+int usage(const char* argv0, const char* problem) {
+  if (problem) std::fprintf(stderr, "capture: %s\n", problem);
+  std::fprintf(stderr,
+               "usage: %s --output FILE.vcap [--profile PROFILE.yaml] [--condition TAG] [--frames N]\n"
+               "       [--library libviper_intercept.so] -- PROGRAM [ARGS...]\n",
+               argv0);
+  return 2;
+}
+
+std::string executableDir() {
+  char buf[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
+  if (n <= 0) return ".";
+  std::string path(buf, static_cast<size_t>(n));
+  return path.substr(0, path.rfind('/'));
+}
+
+std::string findLibrary(const std::string& given) {
+  if (!given.empty()) return given;
+  if (const char* env = std::getenv("VIPER_INTERCEPT_LIBRARY")) return env;
+  const std::string dir = executableDir();
+  for (const std::string& candidate :
+       {dir + "/libviper_intercept.so", dir + "/../libviper_intercept.so", std::string(VIPER_INTERCEPT_BUILD_PATH)}) {
+    if (access(candidate.c_str(), R_OK) == 0) return candidate;
+  }
+  return std::string(VIPER_INTERCEPT_BUILD_PATH);
+}
+
+std::string absolute(const std::string& path) {
+  if (path.empty() || path[0] == '/') return path;
+  char cwd[PATH_MAX];
+  return getcwd(cwd, sizeof(cwd)) ? std::string(cwd) + "/" + path : path;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string output, profile, condition, frames, library;
+  int i = 1;
+  for (; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--") {
+      ++i;
+      break;
+    }
+    if (a == "-h" || a == "--help") return usage(argv[0], nullptr), 0;
+    if (i + 1 >= argc) return usage(argv[0], ("option " + a + " needs a value").c_str());
+    const std::string v = argv[++i];
+    if (a == "--output" || a == "-o") output = v;
+    else if (a == "--profile") profile = v;
+    else if (a == "--condition") condition = v;
+    else if (a == "--frames") frames = v;
+    else if (a == "--library") library = v;
+    else return usage(argv[0], ("unknown option " + a).c_str());
+  }
+  if (i >= argc) return usage(argv[0], "no program given after --");
+  if (output.empty()) return usage(argv[0], "--output is required");
+  if (!frames.empty()) {
+    char* end = nullptr;
+    const long long n = std::strtoll(frames.c_str(), &end, 10);
+    if (*end || n <= 0) return usage(argv[0], "--frames must be a positive integer");
+  }
+  if (!profile.empty()) {
+    try {
+      viper::loadCaptureProfile(profile);  // fail here, clearly, rather than inside the program
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "capture: %s\n", e.what());
+      return 2;
+    }
+  }
+  const std::string lib = absolute(findLibrary(library));
+  if (access(lib.c_str(), R_OK) != 0) {
+    std::fprintf(stderr, "capture: interceptor library %s not found (use --library)\n", lib.c_str());
+    return 2;
+  }
+
+  std::string preload = lib;
+  if (const char* old = std::getenv("LD_PRELOAD")) preload += std::string(":") + old;
+  setenv("LD_PRELOAD", preload.c_str(), 1);
+  setenv("VIPER_CAPTURE_OUTPUT", absolute(output).c_str(), 1);
+  setenv("VIPER_CAPTURE_PROGRAM", argv[i], 1);
+  if (!profile.empty()) setenv("VIPER_CAPTURE_PROFILE", absolute(profile).c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_PROFILE");
+  setenv("VIPER_CAPTURE_CONDITION", condition.c_str(), 1);
+  if (!frames.empty()) setenv("VIPER_CAPTURE_FRAMES", frames.c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_FRAMES");
+
+  g_child = fork();
+  if (g_child < 0) {
+    std::perror("capture: fork");
+    return 1;
+  }
+  if (g_child == 0) {
+    execvp(argv[i], argv + i);
+    std::fprintf(stderr, "capture: cannot run %s: %s\n", argv[i], std::strerror(errno));
+    _exit(127);
+  }
+  signal(SIGINT, forwardSignal);
+  signal(SIGTERM, forwardSignal);
+  int status = 0;
+  while (waitpid(g_child, &status, 0) < 0) {
+    if (errno != EINTR) {
+      std::perror("capture: waitpid");
+      return 1;
+    }
+  }
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return 1;
+}

@@ -1,0 +1,179 @@
+#include "frame_target.h"
+
+#include <cstddef>
+
+namespace viper {
+namespace capture {
+
+namespace {
+
+GLint getInt(GLenum pname) {
+  GLint v = 0;
+  gl().GetIntegerv(pname, &v);
+  return v;
+}
+
+GLint attachmentParam(GLenum attachment, GLenum pname) {
+  GLint v = 0;
+  gl().GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, attachment, pname, &v);
+  return v;
+}
+
+}  // namespace
+
+void FrameTarget::queryDefaultFormats() {
+  const RealGl& g = gl();
+  const GLint prev_draw = getInt(GL_DRAW_FRAMEBUFFER_BINDING);
+  g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  const GLenum color_att = getInt(GL_DOUBLEBUFFER) ? GL_BACK_LEFT : GL_FRONT_LEFT;
+  const bool srgb = attachmentParam(color_att, GL_FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING) == GL_SRGB;
+  const bool alpha = attachmentParam(color_att, GL_FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE) > 0;
+  color_format_ = alpha ? (srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8) : (srgb ? GL_SRGB8 : GL_RGB8);
+
+  GLint depth_bits = 0, stencil_bits = 0;
+  if (attachmentParam(GL_DEPTH, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) != GL_NONE)
+    depth_bits = attachmentParam(GL_DEPTH, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE);
+  if (attachmentParam(GL_STENCIL, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) != GL_NONE)
+    stencil_bits = attachmentParam(GL_STENCIL, GL_FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE);
+  // Same depth precision as the real framebuffer, so depth tests (and pixels) come out identical.
+  depth_attachment_ = stencil_bits > 0 ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT;
+  if (depth_bits == 0) depth_format_ = 0;
+  else if (depth_bits <= 16 && stencil_bits == 0) depth_format_ = GL_DEPTH_COMPONENT16;
+  else if (depth_bits <= 24) depth_format_ = stencil_bits > 0 ? GL_DEPTH24_STENCIL8 : GL_DEPTH_COMPONENT24;
+  else depth_format_ = stencil_bits > 0 ? GL_DEPTH32F_STENCIL8 : GL_DEPTH_COMPONENT32F;
+  g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, prev_draw);
+  formats_known_ = true;
+}
+
+void FrameTarget::destroy() {
+  const RealGl& g = gl();
+  if (fbo_) g.DeleteFramebuffers(1, &fbo_);
+  GLuint tex[3] = {color_, ids_, depth_};
+  g.DeleteTextures(3, tex);
+  fbo_ = color_ = ids_ = depth_ = 0;
+}
+
+void FrameTarget::ensureSize(int width, int height) {
+  if (width <= 0 || height <= 0 || (fbo_ && width == width_ && height == height_)) return;
+  const RealGl& g = gl();
+  if (!formats_known_) queryDefaultFormats();
+  destroy();
+  width_ = width;
+  height_ = height;
+
+  const GLint prev_tex = getInt(GL_TEXTURE_BINDING_2D);
+  const GLint prev_unpack = getInt(GL_PIXEL_UNPACK_BUFFER_BINDING);
+  g.BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+  auto make = [&](GLenum internal, GLenum format, GLenum type) {
+    GLuint t = 0;
+    g.GenTextures(1, &t);
+    g.BindTexture(GL_TEXTURE_2D, t);
+    g.TexImage2D(GL_TEXTURE_2D, 0, internal, width, height, 0, format, type, nullptr);
+    g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    return t;
+  };
+  color_ = make(color_format_, GL_RGBA, GL_UNSIGNED_BYTE);
+  ids_ = make(GL_RG32F, GL_RG, GL_FLOAT);
+  if (depth_format_ != 0) {
+    const bool stencil = depth_attachment_ == GL_DEPTH_STENCIL_ATTACHMENT;
+    depth_ = make(depth_format_, stencil ? GL_DEPTH_STENCIL : GL_DEPTH_COMPONENT,
+                  stencil ? (depth_format_ == GL_DEPTH24_STENCIL8 ? GL_UNSIGNED_INT_24_8
+                                                                 : GL_FLOAT_32_UNSIGNED_INT_24_8_REV)
+                          : GL_FLOAT);
+  }
+  g.BindTexture(GL_TEXTURE_2D, prev_tex);
+  g.BindBuffer(GL_PIXEL_UNPACK_BUFFER, prev_unpack);
+
+  g.GenFramebuffers(1, &fbo_);
+  g.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  g.FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
+  g.FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, ids_, 0);
+  if (depth_) g.FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, depth_attachment_, GL_TEXTURE_2D, depth_, 0);
+  ids_enabled = true;
+  applyDrawBuffers(true);
+  applyReadBuffer();
+  // The new attachments start as a cleared default framebuffer would: zero color, far depth.
+  const GLfloat zero[4] = {0, 0, 0, 0};
+  const GLint prev_scissor = g.IsEnabled(GL_SCISSOR_TEST);
+  g.Disable(GL_SCISSOR_TEST);
+  g.ClearBufferfv(GL_COLOR, 0, zero);
+  g.ClearBufferfv(GL_COLOR, 1, zero);
+  if (prev_scissor) g.Enable(GL_SCISSOR_TEST);
+  // Where the program thinks the default framebuffer is bound, ours is.
+  g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, program_draw_fb ? program_draw_fb : fbo_);
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, program_read_fb ? program_read_fb : fbo_);
+}
+
+void FrameTarget::applyDrawBuffers(bool ids) {
+  const GLenum none_or_color = program_draw_buffer == GL_NONE ? GL_NONE : GL_COLOR_ATTACHMENT0;
+  const GLenum ids_buffer = ids && none_or_color != GL_NONE ? GLenum(GL_COLOR_ATTACHMENT1) : GLenum(GL_NONE);
+  const GLenum bufs[2] = {none_or_color, ids_buffer};
+  gl().DrawBuffers(2, bufs);
+  ids_enabled = ids;
+}
+
+void FrameTarget::applyReadBuffer() {
+  gl().ReadBuffer(program_read_buffer == GL_NONE ? GL_NONE : GL_COLOR_ATTACHMENT0);
+}
+
+void FrameTarget::present(RawImages& out, bool to_surface) {
+  const RealGl& g = gl();
+  out.width = width_;
+  out.height = height_;
+  if (!fbo_) return;
+  const GLint pack_buffer = getInt(GL_PIXEL_PACK_BUFFER_BINDING);
+  const GLint pack_alignment = getInt(GL_PACK_ALIGNMENT);
+  const GLint pack_row_length = getInt(GL_PACK_ROW_LENGTH);
+  const GLint pack_skip_rows = getInt(GL_PACK_SKIP_ROWS);
+  const GLint pack_skip_pixels = getInt(GL_PACK_SKIP_PIXELS);
+  const GLboolean scissor = g.IsEnabled(GL_SCISSOR_TEST);
+  const GLboolean srgb = g.IsEnabled(GL_FRAMEBUFFER_SRGB);
+  const GLboolean discard = g.IsEnabled(GL_RASTERIZER_DISCARD);
+  if (scissor) g.Disable(GL_SCISSOR_TEST);
+  if (srgb) g.Disable(GL_FRAMEBUFFER_SRGB);
+  if (discard) g.Disable(GL_RASTERIZER_DISCARD);
+
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  g.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  if (to_surface) {
+    g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    g.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  }
+
+  g.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  g.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  g.PixelStorei(GL_PACK_ROW_LENGTH, 0);
+  g.PixelStorei(GL_PACK_SKIP_ROWS, 0);
+  g.PixelStorei(GL_PACK_SKIP_PIXELS, 0);
+  const size_t n = static_cast<size_t>(width_) * height_;
+  out.rgba.resize(n * 4);
+  g.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.rgba.data());
+  out.depth.clear();
+  out.depth_24_8.clear();
+  if (depth_format_ == GL_DEPTH24_STENCIL8) {
+    // Packed read-back is a plain copy; the conversion to float happens on the writer thread.
+    out.depth_24_8.resize(n);
+    g.ReadPixels(0, 0, width_, height_, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, out.depth_24_8.data());
+  } else if (depth_) {
+    out.depth.resize(n);
+    g.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, out.depth.data());
+  }
+  g.ReadBuffer(GL_COLOR_ATTACHMENT1);
+  out.ids.resize(n * 2);
+  g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, out.ids.data());
+  applyReadBuffer();
+
+  g.BindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer);
+  g.PixelStorei(GL_PACK_ALIGNMENT, pack_alignment);
+  g.PixelStorei(GL_PACK_ROW_LENGTH, pack_row_length);
+  g.PixelStorei(GL_PACK_SKIP_ROWS, pack_skip_rows);
+  g.PixelStorei(GL_PACK_SKIP_PIXELS, pack_skip_pixels);
+  if (scissor) g.Enable(GL_SCISSOR_TEST);
+  if (srgb) g.Enable(GL_FRAMEBUFFER_SRGB);
+  if (discard) g.Enable(GL_RASTERIZER_DISCARD);
+  g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, program_draw_fb ? program_draw_fb : fbo_);
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, program_read_fb ? program_read_fb : fbo_);
+}
+
+}  // namespace capture
+}  // namespace viper

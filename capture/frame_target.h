@@ -1,0 +1,68 @@
+// The interceptor's stand-in for a context's default framebuffer: color (the program's image),
+// draw/primitive ids, and depth(-stencil) in the formats of the real default framebuffer.
+#pragma once
+
+#include "gl_real.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace viper {
+namespace capture {
+
+/// Pixels read back at a swap, bottom row first as glReadPixels gives them.
+struct RawImages {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgba;   ///< 4 bytes per pixel
+  std::vector<float> depth;    ///< window depth as floats (formats other than depth24/stencil8)
+  std::vector<uint32_t> depth_24_8;  ///< packed depth24/stencil8 (depth in the high 24 bits)
+  std::vector<float> ids;      ///< 2 floats per pixel: draw id (index + 1), primitive id
+};
+
+/// One per GL context. Methods must be called with that context current.
+class FrameTarget {
+ public:
+  /// Creates or resizes the substitute framebuffer to `width` x `height`, matching the formats
+  /// of the real default framebuffer (queried the first time).
+  void ensureSize(int width, int height);
+  bool ready() const { return fbo_ != 0; }
+  GLuint fbo() const { return fbo_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+  /// Program-visible framebuffer bindings (0 = the default framebuffer, i.e. ours).
+  GLuint program_draw_fb = 0;
+  GLuint program_read_fb = 0;
+  /// Draw buffer the program selected for "its" default framebuffer (GL_BACK or GL_NONE).
+  GLenum program_draw_buffer = GL_BACK;
+  /// Read buffer the program selected for it (GL_BACK or GL_NONE).
+  GLenum program_read_buffer = GL_BACK;
+  /// Whether our id attachment is currently a draw buffer.
+  bool ids_enabled = true;
+
+  /// Sets the draw buffers of our framebuffer from program_draw_buffer and `ids`.
+  void applyDrawBuffers(bool ids);
+  /// Sets the read buffer of our framebuffer from program_read_buffer.
+  void applyReadBuffer();
+
+  /// Copies the program's image to the real default framebuffer (unless `to_surface` is false:
+  /// pbuffers, whose content the program can only read through GL, which reads ours) and reads
+  /// color, depth and ids. Restores every binding and state it touches.
+  void present(RawImages& out, bool to_surface);
+
+ private:
+  void queryDefaultFormats();
+  void destroy();
+
+  GLuint fbo_ = 0;
+  GLuint color_ = 0, ids_ = 0, depth_ = 0;
+  int width_ = 0, height_ = 0;
+  bool formats_known_ = false;
+  GLenum color_format_ = GL_RGBA8;
+  GLenum depth_format_ = GL_DEPTH24_STENCIL8;  // 0 = no depth attachment
+  GLenum depth_attachment_ = GL_DEPTH_STENCIL_ATTACHMENT;
+};
+
+}  // namespace capture
+}  // namespace viper

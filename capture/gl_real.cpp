@@ -1,0 +1,71 @@
+#include "gl_real.h"
+
+#include <dlfcn.h>
+
+#include <cstdio>
+#include <mutex>
+
+namespace viper {
+namespace capture {
+
+namespace {
+
+using DlsymFn = void* (*)(void*, const char*);
+
+DlsymFn lookupRealDlsym() {
+  // dlvsym is not interposed, so it reaches glibc's dlsym whichever version this glibc has.
+  for (const char* version : {"GLIBC_2.34", "GLIBC_2.2.5", "GLIBC_2.17", "GLIBC_2.0"}) {
+    if (void* f = dlvsym(RTLD_NEXT, "dlsym", version)) return reinterpret_cast<DlsymFn>(f);
+  }
+  return nullptr;
+}
+
+void* openFirst(std::initializer_list<const char*> names) {
+  for (const char* n : names) {
+    if (void* h = dlopen(n, RTLD_LAZY | RTLD_LOCAL)) return h;
+  }
+  return nullptr;
+}
+
+using GetProcFn = void* (*)(const char*);
+
+RealGl loadRealGl() {
+  RealGl t;
+  void* opengl = openFirst({"libOpenGL.so.0", "libGL.so.1"});
+  auto egl_proc = reinterpret_cast<GetProcFn>(realEglFunction("eglGetProcAddress"));
+  auto lookup = [&](const char* name) -> void* {
+    void* f = opengl ? realDlsym(opengl, name) : nullptr;
+    if (!f && egl_proc) f = egl_proc(name);
+    if (!f) std::fprintf(stderr, "[viper capture] real %s not found\n", name);
+    return f;
+  };
+#define VIPER_LOAD_MEMBER(type, name) t.name = reinterpret_cast<type>(lookup("gl" #name));
+  VIPER_REAL_GL_FUNCTIONS(VIPER_LOAD_MEMBER)
+#undef VIPER_LOAD_MEMBER
+  return t;
+}
+
+}  // namespace
+
+void* realDlsym(void* handle, const char* name) {
+  static const DlsymFn real = lookupRealDlsym();
+  return real ? real(handle, name) : nullptr;
+}
+
+const RealGl& gl() {
+  static const RealGl table = loadRealGl();
+  return table;
+}
+
+void* realEglFunction(const char* name) {
+  static void* egl = openFirst({"libEGL.so.1", "libEGL.so"});
+  return egl ? realDlsym(egl, name) : nullptr;
+}
+
+void* realGlxFunction(const char* name) {
+  static void* glx = openFirst({"libGLX.so.0", "libGL.so.1"});
+  return glx ? realDlsym(glx, name) : nullptr;
+}
+
+}  // namespace capture
+}  // namespace viper

@@ -1,0 +1,268 @@
+// Exported OpenGL entry points. Each forwards to the real driver, telling the interceptor first.
+#include "hooks.h"
+#include "interceptor.h"
+
+#include <cstring>
+
+using viper::capture::DrawCall;
+using viper::capture::gl;
+using viper::capture::Interceptor;
+
+#define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
+
+namespace {
+
+inline Interceptor* active() {
+  Interceptor& i = Interceptor::instance();
+  return i.enabled() ? &i : nullptr;
+}
+
+template <typename F>
+inline void draw(const DrawCall& call, F real) {
+  Interceptor* i = active();
+  if (!i) return real();
+  const bool recorded = i->beforeDraw(call);
+  real();
+  if (recorded) i->afterDraw(call);
+}
+
+}  // namespace
+
+VIPER_EXPORT void glShaderSource(GLuint shader, GLsizei count, const GLchar* const* string, const GLint* length) {
+  if (Interceptor* i = active()) return i->shaderSource(shader, count, string, length);
+  gl().ShaderSource(shader, count, string, length);
+}
+VIPER_EXPORT void glCompileShader(GLuint shader) {
+  if (Interceptor* i = active()) return i->compileShader(shader);
+  gl().CompileShader(shader);
+}
+VIPER_EXPORT void glLinkProgram(GLuint program) {
+  if (Interceptor* i = active()) return i->linkProgram(program);
+  gl().LinkProgram(program);
+}
+VIPER_EXPORT void glUseProgram(GLuint program) {
+  gl().UseProgram(program);
+  if (Interceptor* i = active()) i->useProgram(program);
+}
+VIPER_EXPORT void glTransformFeedbackVaryings(GLuint program, GLsizei count, const GLchar* const* varyings,
+                                              GLenum mode) {
+  gl().TransformFeedbackVaryings(program, count, varyings, mode);
+  if (Interceptor* i = active()) i->transformFeedbackVaryings(program);
+}
+VIPER_EXPORT void glBindFramebuffer(GLenum target, GLuint framebuffer) {
+  if (Interceptor* i = active()) return i->bindFramebuffer(target, framebuffer);
+  gl().BindFramebuffer(target, framebuffer);
+}
+VIPER_EXPORT void glDrawBuffer(GLenum buf) {
+  if (Interceptor* i = active()) return i->drawBuffer(buf);
+  gl().DrawBuffer(buf);
+}
+VIPER_EXPORT void glDrawBuffers(GLsizei n, const GLenum* bufs) {
+  if (Interceptor* i = active()) return i->drawBuffers(n, bufs);
+  gl().DrawBuffers(n, bufs);
+}
+VIPER_EXPORT void glReadBuffer(GLenum src) {
+  if (Interceptor* i = active()) return i->readBuffer(src);
+  gl().ReadBuffer(src);
+}
+VIPER_EXPORT void glClear(GLbitfield mask) {
+  if (Interceptor* i = active()) return i->clear(mask);
+  gl().Clear(mask);
+}
+VIPER_EXPORT void glGetIntegerv(GLenum pname, GLint* data) {
+  gl().GetIntegerv(pname, data);
+  if (Interceptor* i = active()) i->fixIntegerQuery(pname, data);
+}
+VIPER_EXPORT void glEnable(GLenum cap) {
+  gl().Enable(cap);
+  if (cap == GL_BLEND)
+    if (Interceptor* i = active()) i->blendStateChanged(true, true);
+}
+VIPER_EXPORT void glDisable(GLenum cap) {
+  gl().Disable(cap);
+  if (cap == GL_BLEND)
+    if (Interceptor* i = active()) i->blendStateChanged(true, false);
+}
+VIPER_EXPORT void glEnablei(GLenum cap, GLuint index) {
+  gl().Enablei(cap, index);
+  if (cap == GL_BLEND)
+    if (Interceptor* i = active()) i->blendStateChanged(index == 0, true);
+}
+VIPER_EXPORT void glDisablei(GLenum cap, GLuint index) {
+  gl().Disablei(cap, index);
+  if (cap == GL_BLEND)
+    if (Interceptor* i = active()) i->blendStateChanged(index == 0, false);
+}
+VIPER_EXPORT void glBlendFunc(GLenum s, GLenum d) {
+  gl().BlendFunc(s, d);
+  if (Interceptor* i = active()) i->blendStateChanged(false, false);
+}
+VIPER_EXPORT void glBlendFuncSeparate(GLenum sr, GLenum dr, GLenum sa, GLenum da) {
+  gl().BlendFuncSeparate(sr, dr, sa, da);
+  if (Interceptor* i = active()) i->blendStateChanged(false, false);
+}
+VIPER_EXPORT void glBlendEquation(GLenum mode) {
+  gl().BlendEquation(mode);
+  if (Interceptor* i = active()) i->blendStateChanged(false, false);
+}
+VIPER_EXPORT void glBlendEquationSeparate(GLenum rgb, GLenum alpha) {
+  gl().BlendEquationSeparate(rgb, alpha);
+  if (Interceptor* i = active()) i->blendStateChanged(false, false);
+}
+VIPER_EXPORT void glBufferData(GLenum target, GLsizeiptr size, const void* data, GLenum usage) {
+  gl().BufferData(target, size, data, usage);
+  if (Interceptor* i = active()) i->bufferData(target, 0, size, data);
+}
+VIPER_EXPORT void glBufferSubData(GLenum target, GLintptr offset, GLsizeiptr size, const void* data) {
+  gl().BufferSubData(target, offset, size, data);
+  if (Interceptor* i = active()) i->bufferSubData(target, 0, offset, size, data);
+}
+VIPER_EXPORT void glNamedBufferData(GLuint buffer, GLsizeiptr size, const void* data, GLenum usage) {
+  gl().NamedBufferData(buffer, size, data, usage);
+  if (Interceptor* i = active()) i->bufferData(0, buffer, size, data);
+}
+VIPER_EXPORT void glNamedBufferSubData(GLuint buffer, GLintptr offset, GLsizeiptr size, const void* data) {
+  gl().NamedBufferSubData(buffer, offset, size, data);
+  if (Interceptor* i = active()) i->bufferSubData(0, buffer, offset, size, data);
+}
+VIPER_EXPORT void* glMapBuffer(GLenum target, GLenum access) {
+  void* p = gl().MapBuffer(target, access);
+  if (Interceptor* i = active())
+    i->mapped(target, p, 0, -1, access == GL_READ_ONLY ? GL_MAP_READ_BIT : GL_MAP_WRITE_BIT);
+  return p;
+}
+VIPER_EXPORT void* glMapBufferRange(GLenum target, GLintptr offset, GLsizeiptr length, GLbitfield access) {
+  void* p = gl().MapBufferRange(target, offset, length, access);
+  if (Interceptor* i = active()) i->mapped(target, p, offset, length, access);
+  return p;
+}
+VIPER_EXPORT GLboolean glUnmapBuffer(GLenum target) {
+  if (Interceptor* i = active()) i->beforeUnmap(target);
+  return gl().UnmapBuffer(target);
+}
+VIPER_EXPORT void glCopyBufferSubData(GLenum rt, GLenum wt, GLintptr ro, GLintptr wo, GLsizeiptr size) {
+  gl().CopyBufferSubData(rt, wt, ro, wo, size);
+  if (Interceptor* i = active()) i->copyBufferSubData(rt, wt, ro, wo, size);
+}
+VIPER_EXPORT void glDeleteBuffers(GLsizei n, const GLuint* buffers) {
+  if (Interceptor* i = active()) i->deleteBuffers(n, buffers);
+  gl().DeleteBuffers(n, buffers);
+}
+VIPER_EXPORT void glActiveTexture(GLenum texture) {
+  gl().ActiveTexture(texture);
+  if (Interceptor* i = active()) i->activeTexture(texture);
+}
+VIPER_EXPORT void glBindTexture(GLenum target, GLuint texture) {
+  gl().BindTexture(target, texture);
+  if (Interceptor* i = active()) i->bindTexture(target, texture);
+}
+VIPER_EXPORT void glTexImage2D(GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,
+                               GLint border, GLenum format, GLenum type, const void* pixels) {
+  gl().TexImage2D(target, level, internalformat, width, height, border, format, type, pixels);
+  if (Interceptor* i = active()) i->texImage(target, level, width, height, format, type, pixels, false, 0, 0);
+}
+VIPER_EXPORT void glTexSubImage2D(GLenum target, GLint level, GLint x, GLint y, GLsizei width, GLsizei height,
+                                  GLenum format, GLenum type, const void* pixels) {
+  gl().TexSubImage2D(target, level, x, y, width, height, format, type, pixels);
+  if (Interceptor* i = active()) i->texImage(target, level, width, height, format, type, pixels, true, x, y);
+}
+VIPER_EXPORT void glTexStorage2D(GLenum target, GLsizei levels, GLenum internalformat, GLsizei width, GLsizei height) {
+  gl().TexStorage2D(target, levels, internalformat, width, height);
+  if (Interceptor* i = active())
+    i->texImage(target, 0, width, height, internalformat, 0, nullptr, false, 0, 0);
+}
+VIPER_EXPORT void glDeleteTextures(GLsizei n, const GLuint* textures) {
+  if (Interceptor* i = active()) i->deleteTextures(n, textures);
+  gl().DeleteTextures(n, textures);
+}
+
+// Draw calls.
+VIPER_EXPORT void glDrawArrays(GLenum mode, GLint first, GLsizei count) {
+  DrawCall c;
+  c.mode = mode, c.first = first, c.count = count;
+  draw(c, [&] { gl().DrawArrays(mode, first, count); });
+}
+VIPER_EXPORT void glDrawArraysInstanced(GLenum mode, GLint first, GLsizei count, GLsizei instances) {
+  DrawCall c;
+  c.mode = mode, c.first = first, c.count = count, c.instances = instances;
+  draw(c, [&] { gl().DrawArraysInstanced(mode, first, count, instances); });
+}
+
+namespace {
+DrawCall indexedCall(GLenum mode, GLsizei count, GLenum type, const void* indices, GLint base_vertex,
+                     GLsizei instances) {
+  DrawCall c;
+  c.mode = mode, c.count = count, c.indexed = true, c.index_type = type;
+  c.index_offset = reinterpret_cast<size_t>(indices), c.base_vertex = base_vertex, c.instances = instances;
+  return c;
+}
+}  // namespace
+
+VIPER_EXPORT void glDrawElements(GLenum mode, GLsizei count, GLenum type, const void* indices) {
+  draw(indexedCall(mode, count, type, indices, 0, 1), [&] { gl().DrawElements(mode, count, type, indices); });
+}
+VIPER_EXPORT void glDrawElementsBaseVertex(GLenum mode, GLsizei count, GLenum type, const void* indices,
+                                           GLint base) {
+  draw(indexedCall(mode, count, type, indices, base, 1),
+       [&] { gl().DrawElementsBaseVertex(mode, count, type, indices, base); });
+}
+VIPER_EXPORT void glDrawRangeElements(GLenum mode, GLuint start, GLuint end, GLsizei count, GLenum type,
+                                      const void* indices) {
+  draw(indexedCall(mode, count, type, indices, 0, 1),
+       [&] { gl().DrawRangeElements(mode, start, end, count, type, indices); });
+}
+VIPER_EXPORT void glDrawRangeElementsBaseVertex(GLenum mode, GLuint start, GLuint end, GLsizei count, GLenum type,
+                                                const void* indices, GLint base) {
+  draw(indexedCall(mode, count, type, indices, base, 1),
+       [&] { gl().DrawRangeElementsBaseVertex(mode, start, end, count, type, indices, base); });
+}
+VIPER_EXPORT void glDrawElementsInstanced(GLenum mode, GLsizei count, GLenum type, const void* indices,
+                                          GLsizei instances) {
+  draw(indexedCall(mode, count, type, indices, 0, instances),
+       [&] { gl().DrawElementsInstanced(mode, count, type, indices, instances); });
+}
+VIPER_EXPORT void glDrawElementsInstancedBaseVertex(GLenum mode, GLsizei count, GLenum type, const void* indices,
+                                                    GLsizei instances, GLint base) {
+  draw(indexedCall(mode, count, type, indices, base, instances),
+       [&] { gl().DrawElementsInstancedBaseVertex(mode, count, type, indices, instances, base); });
+}
+
+namespace viper {
+namespace capture {
+
+void* wrapperForWinsys(const char* name);
+
+void* wrapperFor(const char* name) {
+  if (!name) return nullptr;
+  struct Entry {
+    const char* name;
+    void* fn;
+  };
+#define VIPER_ENTRY(f) {#f, reinterpret_cast<void*>(&::f)}
+  static const Entry kEntries[] = {
+      VIPER_ENTRY(glShaderSource), VIPER_ENTRY(glCompileShader), VIPER_ENTRY(glLinkProgram),
+      VIPER_ENTRY(glUseProgram), VIPER_ENTRY(glTransformFeedbackVaryings), VIPER_ENTRY(glBindFramebuffer),
+      VIPER_ENTRY(glDrawBuffer), VIPER_ENTRY(glDrawBuffers), VIPER_ENTRY(glReadBuffer), VIPER_ENTRY(glClear),
+      VIPER_ENTRY(glGetIntegerv), VIPER_ENTRY(glEnable), VIPER_ENTRY(glDisable), VIPER_ENTRY(glEnablei),
+      VIPER_ENTRY(glDisablei), VIPER_ENTRY(glBlendFunc), VIPER_ENTRY(glBlendFuncSeparate),
+      VIPER_ENTRY(glBlendEquation), VIPER_ENTRY(glBlendEquationSeparate), VIPER_ENTRY(glBufferData),
+      VIPER_ENTRY(glBufferSubData), VIPER_ENTRY(glNamedBufferData), VIPER_ENTRY(glNamedBufferSubData),
+      VIPER_ENTRY(glMapBuffer), VIPER_ENTRY(glMapBufferRange), VIPER_ENTRY(glUnmapBuffer),
+      VIPER_ENTRY(glCopyBufferSubData), VIPER_ENTRY(glDeleteBuffers), VIPER_ENTRY(glActiveTexture),
+      VIPER_ENTRY(glBindTexture), VIPER_ENTRY(glTexImage2D), VIPER_ENTRY(glTexSubImage2D),
+      VIPER_ENTRY(glTexStorage2D), VIPER_ENTRY(glDeleteTextures), VIPER_ENTRY(glDrawArrays),
+      VIPER_ENTRY(glDrawArraysInstanced), VIPER_ENTRY(glDrawElements), VIPER_ENTRY(glDrawElementsBaseVertex),
+      VIPER_ENTRY(glDrawRangeElements), VIPER_ENTRY(glDrawRangeElementsBaseVertex),
+      VIPER_ENTRY(glDrawElementsInstanced), VIPER_ENTRY(glDrawElementsInstancedBaseVertex),
+  };
+#undef VIPER_ENTRY
+  if (name[0] == 'g' && name[1] == 'l' && name[2] != 'X') {
+    for (const Entry& e : kEntries)
+      if (std::strcmp(e.name, name) == 0) return e.fn;
+    return nullptr;
+  }
+  return wrapperForWinsys(name);
+}
+
+}  // namespace capture
+}  // namespace viper

@@ -1,0 +1,234 @@
+// Exported EGL/GLX entry points, the GetProcAddress functions and dlsym, so that programs that
+// load GL functions at run time also reach the interceptor.
+#include "hooks.h"
+#include "interceptor.h"
+
+#include <EGL/egl.h>
+#include <dlfcn.h>
+#include <link.h>
+
+#include <cstring>
+#include <mutex>
+#include <unordered_set>
+
+using viper::capture::Interceptor;
+using viper::capture::realDlsym;
+using viper::capture::realEglFunction;
+using viper::capture::realGlxFunction;
+using viper::capture::wrapperFor;
+
+#define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
+
+// GLX types without pulling in GL/gl.h (it clashes with glcorearb.h).
+typedef struct _XDisplay Display;
+typedef unsigned long GLXDrawable;
+typedef struct __GLXcontextRec* GLXContext;
+typedef void (*GlxProc)();
+
+namespace {
+
+constexpr int kGlxWidth = 0x801D;
+constexpr int kGlxHeight = 0x801E;
+
+template <typename F>
+F real(F, const char* name, bool glx) {
+  return reinterpret_cast<F>(glx ? realGlxFunction(name) : realEglFunction(name));
+}
+#define REAL_EGL(fn) real(&::fn, #fn, false)
+#define REAL_GLX(fn) real(&::fn, #fn, true)
+
+inline Interceptor* active() {
+  Interceptor& i = Interceptor::instance();
+  return i.enabled() ? &i : nullptr;
+}
+
+void eglSurfaceSize(EGLDisplay dpy, EGLSurface surface, int& w, int& h) {
+  static auto query = reinterpret_cast<EGLBoolean (*)(EGLDisplay, EGLSurface, EGLint, EGLint*)>(
+      realEglFunction("eglQuerySurface"));
+  EGLint ew = 0, eh = 0;
+  if (surface != EGL_NO_SURFACE && query) {
+    query(dpy, surface, EGL_WIDTH, &ew);
+    query(dpy, surface, EGL_HEIGHT, &eh);
+  }
+  w = ew, h = eh;
+}
+
+void glxDrawableSize(Display* dpy, GLXDrawable drawable, int& w, int& h) {
+  static auto query =
+      reinterpret_cast<void (*)(Display*, GLXDrawable, int, unsigned int*)>(realGlxFunction("glXQueryDrawable"));
+  unsigned int gw = 0, gh = 0;
+  if (drawable && query) {
+    query(dpy, drawable, kGlxWidth, &gw);
+    query(dpy, drawable, kGlxHeight, &gh);
+  }
+  w = static_cast<int>(gw), h = static_cast<int>(gh);
+}
+
+// Libraries of the GL stack itself must get the real functions from dlsym.
+bool calledFromDriver(const void* caller) {
+  Dl_info info;
+  if (!dladdr(caller, &info) || !info.dli_fname) return false;
+  const char* base = std::strrchr(info.dli_fname, '/');
+  base = base ? base + 1 : info.dli_fname;
+  for (const char* lib : {"libEGL", "libGL", "libOpenGL", "libGLX", "libGLdispatch", "libgbm", "mesa", "dri",
+                          "gallium", "libnvidia"}) {
+    if (std::strstr(base, lib)) return true;
+  }
+  return false;
+}
+
+// RTLD_NEXT relative to the caller, not to this library: search the objects loaded after it.
+void* nextSymbol(const void* caller, const char* name) {
+  Dl_info info;
+  link_map* map = nullptr;
+  if (!dladdr1(caller, &info, reinterpret_cast<void**>(&map), RTLD_DL_LINKMAP) || !map)
+    return realDlsym(RTLD_NEXT, name);
+  for (link_map* l = map->l_next; l; l = l->l_next) {
+    if (!l->l_name || !l->l_name[0]) continue;
+    void* h = dlopen(l->l_name, RTLD_LAZY | RTLD_NOLOAD);
+    if (!h) continue;
+    void* f = realDlsym(h, name);
+    dlclose(h);
+    if (f) return f;
+  }
+  return nullptr;
+}
+
+// Pbuffer surfaces: nobody sees them but through GL reads, so the swap skips the copy to them.
+std::mutex g_pbuffers_mutex;
+std::unordered_set<EGLSurface> g_pbuffers;
+
+bool isPbuffer(EGLSurface surface) {
+  std::lock_guard<std::mutex> lock(g_pbuffers_mutex);
+  return g_pbuffers.count(surface) > 0;
+}
+
+}  // namespace
+
+VIPER_EXPORT EGLSurface eglCreatePbufferSurface(EGLDisplay dpy, EGLConfig config, const EGLint* attribs) {
+  static auto fn = REAL_EGL(eglCreatePbufferSurface);
+  EGLSurface s = fn(dpy, config, attribs);
+  if (s != EGL_NO_SURFACE) {
+    std::lock_guard<std::mutex> lock(g_pbuffers_mutex);
+    g_pbuffers.insert(s);
+  }
+  return s;
+}
+
+VIPER_EXPORT EGLBoolean eglDestroySurface(EGLDisplay dpy, EGLSurface surface) {
+  static auto fn = REAL_EGL(eglDestroySurface);
+  {
+    std::lock_guard<std::mutex> lock(g_pbuffers_mutex);
+    g_pbuffers.erase(surface);
+  }
+  return fn(dpy, surface);
+}
+
+VIPER_EXPORT EGLBoolean eglMakeCurrent(EGLDisplay dpy, EGLSurface draw, EGLSurface read, EGLContext ctx) {
+  static auto fn = REAL_EGL(eglMakeCurrent);
+  const EGLBoolean ok = fn(dpy, draw, read, ctx);
+  if (Interceptor* i = active()) {
+    if (ok) {
+      int w = 0, h = 0;
+      eglSurfaceSize(dpy, draw, w, h);
+      i->onMakeCurrent(ctx == EGL_NO_CONTEXT ? nullptr : ctx, w, h);
+    }
+  }
+  return ok;
+}
+
+VIPER_EXPORT EGLBoolean eglSwapBuffers(EGLDisplay dpy, EGLSurface surface) {
+  static auto fn = REAL_EGL(eglSwapBuffers);
+  if (Interceptor* i = active()) {
+    int w = 0, h = 0;
+    eglSurfaceSize(dpy, surface, w, h);
+    i->beforeSwap(w, h, isPbuffer(surface));
+  }
+  return fn(dpy, surface);
+}
+
+VIPER_EXPORT __eglMustCastToProperFunctionPointerType eglGetProcAddress(const char* name) {
+  static auto fn = REAL_EGL(eglGetProcAddress);
+  if (void* w = wrapperFor(name)) return reinterpret_cast<__eglMustCastToProperFunctionPointerType>(w);
+  return fn ? fn(name) : nullptr;
+}
+
+VIPER_EXPORT int glXMakeCurrent(Display* dpy, GLXDrawable drawable, GLXContext ctx) {
+  static auto fn = reinterpret_cast<int (*)(Display*, GLXDrawable, GLXContext)>(realGlxFunction("glXMakeCurrent"));
+  const int ok = fn(dpy, drawable, ctx);
+  if (Interceptor* i = active()) {
+    if (ok) {
+      int w = 0, h = 0;
+      glxDrawableSize(dpy, drawable, w, h);
+      i->onMakeCurrent(ctx, w, h);
+    }
+  }
+  return ok;
+}
+
+VIPER_EXPORT int glXMakeContextCurrent(Display* dpy, GLXDrawable draw, GLXDrawable read, GLXContext ctx) {
+  static auto fn = reinterpret_cast<int (*)(Display*, GLXDrawable, GLXDrawable, GLXContext)>(
+      realGlxFunction("glXMakeContextCurrent"));
+  const int ok = fn(dpy, draw, read, ctx);
+  if (Interceptor* i = active()) {
+    if (ok) {
+      int w = 0, h = 0;
+      glxDrawableSize(dpy, draw, w, h);
+      i->onMakeCurrent(ctx, w, h);
+    }
+  }
+  return ok;
+}
+
+VIPER_EXPORT void glXSwapBuffers(Display* dpy, GLXDrawable drawable) {
+  static auto fn = reinterpret_cast<void (*)(Display*, GLXDrawable)>(realGlxFunction("glXSwapBuffers"));
+  if (Interceptor* i = active()) {
+    int w = 0, h = 0;
+    glxDrawableSize(dpy, drawable, w, h);
+    i->beforeSwap(w, h, false);
+  }
+  fn(dpy, drawable);
+}
+
+VIPER_EXPORT GlxProc glXGetProcAddress(const unsigned char* name) {
+  static auto fn = reinterpret_cast<GlxProc (*)(const unsigned char*)>(realGlxFunction("glXGetProcAddress"));
+  if (void* w = wrapperFor(reinterpret_cast<const char*>(name))) return reinterpret_cast<GlxProc>(w);
+  return fn ? fn(name) : nullptr;
+}
+
+VIPER_EXPORT GlxProc glXGetProcAddressARB(const unsigned char* name) { return glXGetProcAddress(name); }
+
+VIPER_EXPORT void* dlsym(void* __restrict handle, const char* __restrict name) {
+  const void* caller = __builtin_return_address(0);
+  if (handle == RTLD_NEXT) return nextSymbol(caller, name);
+  if (!calledFromDriver(caller)) {
+    if (void* w = wrapperFor(name)) {
+      // Only where the library asked for really has the symbol (dlsym(libGL, "eglFoo") stays null).
+      if (realDlsym(handle, name)) return w;
+    }
+  }
+  return realDlsym(handle, name);
+}
+
+namespace viper {
+namespace capture {
+
+void* wrapperForWinsys(const char* name) {
+  struct Entry {
+    const char* name;
+    void* fn;
+  };
+#define VIPER_ENTRY(f) {#f, reinterpret_cast<void*>(&::f)}
+  static const Entry kEntries[] = {
+      VIPER_ENTRY(eglCreatePbufferSurface), VIPER_ENTRY(eglDestroySurface), VIPER_ENTRY(eglMakeCurrent),        VIPER_ENTRY(eglSwapBuffers),   VIPER_ENTRY(eglGetProcAddress),
+      VIPER_ENTRY(glXMakeCurrent),        VIPER_ENTRY(glXMakeContextCurrent), VIPER_ENTRY(glXSwapBuffers),
+      VIPER_ENTRY(glXGetProcAddress),     VIPER_ENTRY(glXGetProcAddressARB),
+  };
+#undef VIPER_ENTRY
+  for (const Entry& e : kEntries)
+    if (std::strcmp(e.name, name) == 0) return e.fn;
+  return nullptr;
+}
+
+}  // namespace capture
+}  // namespace viper

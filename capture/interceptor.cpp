@@ -1,0 +1,176 @@
+#include "interceptor.h"
+
+#include <time.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace viper {
+namespace capture {
+
+namespace {
+
+thread_local FrameTarget* t_target = nullptr;
+
+double monotonicSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+std::string envOr(const char* name, const char* fallback) {
+  const char* v = std::getenv(name);
+  return v ? v : fallback;
+}
+
+Interceptor* g_instance = nullptr;
+
+// Closes the stream when the program exits normally (library destructors run after main).
+__attribute__((destructor)) void closeAtExit() {
+  if (g_instance) g_instance->shutdown();
+}
+
+}  // namespace
+
+Interceptor& Interceptor::instance() {
+  // Never destroyed: the program may still call GL while static objects are torn down.
+  static Interceptor* inst = (g_instance = new Interceptor);
+  return *inst;
+}
+
+Interceptor::Interceptor() {
+  output_path_ = envOr("VIPER_CAPTURE_OUTPUT", "");
+  if (output_path_.empty()) return;  // preloaded without a destination: pure pass-through
+  condition_ = envOr("VIPER_CAPTURE_CONDITION", "");
+  frame_limit_ = std::strtoull(envOr("VIPER_CAPTURE_FRAMES", "0").c_str(), nullptr, 10);
+  const std::string profile_path = envOr("VIPER_CAPTURE_PROFILE", "");
+  try {
+    if (profile_path.empty()) profile_.source = "<default>";
+    else profile_ = loadCaptureProfile(profile_path);
+    CaptureHeader header;
+    header.program = envOr("VIPER_CAPTURE_PROGRAM", "");
+    header.profile = profile_.source;
+    sink_.reset(new FrameSink(output_path_, header));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "[viper capture] capture disabled: %s\n", e.what());
+    return;
+  }
+  start_s_ = monotonicSeconds();
+  enabled_ = true;
+}
+
+void Interceptor::shutdown() {
+  if (sink_) sink_->close();
+  if (enabled_ && stats_.frames && std::getenv("VIPER_CAPTURE_STATS")) {
+    const double n = static_cast<double>(stats_.frames);
+    std::fprintf(stderr,
+                 "[viper capture] %llu frames; per frame: read-back %.2f ms, waiting for the writer %.2f ms, "
+                 "writer thread %.2f ms\n",
+                 static_cast<unsigned long long>(stats_.frames), stats_.present_s / n * 1e3,
+                 stats_.push_wait_s / n * 1e3, sink_->busySeconds() / n * 1e3);
+  }
+  enabled_ = false;
+}
+
+FrameTarget* Interceptor::target() { return t_target; }
+
+void Interceptor::onMakeCurrent(void* context, int width, int height) {
+  if (!context) {
+    t_target = nullptr;
+    return;
+  }
+  std::unique_ptr<FrameTarget>& slot = targets_[context];
+  if (!slot) slot.reset(new FrameTarget);
+  t_target = slot.get();
+  t_target->ensureSize(width, height);
+  GLint program = 0;
+  gl().GetIntegerv(GL_CURRENT_PROGRAM, &program);
+  current_program_ = static_cast<GLuint>(program);
+  current_program_info_ = nullptr;
+  blend0_enabled_ = gl().IsEnabledi(GL_BLEND, 0);
+  blend_dirty_ = true;
+}
+
+void Interceptor::beforeSwap(int width, int height, bool offscreen) {
+  FrameTarget* t = target();
+  if (!enabled_ || !t || !t->ready()) return;
+  RawImages raw = sink_->recycledRaw();
+  const double t0 = monotonicSeconds();
+  t->present(raw, !offscreen);
+  readDeformed();
+  const double t1 = monotonicSeconds();
+  frame_.number = frame_number_++;
+  frame_.time_s = monotonicSeconds() - start_s_;
+  frame_.condition = condition_;
+  sink_->push(std::move(frame_), std::move(raw));
+  frame_ = CaptureFrame();
+  stats_.present_s += t1 - t0;
+  stats_.push_wait_s += monotonicSeconds() - t1;
+  ++stats_.frames;
+  last_mesh_ = nullptr;
+  if (mesh_cache_.size() > 8192) mesh_cache_.clear();  // streamed geometry: keep memory bounded
+  t->ensureSize(width, height);
+  if (frame_limit_ && frame_number_ >= frame_limit_) {
+    std::fprintf(stderr, "[viper capture] captured %llu frames, stopping the program\n",
+                 static_cast<unsigned long long>(frame_number_));
+    shutdown();
+    std::exit(0);
+  }
+}
+
+void Interceptor::bindFramebuffer(GLenum target_enum, GLuint fb) {
+  FrameTarget* t = target();
+  if (!t || !t->ready()) return gl().BindFramebuffer(target_enum, fb);
+  if (target_enum == GL_FRAMEBUFFER || target_enum == GL_DRAW_FRAMEBUFFER) t->program_draw_fb = fb;
+  if (target_enum == GL_FRAMEBUFFER || target_enum == GL_READ_FRAMEBUFFER) t->program_read_fb = fb;
+  gl().BindFramebuffer(target_enum, fb ? fb : t->fbo());
+}
+
+void Interceptor::drawBuffer(GLenum buf) {
+  FrameTarget* t = target();
+  if (!t || !t->ready() || t->program_draw_fb != 0) return gl().DrawBuffer(buf);
+  t->program_draw_buffer = buf == GL_NONE ? GL_NONE : GL_BACK;
+  t->applyDrawBuffers(t->ids_enabled);
+}
+
+void Interceptor::drawBuffers(GLsizei n, const GLenum* bufs) {
+  FrameTarget* t = target();
+  if (!t || !t->ready() || t->program_draw_fb != 0) return gl().DrawBuffers(n, bufs);
+  t->program_draw_buffer = (n > 0 && bufs[0] != GL_NONE) ? GL_BACK : GL_NONE;
+  t->applyDrawBuffers(t->ids_enabled);
+}
+
+void Interceptor::readBuffer(GLenum buf) {
+  FrameTarget* t = target();
+  if (!t || !t->ready() || t->program_read_fb != 0) return gl().ReadBuffer(buf);
+  t->program_read_buffer = buf == GL_NONE ? GL_NONE : GL_BACK;
+  t->applyReadBuffer();
+}
+
+void Interceptor::clear(GLbitfield mask) {
+  FrameTarget* t = target();
+  const bool ours = t && t->ready() && t->program_draw_fb == 0 && (mask & GL_COLOR_BUFFER_BIT);
+  if (ours && !t->ids_enabled) t->applyDrawBuffers(true);
+  gl().Clear(mask);
+  // The program's clear color reached our id attachment too: ids start at 0 (no draw).
+  if (ours) {
+    static const GLfloat kZero[4] = {0, 0, 0, 0};
+    gl().ClearBufferfv(GL_COLOR, 1, kZero);
+  }
+}
+
+void Interceptor::fixIntegerQuery(GLenum pname, GLint* data) {
+  FrameTarget* t = target();
+  if (!t || !t->ready() || !data) return;
+  if ((pname == GL_DRAW_FRAMEBUFFER_BINDING || pname == GL_READ_FRAMEBUFFER_BINDING) &&
+      static_cast<GLuint>(*data) == t->fbo())
+    *data = 0;
+}
+
+void Interceptor::blendStateChanged(bool blend_enabled_known, bool blend_enabled) {
+  if (blend_enabled_known) blend0_enabled_ = blend_enabled;
+  blend_dirty_ = true;
+}
+
+}  // namespace capture
+}  // namespace viper

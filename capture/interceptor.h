@@ -1,0 +1,171 @@
+// State and behaviour of the capture layer; the exported GL/EGL/GLX functions (hooks_*.cpp)
+// forward to the real driver through this class.
+#pragma once
+
+#include "frame_sink.h"
+#include "frame_target.h"
+#include "gl_real.h"
+#include "mesh_extract.h"
+#include "viper/core/capture_profile.h"
+#include "viper/core/shader_rewrite.h"
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+namespace viper {
+namespace capture {
+
+/// What the interceptor knows about one shader object.
+struct ShaderInfo {
+  GLenum type = 0;
+  std::string original;
+  FragmentRewrite rewrite;  ///< rewrite.ok: the driver holds the rewritten source
+};
+
+/// What the interceptor knows about one linked program.
+struct ProgramInfo {
+  uint64_t key = 0;
+  bool rewritten = false;   ///< fragment shader writes viper_id_out
+  bool deforming = false;   ///< gl_Position is captured with transform feedback
+  bool own_feedback = false;  ///< the program set its own transform feedback varyings
+  bool has_geometry_stage = false;
+  GLint loc_draw_id = -1, loc_alpha_test = -1;
+  GLint loc_world = -1, loc_view = -1, loc_projection = -1;
+  GLint position_attrib = 0;
+  std::vector<GLint> sampler_locations;
+  std::vector<GLenum> sampler_targets;
+  float alpha_test_value = -1.0f;  ///< last value set, to skip redundant glUniform calls
+};
+
+/// Shadow copy of a buffer object's contents.
+struct BufferShadow {
+  std::vector<uint8_t> data;
+  uint64_t version = 0;
+  uint64_t key = 0;
+  uint64_t key_version = ~0ull;
+  // Active write mapping (glMapBuffer*), copied into `data` at unmap.
+  void* map_pointer = nullptr;
+  size_t map_offset = 0, map_length = 0;
+};
+
+/// Draw call arguments, normalised.
+struct DrawCall {
+  GLenum mode = GL_TRIANGLES;
+  GLsizei count = 0;
+  GLint first = 0;             ///< non-indexed draws
+  bool indexed = false;
+  GLenum index_type = 0;
+  size_t index_offset = 0;     ///< bytes into the element buffer
+  GLint base_vertex = 0;
+  GLsizei instances = 1;
+};
+
+/// The capture layer (one per process).
+class Interceptor {
+ public:
+  static Interceptor& instance();
+  /// Writes what is queued and closes the stream; capture stops.
+  void shutdown();
+  bool enabled() const { return enabled_; }
+
+  // Window system.
+  void onMakeCurrent(void* context, int width, int height);
+  /// At a buffer swap of a surface of `width` x `height`; `offscreen` for pbuffers.
+  void beforeSwap(int width, int height, bool offscreen);
+
+  // Shaders and programs.
+  void shaderSource(GLuint shader, GLsizei count, const GLchar* const* strings, const GLint* lengths);
+  void compileShader(GLuint shader);
+  void linkProgram(GLuint program);
+  void useProgram(GLuint program);
+  void transformFeedbackVaryings(GLuint program);
+
+  // Framebuffers.
+  void bindFramebuffer(GLenum target, GLuint fb);
+  void drawBuffer(GLenum buf);
+  void drawBuffers(GLsizei n, const GLenum* bufs);
+  void readBuffer(GLenum buf);
+  void clear(GLbitfield mask);
+  /// Rewrites framebuffer binding queries so the program sees 0 for its default framebuffer.
+  void fixIntegerQuery(GLenum pname, GLint* data);
+  void blendStateChanged(bool blend_enabled_known, bool blend_enabled);
+
+  // Buffers and textures.
+  void bufferData(GLenum target, GLuint name, GLsizeiptr size, const void* data);
+  void bufferSubData(GLenum target, GLuint name, GLintptr offset, GLsizeiptr size, const void* data);
+  void mapped(GLenum target, void* pointer, GLintptr offset, GLsizeiptr length, GLbitfield access);
+  void beforeUnmap(GLenum target);
+  void copyBufferSubData(GLenum read_target, GLenum write_target, GLintptr read_offset, GLintptr write_offset,
+                         GLsizeiptr size);
+  void deleteBuffers(GLsizei n, const GLuint* names);
+  void activeTexture(GLenum unit) { active_unit_ = unit - GL_TEXTURE0; }
+  void bindTexture(GLenum target, GLuint name);
+  void texImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLenum type, const void* pixels,
+                bool sub, GLint x, GLint y);
+  void deleteTextures(GLsizei n, const GLuint* names);
+
+  /// Called around every draw: `before` returns true if the draw is recorded.
+  bool beforeDraw(const DrawCall& call);
+  void afterDraw(const DrawCall& call);
+
+ private:
+  Interceptor();
+  ~Interceptor();
+  FrameTarget* target();
+  ProgramInfo* currentProgram();
+  GLuint boundBuffer(GLenum target);
+  uint64_t bufferKey(GLuint name);
+  void recordMesh(const DrawCall& call, const ProgramInfo& program, DrawRecord& record);
+  void captureDeformed(const DrawCall& call);
+  void readDeformed();
+  uint64_t textureKey(GLenum target, GLuint unit);
+
+  bool enabled_ = false;
+  std::string output_path_, condition_;
+  uint64_t frame_limit_ = 0;
+  CaptureProfile profile_;
+  std::unique_ptr<FrameSink> sink_;
+  double start_s_ = 0.0;
+
+  std::mutex mutex_;  // guards the resource maps (programs may upload from loader threads)
+  std::unordered_map<GLuint, ShaderInfo> shaders_;
+  std::unordered_map<GLuint, ProgramInfo> programs_;
+  std::unordered_set<GLuint> programs_with_own_feedback_;
+  std::unordered_map<GLuint, BufferShadow> buffers_;
+  std::unordered_map<GLuint, uint64_t> texture_keys_;
+  std::unordered_map<void*, std::unique_ptr<FrameTarget>> targets_;
+  std::unordered_map<uint64_t, ExtractedMesh> mesh_cache_;
+  std::unordered_set<uint64_t> emitted_meshes_;
+
+  GLuint current_program_ = 0;
+  ProgramInfo* current_program_info_ = nullptr;
+  GLuint active_unit_ = 0;
+  std::unordered_map<uint64_t, GLuint> unit_bindings_;  // (unit << 32 | target) -> texture
+  bool blend_dirty_ = true;
+  bool blend0_enabled_ = false;
+
+  // Frame being recorded.
+  uint64_t frame_number_ = 0;
+  CaptureFrame frame_;
+  struct PendingDeform {
+    uint32_t draw_index;
+    GLuint buffer;
+    uint32_t vertices;
+  };
+  std::vector<PendingDeform> pending_deform_;
+  std::vector<GLuint> feedback_buffers_;
+  GLuint feedback_object_ = 0;
+  ExtractedMesh* last_mesh_ = nullptr;  // mesh of the draw in flight
+  bool last_recorded_ = false;
+  struct {
+    uint64_t frames = 0;
+    double present_s = 0, push_wait_s = 0;
+  } stats_;  // printed at exit when VIPER_CAPTURE_STATS is set
+};
+
+}  // namespace capture
+}  // namespace viper

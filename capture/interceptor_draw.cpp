@@ -1,0 +1,204 @@
+// Per-draw work: draw ids, matrices, content keys, meshes and deformed vertices.
+#include "interceptor.h"
+
+#include "viper/core/content_key.h"
+
+#include <cstring>
+
+namespace viper {
+namespace capture {
+
+namespace {
+
+GLint vertexAttrib(GLuint index, GLenum pname) {
+  GLint v = 0;
+  gl().GetVertexAttribiv(index, pname, &v);
+  return v;
+}
+
+// Everything a mesh extraction depends on, hashed as one cache key.
+struct MeshCacheKey {
+  uint64_t vbo, vbo_version, ibo, ibo_version;
+  uint64_t offset, stride, index_offset;
+  int64_t first, base_vertex, count;
+  uint32_t size, type, mode, index_type;
+};
+
+}  // namespace
+
+bool Interceptor::beforeDraw(const DrawCall& call) {
+  last_recorded_ = false;
+  last_mesh_ = nullptr;
+  FrameTarget* t = target();
+  if (!enabled_ || !t || !t->ready() || t->program_draw_fb != 0) return false;  // only the default framebuffer
+  ProgramInfo* p = currentProgram();
+  if (!p) return false;
+  const RealGl& g = gl();
+  if (p->rewritten != t->ids_enabled) t->applyDrawBuffers(p->rewritten);
+  if (blend_dirty_) {
+    // For blended draws our id buffer keeps what is behind fragments whose coverage (alpha) is
+    // 0; opaque draws write ids unblended (blending float targets is slow on software drivers).
+    if (blend0_enabled_) {
+      g.Enablei(GL_BLEND, 1);
+      g.BlendFuncSeparatei(1, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ZERO);
+      g.BlendEquationi(1, GL_FUNC_ADD);
+    } else {
+      g.Disablei(GL_BLEND, 1);
+    }
+    blend_dirty_ = false;
+  }
+  const uint32_t index = static_cast<uint32_t>(frame_.draws.size());
+  if (p->rewritten) {
+    g.Uniform1f(p->loc_draw_id, static_cast<float>(index + 1));
+    const float alpha_test = blend0_enabled_ ? 1.0f : 0.0f;
+    if (alpha_test != p->alpha_test_value) {
+      g.Uniform1f(p->loc_alpha_test, alpha_test);
+      p->alpha_test_value = alpha_test;
+    }
+  }
+
+  frame_.draws.emplace_back();
+  DrawRecord& r = frame_.draws.back();
+  r.index = index;
+  r.program_key = p->key;
+  r.primitive_mode = call.mode;
+  r.primitive_count = primitiveCount(call.mode, static_cast<size_t>(call.count)) * static_cast<uint32_t>(call.instances);
+  struct {
+    GLint loc;
+    GlMatrix* m;
+    uint8_t flag;
+  } matrices[3] = {{p->loc_world, &r.world, kHasWorld}, {p->loc_view, &r.view, kHasView},
+                   {p->loc_projection, &r.projection, kHasProjection}};
+  for (auto& m : matrices) {
+    if (m.loc < 0) continue;
+    g.GetUniformfv(current_program_, m.loc, m.m->data());  // whatever glUniform* the program used
+    r.matrix_flags |= m.flag;
+  }
+  for (size_t i = 0; i < p->sampler_locations.size(); ++i) {
+    GLint unit = 0;
+    g.GetUniformiv(current_program_, p->sampler_locations[i], &unit);
+    r.texture_keys.push_back(textureKey(p->sampler_targets[i], static_cast<GLuint>(unit)));
+  }
+  recordMesh(call, *p, r);
+  last_recorded_ = true;
+  return true;
+}
+
+void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRecord& r) {
+  if (p.position_attrib < 0) return;
+  const GLuint attrib = static_cast<GLuint>(p.position_attrib);
+  if (!vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_ENABLED)) return;
+  const GLuint vbo = static_cast<GLuint>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING));
+  if (!vbo) return;
+  PositionLayout layout;
+  layout.size = vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_SIZE);
+  layout.type = static_cast<unsigned>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_TYPE));
+  layout.stride = static_cast<size_t>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_STRIDE));
+  void* pointer = nullptr;
+  gl().GetVertexAttribPointerv(attrib, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
+  layout.offset = reinterpret_cast<size_t>(pointer);
+  GLint ibo = 0;
+  if (call.indexed) gl().GetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &ibo);
+  if (call.indexed && !ibo) return;  // client-side indices are not supported in core profiles
+
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto vb = buffers_.find(vbo);
+  if (vb == buffers_.end()) return;
+  auto ib = buffers_.find(static_cast<GLuint>(ibo));
+  if (call.indexed && ib == buffers_.end()) return;
+  r.vertex_buffer_key = bufferKey(vbo);
+  r.index_buffer_key = call.indexed ? bufferKey(static_cast<GLuint>(ibo)) : 0;
+
+  MeshCacheKey k;
+  std::memset(&k, 0, sizeof(k));
+  k.vbo = vbo;
+  k.vbo_version = vb->second.version;
+  k.ibo = static_cast<uint64_t>(ibo);
+  k.ibo_version = call.indexed ? ib->second.version : 0;
+  k.offset = layout.offset;
+  k.stride = layout.stride;
+  k.index_offset = call.index_offset;
+  k.first = call.first;
+  k.base_vertex = call.base_vertex;
+  k.count = call.count;
+  k.size = static_cast<uint32_t>(layout.size);
+  k.type = layout.type;
+  k.mode = call.mode;
+  k.index_type = call.index_type;
+  const uint64_t cache_key = contentKey(&k, sizeof(k));
+  auto cached = mesh_cache_.find(cache_key);
+  if (cached == mesh_cache_.end()) {
+    ExtractedMesh mesh;
+    DrawRange range;
+    range.mode = call.mode;
+    range.count = static_cast<size_t>(call.count);
+    range.first = call.first;
+    range.base_vertex = call.base_vertex;
+    if (call.indexed) {
+      range.index_data = ib->second.data.data();
+      range.index_bytes = ib->second.data.size();
+      range.index_type = call.index_type;
+      range.index_offset = call.index_offset;
+    }
+    if (!extractMesh(vb->second.data, layout, range, mesh)) mesh = ExtractedMesh();  // key 0: no mesh
+    cached = mesh_cache_.emplace(cache_key, std::move(mesh)).first;
+  }
+  ExtractedMesh& m = cached->second;
+  r.mesh_key = m.mesh.key;
+  if (m.mesh.key && emitted_meshes_.insert(m.mesh.key).second) {
+    frame_.new_meshes.push_back(m.mesh);
+    // Sent once: the cache keeps only what later frames need.
+    m.mesh.positions_xyz = std::vector<float>();
+    m.mesh.indices = std::vector<uint32_t>();
+  }
+  if (m.mesh.key) last_mesh_ = &m;
+}
+
+void Interceptor::afterDraw(const DrawCall&) {
+  if (!last_recorded_ || !last_mesh_ || !current_program_info_ || !current_program_info_->deforming) return;
+  const RealGl& g = gl();
+  const uint32_t n = last_mesh_->vertex_count;
+  GLint prev_feedback = 0, prev_buffer = 0;
+  g.GetIntegerv(GL_TRANSFORM_FEEDBACK_BINDING, &prev_feedback);
+  g.GetIntegerv(GL_TRANSFORM_FEEDBACK_BUFFER_BINDING, &prev_buffer);
+  if (!feedback_object_) g.GenTransformFeedbacks(1, &feedback_object_);
+  const size_t slot = pending_deform_.size();
+  if (slot >= feedback_buffers_.size()) {
+    GLuint b = 0;
+    g.GenBuffers(1, &b);
+    feedback_buffers_.push_back(b);
+  }
+  const GLuint buffer = feedback_buffers_[slot];
+  // A second pass over the mesh's vertex range, same VAO and uniforms, rasterizer off:
+  // transform feedback returns gl_Position of every vertex in mesh order.
+  g.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, feedback_object_);
+  g.BindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffer);
+  g.BufferData(GL_TRANSFORM_FEEDBACK_BUFFER, static_cast<GLsizeiptr>(n) * 16, nullptr, GL_STREAM_READ);
+  const GLboolean discard = g.IsEnabled(GL_RASTERIZER_DISCARD);
+  if (!discard) g.Enable(GL_RASTERIZER_DISCARD);
+  g.BeginTransformFeedback(GL_POINTS);
+  g.DrawArrays(GL_POINTS, static_cast<GLint>(last_mesh_->first_vertex), static_cast<GLsizei>(n));
+  g.EndTransformFeedback();
+  if (!discard) g.Disable(GL_RASTERIZER_DISCARD);
+  g.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, static_cast<GLuint>(prev_feedback));
+  g.BindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, static_cast<GLuint>(prev_buffer));
+  pending_deform_.push_back(PendingDeform{static_cast<uint32_t>(frame_.draws.size() - 1), buffer, n});
+}
+
+void Interceptor::readDeformed() {
+  if (pending_deform_.empty()) return;
+  const RealGl& g = gl();
+  GLint prev = 0;
+  g.GetIntegerv(GL_COPY_READ_BUFFER_BINDING, &prev);
+  for (const PendingDeform& d : pending_deform_) {
+    std::vector<float>& out = frame_.draws[d.draw_index].deformed_clip_xyzw;
+    out.resize(static_cast<size_t>(d.vertices) * 4);
+    g.BindBuffer(GL_COPY_READ_BUFFER, d.buffer);
+    g.GetBufferSubData(GL_COPY_READ_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * sizeof(float)), out.data());
+  }
+  g.BindBuffer(GL_COPY_READ_BUFFER, static_cast<GLuint>(prev));
+  pending_deform_.clear();
+}
+
+}  // namespace capture
+}  // namespace viper

@@ -1,0 +1,314 @@
+// Shaders, programs, buffers and textures: rewriting, content keys and shadow copies.
+#include "interceptor.h"
+
+#include "viper/core/content_key.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+
+namespace viper {
+namespace capture {
+
+namespace {
+
+GLenum bindingOf(GLenum target) {
+  switch (target) {
+    case GL_ARRAY_BUFFER: return GL_ARRAY_BUFFER_BINDING;
+    case GL_ELEMENT_ARRAY_BUFFER: return GL_ELEMENT_ARRAY_BUFFER_BINDING;
+    case GL_COPY_READ_BUFFER: return GL_COPY_READ_BUFFER_BINDING;
+    case GL_COPY_WRITE_BUFFER: return GL_COPY_WRITE_BUFFER_BINDING;
+    case GL_TRANSFORM_FEEDBACK_BUFFER: return GL_TRANSFORM_FEEDBACK_BUFFER_BINDING;
+    case GL_SHADER_STORAGE_BUFFER: return GL_SHADER_STORAGE_BUFFER_BINDING;
+    default: return 0;  // uniform, pixel and texture buffers never hold meshes: not shadowed
+  }
+}
+
+GLenum samplerTarget(GLenum type) {
+  switch (type) {
+    case GL_SAMPLER_2D: case GL_SAMPLER_2D_SHADOW: case GL_INT_SAMPLER_2D: case GL_UNSIGNED_INT_SAMPLER_2D:
+      return GL_TEXTURE_2D;
+    case GL_SAMPLER_CUBE: case GL_SAMPLER_CUBE_SHADOW: return GL_TEXTURE_CUBE_MAP;
+    case GL_SAMPLER_3D: return GL_TEXTURE_3D;
+    case GL_SAMPLER_2D_ARRAY: case GL_SAMPLER_2D_ARRAY_SHADOW: return GL_TEXTURE_2D_ARRAY;
+    default: return 0;
+  }
+}
+
+size_t bytesPerPixel(GLenum format, GLenum type) {
+  size_t comps = 4;
+  switch (format) {
+    case GL_RED: case GL_RED_INTEGER: case GL_DEPTH_COMPONENT: case GL_STENCIL_INDEX: comps = 1; break;
+    case GL_RG: case GL_RG_INTEGER: case GL_DEPTH_STENCIL: comps = 2; break;
+    case GL_RGB: case GL_BGR: case GL_RGB_INTEGER: comps = 3; break;
+    default: comps = 4;
+  }
+  switch (type) {
+    case GL_UNSIGNED_BYTE: case GL_BYTE: return comps;
+    case GL_UNSIGNED_SHORT: case GL_SHORT: case GL_HALF_FLOAT: return comps * 2;
+    case GL_UNSIGNED_INT: case GL_INT: case GL_FLOAT: return comps * 4;
+    case GL_UNSIGNED_SHORT_5_6_5: case GL_UNSIGNED_SHORT_4_4_4_4: case GL_UNSIGNED_SHORT_5_5_5_1: return 2;
+    default: return 4;  // packed 32-bit types
+  }
+}
+
+}  // namespace
+
+void Interceptor::shaderSource(GLuint shader, GLsizei count, const GLchar* const* strings, const GLint* lengths) {
+  const RealGl& g = gl();
+  ShaderInfo info;
+  for (GLsizei i = 0; i < count; ++i) {
+    if (!strings[i]) continue;
+    info.original += (lengths && lengths[i] >= 0) ? std::string(strings[i], lengths[i]) : std::string(strings[i]);
+  }
+  GLint type = 0;
+  g.GetShaderiv(shader, GL_SHADER_TYPE, &type);
+  info.type = static_cast<GLenum>(type);
+  if (info.type == GL_FRAGMENT_SHADER) info.rewrite = rewriteFragmentShader(info.original);
+  if (info.rewrite.ok) {
+    const GLchar* src = info.rewrite.source.c_str();
+    g.ShaderSource(shader, 1, &src, nullptr);
+  } else {
+    g.ShaderSource(shader, count, strings, lengths);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  shaders_[shader] = std::move(info);
+}
+
+void Interceptor::compileShader(GLuint shader) {
+  const RealGl& g = gl();
+  g.CompileShader(shader);
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = shaders_.find(shader);
+  if (it == shaders_.end() || !it->second.rewrite.ok) return;
+  GLint ok = 0;
+  g.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (ok) return;
+  // Our rewrite broke a shader that may well compile as written: give the program its own.
+  std::fprintf(stderr, "[viper capture] rewritten fragment shader %u did not compile; no ids for it\n", shader);
+  it->second.rewrite.ok = false;
+  const GLchar* src = it->second.original.c_str();
+  g.ShaderSource(shader, 1, &src, nullptr);
+  g.CompileShader(shader);
+}
+
+void Interceptor::transformFeedbackVaryings(GLuint program) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  programs_with_own_feedback_.insert(program);
+}
+
+void Interceptor::linkProgram(GLuint program) {
+  const RealGl& g = gl();
+  GLuint attached[16];
+  GLsizei n = 0;
+  g.GetAttachedShaders(program, 16, &n, attached);
+  ProgramInfo info;
+  std::string stage_sources[6], vertex_source;
+  const ShaderInfo* fragment = nullptr;
+  int fragment_count = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (GLsizei i = 0; i < n; ++i) {
+      auto it = shaders_.find(attached[i]);
+      if (it == shaders_.end()) continue;
+      const ShaderInfo& s = it->second;
+      int stage = 5;
+      switch (s.type) {
+        case GL_VERTEX_SHADER: stage = 0; vertex_source += s.original; break;
+        case GL_TESS_CONTROL_SHADER: stage = 1; info.has_geometry_stage = true; break;
+        case GL_TESS_EVALUATION_SHADER: stage = 2; info.has_geometry_stage = true; break;
+        case GL_GEOMETRY_SHADER: stage = 3; info.has_geometry_stage = true; break;
+        case GL_FRAGMENT_SHADER: stage = 4; fragment = &s; ++fragment_count; break;
+        default: break;
+      }
+      stage_sources[stage] += s.original;
+    }
+    info.own_feedback = programs_with_own_feedback_.count(program) > 0;
+  }
+  std::string all;
+  for (const std::string& s : stage_sources) all += s;
+  info.key = contentKey(all);
+  const ProgramProfile& profile = *profile_.match(vertex_source, info.key);
+
+  info.rewritten = fragment_count == 1 && fragment->rewrite.ok;
+  if (info.rewritten) {
+    g.BindFragDataLocation(program, 1, kIdOutputName);
+    if (!fragment->rewrite.explicit_location) g.BindFragDataLocation(program, 0, fragment->rewrite.color_output.c_str());
+  }
+  info.deforming = profile.deforming == Deforming::kYes ||
+                   (profile.deforming == Deforming::kAuto && declaresMat4ArrayUniform(vertex_source));
+  if (info.own_feedback || info.has_geometry_stage) info.deforming = false;
+  static const char* const kVaryings[1] = {"gl_Position"};
+  if (info.deforming) g.TransformFeedbackVaryings(program, 1, kVaryings, GL_INTERLEAVED_ATTRIBS);
+  g.LinkProgram(program);
+  GLint linked = 0;
+  g.GetProgramiv(program, GL_LINK_STATUS, &linked);
+  if (!linked && info.deforming) {
+    g.TransformFeedbackVaryings(program, 0, nullptr, GL_INTERLEAVED_ATTRIBS);
+    g.LinkProgram(program);
+    g.GetProgramiv(program, GL_LINK_STATUS, &linked);
+    info.deforming = false;
+  }
+  if (linked) {
+    if (info.rewritten) {
+      info.loc_draw_id = g.GetUniformLocation(program, kDrawIdUniform);
+      info.loc_alpha_test = g.GetUniformLocation(program, kAlphaTestUniform);
+    }
+    if (!profile.world.empty()) info.loc_world = g.GetUniformLocation(program, profile.world.c_str());
+    if (!profile.view.empty()) info.loc_view = g.GetUniformLocation(program, profile.view.c_str());
+    if (!profile.projection.empty()) info.loc_projection = g.GetUniformLocation(program, profile.projection.c_str());
+    info.position_attrib = profile.position.empty() ? 0 : g.GetAttribLocation(program, profile.position.c_str());
+    GLint uniforms = 0;
+    g.GetProgramiv(program, GL_ACTIVE_UNIFORMS, &uniforms);
+    for (GLint i = 0; i < uniforms; ++i) {
+      char name[256];
+      GLint size = 0;
+      GLenum type = 0;
+      g.GetActiveUniform(program, static_cast<GLuint>(i), sizeof(name), nullptr, &size, &type, name);
+      const GLenum target = samplerTarget(type);
+      if (!target) continue;
+      info.sampler_locations.push_back(g.GetUniformLocation(program, name));
+      info.sampler_targets.push_back(target);
+    }
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  programs_[program] = std::move(info);
+  if (program == current_program_) current_program_info_ = nullptr;
+}
+
+void Interceptor::useProgram(GLuint program) {
+  current_program_ = program;
+  current_program_info_ = nullptr;
+}
+
+ProgramInfo* Interceptor::currentProgram() {
+  if (!current_program_info_ && current_program_) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = programs_.find(current_program_);
+    if (it != programs_.end()) current_program_info_ = &it->second;
+  }
+  return current_program_info_;
+}
+
+GLuint Interceptor::boundBuffer(GLenum target) {
+  const GLenum binding = bindingOf(target);
+  if (!binding) return 0;
+  GLint name = 0;
+  gl().GetIntegerv(binding, &name);
+  return static_cast<GLuint>(name);
+}
+
+void Interceptor::bufferData(GLenum target, GLuint name, GLsizeiptr size, const void* data) {
+  if (!name) name = boundBuffer(target);
+  if (!name || size < 0) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  BufferShadow& b = buffers_[name];
+  const uint8_t* p = static_cast<const uint8_t*>(data);
+  if (p) b.data.assign(p, p + size);
+  else b.data.assign(static_cast<size_t>(size), 0);
+  ++b.version;
+}
+
+void Interceptor::bufferSubData(GLenum target, GLuint name, GLintptr offset, GLsizeiptr size, const void* data) {
+  if (!name) name = boundBuffer(target);
+  if (!name || !data || offset < 0 || size < 0) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = buffers_.find(name);
+  if (it == buffers_.end() || static_cast<size_t>(offset + size) > it->second.data.size()) return;
+  std::memcpy(it->second.data.data() + offset, data, static_cast<size_t>(size));
+  ++it->second.version;
+}
+
+void Interceptor::mapped(GLenum target, void* pointer, GLintptr offset, GLsizeiptr length, GLbitfield access) {
+  const GLuint name = boundBuffer(target);
+  if (!name || !pointer || !(access & GL_MAP_WRITE_BIT)) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = buffers_.find(name);
+  if (it == buffers_.end()) return;
+  it->second.map_pointer = pointer;
+  it->second.map_offset = static_cast<size_t>(offset);
+  it->second.map_length = length < 0 ? it->second.data.size() - offset : static_cast<size_t>(length);
+}
+
+void Interceptor::beforeUnmap(GLenum target) {
+  const GLuint name = boundBuffer(target);
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = buffers_.find(name);
+  if (it == buffers_.end() || !it->second.map_pointer) return;
+  BufferShadow& b = it->second;
+  if (b.map_offset + b.map_length <= b.data.size())
+    std::memcpy(b.data.data() + b.map_offset, b.map_pointer, b.map_length);
+  b.map_pointer = nullptr;
+  ++b.version;
+}
+
+void Interceptor::copyBufferSubData(GLenum read_target, GLenum write_target, GLintptr read_offset,
+                                   GLintptr write_offset, GLsizeiptr size) {
+  const GLuint src = boundBuffer(read_target), dst = boundBuffer(write_target);
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto s = buffers_.find(src), d = buffers_.find(dst);
+  if (s == buffers_.end() || d == buffers_.end() || size < 0) return;
+  if (static_cast<size_t>(read_offset + size) > s->second.data.size() ||
+      static_cast<size_t>(write_offset + size) > d->second.data.size())
+    return;
+  std::memmove(d->second.data.data() + write_offset, s->second.data.data() + read_offset, static_cast<size_t>(size));
+  ++d->second.version;
+}
+
+void Interceptor::deleteBuffers(GLsizei n, const GLuint* names) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (GLsizei i = 0; i < n; ++i) buffers_.erase(names[i]);
+}
+
+uint64_t Interceptor::bufferKey(GLuint name) {
+  auto it = buffers_.find(name);
+  if (it == buffers_.end()) return 0;
+  BufferShadow& b = it->second;
+  if (b.key_version != b.version) {
+    b.key = contentKey(b.data.data(), b.data.size());
+    b.key_version = b.version;
+  }
+  return b.key;
+}
+
+void Interceptor::bindTexture(GLenum target, GLuint name) {
+  unit_bindings_[(static_cast<uint64_t>(active_unit_) << 32) | target] = name;
+}
+
+void Interceptor::texImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLenum type,
+                           const void* pixels, bool sub, GLint x, GLint y) {
+  if (target >= GL_TEXTURE_CUBE_MAP_POSITIVE_X && target <= GL_TEXTURE_CUBE_MAP_NEGATIVE_Z)
+    target = GL_TEXTURE_CUBE_MAP;
+  auto bound = unit_bindings_.find((static_cast<uint64_t>(active_unit_) << 32) | target);
+  if (bound == unit_bindings_.end() || bound->second == 0) return;
+  if (level > 0 && !sub) return;  // mip levels follow from level 0
+  const int32_t params[6] = {static_cast<int32_t>(format), static_cast<int32_t>(type), x, y, w, h};
+  uint64_t key = contentKey(params, sizeof(params));
+  GLint unpack_buffer = 0, alignment = 4, row_length = 0;
+  gl().GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &unpack_buffer);
+  if (pixels && !unpack_buffer && w > 0 && h > 0) {
+    gl().GetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
+    gl().GetIntegerv(GL_UNPACK_ROW_LENGTH, &row_length);
+    const size_t row = bytesPerPixel(format, type) * static_cast<size_t>(row_length > 0 ? row_length : w);
+    const size_t pitch = (row + alignment - 1) / alignment * alignment;
+    key = combineKeys(key, contentKey(pixels, pitch * (h - 1) + bytesPerPixel(format, type) * w));
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  uint64_t& stored = texture_keys_[bound->second];
+  stored = sub ? combineKeys(stored, key) : key;
+}
+
+void Interceptor::deleteTextures(GLsizei n, const GLuint* names) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (GLsizei i = 0; i < n; ++i) texture_keys_.erase(names[i]);
+}
+
+uint64_t Interceptor::textureKey(GLenum target, GLuint unit) {
+  auto bound = unit_bindings_.find((static_cast<uint64_t>(unit) << 32) | target);
+  if (bound == unit_bindings_.end()) return 0;
+  auto it = texture_keys_.find(bound->second);
+  return it == texture_keys_.end() ? 0 : it->second;
+}
+
+}  // namespace capture
+}  // namespace viper

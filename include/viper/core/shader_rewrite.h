@@ -1,0 +1,43 @@
+// GLSL rewriting for the capture layer, as pure string functions (no OpenGL needed).
+#pragma once
+
+#include <string>
+
+namespace viper {
+
+/// Name of the fragment output the rewritten shader adds (draw id, primitive id, 0, coverage).
+constexpr const char* kIdOutputName = "viper_id_out";
+/// Name of the float uniform that receives draw index + 1.
+constexpr const char* kDrawIdUniform = "viper_draw_id";
+/// Name of the float uniform that is 1 while blending is enabled for the program's own output.
+constexpr const char* kAlphaTestUniform = "viper_alpha_test";
+
+/// Result of rewriteFragmentShader().
+struct FragmentRewrite {
+  /// True if the shader was rewritten; false leaves `source` empty and says why in `reason`.
+  bool ok = false;
+  std::string source;
+  /// Name of the program's own color output (the one written to draw buffer 0).
+  std::string color_output;
+  /// True if that output carries an explicit `layout(location = N)` qualifier.
+  bool explicit_location = false;
+  /// Number of components of the color output (alpha test needs 4).
+  int color_components = 4;
+  std::string reason;
+};
+
+/// Replaces GLSL comments by spaces, keeping newlines (so line numbers in compiler logs hold).
+std::string stripGlslComments(const std::string& source);
+
+/// Rewrites a GLSL >= 1.50 fragment shader with one color output so that it also writes
+/// `viper_id_out = vec4(viper_draw_id, gl_PrimitiveID, 0, coverage)`, where coverage is 0 when
+/// `viper_alpha_test` is set and the color's alpha is below 0.5. The original `main` is renamed
+/// `viper_original_main` and called from a new `main`. Comments are removed. Shaders that are not
+/// GLSL >= 1.50, have no or several color outputs, or no recognisable `void main()` are refused.
+FragmentRewrite rewriteFragmentShader(const std::string& source);
+
+/// True if the (vertex) shader declares a `uniform mat4 NAME[N]` array, which the capture layer
+/// takes as the sign of skinning, i.e. of a vertex shader that deforms meshes non-rigidly.
+bool declaresMat4ArrayUniform(const std::string& source);
+
+}  // namespace viper

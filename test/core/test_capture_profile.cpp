@@ -1,0 +1,85 @@
+// Capture profile parsing: entries, matching, defaults, and errors that name the file.
+#include "viper/core/capture_profile.h"
+
+#include <gtest/gtest.h>
+
+
+using namespace viper;
+
+TEST(CaptureProfile, ParsesEntriesAndMatchesInOrder) {
+  const CaptureProfile p = parseCaptureProfile(R"(
+programs:
+  - vertex_contains: uBones
+    world: uWorld
+    position: aPos
+    deforming: true
+  - program_key: 0x10
+    view: uV
+    deforming: false
+  - world: uModel
+    view: uView
+    projection: uProj
+)",
+                                               "test.yaml");
+  ASSERT_EQ(p.programs.size(), 3u);
+  EXPECT_EQ(p.programs[0].deforming, Deforming::kYes);
+  EXPECT_EQ(p.programs[1].program_key, 16u);
+  EXPECT_EQ(p.match("uniform mat4 uBones[4];", 16)->world, "uWorld");
+  EXPECT_EQ(p.match("plain", 16)->view, "uV");
+  const ProgramProfile* other = p.match("plain", 17);
+  EXPECT_EQ(other->world, "uModel");
+  EXPECT_EQ(other->projection, "uProj");
+  EXPECT_EQ(other->deforming, Deforming::kAuto);
+  EXPECT_EQ(other->position, "");
+}
+
+TEST(CaptureProfile, EmptyProfileFallsBackToDefaults) {
+  const CaptureProfile p = parseCaptureProfile("", "empty.yaml");
+  EXPECT_TRUE(p.programs.empty());
+  const ProgramProfile* m = p.match("anything", 1);
+  ASSERT_NE(m, nullptr);
+  EXPECT_TRUE(m->world.empty());
+  EXPECT_EQ(m->deforming, Deforming::kAuto);
+}
+
+TEST(CaptureProfile, ShippedProfileLoads) {
+  const CaptureProfile p = loadCaptureProfile("config/profiles/viper_scene.yaml");
+  ASSERT_EQ(p.programs.size(), 2u);
+  EXPECT_EQ(p.match("uniform mat4 uBones[8];", 0)->deforming, Deforming::kYes);
+  EXPECT_EQ(p.match("uniform mat4 uWorld;", 0)->position, "aPos");
+}
+
+TEST(CaptureProfile, ErrorsNameTheFileAndTheProblem) {
+  auto message = [](const std::string& yaml) {
+    try {
+      parseCaptureProfile(yaml, "bad.yaml");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string unknown = message("programs:\n  - wrold: uWorld\n");
+  EXPECT_NE(unknown.find("bad.yaml:2"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("wrold"), std::string::npos) << unknown;
+  EXPECT_NE(message("programs: [a, b]").find("must be a map"), std::string::npos);
+  EXPECT_NE(message("programs:\n  - deforming: maybe\n").find("auto, true or false"), std::string::npos);
+  EXPECT_NE(message("programs:\n  - program_key: xyz\n").find("program_key"), std::string::npos);
+  EXPECT_NE(message("programs:\n  - world: [1, 2]\n").find("'world' must be a string"), std::string::npos);
+  EXPECT_NE(message("progams: []\n").find("unknown top-level key"), std::string::npos);
+  EXPECT_NE(message("programs: [\n").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(message("programs: [\n").find("bad.yaml"), std::string::npos);
+}
+
+TEST(CaptureProfile, MissingFileIsNamed) {
+  try {
+    loadCaptureProfile("/nonexistent/profile.yaml");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/profile.yaml"), std::string::npos);
+  }
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

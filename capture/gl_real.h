@@ -52,6 +52,8 @@ namespace capture {
   X(PFNGLBLENDEQUATIONSEPARATEPROC, BlendEquationSeparate)                                \
   X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)                                      \
   X(PFNGLBLENDEQUATIONIPROC, BlendEquationi)                                              \
+  X(PFNGLCOLORMASKIPROC, ColorMaski)                                                      \
+  X(PFNGLGETBOOLEANVPROC, GetBooleanv)                                                    \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                                    \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                              \
   X(PFNGLBINDTEXTUREPROC, BindTexture)                                                    \

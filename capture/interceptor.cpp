@@ -155,6 +155,10 @@ void Interceptor::clear(GLbitfield mask) {
   // The program's clear color reached our id attachment too: ids start at 0 (no draw).
   if (ours) {
     static const GLfloat kZero[4] = {0, 0, 0, 0};
+    if (!ids_write_) {  // the clear honours the write mask a preceding effect draw left
+      gl().ColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      ids_write_ = true;
+    }
     gl().ClearBufferfv(GL_COLOR, 1, kZero);
   }
 }

@@ -146,6 +146,7 @@ class Interceptor {
   GLuint active_unit_ = 0;
   std::unordered_map<uint64_t, GLuint> unit_bindings_;  // (unit << 32 | target) -> texture
   bool blend_dirty_ = true;
+  bool ids_write_ = true;  ///< write mask last set on the id attachment
   bool blend0_enabled_ = false;
 
   // Frame being recorded.

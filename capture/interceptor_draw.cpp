@@ -49,6 +49,19 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   }
   const uint32_t index = static_cast<uint32_t>(frame_.draws.size());
   if (p->rewritten) {
+    // A blended draw that writes no depth is an effect (rain, glare, smoke): it never takes a
+    // pixel's id whatever its alpha, so an id always names the surface the depth image holds.
+    bool write_ids = true;
+    if (blend0_enabled_) {
+      GLboolean depth_write = GL_TRUE;
+      g.GetBooleanv(GL_DEPTH_WRITEMASK, &depth_write);
+      write_ids = depth_write == GL_TRUE;
+    }
+    if (write_ids != ids_write_) {
+      const GLboolean m = write_ids ? GL_TRUE : GL_FALSE;
+      g.ColorMaski(1, m, m, m, m);
+      ids_write_ = write_ids;
+    }
     g.Uniform1f(p->loc_draw_id, static_cast<float>(index + 1));
     const float alpha_test = blend0_enabled_ ? 1.0f : 0.0f;
     if (alpha_test != p->alpha_test_value) {

@@ -27,3 +27,24 @@ if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_ground_truth_conversions test/ros/test_ground_truth_conversions.cpp)
   target_link_libraries(test_ground_truth_conversions viper_ground_truth_ros gtest_main)
 endif()
+
+if(CATKIN_ENABLE_TESTING)
+  # A real capture of the test scene and its oracle, made at build time, for the oracle checks.
+  set(VIPER_GT_DATA ${PROJECT_BINARY_DIR}/test_data)
+  set(VIPER_GT_CAPTURE ${VIPER_GT_DATA}/gt_scene.vcap)
+  set(VIPER_GT_ORACLE ${VIPER_GT_DATA}/gt_scene.oracle)
+  add_custom_command(OUTPUT ${VIPER_GT_CAPTURE} ${VIPER_GT_ORACLE}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${VIPER_GT_DATA}
+    COMMAND $<TARGET_FILE:viper_capture> --output ${VIPER_GT_CAPTURE}
+            --profile ${PROJECT_SOURCE_DIR}/config/profiles/test_scene.yaml --condition day
+            -- $<TARGET_FILE:test_scene> --frames 30 --width 320 --height 240 --oracle ${VIPER_GT_ORACLE}
+    DEPENDS viper_capture viper_intercept test_scene
+    COMMENT "Capturing the test scene for the ground-truth oracle checks")
+  add_custom_target(viper_gt_test_capture DEPENDS ${VIPER_GT_CAPTURE} ${VIPER_GT_ORACLE})
+
+  catkin_add_gtest(test_against_oracle test/ground_truth/test_against_oracle.cpp)
+  target_link_libraries(test_against_oracle viper_core gtest_main)
+  target_compile_definitions(test_against_oracle PRIVATE
+    VIPER_TEST_SCENE_CAPTURE="${VIPER_GT_CAPTURE}" VIPER_TEST_SCENE_ORACLE="${VIPER_GT_ORACLE}")
+  add_dependencies(test_against_oracle viper_gt_test_capture)
+endif()

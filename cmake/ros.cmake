@@ -1,1 +1,88 @@
-# (filled in by the ros part)
+# viper_ros: message conversions and the capture bridge (node + nodelet).
+add_library(viper_ros
+  src/ros/capture_conversions.cpp
+  src/ros/replay_timing.cpp
+  src/ros/capture_bridge_options.cpp
+  src/ros/capture_bridge.cpp
+  src/ros/capture_bridge_nodelet.cpp
+)
+target_include_directories(viper_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
+target_link_libraries(viper_ros PUBLIC viper_core ${catkin_LIBRARIES})
+add_dependencies(viper_ros viper_generate_messages_cpp)
+set_target_properties(viper_ros PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+
+add_executable(capture_bridge nodes/capture_bridge_node.cpp)
+target_link_libraries(capture_bridge viper_ros)
+set_target_properties(capture_bridge PROPERTIES
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+
+install(TARGETS viper_ros capture_bridge
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+install(DIRECTORY launch DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+install(PROGRAMS scripts/make_test_bag.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  find_package(rostest REQUIRED)
+  find_package(roslaunch REQUIRED)
+
+  # Plain gtests, no roscore.
+  catkin_add_gtest(test_capture_conversions test/ros/test_capture_conversions.cpp)
+  target_link_libraries(test_capture_conversions viper_ros)
+  catkin_add_gtest(test_replay_timing test/ros/test_replay_timing.cpp)
+  target_link_libraries(test_replay_timing viper_ros)
+
+  # Test captures written by our own generator (CaptureWriter): intact, one flipped byte, truncated.
+  add_executable(make_test_capture test/ros/make_test_capture.cpp)
+  target_link_libraries(make_test_capture viper_core)
+  set(VIPER_ROS_TEST_DATA ${PROJECT_BINARY_DIR}/test_data)
+  set(VIPER_ROS_TEST_CAPTURES
+    ${VIPER_ROS_TEST_DATA}/bridge_ok.vcap
+    ${VIPER_ROS_TEST_DATA}/bridge_flipped.vcap
+    ${VIPER_ROS_TEST_DATA}/bridge_truncated.vcap)
+  add_custom_command(OUTPUT ${VIPER_ROS_TEST_CAPTURES}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${VIPER_ROS_TEST_DATA}
+    COMMAND make_test_capture --output ${VIPER_ROS_TEST_DATA}/bridge_ok.vcap
+    COMMAND make_test_capture --output ${VIPER_ROS_TEST_DATA}/bridge_flipped.vcap --damage flip
+    COMMAND make_test_capture --output ${VIPER_ROS_TEST_DATA}/bridge_truncated.vcap --damage truncate
+    DEPENDS make_test_capture
+    COMMENT "Writing capture_bridge test captures")
+  add_custom_target(viper_ros_test_captures DEPENDS ${VIPER_ROS_TEST_CAPTURES})
+  if(TARGET tests)
+    add_dependencies(tests viper_ros_test_captures)
+  endif()
+
+  # rostests: the real node / nodelet on those captures, checked by one tester.
+  add_executable(capture_bridge_tester EXCLUDE_FROM_ALL test/ros/capture_bridge_tester.cpp)
+  target_include_directories(capture_bridge_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
+  target_link_libraries(capture_bridge_tester viper_ros ${GTEST_LIBRARIES})
+  set_target_properties(capture_bridge_tester PROPERTIES
+    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  if(TARGET tests)
+    add_dependencies(tests capture_bridge_tester)
+  endif()
+  # Throughput probe (not a test: prints frames/s delivered to another process).
+  add_executable(bridge_throughput EXCLUDE_FROM_ALL test/ros/bridge_throughput.cpp)
+  target_link_libraries(bridge_throughput viper_ros)
+  set_target_properties(bridge_throughput PROPERTIES
+    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  if(TARGET tests)
+    add_dependencies(tests bridge_throughput)
+  endif()
+
+  set(_bridge_test_deps capture_bridge capture_bridge_tester viper_ros_test_captures)
+  add_rostest(test/ros/capture_bridge.test ARGS capture:=${VIPER_ROS_TEST_DATA}/bridge_ok.vcap
+    DEPENDENCIES ${_bridge_test_deps})
+  add_rostest(test/ros/capture_bridge_nodelet.test ARGS capture:=${VIPER_ROS_TEST_DATA}/bridge_ok.vcap
+    DEPENDENCIES ${_bridge_test_deps})
+  add_rostest(test/ros/capture_bridge_damaged.test ARGS capture:=${VIPER_ROS_TEST_DATA}/bridge_flipped.vcap
+    DEPENDENCIES ${_bridge_test_deps})
+  add_rostest(test/ros/capture_bridge_damaged.test ARGS capture:=${VIPER_ROS_TEST_DATA}/bridge_truncated.vcap
+    DEPENDENCIES ${_bridge_test_deps})
+  add_rostest(test/ros/capture_bridge_follow.test DEPENDENCIES make_test_capture ${_bridge_test_deps})
+  roslaunch_add_file_check(launch/capture_bridge.launch file:=capture.vcap)
+  roslaunch_add_file_check(launch/capture_bridge.launch file:=capture.vcap nodelet:=true)
+endif()

@@ -1,0 +1,177 @@
+#include "viper/ros/capture_conversions.h"
+
+#include <sensor_msgs/image_encodings.h>
+
+#include <algorithm>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+namespace viper {
+
+namespace {
+
+template <typename Array>
+void matrixToArray(const GlMatrix& m, Array& out) {
+  std::copy(m.data(), m.data() + 16, out.begin());
+}
+
+template <typename Array>
+GlMatrix arrayToMatrix(const Array& a) {
+  GlMatrix m;
+  std::copy(a.begin(), a.end(), m.data());
+  return m;
+}
+
+void checkSize(const CaptureFrame& frame, size_t have, size_t per_pixel, const char* what) {
+  if (have != frame.pixelCount() * per_pixel) {
+    std::ostringstream msg;
+    msg << "frame " << frame.number << ": " << what << " holds " << have << " values, expected "
+        << frame.pixelCount() * per_pixel << " for " << frame.width << "x" << frame.height;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+sensor_msgs::Image imageHeader(const CaptureFrame& frame, const std_msgs::Header& header, const std::string& encoding,
+                               uint32_t bytes_per_pixel) {
+  sensor_msgs::Image img;
+  img.header = header;
+  img.width = frame.width;
+  img.height = frame.height;
+  img.encoding = encoding;
+  img.is_bigendian = 0;
+  img.step = frame.width * bytes_per_pixel;
+  img.data.resize(static_cast<size_t>(img.step) * frame.height);
+  return img;
+}
+
+}  // namespace
+
+Draw toDrawMsg(const DrawRecord& draw) {
+  Draw msg;
+  msg.index = draw.index;
+  msg.mesh_key = draw.mesh_key;
+  msg.vertex_buffer_key = draw.vertex_buffer_key;
+  msg.index_buffer_key = draw.index_buffer_key;
+  msg.program_key = draw.program_key;
+  msg.texture_keys = draw.texture_keys;
+  msg.matrix_flags = draw.matrix_flags;
+  matrixToArray(draw.world, msg.world);
+  matrixToArray(draw.view, msg.view);
+  matrixToArray(draw.projection, msg.projection);
+  msg.primitive_mode = draw.primitive_mode;
+  msg.primitive_count = draw.primitive_count;
+  msg.visible_pixels = draw.visible_pixels;
+  msg.deformed_clip_xyzw = draw.deformed_clip_xyzw;
+  return msg;
+}
+
+DrawRecord fromDrawMsg(const Draw& msg) {
+  DrawRecord draw;
+  draw.index = msg.index;
+  draw.mesh_key = msg.mesh_key;
+  draw.vertex_buffer_key = msg.vertex_buffer_key;
+  draw.index_buffer_key = msg.index_buffer_key;
+  draw.program_key = msg.program_key;
+  draw.texture_keys = msg.texture_keys;
+  draw.matrix_flags = msg.matrix_flags;
+  draw.world = arrayToMatrix(msg.world);
+  draw.view = arrayToMatrix(msg.view);
+  draw.projection = arrayToMatrix(msg.projection);
+  draw.primitive_mode = msg.primitive_mode;
+  draw.primitive_count = msg.primitive_count;
+  draw.visible_pixels = msg.visible_pixels;
+  draw.deformed_clip_xyzw = msg.deformed_clip_xyzw;
+  return draw;
+}
+
+DrawList toDrawListMsg(const CaptureFrame& frame, const std_msgs::Header& header) {
+  DrawList msg;
+  msg.header = header;
+  msg.frame_number = frame.number;
+  msg.condition = frame.condition;
+  msg.draws.reserve(frame.draws.size());
+  for (const DrawRecord& d : frame.draws) msg.draws.push_back(toDrawMsg(d));
+  return msg;
+}
+
+void fromDrawListMsg(const DrawList& msg, CaptureFrame& frame) {
+  frame.number = msg.frame_number;
+  frame.condition = msg.condition;
+  frame.draws.clear();
+  frame.draws.reserve(msg.draws.size());
+  for (const Draw& d : msg.draws) frame.draws.push_back(fromDrawMsg(d));
+}
+
+Mesh toMeshMsg(const MeshRecord& mesh) {
+  Mesh msg;
+  msg.key = mesh.key;
+  msg.positions_xyz = mesh.positions_xyz;
+  msg.indices = mesh.indices;
+  return msg;
+}
+
+MeshRecord fromMeshMsg(const Mesh& msg) {
+  MeshRecord mesh;
+  mesh.key = msg.key;
+  mesh.positions_xyz = msg.positions_xyz;
+  mesh.indices = msg.indices;
+  return mesh;
+}
+
+sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header) {
+  checkSize(frame, frame.color_rgb.size(), 3, "color");
+  sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::RGB8, 3);
+  std::copy(frame.color_rgb.begin(), frame.color_rgb.end(), img.data.begin());
+  return img;
+}
+
+sensor_msgs::Image depthImage(const CaptureFrame& frame, const std::vector<float>& depth_m,
+                              const std_msgs::Header& header) {
+  checkSize(frame, depth_m.size(), 1, "depth");
+  sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32FC1, 4);
+  std::memcpy(img.data.data(), depth_m.data(), img.data.size());
+  return img;
+}
+
+sensor_msgs::Image drawIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
+  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
+  sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32SC1, 4);
+  // Draw ids are index + 1 of at most a few million draws: they fit a signed int unchanged.
+  std::memcpy(img.data.data(), frame.draw_ids.data(), img.data.size());
+  return img;
+}
+
+sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
+  checkSize(frame, frame.primitive_ids.size(), 1, "primitive ids");
+  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
+  sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32SC1, 4);
+  auto* out = reinterpret_cast<int32_t*>(img.data.data());
+  for (size_t i = 0; i < frame.pixelCount(); ++i) {
+    out[i] = frame.draw_ids[i] == 0 ? -1 : static_cast<int32_t>(frame.primitive_ids[i]);
+  }
+  return img;
+}
+
+sensor_msgs::CameraInfo cameraInfo(const PinholeIntrinsics* intrinsics, uint32_t width, uint32_t height,
+                                   const std_msgs::Header& header) {
+  sensor_msgs::CameraInfo info;
+  info.header = header;
+  info.width = width;
+  info.height = height;
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  if (intrinsics) {
+    const Eigen::Matrix3d k = intrinsics->K();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        info.K[r * 3 + c] = k(r, c);
+        info.P[r * 4 + c] = k(r, c);
+      }
+    }
+  }
+  return info;
+}
+
+}  // namespace viper

@@ -1,0 +1,196 @@
+// Converter round trips (core -> msg -> core) and the image/camera-info messages of a frame.
+#include "viper/ros/capture_conversions.h"
+
+#include <gtest/gtest.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <cmath>
+#include <cstring>
+
+namespace viper {
+namespace {
+
+GlMatrix numberedMatrix(float base) {
+  GlMatrix m;
+  for (int i = 0; i < 16; ++i) m.data()[i] = base + 0.25f * i;  // distinct entries expose transposes
+  return m;
+}
+
+CaptureFrame sampleFrame() {
+  CaptureFrame f;
+  f.number = 41;
+  f.time_s = 3.25;
+  f.condition = "rain";
+  f.width = 3;
+  f.height = 2;
+  f.color_rgb = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18};
+  f.depth_window = {0.5f, 0.9f, 1.0f, 0.2f, 0.3f, 1.0f};
+  f.draw_ids = {1, 2, 0, 2, 2, 0};
+  f.primitive_ids = {0, 7, 99, 3, 4, 5};
+  DrawRecord a;
+  a.index = 0;
+  a.mesh_key = 0x1234567890abcdefULL;
+  a.vertex_buffer_key = 11;
+  a.index_buffer_key = 12;
+  a.program_key = 0xfedcba9876543210ULL;
+  a.texture_keys = {21, 22, 23};
+  a.matrix_flags = kHasWorld | kHasView | kHasProjection;
+  a.world = numberedMatrix(1.0f);
+  a.view = numberedMatrix(-7.0f);
+  a.projection = numberedMatrix(100.0f);
+  a.primitive_mode = 4;
+  a.primitive_count = 12;
+  a.visible_pixels = 1;
+  DrawRecord b = a;
+  b.index = 1;
+  b.mesh_key = 77;
+  b.texture_keys.clear();
+  b.matrix_flags = kHasProjection;
+  b.visible_pixels = 3;
+  b.deformed_clip_xyzw = {0.1f, -0.2f, 0.3f, 1.0f, 4.0f, 5.0f, -6.5f, 2.0f};
+  f.draws = {a, b};
+  MeshRecord mesh;
+  mesh.key = 77;
+  mesh.positions_xyz = {0, 0, 0, 1, 0, 0, 0, 1, 0.5f};
+  mesh.indices = {0, 1, 2};
+  f.new_meshes = {mesh};
+  return f;
+}
+
+void expectDrawsEqual(const DrawRecord& a, const DrawRecord& b) {
+  EXPECT_EQ(a.index, b.index);
+  EXPECT_EQ(a.mesh_key, b.mesh_key);
+  EXPECT_EQ(a.vertex_buffer_key, b.vertex_buffer_key);
+  EXPECT_EQ(a.index_buffer_key, b.index_buffer_key);
+  EXPECT_EQ(a.program_key, b.program_key);
+  EXPECT_EQ(a.texture_keys, b.texture_keys);
+  EXPECT_EQ(a.matrix_flags, b.matrix_flags);
+  EXPECT_EQ(a.world, b.world);
+  EXPECT_EQ(a.view, b.view);
+  EXPECT_EQ(a.projection, b.projection);
+  EXPECT_EQ(a.primitive_mode, b.primitive_mode);
+  EXPECT_EQ(a.primitive_count, b.primitive_count);
+  EXPECT_EQ(a.visible_pixels, b.visible_pixels);
+  EXPECT_EQ(a.deformed_clip_xyzw, b.deformed_clip_xyzw);
+}
+
+std_msgs::Header sampleHeader() {
+  std_msgs::Header h;
+  h.stamp = ros::Time(12, 500);
+  h.frame_id = "camera_optical";
+  return h;
+}
+
+TEST(CaptureConversions, DrawListRoundTrip) {
+  const CaptureFrame frame = sampleFrame();
+  const DrawList msg = toDrawListMsg(frame, sampleHeader());
+  EXPECT_EQ(msg.header.stamp, sampleHeader().stamp);
+  EXPECT_EQ(msg.header.frame_id, "camera_optical");
+  ASSERT_EQ(msg.draws.size(), 2u);
+  // The message stores the matrices column-major, as OpenGL does: element (row 1, col 0) is index 1.
+  EXPECT_FLOAT_EQ(msg.draws[0].world[1], frame.draws[0].world(1, 0));
+  EXPECT_FLOAT_EQ(msg.draws[0].world[4], frame.draws[0].world(0, 1));
+  EXPECT_EQ(msg.draws[0].matrix_flags, Draw::HAS_WORLD | Draw::HAS_VIEW | Draw::HAS_PROJECTION);
+
+  CaptureFrame back;
+  fromDrawListMsg(msg, back);
+  EXPECT_EQ(back.number, frame.number);
+  EXPECT_EQ(back.condition, frame.condition);
+  ASSERT_EQ(back.draws.size(), frame.draws.size());
+  for (size_t i = 0; i < frame.draws.size(); ++i) {
+    SCOPED_TRACE("draw " + std::to_string(i));
+    expectDrawsEqual(frame.draws[i], back.draws[i]);
+  }
+}
+
+TEST(CaptureConversions, MeshRoundTrip) {
+  const MeshRecord mesh = sampleFrame().new_meshes[0];
+  const MeshRecord back = fromMeshMsg(toMeshMsg(mesh));
+  EXPECT_EQ(back.key, mesh.key);
+  EXPECT_EQ(back.positions_xyz, mesh.positions_xyz);
+  EXPECT_EQ(back.indices, mesh.indices);
+}
+
+TEST(CaptureConversions, ImagesHaveEncodingsSizesAndValues) {
+  const CaptureFrame frame = sampleFrame();
+  const std_msgs::Header h = sampleHeader();
+
+  const sensor_msgs::Image color = colorImage(frame, h);
+  EXPECT_EQ(color.encoding, sensor_msgs::image_encodings::RGB8);
+  EXPECT_EQ(color.width, 3u);
+  EXPECT_EQ(color.height, 2u);
+  EXPECT_EQ(color.step, 9u);
+  EXPECT_EQ(color.data, frame.color_rgb);
+  EXPECT_EQ(color.header.stamp, h.stamp);
+
+  const std::vector<float> depth_m = {1.5f, 2.0f, NAN, 0.5f, 0.25f, NAN};
+  const sensor_msgs::Image depth = depthImage(frame, depth_m, h);
+  EXPECT_EQ(depth.encoding, sensor_msgs::image_encodings::TYPE_32FC1);
+  EXPECT_EQ(depth.step, 12u);
+  std::vector<float> depth_back(6);
+  std::memcpy(depth_back.data(), depth.data.data(), 24);
+  EXPECT_EQ(depth_back[0], 1.5f);
+  EXPECT_EQ(depth_back[4], 0.25f);
+  EXPECT_TRUE(std::isnan(depth_back[5]));
+
+  const sensor_msgs::Image ids = drawIdImage(frame, h);
+  EXPECT_EQ(ids.encoding, sensor_msgs::image_encodings::TYPE_32SC1);
+  std::vector<int32_t> ids_back(6);
+  std::memcpy(ids_back.data(), ids.data.data(), 24);
+  EXPECT_EQ(ids_back, (std::vector<int32_t>{1, 2, 0, 2, 2, 0}));
+
+  const sensor_msgs::Image prims = primitiveIdImage(frame, h);
+  EXPECT_EQ(prims.encoding, sensor_msgs::image_encodings::TYPE_32SC1);
+  std::vector<int32_t> prims_back(6);
+  std::memcpy(prims_back.data(), prims.data.data(), 24);
+  EXPECT_EQ(prims_back, (std::vector<int32_t>{0, 7, -1, 3, 4, -1}));  // -1 where no draw owns the pixel
+}
+
+TEST(CaptureConversions, ImageSizeMismatchThrows) {
+  CaptureFrame frame = sampleFrame();
+  frame.color_rgb.pop_back();
+  frame.draw_ids.push_back(1);
+  EXPECT_THROW(colorImage(frame, sampleHeader()), std::invalid_argument);
+  EXPECT_THROW(drawIdImage(frame, sampleHeader()), std::invalid_argument);
+  EXPECT_THROW(primitiveIdImage(frame, sampleHeader()), std::invalid_argument);
+  EXPECT_THROW(depthImage(frame, std::vector<float>(5), sampleHeader()), std::invalid_argument);
+}
+
+TEST(CaptureConversions, CameraInfo) {
+  PinholeIntrinsics k;
+  k.width = 640;
+  k.height = 480;
+  k.fx = 500;
+  k.fy = 510;
+  k.cx = 319.5;
+  k.cy = 239.5;
+  const sensor_msgs::CameraInfo info = cameraInfo(&k, 640, 480, sampleHeader());
+  EXPECT_EQ(info.width, 640u);
+  EXPECT_EQ(info.height, 480u);
+  EXPECT_EQ(info.distortion_model, "plumb_bob");
+  EXPECT_EQ(info.D, std::vector<double>(5, 0.0));
+  EXPECT_EQ(info.K[0], 500);
+  EXPECT_EQ(info.K[2], 319.5);
+  EXPECT_EQ(info.K[4], 510);
+  EXPECT_EQ(info.K[5], 239.5);
+  EXPECT_EQ(info.K[8], 1);
+  EXPECT_EQ(info.P[0], 500);
+  EXPECT_EQ(info.P[2], 319.5);
+  EXPECT_EQ(info.P[3], 0);
+  EXPECT_EQ(info.P[6], 239.5);
+  EXPECT_EQ(info.P[10], 1);
+  EXPECT_EQ(info.R[0], 1);
+  EXPECT_EQ(info.R[4], 1);
+
+  const sensor_msgs::CameraInfo none = cameraInfo(nullptr, 640, 480, sampleHeader());
+  EXPECT_EQ(none.K[0], 0);  // uncalibrated
+  EXPECT_EQ(none.width, 640u);
+}
+
+}  // namespace
+}  // namespace viper
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

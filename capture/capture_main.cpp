@@ -25,7 +25,9 @@ int usage(const char* argv0, const char* problem) {
   if (problem) std::fprintf(stderr, "capture: %s\n", problem);
   std::fprintf(stderr,
                "usage: %s --output FILE.vcap [--profile PROFILE.yaml] [--condition TAG] [--frames N]\n"
-               "       [--library libviper_intercept.so] -- PROGRAM [ARGS...]\n",
+               "       [--fps F] [--library libviper_intercept.so] -- PROGRAM [ARGS...]\n"
+               "  --fps F: stamp frame n at n / F seconds, for programs that advance a fixed time step\n"
+               "           per frame (default: the monotonic clock at each buffer swap)\n",
                argv0);
   return 2;
 }
@@ -58,7 +60,7 @@ std::string absolute(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string output, profile, condition, frames, library;
+  std::string output, profile, condition, frames, library, fps;
   int i = 1;
   for (; i < argc; ++i) {
     const std::string a = argv[i];
@@ -73,6 +75,7 @@ int main(int argc, char** argv) {
     else if (a == "--profile") profile = v;
     else if (a == "--condition") condition = v;
     else if (a == "--frames") frames = v;
+    else if (a == "--fps") fps = v;
     else if (a == "--library") library = v;
     else return usage(argv[0], ("unknown option " + a).c_str());
   }
@@ -82,6 +85,11 @@ int main(int argc, char** argv) {
     char* end = nullptr;
     const long long n = std::strtoll(frames.c_str(), &end, 10);
     if (*end || n <= 0) return usage(argv[0], "--frames must be a positive integer");
+  }
+  if (!fps.empty()) {
+    char* end = nullptr;
+    const double f = std::strtod(fps.c_str(), &end);
+    if (*end || !(f > 0.0) || f > 1e6) return usage(argv[0], "--fps must be a positive number");
   }
   if (!profile.empty()) {
     try {
@@ -107,6 +115,8 @@ int main(int argc, char** argv) {
   setenv("VIPER_CAPTURE_CONDITION", condition.c_str(), 1);
   if (!frames.empty()) setenv("VIPER_CAPTURE_FRAMES", frames.c_str(), 1);
   else unsetenv("VIPER_CAPTURE_FRAMES");
+  if (!fps.empty()) setenv("VIPER_CAPTURE_FPS", fps.c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_FPS");
 
   g_child = fork();
   if (g_child < 0) {

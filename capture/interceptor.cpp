@@ -43,6 +43,7 @@ Interceptor::Interceptor() {
   if (output_path_.empty()) return;  // preloaded without a destination: pure pass-through
   condition_ = envOr("VIPER_CAPTURE_CONDITION", "");
   frame_limit_ = std::strtoull(envOr("VIPER_CAPTURE_FRAMES", "0").c_str(), nullptr, 10);
+  fixed_fps_ = std::strtod(envOr("VIPER_CAPTURE_FPS", "0").c_str(), nullptr);
   const std::string profile_path = envOr("VIPER_CAPTURE_PROFILE", "");
   try {
     if (profile_path.empty()) profile_.source = "<default>";
@@ -100,7 +101,9 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   readDeformed();
   const double t1 = monotonicSeconds();
   frame_.number = frame_number_++;
-  frame_.time_s = monotonicSeconds() - start_s_;
+  // A program that advances a fixed time step per frame (as the test scene and the world do) is
+  // stamped with that step, not with how fast it happened to render.
+  frame_.time_s = fixed_fps_ > 0.0 ? static_cast<double>(frame_.number) / fixed_fps_ : monotonicSeconds() - start_s_;
   frame_.condition = condition_;
   sink_->push(std::move(frame_), std::move(raw));
   frame_ = CaptureFrame();

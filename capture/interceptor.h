@@ -147,6 +147,7 @@ class Interceptor {
   std::unordered_map<uint64_t, GLuint> unit_bindings_;  // (unit << 32 | target) -> texture
   bool blend_dirty_ = true;
   bool ids_write_ = true;  ///< write mask last set on the id attachment
+  double fixed_fps_ = 0.0; ///< VIPER_CAPTURE_FPS: frame time = number / fps (0: monotonic clock)
   bool blend0_enabled_ = false;
 
   // Frame being recorded.

@@ -24,7 +24,8 @@ install(TARGETS viper_ground_truth_ros
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_ground_truth_conversions test/ros/test_ground_truth_conversions.cpp)
+  catkin_add_gtest(test_ground_truth_conversions test/ros/test_ground_truth_conversions.cpp
+    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   target_link_libraries(test_ground_truth_conversions viper_ground_truth_ros gtest_main)
 endif()
 
@@ -36,7 +37,7 @@ if(CATKIN_ENABLE_TESTING)
   add_custom_command(OUTPUT ${VIPER_GT_CAPTURE} ${VIPER_GT_ORACLE}
     COMMAND ${CMAKE_COMMAND} -E make_directory ${VIPER_GT_DATA}
     COMMAND $<TARGET_FILE:viper_capture> --output ${VIPER_GT_CAPTURE}
-            --profile ${PROJECT_SOURCE_DIR}/config/profiles/test_scene.yaml --condition day
+            --profile ${PROJECT_SOURCE_DIR}/config/profiles/test_scene.yaml --condition day --fps 15
             -- $<TARGET_FILE:test_scene> --frames 30 --width 320 --height 240 --oracle ${VIPER_GT_ORACLE}
     DEPENDS viper_capture viper_intercept test_scene
     COMMENT "Capturing the test scene for the ground-truth oracle checks")

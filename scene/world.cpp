@@ -72,6 +72,9 @@ World::World(uint64_t seed, double aspect) : aspect_(aspect) {
   terrain_ = addMesh(makeGrid("terrain", 200, 200, 0, 8));
   road_ = addMesh(makeGrid("road", float(kRoadHalfLength), 4, 0, 1));
   box_ = addMesh(makeBox("unit_box", {0, 0, 0.5f}, {1, 1, 1}));
+  // The crate has a mesh of its own: a mesh shared by objects of different classes could not be
+  // labelled per resource (the buildings share theirs; the cars share all of theirs).
+  crate_ = addMesh(makeBox("crate_box", {0, 0, 0.45f}, {0.9f, 0.9f, 0.9f}));
   // The car's model frame: x forward, y left, z up, origin on the ground under its centre.
   car_body_ = addMesh(makeBox("car_body", {0, 0, 0.7f}, {4.2f, 1.8f, 0.8f}));
   car_cabin_ = addMesh(makeBox("car_cabin", {-0.3f, 0, 1.4f}, {2.2f, 1.6f, 0.6f}));
@@ -118,12 +121,12 @@ FrameState World::frame(double t) const {
                {0.33f, 0.52f, 0.28f}, {}});
   d.push_back({kRoad, kClassRoad, "surface", road_, ProgramKind::kLit, translation(0, 0, 0.05f),
                {0.3f, 0.3f, 0.32f}, {}});
-  // One box mesh, three objects: two buildings and a turning crate.
+  // One box mesh, two buildings; the turning crate has its own.
   d.push_back({kBuilding1, kClassBuilding, "block", box_, ProgramKind::kLit,
                translation(10, 13, 0) * rotationZ(0.1) * scaling(8, 6, building_height_[0]), {0.72f, 0.66f, 0.58f}, {}});
   d.push_back({kBuilding2, kClassBuilding, "block", box_, ProgramKind::kLit,
                translation(-9, 14, 0) * scaling(7, 7, building_height_[1]), {0.58f, 0.6f, 0.7f}, {}});
-  d.push_back({kCrate, kClassTrashcan, "crate", box_, ProgramKind::kLit,
+  d.push_back({kCrate, kClassTrashcan, "crate", crate_, ProgramKind::kLit,
                translation(3, 6.5f, 0) * rotationZ(0.8 * t) * scaling(1.2f, 1.2f, 1.2f), {0.62f, 0.45f, 0.22f}, {}});
   // Two cars in opposite lanes, sharing every mesh.
   const double xa = wrapRoad(-12 + car_phase_[0] + 6.0 * t);

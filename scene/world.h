@@ -40,7 +40,7 @@ struct FrameState {
   std::vector<DrawItem> draws;  ///< opaque draws first, the transparent rain last
 };
 
-/// The town block: terrain, road, two buildings and a crate sharing one box mesh, two cars sharing
+/// The town block: terrain, road, two buildings sharing one box mesh, a crate, two cars sharing
 /// body/cabin/wheel meshes, a skinned person, rain. `seed` varies building heights, car phases and
 /// rain streak placement.
 class World {
@@ -59,7 +59,7 @@ class World {
 
   double aspect_;
   std::vector<MeshData> meshes_;
-  size_t terrain_ = 0, road_ = 0, box_ = 0, car_body_ = 0, car_cabin_ = 0, tube_ = 0, rain_ = 0;
+  size_t terrain_ = 0, road_ = 0, box_ = 0, crate_ = 0, car_body_ = 0, car_cabin_ = 0, tube_ = 0, rain_ = 0;
   size_t wheels_[4] = {0, 0, 0, 0};
   float building_height_[2] = {10, 14};
   double car_phase_[2] = {0, 0};

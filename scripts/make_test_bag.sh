@@ -47,7 +47,7 @@ trap cleanup EXIT
 if [ -z "$capture" ]; then
   capture="$work/test_scene.vcap"
   echo "make_test_bag: capturing $frames frames of the test scene"
-  "$(viper_bin capture)" --output "$capture" --profile "$here/config/profiles/test_scene.yaml" \
+  "$(viper_bin capture)" --output "$capture" --profile "$here/config/profiles/test_scene.yaml" --fps 15 \
     -- "$(viper_bin test_scene)" --frames "$frames"
 fi
 

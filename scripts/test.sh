@@ -11,8 +11,13 @@ if [ ! -f "$build/Makefile" ]; then
   bash "$here/scripts/setup.sh" || { echo "0 passed, 1 failed"; exit 1; }
 fi
 export ROS_HOME="$build/ros_home" ROS_LOG_DIR="$build/ros_home/log"
+# ROS's Python tools (rostest, roslaunch-check) start with `env python3`: Debian's, which has the
+# ROS modules, must come before any other python3 on PATH.
+export PATH="/usr/bin:$PATH"
 # shellcheck disable=SC1091
+set +u  # ROS env hooks read unset variables
 source "$build/devel/setup.bash"
+set -u
 cd "$build"
 make -j"$(nproc)" all tests || { echo "build failed"; echo "0 passed, 1 failed"; exit 1; }
 rm -rf "$build/test_results"

@@ -48,4 +48,20 @@ if(CATKIN_ENABLE_TESTING)
   target_compile_definitions(test_against_oracle PRIVATE
     VIPER_TEST_SCENE_CAPTURE="${VIPER_GT_CAPTURE}" VIPER_TEST_SCENE_ORACLE="${VIPER_GT_ORACLE}")
   add_dependencies(test_against_oracle viper_gt_test_capture)
+
+  # The committed raw bag through replay.launch's nodelets, fed and checked by replay_tester.
+  add_executable(replay_tester EXCLUDE_FROM_ALL test/ros/replay_tester.cpp)
+  # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
+  find_package(pluginlib REQUIRED)
+  find_package(class_loader REQUIRED)
+  target_include_directories(replay_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+    ${class_loader_INCLUDE_DIRS})
+  target_link_libraries(replay_tester ${catkin_LIBRARIES} ${GTEST_LIBRARIES})
+  add_dependencies(replay_tester viper_generate_messages_cpp)
+  set_target_properties(replay_tester PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  if(TARGET tests)
+    add_dependencies(tests replay_tester)
+  endif()
+  add_rostest(test/ros/replay_bag.test DEPENDENCIES replay_tester viper_ground_truth_ros)
+  roslaunch_add_file_check(launch/replay.launch label_table:=labels.yaml bag:=raw.bag)
 endif()

@@ -9,7 +9,7 @@ PKGS=(
   catkin ros-core-dev libroscpp-dev libtf2-ros-dev libtf2-eigen-dev librosbag-dev
   librostest-dev python3-rostest python3-rosbag python3-roslaunch rosbash
   libcv-bridge-dev libimage-transport-dev libnodeletlib-dev libnodeletlib-tools python3-rostopic python3-rosnode
-  libmessage-filters-dev libroslib-dev libtf2-dev rviz
+  libmessage-filters-dev libroslib-dev libtf2-dev libtopic-tools-dev rviz
   ros-sensor-msgs ros-nav-msgs ros-visualization-msgs ros-std-msgs ros-geometry-msgs
   ros-message-generation ros-message-runtime ros-rosgraph-msgs
   libeigen3-dev libopencv-dev libyaml-cpp-dev libzstd-dev libxxhash-dev

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Measures every figure quoted in README.md, on this machine, and prints them. Takes ~10 minutes.
+# Usage: scripts/measure_figures.sh [OUT_DIR (build/figures)]
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+bin="$here/build/devel/lib/viper"
+out="${1:-$here/build/figures}"
+mkdir -p "$out"
+[ -x "$bin/capture" ] || { echo "measure_figures: build first (scripts/setup.sh)" >&2; exit 2; }
+echo "machine: $(nproc) cores, $(free -g | awk '/Mem/ {print $2}') GiB, $(. /etc/os-release; echo "$PRETTY_NAME")"
+
+echo "== capture stream: write and read of a 1920x1080 frame vs memcpy of the same bytes"
+"$bin/bench_capture_stream" --benchmark_min_time=2 2>/dev/null | tee "$out/stream.txt"
+
+echo "== ground-truth kernels at 1920x1080, 200 objects, one core"
+"$bin/bench_ground_truth" --benchmark_min_time=2 2>/dev/null | tee "$out/ground_truth.txt"
+
+echo "== interceptor overhead: capture test program, 1920x1080, 304 draws/frame"
+bash "$here/test/capture/measure_overhead.sh" "$bin" 1920x1080 30 300 3 | tee "$out/overhead_test_program.txt"
+
+echo "== world: frame time without and with capture (31 frames, frame 0 left out)"
+for size in "1920 1080" "1280 720"; do
+  set -- $size
+  plain=$("$bin/world" --frames 31 --width "$1" --height "$2" --benchmark | grep "world benchmark" | tail -1)
+  captured=$("$bin/capture" --output "$out/world_${2}p.vcap" --profile "$here/config/profiles/world.yaml" --fps 15 \
+    -- "$bin/world" --frames 31 --width "$1" --height "$2" --benchmark | grep "world benchmark" | tail -1)
+  echo "world ${1}x${2}: plain: $plain | captured: $captured" | tee -a "$out/world.txt"
+  rm -f "$out/world_${2}p.vcap"
+done

@@ -1,5 +1,6 @@
 #include "viper/ros/instances.h"
 
+#include "viper/ros/capture_conversions.h"
 #include "viper/ros/ground_truth_conversions.h"
 
 #include <ros/package.h>
@@ -82,11 +83,7 @@ void Instances::onMeshStore(const MeshStore::ConstPtr& store) {
                          m.positions_xyz.size(), m.indices.size());
       continue;
     }
-    MeshRecord r;
-    r.key = m.key;
-    r.positions_xyz = m.positions_xyz;
-    r.indices = m.indices;
-    meshes.push_back(std::move(r));
+    meshes.push_back(fromMeshMsg(m));
   }
   std::lock_guard<std::mutex> lock(mutex_);
   pipeline_->addMeshes(meshes);

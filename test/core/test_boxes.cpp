@@ -1,5 +1,7 @@
 #include "viper/core/boxes.h"
 
+#include "../common/gl_matrices.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -25,12 +27,7 @@ GlMatrix placed(float yaw_rad, float scale, Eigen::Vector3f t) {
   return a.matrix();
 }
 
-GlMatrix perspective(float fovy, float aspect, float n, float f) {
-  GlMatrix p = GlMatrix::Zero();
-  const float t = 1.0f / std::tan(fovy / 2);
-  p(0, 0) = t / aspect, p(1, 1) = t, p(2, 2) = -(f + n) / (f - n), p(2, 3) = -2 * f * n / (f - n), p(3, 2) = -1;
-  return p;
-}
+using test::glPerspective;
 
 TEST(MeshRegistry, BoundsAndArea) {
   MeshRegistry store;
@@ -81,7 +78,7 @@ TEST(ObjectBox, DeformedPartsComeBackThroughTheInverseMatrices) {
   Eigen::Affine3f view = Eigen::Affine3f(Eigen::AngleAxisf(-1.2f, Eigen::Vector3f::UnitX())) *
                          Eigen::Translation3f(0, 0, -1.7f);
   d.view = view.matrix();
-  d.projection = perspective(1.0f, 1.5f, 0.1f, 200.f);
+  d.projection = glPerspective(1.0, 1.5, 0.1, 200);
   const std::vector<Eigen::Vector3f> bent = {{0, 0, 0}, {0.2f, 0, 1}, {0.5f, 0.1f, 1.8f}, {-0.1f, 0.3f, 1.2f}};
   for (const auto& p : bent) {
     const Eigen::Vector4f c = d.projection * d.view * d.world * p.homogeneous();

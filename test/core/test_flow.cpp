@@ -1,5 +1,7 @@
 #include "viper/core/flow.h"
 
+#include "../common/gl_matrices.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -12,21 +14,8 @@ namespace {
 
 constexpr uint32_t kW = 96, kH = 64;
 
-GlMatrix perspective(double fovy, double aspect, double n, double f) {
-  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
-  const double t = 1.0 / std::tan(fovy / 2);
-  p(0, 0) = t / aspect, p(1, 1) = t, p(2, 2) = -(f + n) / (f - n), p(2, 3) = -2 * f * n / (f - n), p(3, 2) = -1;
-  return p.cast<float>();
-}
-
-GlMatrix lookAt(Eigen::Vector3d eye, Eigen::Vector3d target) {
-  const Eigen::Vector3d f = (target - eye).normalized(), s = f.cross(Eigen::Vector3d::UnitZ()).normalized(),
-                        u = s.cross(f);
-  Eigen::Matrix4d v = Eigen::Matrix4d::Identity();
-  v.row(0).head<3>() = s, v.row(1).head<3>() = u, v.row(2).head<3>() = -f;
-  v(0, 3) = -s.dot(eye), v(1, 3) = -u.dot(eye), v(2, 3) = f.dot(eye);
-  return v.cast<float>();
-}
+using test::glLookAt;
+using test::glPerspective;
 
 // Ray through the center of pixel (x, y) in world coordinates: origin and direction.
 std::pair<Eigen::Vector3d, Eigen::Vector3d> pixelRay(const GlMatrix& proj, const GlMatrix& view, int x, int y) {
@@ -59,8 +48,8 @@ CaptureFrame emptyFrame() {
 
 // A unit square (object z = 0, |x|, |y| <= 1) placed with `world`, "rendered" by ray casting.
 struct RigidCase {
-  GlMatrix proj = perspective(0.9, double(kW) / kH, 0.1, 300);
-  GlMatrix view_a = lookAt({-6, -1, 2}, {0, 0, 0.5}), view_b = lookAt({-5.6, -0.8, 2.05}, {0, 0.1, 0.5});
+  GlMatrix proj = glPerspective(0.9, double(kW) / kH, 0.1, 300);
+  GlMatrix view_a = glLookAt({-6, -1, 2}, {0, 0, 0.5}), view_b = glLookAt({-5.6, -0.8, 2.05}, {0, 0.1, 0.5});
   GlMatrix world_a, world_b;
   CaptureFrame a = emptyFrame(), b = emptyFrame();
   RigidCase() {
@@ -152,8 +141,8 @@ TEST(Flow, ForwardThenBackwardReturnsToThePixel) {
 }
 
 TEST(Flow, NonRigidTriangleFollowsItsBarycentrics) {
-  const GlMatrix proj = perspective(0.9, double(kW) / kH, 0.1, 300);
-  const GlMatrix view = lookAt({-5, 0, 1}, {0, 0, 1});
+  const GlMatrix proj = glPerspective(0.9, double(kW) / kH, 0.1, 300);
+  const GlMatrix view = glLookAt({-5, 0, 1}, {0, 0, 1});
   const std::array<Eigen::Vector3d, 3> xa = {{{0, -1.5, 0}, {0.5, 1.5, 0.2}, {-0.3, 0, 2.4}}};
   const std::array<Eigen::Vector3d, 3> xb = {{{0.1, -1.4, 0}, {0.2, 1.7, 0.4}, {0.4, 0.3, 2.2}}};  // deformed
   MeshRecord mesh;

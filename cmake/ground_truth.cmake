@@ -30,24 +30,27 @@ if(CATKIN_ENABLE_TESTING)
 endif()
 
 if(CATKIN_ENABLE_TESTING)
-  # A real capture of the test scene and its oracle, made at build time, for the oracle checks.
+  # Real captures and oracles, made at build time, for the oracle checks: the test scene, and 90
+  # frames (6 s) of the world's traffic with level-of-detail swaps and occlusions.
   set(VIPER_GT_DATA ${PROJECT_BINARY_DIR}/test_data)
-  set(VIPER_GT_CAPTURE ${VIPER_GT_DATA}/gt_scene.vcap)
-  set(VIPER_GT_ORACLE ${VIPER_GT_DATA}/gt_scene.oracle)
-  add_custom_command(OUTPUT ${VIPER_GT_CAPTURE} ${VIPER_GT_ORACLE}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${VIPER_GT_DATA}
-    COMMAND $<TARGET_FILE:viper_capture> --output ${VIPER_GT_CAPTURE}
-            --profile ${PROJECT_SOURCE_DIR}/config/profiles/test_scene.yaml --condition day --fps 15
-            -- $<TARGET_FILE:test_scene> --frames 30 --width 320 --height 240 --oracle ${VIPER_GT_ORACLE}
-    DEPENDS viper_capture viper_intercept test_scene
-    COMMENT "Capturing the test scene for the ground-truth oracle checks")
-  add_custom_target(viper_gt_test_capture DEPENDS ${VIPER_GT_CAPTURE} ${VIPER_GT_ORACLE})
-
-  catkin_add_gtest(test_against_oracle test/ground_truth/test_against_oracle.cpp)
-  target_link_libraries(test_against_oracle viper_core gtest_main)
-  target_compile_definitions(test_against_oracle PRIVATE
-    VIPER_TEST_SCENE_CAPTURE="${VIPER_GT_CAPTURE}" VIPER_TEST_SCENE_ORACLE="${VIPER_GT_ORACLE}")
-  add_dependencies(test_against_oracle viper_gt_test_capture)
+  function(viper_oracle_check name program profile program_args)
+    set(capture ${VIPER_GT_DATA}/${name}.vcap)
+    set(oracle ${VIPER_GT_DATA}/${name}.oracle)
+    add_custom_command(OUTPUT ${capture} ${oracle}
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${VIPER_GT_DATA}
+      COMMAND $<TARGET_FILE:viper_capture> --output ${capture} --profile ${PROJECT_SOURCE_DIR}/${profile}
+              --condition day --fps 15 -- $<TARGET_FILE:${program}> ${program_args} --oracle ${oracle}
+      DEPENDS viper_capture viper_intercept ${program}
+      COMMENT "Capturing ${program} for the ground-truth oracle checks")
+    add_custom_target(${name}_capture DEPENDS ${capture} ${oracle})
+    catkin_add_gtest(test_${name}_against_oracle test/ground_truth/test_against_oracle.cpp)
+    target_link_libraries(test_${name}_against_oracle viper_core gtest_main)
+    target_compile_definitions(test_${name}_against_oracle PRIVATE
+      VIPER_TEST_SCENE_CAPTURE="${capture}" VIPER_TEST_SCENE_ORACLE="${oracle}")
+    add_dependencies(test_${name}_against_oracle ${name}_capture)
+  endfunction()
+  viper_oracle_check(gt_scene test_scene config/profiles/test_scene.yaml "--frames;30;--width;320;--height;240")
+  viper_oracle_check(gt_world world config/profiles/world.yaml "--frames;90;--width;480;--height;270")
 
   # The committed raw bag through replay.launch's nodelets, fed and checked by replay_tester.
   add_executable(replay_tester EXCLUDE_FROM_ALL test/ros/replay_tester.cpp)

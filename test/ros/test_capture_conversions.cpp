@@ -1,6 +1,8 @@
 // Converter round trips (core -> msg -> core) and the image/camera-info messages of a frame.
 #include "viper/ros/capture_conversions.h"
 
+#include "../core/test_capture_stream_frames.h"
+
 #include <gtest/gtest.h>
 #include <sensor_msgs/image_encodings.h>
 
@@ -57,23 +59,6 @@ CaptureFrame sampleFrame() {
   return f;
 }
 
-void expectDrawsEqual(const DrawRecord& a, const DrawRecord& b) {
-  EXPECT_EQ(a.index, b.index);
-  EXPECT_EQ(a.mesh_key, b.mesh_key);
-  EXPECT_EQ(a.vertex_buffer_key, b.vertex_buffer_key);
-  EXPECT_EQ(a.index_buffer_key, b.index_buffer_key);
-  EXPECT_EQ(a.program_key, b.program_key);
-  EXPECT_EQ(a.texture_keys, b.texture_keys);
-  EXPECT_EQ(a.matrix_flags, b.matrix_flags);
-  EXPECT_EQ(a.world, b.world);
-  EXPECT_EQ(a.view, b.view);
-  EXPECT_EQ(a.projection, b.projection);
-  EXPECT_EQ(a.primitive_mode, b.primitive_mode);
-  EXPECT_EQ(a.primitive_count, b.primitive_count);
-  EXPECT_EQ(a.visible_pixels, b.visible_pixels);
-  EXPECT_EQ(a.deformed_clip_xyzw, b.deformed_clip_xyzw);
-}
-
 std_msgs::Header sampleHeader() {
   std_msgs::Header h;
   h.stamp = ros::Time(12, 500);
@@ -99,7 +84,7 @@ TEST(CaptureConversions, DrawListRoundTrip) {
   ASSERT_EQ(back.draws.size(), frame.draws.size());
   for (size_t i = 0; i < frame.draws.size(); ++i) {
     SCOPED_TRACE("draw " + std::to_string(i));
-    expectDrawsEqual(frame.draws[i], back.draws[i]);
+    test::expectDrawEq(frame.draws[i], back.draws[i]);
   }
 }
 

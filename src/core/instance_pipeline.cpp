@@ -72,7 +72,7 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) {
   for (size_t k = 0; k < objects.size(); ++k) {
     TrackedObject t;
     t.track_id = ids[k];
-    if (objects[k].is_thing) {
+    if (objects[k].is_thing && options_.compute_boxes) {
       t.box = objectBox(frame, objects[k], meshes_, &t.box_status);
       if (t.box_status == BoxStatus::kMissingMesh)
         out.problems.push_back("frame " + std::to_string(frame.number) + ": track " + std::to_string(ids[k]) +

@@ -38,6 +38,7 @@ bool Instances::start() {
   options.thing_classes = classes_->instanceEvalMask();
   options.thing_classes.resize(256, false);
   private_nh_.param("area_weighted_vote", options.area_weighted_vote, true);
+  options.compute_boxes = false;  // the boxes node makes them
   int extrapolate = 10;
   private_nh_.param("extrapolate_frames", extrapolate, 10);
   if (extrapolate < 0) {

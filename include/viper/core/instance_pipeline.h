@@ -18,6 +18,9 @@ struct InstancePipelineOptions {
   std::vector<bool> thing_classes = defaultThingClasses();
   /// Weight each part's vote by its mesh's surface area (else one vote per part).
   bool area_weighted_vote = true;
+  /// Compute each thing's oriented box (TrackedObject::box); a caller that does not use them (the
+  /// instances node: the boxes node makes them) saves the work.
+  bool compute_boxes = true;
   TrackerOptions tracker;
 
   /// VIPER's instance_eval classes: trafficlight, firehydrant, chair, trashcan, person,

@@ -1,6 +1,7 @@
 #include "viper/ros/instances.h"
 
 #include "viper/ros/capture_conversions.h"
+#include "viper/core/semantic_overlay.h"
 #include "viper/ros/ground_truth_conversions.h"
 
 #include <ros/package.h>
@@ -47,6 +48,13 @@ bool Instances::start() {
   }
   options.tracker.extrapolate_frames = extrapolate;
   private_nh_.param("lod_tolerance_m", options.tracker.lod_tolerance_m, 0.05);
+  double alpha = 0.5;
+  private_nh_.param("overlay_alpha", alpha, 0.5);
+  if (!(alpha >= 0.0 && alpha <= 1.0)) {
+    ROS_ERROR("%s: ~overlay_alpha must be in [0, 1] (got %g); using 0.5", me.c_str(), alpha);
+    alpha = 0.5;
+  }
+  overlay_alpha_ = static_cast<float>(alpha);
   int queue_size = 10;
   private_nh_.param("queue_size", queue_size, 10);
   if (queue_size < 1) {
@@ -65,6 +73,8 @@ bool Instances::start() {
   instance_ids_pub_ = it_.advertise("instance_ids", queue_size);
   boundaries_pub_ = it_.advertise("boundaries", queue_size);
   viper_pub_ = it_.advertise("instances_viper", queue_size);
+  overlay_pub_ = it_.advertise("semantic_overlay", queue_size);
+  color_sub_ = it_.subscribe("color", queue_size, &Instances::onColor, this);
   objects_pub_ = nh_.advertise<ObjectArray>("objects", queue_size);
   mesh_store_sub_ = nh_.subscribe("mesh_store", 1, &Instances::onMeshStore, this);
   draws_sub_.subscribe(nh_, "draws", queue_size);
@@ -88,6 +98,33 @@ void Instances::onMeshStore(const MeshStore::ConstPtr& store) {
   }
   std::lock_guard<std::mutex> lock(mutex_);
   pipeline_->addMeshes(meshes);
+}
+
+void Instances::onColor(const sensor_msgs::Image::ConstPtr& color) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (overlay_pub_.getNumSubscribers() == 0) return;
+  auto semantic = pending_semantic_.find(color->header.stamp);
+  if (semantic != pending_semantic_.end()) {
+    publishOverlay(*color, semantic->second);
+    pending_semantic_.erase(pending_semantic_.begin(), std::next(semantic));
+    return;
+  }
+  pending_color_[color->header.stamp] = color;
+  while (pending_color_.size() > 8) pending_color_.erase(pending_color_.begin());
+}
+
+void Instances::publishOverlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic) {
+  const size_t n = static_cast<size_t>(color.width) * color.height;
+  if (color.encoding != "rgb8" || color.step != color.width * 3 || color.data.size() != 3 * n ||
+      semantic.size() != n) {
+    ROS_ERROR_THROTTLE(5, "%s: color image %ux%u '%s' (step %u) does not fit the %zu-pixel semantic image; no overlay",
+                       color_sub_.getTopic().c_str(), color.width, color.height, color.encoding.c_str(), color.step,
+                       semantic.size());
+    return;
+  }
+  scratch_rgb_.resize(3 * n);
+  overlayClasses(color.data.data(), semantic.data(), n, *classes_, overlay_alpha_, scratch_rgb_.data());
+  overlay_pub_.publish(imageMsg(color.header, color.width, color.height, "rgb8", 3, scratch_rgb_.data()));
 }
 
 void Instances::onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Image::ConstPtr& ids) {
@@ -121,12 +158,18 @@ void Instances::onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Imag
     semantic_pub_.publish(imageMsg(header, w, h, "mono8", 1, result_.semantic.data()));
   if (semantic_color_pub_.getNumSubscribers() > 0) {
     scratch_rgb_.resize(3 * n);
-    for (size_t i = 0; i < n; ++i) {
-      const uint8_t c = result_.semantic[i];
-      const auto rgb = c < classes_->size() ? classes_->at(c).rgb : std::array<uint8_t, 3>{{0, 0, 0}};
-      std::memcpy(&scratch_rgb_[3 * i], rgb.data(), 3);
-    }
+    colorizeClasses(result_.semantic.data(), n, *classes_, scratch_rgb_.data());
     semantic_color_pub_.publish(imageMsg(header, w, h, "rgb8", 3, scratch_rgb_.data()));
+  }
+  if (overlay_pub_.getNumSubscribers() > 0) {
+    auto color = pending_color_.find(header.stamp);
+    if (color != pending_color_.end()) {
+      publishOverlay(*color->second, result_.semantic);
+      pending_color_.erase(pending_color_.begin(), std::next(color));
+    } else {
+      pending_semantic_[header.stamp] = result_.semantic;
+      while (pending_semantic_.size() > 8) pending_semantic_.erase(pending_semantic_.begin());
+    }
   }
   if (instance_ids_pub_.getNumSubscribers() > 0)
     instance_ids_pub_.publish(imageMsg(header, w, h, "32SC1", 4, result_.instance_ids.data()));

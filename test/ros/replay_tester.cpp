@@ -21,7 +21,8 @@
 namespace {
 
 const std::vector<std::string> kOutputs = {"/ground_truth/semantic", "/ground_truth/instance_ids",
-                                           "/ground_truth/objects", "/ground_truth/boxes", "/ground_truth/odom"};
+                                           "/ground_truth/objects", "/ground_truth/boxes", "/ground_truth/odom",
+                                           "/ground_truth/semantic_overlay"};
 
 class ReplayTest : public ::testing::Test {
  protected:
@@ -72,6 +73,9 @@ TEST_F(ReplayTest, EveryFrameComesOutOfEveryNodeWithItsStamp) {
   }));
   subs.push_back(nh.subscribe<nav_msgs::Odometry>(kOutputs[4], 50, [this](const nav_msgs::OdometryConstPtr& m) {
     got(kOutputs[4], m->header.stamp);
+  }));
+  subs.push_back(nh.subscribe<sensor_msgs::Image>(kOutputs[5], 50, [this](const sensor_msgs::ImageConstPtr& m) {
+    got(kOutputs[5], m->header.stamp);
   }));
   ros::AsyncSpinner spinner(2);
   spinner.start();

@@ -14,6 +14,7 @@
 #include <viper/DrawList.h>
 #include <viper/MeshStore.h>
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -33,6 +34,10 @@ class Instances {
   using SyncPolicy = message_filters::sync_policies::ExactTime<DrawList, sensor_msgs::Image>;
   void onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Image::ConstPtr& draw_ids);
   void onMeshStore(const MeshStore::ConstPtr& store);
+  void onColor(const sensor_msgs::Image::ConstPtr& color);
+  /// Publishes the overlay of `color` and `semantic` (same stamp); false with an error if the
+  /// color image does not fit.
+  void publishOverlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic);
 
   ros::NodeHandle nh_, private_nh_;
   image_transport::ImageTransport it_;
@@ -44,7 +49,13 @@ class Instances {
   message_filters::Subscriber<sensor_msgs::Image> draw_ids_sub_;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
   ros::Subscriber mesh_store_sub_;
-  image_transport::Publisher semantic_pub_, semantic_color_pub_, instance_ids_pub_, boundaries_pub_, viper_pub_;
+  image_transport::Publisher semantic_pub_, semantic_color_pub_, instance_ids_pub_, boundaries_pub_, viper_pub_,
+      overlay_pub_;
+  image_transport::Subscriber color_sub_;
+  float overlay_alpha_ = 0.5f;
+  // The overlay pairs the camera image and the semantic image of one stamp, whichever comes first.
+  std::map<ros::Time, sensor_msgs::Image::ConstPtr> pending_color_;
+  std::map<ros::Time, std::vector<uint8_t>> pending_semantic_;
   ros::Publisher objects_pub_;
 
   CaptureFrame frame_;     // reused between frames

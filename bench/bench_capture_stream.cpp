@@ -150,7 +150,7 @@ void BM_EncodeAndWrite(benchmark::State& state) {
   std::remove(path.c_str());
   state.SetBytesProcessed(int64_t(state.iterations() * frameBytes()));
 }
-BENCHMARK(BM_EncodeAndWrite)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_EncodeAndWrite)->Arg(-5)->Arg(-1)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_ReadAndDecode(benchmark::State& state) {
   const std::string path = tempPath("read");

@@ -5,6 +5,7 @@ add_library(viper_ros
   src/ros/capture_bridge_options.cpp
   src/ros/capture_bridge.cpp
   src/ros/capture_bridge_nodelet.cpp
+  src/ros/frame_counter_nodelet.cpp
 )
 target_include_directories(viper_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
@@ -85,4 +86,5 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/capture_bridge_follow.test DEPENDENCIES make_test_capture ${_bridge_test_deps})
   roslaunch_add_file_check(launch/capture_bridge.launch file:=capture.vcap)
   roslaunch_add_file_check(launch/capture_bridge.launch file:=capture.vcap nodelet:=true)
+  roslaunch_add_file_check(launch/bridge_throughput.launch file:=capture.vcap)
 endif()

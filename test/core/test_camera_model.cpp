@@ -2,6 +2,8 @@
 // itself (clip -> NDC -> window transform as the GL specification defines it).
 #include "viper/core/camera_model.h"
 
+#include "../common/gl_matrices.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,12 +25,6 @@ GlMatrix glFrustum(double l, double r, double b, double t, double n, double f) {
   return m.cast<float>();
 }
 
-// gluPerspective(fovy, aspect, n, f).
-GlMatrix glPerspective(double fovy_rad, double aspect, double n, double f) {
-  const double t = n * std::tan(fovy_rad / 2);
-  return glFrustum(-t * aspect, t * aspect, -t, t, n, f);
-}
-
 GlMatrix glOrtho(double l, double r, double b, double t, double n, double f) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m(0, 0) = 2 / (r - l);
@@ -40,20 +36,8 @@ GlMatrix glOrtho(double l, double r, double b, double t, double n, double f) {
   return m.cast<float>();
 }
 
-// gluLookAt: view matrix of a camera at `eye` looking at `target`.
-GlMatrix glLookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up) {
-  const Eigen::Vector3d f = (target - eye).normalized();
-  const Eigen::Vector3d s = f.cross(up).normalized();
-  const Eigen::Vector3d u = s.cross(f);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m.block<1, 3>(0, 0) = s.transpose();
-  m.block<1, 3>(1, 0) = u.transpose();
-  m.block<1, 3>(2, 0) = -f.transpose();
-  m(0, 3) = -s.dot(eye);
-  m(1, 3) = -u.dot(eye);
-  m(2, 3) = f.dot(eye);
-  return m.cast<float>();
-}
+using test::glLookAt;  // Z up
+using test::glPerspective;
 
 struct GlWindowPoint {
   double x, y;   // window coordinates, origin at the bottom-left corner of the bottom-left pixel
@@ -163,7 +147,7 @@ DrawRecord cameraDraw(uint32_t index, const GlMatrix& view, const GlMatrix& proj
 TEST(CameraModel, FrameCameraIsThePairWithMostVisiblePixels) {
   const GlMatrix p_main = glPerspective(1.0, 1.0, 0.1, 100.0);
   const GlMatrix p_sky = glPerspective(1.0, 1.0, 1.0, 5000.0);
-  const GlMatrix view = glLookAt({0, 0, 2}, {1, 5, 2}, {0, 0, 1});
+  const GlMatrix view = glLookAt({0, 0, 2}, {1, 5, 2});
   CaptureFrame frame;
   // The sky draw alone is the largest draw, but the main pair wins over all its draws together.
   frame.draws.push_back(cameraDraw(0, view, p_sky, 500));
@@ -227,7 +211,7 @@ TEST(CameraModel, OpticalFrameAxes) {
 
   // World: Z up. Camera at (1, 2, 1.5) looking along +Y.
   const Eigen::Vector3d eye(1, 2, 1.5);
-  const Eigen::Isometry3d optical_from_world = opticalFromWorld(glLookAt(eye, eye + Eigen::Vector3d(0, 1, 0), {0, 0, 1}));
+  const Eigen::Isometry3d optical_from_world = opticalFromWorld(glLookAt(eye, eye + Eigen::Vector3d(0, 1, 0)));
   const Eigen::Vector3d ahead = optical_from_world * (eye + Eigen::Vector3d(0, 5, 0));
   const Eigen::Vector3d above = optical_from_world * (eye + Eigen::Vector3d(0, 5, 1));
   const Eigen::Vector3d right = optical_from_world * (eye + Eigen::Vector3d(1, 5, 0));

@@ -11,6 +11,8 @@
 #include "viper/core/capture_stream.h"
 #include "viper/core/content_key.h"
 
+#include "../common/gl_matrices.h"
+
 #include <Eigen/Geometry>
 
 #include <chrono>
@@ -68,30 +70,8 @@ MeshRecord ground() {
   return makeMesh({-50, -50, 0, 50, -50, 0, 50, 50, 0, -50, 50, 0}, {0, 1, 2, 0, 2, 3});
 }
 
-GlMatrix perspective(double fovy, double aspect, double n, double f) {
-  const double t = 1.0 / std::tan(fovy / 2);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
-  m(0, 0) = t / aspect;
-  m(1, 1) = t;
-  m(2, 2) = -(f + n) / (f - n);
-  m(2, 3) = -2 * f * n / (f - n);
-  m(3, 2) = -1;
-  return m.cast<float>();
-}
-
-GlMatrix lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d f = (target - eye).normalized();
-  const Eigen::Vector3d s = f.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const Eigen::Vector3d u = s.cross(f);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m.block<1, 3>(0, 0) = s.transpose();
-  m.block<1, 3>(1, 0) = u.transpose();
-  m.block<1, 3>(2, 0) = -f.transpose();
-  m(0, 3) = -s.dot(eye);
-  m(1, 3) = -u.dot(eye);
-  m(2, 3) = f.dot(eye);
-  return m.cast<float>();
-}
+using viper::test::glLookAt;
+using viper::test::glPerspective;
 
 GlMatrix placed(double x, double y, double yaw, double scale) {
   Eigen::Affine3d a = Eigen::Translation3d(x, y, 0) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
@@ -121,9 +101,9 @@ CaptureFrame renderFrame(int k, const Options& opt, const MeshRecord& cube, cons
   f.condition = "day";
   f.width = opt.width;
   f.height = opt.height;
-  const GlMatrix proj = perspective(1.0, double(opt.width) / opt.height, 0.1, 200.0);
+  const GlMatrix proj = glPerspective(1.0, double(opt.width) / opt.height, 0.1, 200.0);
   const Eigen::Vector3d eye(0.0, -10.0 + 0.5 * k, 1.5);
-  const GlMatrix view = lookAt(eye, eye + Eigen::Vector3d(0.1, 1.0, -0.05));
+  const GlMatrix view = glLookAt(eye, eye + Eigen::Vector3d(0.1, 1.0, -0.05));
 
   auto draw = [&](const MeshRecord& mesh, const GlMatrix& world, const char* program) {
     DrawRecord d;

@@ -13,8 +13,7 @@ repo=$(cd "$(dirname "$0")/../.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # Meshes are the same in every condition except the particles (class 0): day covers the rest.
-LD_PRELOAD="$intercept" VIPER_CAPTURE_OUTPUT="$tmp/day.vcap" \
-  VIPER_CAPTURE_PROFILE="$repo/config/profiles/world.yaml" VIPER_CAPTURE_CONDITION=day VIPER_CAPTURE_FPS=15 \
-  "$bin_dir/world" --condition day --width 480 --height 270 --oracle "$tmp/day.txt" "$@"
+"$bin_dir/capture" --library "$intercept" --output "$tmp/day.vcap" --profile "$repo/config/profiles/world.yaml" \
+  --condition day --fps 15 -- "$bin_dir/world" --condition day --width 480 --height 270 --oracle "$tmp/day.txt" "$@"
 mkdir -p "$(dirname "$out")"
 "$bin_dir/make_label_table" "$tmp/day.vcap" "$tmp/day.txt" "$out"

@@ -2,11 +2,14 @@
 // memcpy of the bytes each kernel touches. Run: rosrun viper bench_ground_truth
 #include "synthetic_frames.h"
 
+#include "viper/core/camera_model.h"
+#include "viper/core/capture_stream.h"
 #include "viper/core/flow.h"
 #include "viper/core/instance_pipeline.h"
 
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -80,10 +83,59 @@ void BM_FlowForwardAndBackward(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * 2 * size_t(kW) * kH * kFlowBytesPerPixel);
 }
 
+// The same on two consecutive frames of a real capture (the world at 1920x1080, where a row of
+// one draw runs ~100 px; the synthetic frames above alternate draws every 8 px). The capture is
+// named by VIPER_BENCH_CAPTURE (scripts/measure_figures.sh makes it), its labels by
+// VIPER_BENCH_LABELS; the benchmark is skipped without them.
+void BM_FlowForwardAndBackwardCapture(benchmark::State& state) {
+  const char* path = std::getenv("VIPER_BENCH_CAPTURE");
+  const char* labels = std::getenv("VIPER_BENCH_LABELS");
+  if (!path || !labels) {
+    state.SkipWithError("set VIPER_BENCH_CAPTURE and VIPER_BENCH_LABELS");
+    return;
+  }
+  CaptureReader reader(path);
+  CaptureFrame a, b;
+  InstancePipeline pipeline(LabelTable::load(labels));
+  InstanceFrame objects;
+  std::vector<int32_t> a_ids, b_ids;
+  auto idsPerDraw = [&](const CaptureFrame& f, std::vector<int32_t>& ids) {
+    pipeline.process(f, objects);
+    ids.assign(f.draws.size(), 0);
+    for (const TrackedObject& o : objects.objects)
+      for (uint32_t d : o.object.draws) ids[d] = o.track_id;
+  };
+  for (int i = 0; i <= static_cast<int>(state.range(0)); ++i) {
+    std::swap(a, b), std::swap(a_ids, b_ids);
+    if (reader.next(b) != CaptureReader::Status::kFrame) {
+      state.SkipWithError("the capture has too few frames");
+      return;
+    }
+    idsPerDraw(b, b_ids);
+  }
+  const auto a_camera = chooseFrameCamera(a), b_camera = chooseFrameCamera(b);
+  const std::vector<float> a_depth = depthMetres(a, a_camera ? &*a_camera : nullptr);
+  const std::vector<float> b_depth = depthMetres(b, b_camera ? &*b_camera : nullptr);
+  const auto fwd_map = associateDraws(a, a_ids, b, b_ids), bwd_map = associateDraws(b, b_ids, a, a_ids);
+  FlowField fwd, bwd;
+  FlowStats stats;
+  for (auto _ : state) {
+    computeFlow(a, b, fwd_map, b_depth, pipeline.meshes(), fwd, FlowOptions(), &stats);
+    computeFlow(b, a, bwd_map, a_depth, pipeline.meshes(), bwd);
+    benchmark::DoNotOptimize(fwd.uv.data());
+    benchmark::DoNotOptimize(bwd.uv.data());
+  }
+  state.counters["rigid_px"] = static_cast<double>(stats.rigid);
+  state.counters["non_rigid_px"] = static_cast<double>(stats.non_rigid);
+  state.SetBytesProcessed(state.iterations() * 2 * size_t(a.width) * a.height * kFlowBytesPerPixel);
+}
+
 BENCHMARK(BM_MemcpyInstanceBytes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_InstancesAndTracking)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MemcpyFlowBytes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlowForwardAndBackward)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
+// Frames 1 -> 2 and 20 -> 21 of the capture.
+BENCHMARK(BM_FlowForwardAndBackwardCapture)->Arg(1)->Arg(20)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace viper

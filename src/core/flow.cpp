@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -56,6 +57,73 @@ std::optional<Eigen::Vector4d> nonRigidClip(const DrawMapping& m, uint32_t primi
   const double b0 = (1.0 - l1 - l2) / c0.w(), b1 = l1 / c1.w(), b2 = l2 / c2.w();
   return (b0 * clipAt(*m.clip_b, idx[t]) + b1 * clipAt(*m.clip_b, idx[t + 1]) + b2 * clipAt(*m.clip_b, idx[t + 2])) /
          (b0 + b1 + b2);
+}
+
+// What a run of rigid pixels needs of frame b and of the options.
+struct RigidTarget {
+  const float* depth_b;  // b's depth in metres, NaN = no surface
+  int width, height;     // b's size
+  float occ_rel, occ_abs;
+  float *scratch_u, *scratch_v, *scratch_depth;  // a.width values each
+  int* scratch_q;
+};
+
+// One run of pixels x0..x1-1 of a rigid draw along row y, where
+// clip_b = k + x * step_x + d * step_d. Writes (u, v) and the visibility mask of every pixel of the
+// run (NaN and 0 where the source depth shows no surface) and returns how many had a surface.
+// Branch-free, with clamped indices for b's depth, so that it vectorises (gather). Built twice and
+// chosen at load time: for AVX2/FMA CPUs (x86-64-v3) and for any other.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) size_t rigidRun(
+    const Eigen::Vector4d& k, const Eigen::Vector4d& step_x, const Eigen::Vector4d& step_d, double depth_scale,
+    const RigidTarget& t, const float* depth_row, int x0, int x1, int y, float* uv_row, uint8_t* visible_row) {
+  const double k0 = k[0], k1 = k[1], k3 = k[3];
+  const double sx0 = step_x[0], sx1 = step_x[1], sx3 = step_x[3];
+  const double sd0 = step_d[0], sd1 = step_d[1], sd3 = step_d[3];
+  const double half_w = 0.5 * t.width, half_h = 0.5 * t.height;
+  const double x_off = 0.5 * t.width - 0.5, y_off = 0.5 * t.height - 0.5 - y;
+  const float xmax = t.width - 0.5f, ymax = t.height - 0.5f;
+  const float* const depth_b = t.depth_b;
+  const int width = t.width, last_x = t.width - 1, last_y = t.height - 1;
+  // Four simple loops instead of one: each vectorises on its own (GCC will not if-convert the
+  // fused loop). The scratch rows are indexed by x.
+  float* const us = t.scratch_u;
+  float* const vs = t.scratch_v;
+  float* const depths = t.scratch_depth;
+  for (int x = x0; x < x1; ++x) {
+    const double d = depth_row[x];
+    const double cw = k3 + sx3 * x + sd3 * d;
+    const double inv = 1.0 / cw;
+    us[x] = static_cast<float>((k0 + sx0 * x + sd0 * d) * inv * half_w + (x_off - x));
+    vs[x] = static_cast<float>(y_off - (k1 + sx1 * x + sd1 * d) * inv * half_h);
+    depths[x] = static_cast<float>(cw * depth_scale);
+  }
+  int* const qs = t.scratch_q;
+  const float last_xf = static_cast<float>(last_x), last_yf = static_cast<float>(last_y);
+  for (int x = x0; x < x1; ++x) {
+    const float xb = us[x] + static_cast<float>(x), yb = vs[x] + static_cast<float>(y), depth = depths[x];
+    const bool outside = !(depth > 0.0f) | !(xb >= -0.5f) | !(yb >= -0.5f) | !(xb < xmax) | !(yb < ymax);
+    const int xi = static_cast<int>(std::min(std::max(xb + 0.5f, 0.0f), last_xf));
+    const int yi = static_cast<int>(std::min(std::max(yb + 0.5f, 0.0f), last_yf));
+    qs[x] = (yi * width + xi) | -static_cast<int>(outside);
+  }
+  for (int x = x0; x < x1; ++x) {
+    const int q = qs[x];
+    // NaN in b's depth (no surface) counts as visible: nothing is in front of the point.
+    const float limit = depths[x] * t.occ_rel - t.occ_abs;
+    qs[x] = ((q >= 0) & !(depth_b[std::max(q, 0)] < limit)) ? 255 : 0;
+  }
+  int valid_count = 0;
+  for (int x = x0; x < x1; ++x) {
+    const float d = depth_row[x];
+    const int surface = (d >= 0.0f) & (d < 1.0f);
+    // Adding NaN where there is no surface keeps the loop free of branches.
+    const float invalid = surface ? 0.0f : kNaN;
+    uv_row[2 * x] = us[x] + invalid;
+    uv_row[2 * x + 1] = vs[x] + invalid;
+    visible_row[x] = static_cast<uint8_t>(qs[x] & -surface);
+    valid_count += surface;
+  }
+  return valid_count;
 }
 
 }  // namespace
@@ -160,22 +228,34 @@ void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector
   const double bw = b.width, bh = b.height;
   const double occ_rel = 1.0 - options.occlusion_relative, occ_abs = options.occlusion_absolute_m;
   size_t n_rigid = 0, n_non_rigid = 0, n_no_surface = 0, n_no_assoc = 0, n_missing = 0;
+  std::vector<float> scratch(3 * static_cast<size_t>(a.width));
+  std::vector<int> scratch_q(a.width);
+  const RigidTarget target{depth_b,
+                           static_cast<int>(b.width),
+                           static_cast<int>(b.height),
+                           static_cast<float>(occ_rel),
+                           static_cast<float>(occ_abs),
+                           scratch.data(),
+                           scratch.data() + a.width,
+                           scratch.data() + 2 * a.width,
+                           scratch_q.data()};
 
-  auto emit = [uv, visible, depth_b, w, h, bw, bh, occ_rel, occ_abs](size_t p, int x, int y, const Eigen::Vector4d& clip_b,
-                                                                     double depth_scale, size_t b_width) {
+  // Whether a point at (xb, yb) in b's pixel coordinates and `depth` metres in front of b's camera
+  // is inside b and not behind b's depth there. NaN in b's depth (no surface) counts as visible:
+  // nothing is in front of the point.
+  auto visibleAt = [depth_b, bw, bh, occ_rel, occ_abs, b_width = static_cast<size_t>(b.width)](
+                       double xb, double yb, double depth) -> uint8_t {
+    if (!(depth > 0.0 && xb >= -0.5 && yb >= -0.5 && xb < bw - 0.5 && yb < bh - 0.5)) return 0;
+    const size_t q = static_cast<size_t>(yb + 0.5) * b_width + static_cast<size_t>(xb + 0.5);
+    return !(depth_b[q] < depth * occ_rel - occ_abs) ? 255 : 0;
+  };
+  auto emit = [uv, visible, w, h, &visibleAt](size_t p, int x, int y, const Eigen::Vector4d& clip_b, double depth_scale) {
     const double inv_w = 1.0 / clip_b.w();
     const double xb = (clip_b.x() * inv_w + 1.0) * 0.5 * w - 0.5;
     const double yb = (1.0 - clip_b.y() * inv_w) * 0.5 * h - 0.5;
     uv[2 * p] = static_cast<float>(xb - x);
     uv[2 * p + 1] = static_cast<float>(yb - y);
-    uint8_t vis = 0;
-    if (clip_b.w() > 0.0 && xb >= -0.5 && yb >= -0.5 && xb < bw - 0.5 && yb < bh - 0.5) {
-      const size_t q = static_cast<size_t>(yb + 0.5) * b_width + static_cast<size_t>(xb + 0.5);
-      const double depth = clip_b.w() * depth_scale;
-      // NaN there (b shows no surface) counts as visible: nothing is in front of the point.
-      vis = !(depth_b[q] < depth * occ_rel - occ_abs) ? 255 : 0;
-    }
-    visible[p] = vis;
+    visible[p] = visibleAt(xb, yb, clip_b.w() * depth_scale);
   };
   auto undefined = [uv, visible](size_t p) {
     uv[2 * p] = uv[2 * p + 1] = kNaN;
@@ -192,22 +272,16 @@ void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector
       while (x1 < width && ids[row + x1] == id) ++x1;
       const DrawMapping* m = (id == 0 || id > n_draws) ? nullptr : &maps[id - 1];
       if (m && m->kind == DrawMapping::kRigid) {
-        // clip_b = M (ndc_x, ndc_y, 2d - 1, 1) = k + x * step_x + d * step_d.
+        // clip_b = M (ndc_x, ndc_y, 2d - 1, 1) = k + x * step_x + d * step_d. Pass 1 is branch-free
+        // so that it vectorises: target pixel and depth for the whole run; pass 2 checks the
+        // source depth and looks up b's depth at the target.
         const Eigen::Matrix4d& M = m->ndc_a_to_clip_b;
         const Eigen::Vector4d k = M.col(0) * (1.0 / w - 1.0) + M.col(1) * ndc_y - M.col(2) + M.col(3);
         const Eigen::Vector4d step_x = M.col(0) * (2.0 / w), step_d = M.col(2) * 2.0;
-        const double scale = m->depth_scale_b;
-        for (int x = x0; x < x1; ++x) {
-          const size_t p = row + x;
-          const float d = depth_a[p];
-          if (!(d >= 0.0f && d < 1.0f)) {
-            ++n_no_surface;
-            undefined(p);
-            continue;
-          }
-          emit(p, x, y, k + step_x * x + step_d * d, scale, b.width);
-          ++n_rigid;
-        }
+        const size_t with_surface =
+            rigidRun(k, step_x, step_d, m->depth_scale_b, target, depth_a + row, x0, x1, y, uv + 2 * row, visible + row);
+        n_rigid += with_surface;
+        n_no_surface += (x1 - x0) - with_surface;
       } else {
         for (int x = x0; x < x1; ++x) {
           const size_t p = row + x;
@@ -219,7 +293,7 @@ void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector
             ++(m->kind == DrawMapping::kNone ? n_no_assoc : n_missing);
             undefined(p);
           } else if (auto clip_b = nonRigidClip(*m, a.primitive_ids[p], 2.0 * (x + 0.5) / w - 1.0, ndc_y)) {
-            emit(p, x, y, *clip_b, m->depth_scale_b, b.width);
+            emit(p, x, y, *clip_b, m->depth_scale_b);
             ++n_non_rigid;
           } else {
             ++n_missing;

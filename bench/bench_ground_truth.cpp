@@ -1,5 +1,7 @@
 // Per-frame cost of the ground-truth kernels at 1920x1080 with ~200 objects, on one core, next to
-// memcpy of the bytes each kernel touches. Run: rosrun viper bench_ground_truth
+// memcpy of the bytes each kernel touches: synthetic frames, and (with VIPER_BENCH_CAPTURE and
+// VIPER_BENCH_LABELS set, see scripts/measure_figures.sh) a real world capture.
+// Run: rosrun viper bench_ground_truth
 #include "synthetic_frames.h"
 
 #include "viper/core/camera_model.h"
@@ -130,8 +132,81 @@ void BM_FlowForwardAndBackwardCapture(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * 2 * size_t(a.width) * a.height * kFlowBytesPerPixel);
 }
 
+// instances + tracking on 8 consecutive frames of a real capture (VIPER_BENCH_CAPTURE), looped
+// with time running on.
+void BM_InstancesAndTrackingCapture(benchmark::State& state) {
+  const char* path = std::getenv("VIPER_BENCH_CAPTURE");
+  const char* labels = std::getenv("VIPER_BENCH_LABELS");
+  if (!path || !labels) {
+    state.SkipWithError("set VIPER_BENCH_CAPTURE and VIPER_BENCH_LABELS");
+    return;
+  }
+  CaptureReader reader(path);
+  std::vector<CaptureFrame> frames(8);
+  for (CaptureFrame& f : frames)
+    if (reader.next(f) != CaptureReader::Status::kFrame) {
+      state.SkipWithError("the capture has too few frames");
+      return;
+    }
+  InstancePipelineOptions options;
+  options.compute_boxes = false;  // as the instances node runs it
+  InstancePipeline pipeline(LabelTable::load(labels), options);
+  InstanceFrame out;
+  size_t i = 0;
+  for (auto _ : state) {
+    CaptureFrame& f = frames[i % frames.size()];
+    f.time_s = static_cast<double>(i) / 15.0;
+    pipeline.process(f, out);
+    benchmark::DoNotOptimize(out.semantic.data());
+    ++i;
+  }
+  state.counters["objects"] = static_cast<double>(out.objects.size());
+}
+
+// boxes: every thing object of a real capture's frame (VIPER_BENCH_CAPTURE, as above), from the
+// mesh store; the world has ~200 objects, most with several parts of hundreds of vertices.
+void BM_BoxesCapture(benchmark::State& state) {
+  const char* path = std::getenv("VIPER_BENCH_CAPTURE");
+  const char* labels = std::getenv("VIPER_BENCH_LABELS");
+  if (!path || !labels) {
+    state.SkipWithError("set VIPER_BENCH_CAPTURE and VIPER_BENCH_LABELS");
+    return;
+  }
+  CaptureReader reader(path);
+  CaptureFrame frame;
+  InstancePipelineOptions options;
+  options.compute_boxes = false;
+  InstancePipeline pipeline(LabelTable::load(labels), options);
+  InstanceFrame objects;
+  for (int i = 0; i <= static_cast<int>(state.range(0)); ++i) {
+    if (reader.next(frame) != CaptureReader::Status::kFrame) {
+      state.SkipWithError("the capture has too few frames");
+      return;
+    }
+    pipeline.process(frame, objects);
+  }
+  size_t boxes = 0, vertices = 0;
+  for (const TrackedObject& o : objects.objects) {
+    if (!o.object.is_thing) continue;
+    ++boxes;
+    for (uint32_t d : o.object.draws)
+      if (const MeshRecord* m = pipeline.meshes().find(frame.draws[d].mesh_key)) vertices += m->positions_xyz.size() / 3;
+  }
+  for (auto _ : state) {
+    for (const TrackedObject& o : objects.objects) {
+      if (!o.object.is_thing) continue;
+      OrientedBox box = objectBox(frame, o.object, pipeline.meshes());
+      benchmark::DoNotOptimize(box);
+    }
+  }
+  state.counters["boxes"] = static_cast<double>(boxes);
+  state.counters["vertices"] = static_cast<double>(vertices);
+}
+
 BENCHMARK(BM_MemcpyInstanceBytes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_InstancesAndTracking)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_InstancesAndTrackingCapture)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BoxesCapture)->Arg(1)->Arg(20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MemcpyFlowBytes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlowForwardAndBackward)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 // Frames 1 -> 2 and 20 -> 21 of the capture.

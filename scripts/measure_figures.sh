@@ -12,8 +12,12 @@ echo "machine: $(nproc) cores, $(free -g | awk '/Mem/ {print $2}') GiB, $(. /etc
 echo "== capture stream: write and read of a 1920x1080 frame vs memcpy of the same bytes"
 "$bin/bench_capture_stream" --benchmark_min_time=2 2>/dev/null | tee "$out/stream.txt"
 
-echo "== ground-truth kernels at 1920x1080, 200 objects, one core"
-"$bin/bench_ground_truth" --benchmark_min_time=2 2>/dev/null | tee "$out/ground_truth.txt"
+echo "== ground-truth kernels at 1920x1080 on one core: synthetic frames (200 objects) and a world capture"
+"$bin/capture" --output "$out/world_bench.vcap" --profile "$here/config/profiles/world.yaml" --fps 15 \
+  -- "$bin/world" --frames 24 --width 1920 --height 1080 >/dev/null
+VIPER_BENCH_CAPTURE="$out/world_bench.vcap" VIPER_BENCH_LABELS="$here/config/labels/world_labels.yaml" \
+  "$bin/bench_ground_truth" --benchmark_min_time=2 2>/dev/null | tee "$out/ground_truth.txt"
+rm -f "$out/world_bench.vcap"
 
 echo "== interceptor overhead: capture test program, 1920x1080, 304 draws/frame"
 bash "$here/test/capture/measure_overhead.sh" "$bin" 1920x1080 30 300 3 | tee "$out/overhead_test_program.txt"

@@ -27,7 +27,11 @@ WorldBytes worldBytes(const DrawRecord& d) {
 // How the pixels of one draw of frame a map into frame b.
 struct DrawMapping {
   enum Kind { kNone, kRigid, kNonRigid, kMissing } kind = kNone;
-  Eigen::Matrix4d ndc_a_to_clip_b = Eigen::Matrix4d::Identity();  // rigid
+  // Rigid: inverse(pvw_a) maps ndc_a to the object point times 1 / clip_w_a (a homogeneous point
+  // whose w is not 1), so M = pvw_b * inverse(pvw_a) gives clip_b times that same w; its last row
+  // gives the w, which the depth in b must be divided by.
+  Eigen::Matrix4d ndc_a_to_clip_b = Eigen::Matrix4d::Identity();
+  Eigen::Vector4d ndc_a_to_w = Eigen::Vector4d::UnitW();
   const std::vector<uint32_t>* indices = nullptr;                 // non-rigid
   const std::vector<float>* clip_a = nullptr;
   const std::vector<float>* clip_b = nullptr;
@@ -74,11 +78,13 @@ struct RigidTarget {
 // Branch-free, with clamped indices for b's depth, so that it vectorises (gather). Built twice and
 // chosen at load time: for AVX2/FMA CPUs (x86-64-v3) and for any other.
 __attribute__((target_clones("arch=x86-64-v3", "default"))) size_t rigidRun(
-    const Eigen::Vector4d& k, const Eigen::Vector4d& step_x, const Eigen::Vector4d& step_d, double depth_scale,
+    const Eigen::Vector4d& k, const Eigen::Vector4d& step_x, const Eigen::Vector4d& step_d, const Eigen::Vector3d& w_k_x_d,
+    double depth_scale,
     const RigidTarget& t, const float* depth_row, int x0, int x1, int y, float* uv_row, uint8_t* visible_row) {
   const double k0 = k[0], k1 = k[1], k3 = k[3];
   const double sx0 = step_x[0], sx1 = step_x[1], sx3 = step_x[3];
   const double sd0 = step_d[0], sd1 = step_d[1], sd3 = step_d[3];
+  const double kw = w_k_x_d[0], sxw = w_k_x_d[1], sdw = w_k_x_d[2];
   const double half_w = 0.5 * t.width, half_h = 0.5 * t.height;
   const double x_off = 0.5 * t.width - 0.5, y_off = 0.5 * t.height - 0.5 - y;
   const float xmax = t.width - 0.5f, ymax = t.height - 0.5f;
@@ -95,7 +101,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) size_t rigidRun(
     const double inv = 1.0 / cw;
     us[x] = static_cast<float>((k0 + sx0 * x + sd0 * d) * inv * half_w + (x_off - x));
     vs[x] = static_cast<float>(y_off - (k1 + sx1 * x + sd1 * d) * inv * half_h);
-    depths[x] = static_cast<float>(cw * depth_scale);
+    depths[x] = static_cast<float>(cw / (kw + sxw * x + sdw * d) * depth_scale);
   }
   int* const qs = t.scratch_q;
   const float last_xf = static_cast<float>(last_x), last_yf = static_cast<float>(last_y);
@@ -207,7 +213,9 @@ void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector
       Eigen::FullPivLU<Eigen::Matrix4d> lu(pvw_a);
       if (!pvw_a.allFinite() || !pvw_b.allFinite() || !lu.isInvertible()) continue;
       m.kind = DrawMapping::kRigid;
-      m.ndc_a_to_clip_b = pvw_b * lu.inverse();
+      const Eigen::Matrix4d ndc_a_to_object = lu.inverse();
+      m.ndc_a_to_clip_b = pvw_b * ndc_a_to_object;
+      m.ndc_a_to_w = ndc_a_to_object.row(3).transpose();
     }
   }
 
@@ -278,8 +286,10 @@ void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector
         const Eigen::Matrix4d& M = m->ndc_a_to_clip_b;
         const Eigen::Vector4d k = M.col(0) * (1.0 / w - 1.0) + M.col(1) * ndc_y - M.col(2) + M.col(3);
         const Eigen::Vector4d step_x = M.col(0) * (2.0 / w), step_d = M.col(2) * 2.0;
-        const size_t with_surface =
-            rigidRun(k, step_x, step_d, m->depth_scale_b, target, depth_a + row, x0, x1, y, uv + 2 * row, visible + row);
+        const Eigen::Vector4d& N = m->ndc_a_to_w;
+        const Eigen::Vector3d w_k_x_d(N[0] * (1.0 / w - 1.0) + N[1] * ndc_y - N[2] + N[3], N[0] * (2.0 / w), N[2] * 2.0);
+        const size_t with_surface = rigidRun(k, step_x, step_d, w_k_x_d, m->depth_scale_b, target, depth_a + row, x0, x1,
+                                             y, uv + 2 * row, visible + row);
         n_rigid += with_surface;
         n_no_surface += (x1 - x0) - with_surface;
       } else {

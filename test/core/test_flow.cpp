@@ -211,6 +211,36 @@ TEST(Flow, OcclusionMaskComparesWithTheOtherFramesDepth) {
   EXPECT_GT(visible, with_flow * 9 / 10);
 }
 
+// Regression: the rigid path compared b's depth with depth_b / depth_a (~1 m) instead of metres, so
+// almost every point counted as visible (found by test_flow_against_oracle). A surface 10 % nearer
+// than the point hides it; one 10 % farther does not.
+TEST(Flow, RigidOcclusionUsesThePointsDepthInMetres) {
+  RigidCase c;
+  std::vector<float> nearer = c.depthB(), farther = c.depthB();
+  for (float& d : nearer) d *= 0.9f;
+  for (float& d : farther) d *= 1.1f;
+  // Where b shows the surface, the moved point lies on it; elsewhere b has no depth at all.
+  for (size_t p = 0; p < kW * kH; ++p)
+    if (std::isnan(nearer[p])) nearer[p] = farther[p] = 1000.0f;
+  const FlowField hidden = computeFlow(c.a, c.b, {0}, nearer, MeshRegistry());
+  const FlowField seen = computeFlow(c.a, c.b, {0}, farther, MeshRegistry());
+  size_t with_flow = 0, hidden_visible = 0, seen_visible = 0, inside = 0;
+  for (int y = 0; y < int(kH); ++y)
+    for (int x = 0; x < int(kW); ++x) {
+      const size_t p = y * kW + x;
+      if (std::isnan(seen.uv[2 * p])) continue;
+      ++with_flow;
+      const int xb = static_cast<int>(std::lround(x + seen.uv[2 * p])), yb = static_cast<int>(std::lround(y + seen.uv[2 * p + 1]));
+      if (xb < 0 || yb < 0 || xb >= int(kW) || yb >= int(kH) || !c.b.draw_ids[yb * kW + xb]) continue;
+      ++inside;
+      hidden_visible += hidden.visible[p] == 255;
+      seen_visible += seen.visible[p] == 255;
+    }
+  ASSERT_GT(inside, with_flow / 2);
+  EXPECT_EQ(hidden_visible, 0u) << "of " << inside << " points that land on b's surface";
+  EXPECT_EQ(seen_visible, inside);
+}
+
 TEST(Flow, MissingAssociationAndBadSizes) {
   RigidCase c;
   FlowStats stats;

@@ -20,6 +20,22 @@ namespace {
 
 using namespace viper::scene;
 
+// The oracle record of a mesh: positions (floats 0..2 of each interleaved vertex, what aPos reads),
+// indices and, for the skinned layout, bone ids and weights (floats 6..9 and 10..13).
+viper::OracleMesh toOracleMesh(const MeshData& m) {
+  viper::OracleMesh o;
+  o.name = m.name;
+  o.indices = m.indices;
+  const size_t stride = static_cast<size_t>(floatsPerVertex(m.layout));
+  for (size_t v = 0; v + stride <= m.vertices.size(); v += stride) {
+    o.positions_xyz.insert(o.positions_xyz.end(), m.vertices.begin() + v, m.vertices.begin() + v + 3);
+    if (m.layout != VertexLayout::kSkinned) continue;
+    for (size_t k = 6; k < 10; ++k) o.bone_ids.push_back(static_cast<uint32_t>(m.vertices[v + k]));
+    o.bone_weights.insert(o.bone_weights.end(), m.vertices.begin() + v + 10, m.vertices.begin() + v + 14);
+  }
+  return o;
+}
+
 viper::OracleFrame toOracle(uint64_t number, const FrameState& s, const World& world) {
   viper::OracleFrame f;
   f.number = number;
@@ -68,7 +84,11 @@ int run(const SceneOptions& o) {
     if (o.benchmark) gl.Finish();  // time the rendering, not just the command submission
     context.swapBuffers();
     total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    if (oracle) oracle->write(toOracle(n, state, world));
+    if (oracle) {
+      for (const DrawItem& item : state.draws)
+        if (!oracle->hasMesh(world.meshes()[item.mesh].name)) oracle->writeMesh(toOracleMesh(world.meshes()[item.mesh]));
+      oracle->write(toOracle(n, state, world));
+    }
   }
   if (o.benchmark)
     std::cout << "benchmark: frames=" << o.frames << " size=" << o.width << "x" << o.height

@@ -2,6 +2,7 @@
 #include "classes.h"
 #include "egl_context.h"
 #include "options.h"
+#include "oracle_meshes.h"
 #include "renderer.h"
 #include "world_scene.h"
 
@@ -89,7 +90,10 @@ int run(const viper::world::Options& o) {
       writePpm(o.dump_dir + name, o.width, o.height, rgb);
     }
     context.swap();
-    if (oracle) oracle->write(frame);
+    if (oracle) {
+      writeNewMeshes(*oracle, scene.meshes(), frame);
+      oracle->write(frame);
+    }
   }
   if (o.benchmark && timed > 0)
     std::printf("world benchmark: %dx%d %s: %.2f ms/frame (%.1f fps), %.2f CPU ms/frame (all "

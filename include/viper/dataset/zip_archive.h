@@ -1,0 +1,58 @@
+// Zip archives through libzip, as far as .npz files need them: write a set of named entries,
+// stored or deflated; read entries back, stored or deflated, checking their CRCs.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace viper::dataset {
+
+/// One file inside a zip archive.
+struct ZipEntry {
+  std::string name;
+  std::vector<uint8_t> bytes;
+};
+
+/// How writeZip stores entries.
+struct ZipWriteOptions {
+  /// 0: stored (as numpy.savez); 1..9: deflated with this zlib level (numpy.savez_compressed
+  /// uses zlib's default, 6). 1 is several times faster than 6 on flow and barely larger.
+  int deflate_level = 1;
+};
+
+/// Writes `entries` to a new archive at `path`, replacing any file there. libzip writes a
+/// temporary file beside `path` and renames it, so readers never see a half-written archive.
+/// Entry times are fixed (1980-01-01) so equal inputs give equal files.
+/// Throws std::invalid_argument for no entries, duplicate names or a level outside 0..9, and
+/// std::runtime_error naming `path` if the archive cannot be written (e.g. missing folder).
+void writeZip(const std::string& path, const std::vector<ZipEntry>& entries,
+              const ZipWriteOptions& options = ZipWriteOptions());
+
+/// Reads entries of an existing archive. Not thread-safe; one reader per thread.
+class ZipReader {
+ public:
+  /// Opens `path` and checks the archive's consistency. Throws std::runtime_error naming `path`
+  /// if it is missing, not a zip archive, truncated or inconsistent.
+  explicit ZipReader(const std::string& path);
+  ~ZipReader();
+  ZipReader(const ZipReader&) = delete;
+  ZipReader& operator=(const ZipReader&) = delete;
+
+  const std::string& path() const { return path_; }
+  /// Names of all entries, in archive order.
+  std::vector<std::string> names() const;
+  bool has(const std::string& name) const;
+  /// The uncompressed bytes of entry `name`. Throws std::runtime_error naming the archive and
+  /// the entry if it is missing, uses an unsupported compression, fails to inflate or fails
+  /// its CRC check.
+  std::vector<uint8_t> read(const std::string& name) const;
+
+ private:
+  std::string path_;
+  struct Handle;
+  std::unique_ptr<Handle> handle_;
+};
+
+}  // namespace viper::dataset

@@ -1,0 +1,116 @@
+// Interoperability with numpy (the system's python3-numpy, which must be installed: a missing
+// numpy fails these tests). numpy reads our files and finds its own float16 conversion of our
+// input; we read what numpy.savez and numpy.savez_compressed write and find numpy's values.
+#include "viper/dataset/viper_flow.h"
+
+#include "dataset_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace {
+
+using namespace viper::dataset;
+using viper_dataset_test::readBytes;
+using viper_dataset_test::TempDir;
+using viper_dataset_test::writeBytes;
+
+// Runs `args` with the system python and the interop script; returns the exit code, output in `out`.
+int runNumpy(const std::string& args, std::string& out) {
+  const std::string command = std::string(VIPER_PYTHON) + " " + VIPER_NUMPY_INTEROP_SCRIPT + " " + args + " 2>&1";
+  FILE* p = popen(command.c_str(), "r");
+  if (p == nullptr) return -1;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, p)) > 0) out.append(buffer, n);
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+float fromBits(uint32_t x) {
+  float f;
+  std::memcpy(&f, &x, 4);
+  return f;
+}
+
+TEST(NumpyInterop, NumpyReadsOurFilesAsItsOwnFloat16Conversion) {
+  TempDir dir;
+  FlowImage flow;
+  flow.width = 37;
+  flow.height = 23;
+  flow.uv.resize(2 * flow.pixels());
+  std::mt19937 rng(5);
+  std::normal_distribution<float> motion(0.0f, 30.0f);
+  std::uniform_int_distribution<uint32_t> bits;
+  for (size_t i = 0; i < flow.uv.size(); ++i) {
+    if (i % 3 == 0) {
+      uint32_t x = bits(rng);
+      // Signalling NaNs are quieted by some conversions and not others: keep NaNs quiet.
+      if ((x & 0x7f800000u) == 0x7f800000u && (x & 0x7fffffu) != 0) x |= 0x400000u;
+      flow.uv[i] = fromBits(x);
+    } else {
+      flow.uv[i] = motion(rng);
+    }
+  }
+  const float specials[] = {std::nanf(""), -std::nanf(""), std::numeric_limits<float>::infinity(), -1e30f, 65519.0f,
+                            65520.0f, 0x1p-25f, 3 * 0x1p-25f, 0x1p-14f - 0x1p-25f, 1.0f + 0x1p-11f, -0.0f, 1e-40f};
+  for (size_t i = 0; i < sizeof specials / sizeof specials[0]; ++i) flow.uv[7 * i + 1] = specials[i];
+
+  std::vector<uint8_t> raw(flow.uv.size() * 4);
+  std::memcpy(raw.data(), flow.uv.data(), raw.size());  // little-endian host, as the script reads '<f4'
+  writeBytes(dir / "input.f32", raw);
+  ZipWriteOptions stored, deflated;
+  stored.deflate_level = 0;
+  deflated.deflate_level = 6;
+  writeViperFlow(dir / "ours_stored.npz", flow, stored);
+  writeViperFlow(dir / "ours_deflated.npz", flow, deflated);
+  writeViperFlow(dir / "ours_default.npz", flow);
+
+  std::string out;
+  const int rc = runNumpy("check-ours " + dir.path().string() + " 37 23 ours_stored.npz ours_deflated.npz ours_default.npz", out);
+  EXPECT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("ours_deflated.npz:v: 851 values equal"), std::string::npos) << out;
+}
+
+TEST(NumpyInterop, WeReadWhatNumpySavezWrites) {
+  TempDir dir;
+  std::string out;
+  const int rc = runNumpy("write-numpy " + dir.path().string(), out);
+  ASSERT_EQ(rc, 0) << out;
+  std::ifstream manifest(dir / "manifest.txt");
+  std::string name;
+  uint32_t width, height;
+  size_t variants = 0;
+  while (manifest >> name >> width >> height) {
+    ++variants;
+    const FlowImage flow = readViperFlow(dir / (name + ".npz"));
+    ASSERT_EQ(flow.width, width) << name;
+    ASSERT_EQ(flow.height, height) << name;
+    const std::vector<uint8_t> raw = readBytes(dir / (name + ".expected.f32"));
+    ASSERT_EQ(raw.size(), flow.uv.size() * 4) << name;
+    size_t differ = 0, nans = 0;
+    for (size_t i = 0; i < flow.uv.size(); ++i) {
+      float expected;
+      std::memcpy(&expected, raw.data() + 4 * i, 4);
+      if (std::isnan(expected)) {
+        ++nans;
+        differ += !std::isnan(flow.uv[i]);
+      } else {
+        differ += std::memcmp(&expected, &flow.uv[i], 4) != 0;
+      }
+    }
+    EXPECT_EQ(differ, 0u) << name;
+    EXPECT_EQ(nans, 2u) << name << ": the planted NaNs";
+  }
+  EXPECT_EQ(variants, 6u) << out;
+}
+
+}  // namespace

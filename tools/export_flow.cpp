@@ -1,0 +1,309 @@
+// export_flow: writes the 32FC2 flow images of one bag topic as files of VIPER's release layout,
+// <out>/<split>/<modality>/<seq>/<seq>_<frame>.npz, and/or Middlebury .flo files beside them.
+// Frame numbers count the topic's messages in bag order from --first-frame, or, with --frames-from,
+// are the position of the flow's header stamp among the stamps of another topic (the images). A
+// bad message is reported (topic, stamp, what is wrong), skipped, and keeps its number. Exit
+// code: 0 = every message exported, 1 = some skipped, the rest exported, 2 = usage, bag or write
+// error. docs/dataset_io.md has the details.
+#include "viper/dataset/middlebury_flo.h"
+#include "viper/dataset/viper_flow.h"
+#include "viper/dataset/viper_layout.h"
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using viper::dataset::FlowImage;
+
+struct Options {
+  std::string bag, out;
+  std::string topic = "/ground_truth/flow/forward";
+  std::string frames_from;
+  std::string format = "npz";
+  std::string seq = "001";
+  std::string split = "train";
+  std::string modality = "flow";
+  uint64_t first_frame = 0;
+  int deflate_level = viper::dataset::ZipWriteOptions().deflate_level;
+};
+
+const char* kUsage =
+    "usage: export_flow --bag IN.bag --out DIR [--topic /ground_truth/flow/forward]\n"
+    "                   [--format npz|flo|both] [--seq 001] [--split train] [--modality flow]\n"
+    "                   [--first-frame 0] [--frames-from TOPIC] [--deflate-level 1]\n"
+    "Writes every sensor_msgs/Image (32FC2) of TOPIC to DIR/SPLIT/MODALITY/SEQ/SEQ_FRAME.npz (VIPER)\n"
+    "and/or .flo (Middlebury). FRAME (5 digits) = first-frame + index of the message on the topic,\n"
+    "or with --frames-from (e.g. /capture/color/image_raw) first-frame + index of the flow's stamp\n"
+    "among that topic's header stamps. --modality flowbw for backward flow; --deflate-level 0\n"
+    "stores the npz entries uncompressed.\n"
+    "Exit code: 0 all exported, 1 bad messages skipped (the rest exported), 2 error.\n";
+
+bool parseArgs(int argc, char** argv, Options& o, std::string& error) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      std::cout << kUsage;
+      std::exit(0);
+    }
+    if (i + 1 >= argc) {
+      error = "missing value after " + arg;
+      return false;
+    }
+    const std::string value = argv[++i];
+    try {
+      if (arg == "--bag") o.bag = value;
+      else if (arg == "--out") o.out = value;
+      else if (arg == "--topic") o.topic = value;
+      else if (arg == "--frames-from") o.frames_from = value;
+      else if (arg == "--format") o.format = value;
+      else if (arg == "--seq") o.seq = value;
+      else if (arg == "--split") o.split = value;
+      else if (arg == "--modality") o.modality = value;
+      else if (arg == "--first-frame") o.first_frame = std::stoull(value);
+      else if (arg == "--deflate-level") o.deflate_level = std::stoi(value);
+      else {
+        error = "unknown option " + arg;
+        return false;
+      }
+    } catch (const std::exception&) {
+      error = "bad number '" + value + "' for " + arg;
+      return false;
+    }
+  }
+  if (o.bag.empty() || o.out.empty()) error = "--bag and --out are required";
+  else if (o.format != "npz" && o.format != "flo" && o.format != "both") error = "--format must be npz, flo or both";
+  else if (o.deflate_level < 0 || o.deflate_level > 9) error = "--deflate-level must be 0..9";
+  return error.empty();
+}
+
+std::string stampText(const ros::Time& t) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%u.%09u", t.sec, t.nsec);
+  return s;
+}
+
+// Checks a flow message and copies it into `flow`; returns what is wrong, or "" if nothing.
+std::string toFlow(const sensor_msgs::Image& m, FlowImage& flow) {
+  if (m.encoding != sensor_msgs::image_encodings::TYPE_32FC2)
+    return "encoding is '" + m.encoding + "', expected 32FC2";
+  if (m.width == 0 || m.height == 0)
+    return "size is " + std::to_string(m.width) + "x" + std::to_string(m.height);
+  const size_t row = static_cast<size_t>(m.width) * 8;
+  if (m.step < row) return "step " + std::to_string(m.step) + " is less than width * 8 = " + std::to_string(row);
+  if (m.data.size() != static_cast<size_t>(m.step) * m.height)
+    return "data has " + std::to_string(m.data.size()) + " bytes, step * height is " +
+           std::to_string(static_cast<size_t>(m.step) * m.height);
+  flow.width = m.width;
+  flow.height = m.height;
+  flow.uv.resize(2 * flow.pixels());
+  auto* dst = reinterpret_cast<uint8_t*>(flow.uv.data());
+  for (uint32_t y = 0; y < m.height; ++y) std::memcpy(dst + y * row, m.data.data() + y * m.step, row);
+  const bool host_big = __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__;
+  if (static_cast<bool>(m.is_bigendian) != host_big)
+    for (size_t i = 0; i < flow.uv.size(); ++i) std::reverse(dst + 4 * i, dst + 4 * i + 4);
+  return "";
+}
+
+// The header stamps of the messages of `topic`, in bag order, each mapped to its index. The
+// header is read from the serialized bytes, so any message type that starts with one will do.
+bool frameStamps(const rosbag::Bag& bag, const std::string& topic, std::map<ros::Time, uint64_t>& frames,
+                 std::string& error) {
+  rosbag::View view(bag, rosbag::TopicQuery(topic));
+  if (view.size() == 0) {
+    error = "has no messages on " + topic;
+    return false;
+  }
+  for (const auto* c : view.getConnections()) {
+    std::istringstream def(c->msg_def);
+    std::string line;
+    while (std::getline(def, line) && (line.empty() || line[0] == '#')) {
+    }
+    if (line.rfind("Header header", 0) != 0 && line.rfind("std_msgs/Header header", 0) != 0) {
+      error = "carries " + c->datatype + " on " + topic + ", which has no header stamp";
+      return false;
+    }
+  }
+  std::vector<uint8_t> buffer;
+  uint64_t index = 0;
+  for (const rosbag::MessageInstance& m : view) {
+    buffer.resize(m.size());
+    ros::serialization::OStream out(buffer.data(), static_cast<uint32_t>(buffer.size()));
+    m.write(out);
+    ros::serialization::IStream in(buffer.data(), static_cast<uint32_t>(buffer.size()));
+    uint32_t seq = 0;
+    ros::Time stamp;
+    ros::serialization::deserialize(in, seq);
+    ros::serialization::deserialize(in, stamp);
+    frames.emplace(stamp, index++);  // a repeated stamp keeps its first index
+  }
+  return true;
+}
+
+class Progress {
+ public:
+  explicit Progress(size_t total) : total_(total), tty_(isatty(STDERR_FILENO) != 0) {}
+  void update(size_t done, size_t skipped) {
+    const size_t every = total_ >= 10 ? total_ / 10 : 1;
+    if (!tty_ && done % every != 0 && done != total_) return;
+    std::fprintf(stderr, "%sexport_flow: %zu/%zu messages (%zu skipped)%s", tty_ ? "\r" : "", done, total_,
+                 skipped, tty_ ? "" : "\n");
+    if (tty_ && done == total_) std::fputc('\n', stderr);
+    std::fflush(stderr);
+  }
+  // A message of its own must start on a fresh line.
+  void interrupt() {
+    if (tty_) std::fputc('\n', stderr);
+  }
+
+ private:
+  size_t total_;
+  bool tty_;
+};
+
+int run(const Options& o) {
+  rosbag::Bag bag;
+  try {
+    bag.open(o.bag, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& e) {
+    std::cerr << "export_flow: cannot open bag " << o.bag << ": " << e.what() << "\n";
+    return 2;
+  }
+  rosbag::View view(bag, rosbag::TopicQuery(o.topic));
+  if (view.size() == 0) {
+    std::set<std::string> topics;
+    for (const auto* c : rosbag::View(bag).getConnections()) topics.insert(c->topic + " (" + c->datatype + ")");
+    std::cerr << "export_flow: " << o.bag << " has no messages on " << o.topic << "; its topics:";
+    for (const auto& t : topics) std::cerr << "\n  " << t;
+    std::cerr << "\n";
+    return 2;
+  }
+  for (const auto* c : view.getConnections())
+    if (c->datatype != "sensor_msgs/Image") {
+      std::cerr << "export_flow: " << o.topic << " in " << o.bag << " carries " << c->datatype
+                << ", expected sensor_msgs/Image (32FC2)\n";
+      return 2;
+    }
+
+  std::map<ros::Time, uint64_t> frames;
+  if (!o.frames_from.empty()) {
+    std::string error;
+    if (!frameStamps(bag, o.frames_from, frames, error)) {
+      std::cerr << "export_flow: " << o.bag << " " << error << " (--frames-from)\n";
+      return 2;
+    }
+  }
+
+  const bool npz = o.format != "flo", flo = o.format != "npz";
+  viper::dataset::ZipWriteOptions zip;
+  zip.deflate_level = o.deflate_level;
+  const std::string dir =
+      std::filesystem::path(viper::dataset::viperFramePath(o.out, o.split, o.modality, o.seq, 0, "npz"))
+          .parent_path()
+          .string();
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    std::cerr << "export_flow: cannot create " << dir << ": " << ec.message() << "\n";
+    return 2;
+  }
+
+  Progress progress(view.size());
+  size_t index = 0, written = 0, skipped = 0;
+  FlowImage flow;
+  for (const rosbag::MessageInstance& m : view) {
+    const uint64_t message = index++;
+    uint64_t frame = o.first_frame + message;
+    bool frame_known = frames.empty();
+    std::string problem;
+    ros::Time stamp = m.getTime();
+    try {
+      const sensor_msgs::Image::ConstPtr image = m.instantiate<sensor_msgs::Image>();
+      if (image == nullptr) problem = "not a sensor_msgs/Image";
+      else {
+        stamp = image->header.stamp;
+        problem = toFlow(*image, flow);
+      }
+    } catch (const std::exception& e) {
+      problem = std::string("cannot be read: ") + e.what();
+    }
+    if (!frames.empty()) {
+      const auto f = frames.find(stamp);
+      if (f != frames.end()) {
+        frame = o.first_frame + f->second;
+        frame_known = true;
+      }
+      else if (problem.empty()) problem = "its stamp is not among the " + std::to_string(frames.size()) + " stamps of " + o.frames_from;
+    }
+    if (!problem.empty()) {
+      ++skipped;
+      progress.interrupt();
+      std::cerr << "export_flow: skipping " << o.topic << " at stamp " << stampText(stamp) << " ("
+                << (frame_known ? "frame " + std::to_string(frame) : "message " + std::to_string(message))
+                << "): " << problem << "\n";
+      progress.update(index, skipped);
+      continue;
+    }
+    try {
+      if (npz) {
+        const auto path = viper::dataset::viperFramePath(o.out, o.split, o.modality, o.seq, frame, "npz");
+        const auto stats = viper::dataset::writeViperFlow(path, flow, zip);
+        if (stats.overflowed > 0) {
+          progress.interrupt();
+          std::cerr << "export_flow: " << o.topic << " at stamp " << stampText(stamp) << ": " << stats.overflowed
+                    << " flow values of 65520 px or more became inf (invalid) in float16\n";
+        }
+      }
+      if (flo)
+        viper::dataset::writeMiddleburyFlo(
+            viper::dataset::viperFramePath(o.out, o.split, o.modality, o.seq, frame, "flo"), flow);
+    } catch (const std::exception& e) {
+      progress.interrupt();
+      std::cerr << "export_flow: " << e.what() << "\n";
+      return 2;
+    }
+    ++written;
+    progress.update(index, skipped);
+  }
+  std::cout << "export_flow: wrote " << written << " of " << index << " messages of " << o.topic << " to " << dir
+            << " (" << o.format << "), skipped " << skipped << "\n";
+  return skipped == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  std::string error;
+  if (!parseArgs(argc, argv, o, error)) {
+    std::cerr << "export_flow: " << error << "\n" << kUsage;
+    return 2;
+  }
+  try {
+    viper::dataset::viperFramePath(o.out, o.split, o.modality, o.seq, 0, "npz");
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "export_flow: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    return run(o);
+  } catch (const std::exception& e) {  // a damaged bag: rosbag throws while iterating
+    std::cerr << "\nexport_flow: " << o.bag << ": " << e.what() << "\n";
+    return 2;
+  }
+}

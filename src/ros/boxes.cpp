@@ -31,16 +31,11 @@ bool Boxes::start() {
 }
 
 void Boxes::onMeshStore(const MeshStore::ConstPtr& store) {
+  std::vector<std::string> problems;
+  std::vector<MeshRecord> meshes = fromMeshStoreMsg(*store, problems);
+  for (const std::string& p : problems) ROS_ERROR_THROTTLE(5, "%s: %s", mesh_store_sub_.getTopic().c_str(), p.c_str());
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const Mesh& m : store->meshes) {
-    if (m.positions_xyz.size() % 3 != 0) {
-      ROS_ERROR_THROTTLE(5, "%s: mesh %016llx has %zu position floats (a multiple of 3 expected); skipped",
-                         mesh_store_sub_.getTopic().c_str(), static_cast<unsigned long long>(m.key),
-                         m.positions_xyz.size());
-      continue;
-    }
-    meshes_.add(fromMeshMsg(m));
-  }
+  meshes_.add(meshes);
 }
 
 void Boxes::onFrame(const ObjectArray::ConstPtr& objects, const DrawList::ConstPtr& draws) {

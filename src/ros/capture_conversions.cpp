@@ -119,6 +119,22 @@ MeshRecord fromMeshMsg(const Mesh& msg) {
   return mesh;
 }
 
+std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::string>& problems) {
+  std::vector<MeshRecord> meshes;
+  meshes.reserve(msg.meshes.size());
+  for (const Mesh& m : msg.meshes) {
+    if (m.positions_xyz.size() % 3 != 0 || m.indices.size() % 3 != 0) {
+      std::ostringstream what;
+      what << "mesh " << std::hex << m.key << std::dec << " has " << m.positions_xyz.size() << " position floats and "
+           << m.indices.size() << " indices (multiples of 3 expected); skipped";
+      problems.push_back(what.str());
+      continue;
+    }
+    meshes.push_back(fromMeshMsg(m));
+  }
+  return meshes;
+}
+
 sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header) {
   checkSize(frame, frame.color_rgb.size(), 3, "color");
   sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::RGB8, 3);

@@ -85,17 +85,9 @@ bool Instances::start() {
 }
 
 void Instances::onMeshStore(const MeshStore::ConstPtr& store) {
-  std::vector<MeshRecord> meshes;
-  meshes.reserve(store->meshes.size());
-  for (const Mesh& m : store->meshes) {
-    if (m.positions_xyz.size() % 3 != 0 || m.indices.size() % 3 != 0) {
-      ROS_ERROR_THROTTLE(5, "%s: mesh %016llx has %zu position floats and %zu indices (multiples of 3 expected); skipped",
-                         mesh_store_sub_.getTopic().c_str(), static_cast<unsigned long long>(m.key),
-                         m.positions_xyz.size(), m.indices.size());
-      continue;
-    }
-    meshes.push_back(fromMeshMsg(m));
-  }
+  std::vector<std::string> problems;
+  std::vector<MeshRecord> meshes = fromMeshStoreMsg(*store, problems);
+  for (const std::string& p : problems) ROS_ERROR_THROTTLE(5, "%s: %s", mesh_store_sub_.getTopic().c_str(), p.c_str());
   std::lock_guard<std::mutex> lock(mutex_);
   pipeline_->addMeshes(meshes);
 }

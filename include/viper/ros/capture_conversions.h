@@ -30,6 +30,9 @@ void fromDrawListMsg(const DrawList& msg, CaptureFrame& frame);
 /// MeshRecord <-> viper/Mesh.
 Mesh toMeshMsg(const MeshRecord& mesh);
 MeshRecord fromMeshMsg(const Mesh& msg);
+/// The well-formed meshes of a mesh store message. A mesh whose position or index count is not a
+/// multiple of 3 is left out, with a sentence naming it appended to `problems`.
+std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::string>& problems);
 
 /// Color image of `frame`, encoding rgb8, top row first.
 /// Throws std::invalid_argument if the frame's color buffer does not hold width*height*3 bytes.

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 namespace viper {
 namespace {
@@ -85,36 +86,47 @@ void BM_FlowForwardAndBackward(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * 2 * size_t(kW) * kH * kFlowBytesPerPixel);
 }
 
+// The first `count` frames of the capture named by VIPER_BENCH_CAPTURE and the label table named
+// by VIPER_BENCH_LABELS; false (the benchmark skipped, saying why) without them.
+bool benchCapture(benchmark::State& state, size_t count, std::vector<CaptureFrame>& frames,
+                  std::optional<LabelTable>& labels) {
+  const char* path = std::getenv("VIPER_BENCH_CAPTURE");
+  const char* labels_path = std::getenv("VIPER_BENCH_LABELS");
+  if (!path || !labels_path) {
+    state.SkipWithError("set VIPER_BENCH_CAPTURE and VIPER_BENCH_LABELS");
+    return false;
+  }
+  CaptureReader reader(path);
+  frames.resize(count);
+  for (CaptureFrame& f : frames)
+    if (reader.next(f) != CaptureReader::Status::kFrame) {
+      state.SkipWithError("the capture has too few frames");
+      return false;
+    }
+  labels = LabelTable::load(labels_path);
+  return true;
+}
+
 // The same on two consecutive frames of a real capture (the world at 1920x1080, where a row of
 // one draw runs ~100 px; the synthetic frames above alternate draws every 8 px). The capture is
 // named by VIPER_BENCH_CAPTURE (scripts/measure_figures.sh makes it), its labels by
 // VIPER_BENCH_LABELS; the benchmark is skipped without them.
 void BM_FlowForwardAndBackwardCapture(benchmark::State& state) {
-  const char* path = std::getenv("VIPER_BENCH_CAPTURE");
-  const char* labels = std::getenv("VIPER_BENCH_LABELS");
-  if (!path || !labels) {
-    state.SkipWithError("set VIPER_BENCH_CAPTURE and VIPER_BENCH_LABELS");
-    return;
-  }
-  CaptureReader reader(path);
-  CaptureFrame a, b;
-  InstancePipeline pipeline(LabelTable::load(labels));
+  std::vector<CaptureFrame> frames;
+  std::optional<LabelTable> labels;
+  if (!benchCapture(state, static_cast<size_t>(state.range(0)) + 1, frames, labels)) return;
+  InstancePipeline pipeline(*labels);
   InstanceFrame objects;
   std::vector<int32_t> a_ids, b_ids;
-  auto idsPerDraw = [&](const CaptureFrame& f, std::vector<int32_t>& ids) {
+  for (const CaptureFrame& f : frames) {  // tracking runs over every frame up to b
     pipeline.process(f, objects);
-    ids.assign(f.draws.size(), 0);
+    std::swap(a_ids, b_ids);
+    b_ids.assign(f.draws.size(), 0);
     for (const TrackedObject& o : objects.objects)
-      for (uint32_t d : o.object.draws) ids[d] = o.track_id;
-  };
-  for (int i = 0; i <= static_cast<int>(state.range(0)); ++i) {
-    std::swap(a, b), std::swap(a_ids, b_ids);
-    if (reader.next(b) != CaptureReader::Status::kFrame) {
-      state.SkipWithError("the capture has too few frames");
-      return;
-    }
-    idsPerDraw(b, b_ids);
+      for (uint32_t d : o.object.draws) b_ids[d] = o.track_id;
   }
+  const CaptureFrame& a = frames[frames.size() - 2];
+  const CaptureFrame& b = frames.back();
   const auto a_camera = chooseFrameCamera(a), b_camera = chooseFrameCamera(b);
   const std::vector<float> a_depth = depthMetres(a, a_camera ? &*a_camera : nullptr);
   const std::vector<float> b_depth = depthMetres(b, b_camera ? &*b_camera : nullptr);
@@ -135,22 +147,12 @@ void BM_FlowForwardAndBackwardCapture(benchmark::State& state) {
 // instances + tracking on 8 consecutive frames of a real capture (VIPER_BENCH_CAPTURE), looped
 // with time running on.
 void BM_InstancesAndTrackingCapture(benchmark::State& state) {
-  const char* path = std::getenv("VIPER_BENCH_CAPTURE");
-  const char* labels = std::getenv("VIPER_BENCH_LABELS");
-  if (!path || !labels) {
-    state.SkipWithError("set VIPER_BENCH_CAPTURE and VIPER_BENCH_LABELS");
-    return;
-  }
-  CaptureReader reader(path);
-  std::vector<CaptureFrame> frames(8);
-  for (CaptureFrame& f : frames)
-    if (reader.next(f) != CaptureReader::Status::kFrame) {
-      state.SkipWithError("the capture has too few frames");
-      return;
-    }
+  std::vector<CaptureFrame> frames;
+  std::optional<LabelTable> labels;
+  if (!benchCapture(state, 8, frames, labels)) return;
   InstancePipelineOptions options;
   options.compute_boxes = false;  // as the instances node runs it
-  InstancePipeline pipeline(LabelTable::load(labels), options);
+  InstancePipeline pipeline(*labels, options);
   InstanceFrame out;
   size_t i = 0;
   for (auto _ : state) {
@@ -166,25 +168,15 @@ void BM_InstancesAndTrackingCapture(benchmark::State& state) {
 // boxes: every thing object of a real capture's frame (VIPER_BENCH_CAPTURE, as above), from the
 // mesh store; the world has ~200 objects, most with several parts of hundreds of vertices.
 void BM_BoxesCapture(benchmark::State& state) {
-  const char* path = std::getenv("VIPER_BENCH_CAPTURE");
-  const char* labels = std::getenv("VIPER_BENCH_LABELS");
-  if (!path || !labels) {
-    state.SkipWithError("set VIPER_BENCH_CAPTURE and VIPER_BENCH_LABELS");
-    return;
-  }
-  CaptureReader reader(path);
-  CaptureFrame frame;
+  std::vector<CaptureFrame> frames;
+  std::optional<LabelTable> labels;
+  if (!benchCapture(state, static_cast<size_t>(state.range(0)) + 1, frames, labels)) return;
   InstancePipelineOptions options;
   options.compute_boxes = false;
-  InstancePipeline pipeline(LabelTable::load(labels), options);
+  InstancePipeline pipeline(*labels, options);
   InstanceFrame objects;
-  for (int i = 0; i <= static_cast<int>(state.range(0)); ++i) {
-    if (reader.next(frame) != CaptureReader::Status::kFrame) {
-      state.SkipWithError("the capture has too few frames");
-      return;
-    }
-    pipeline.process(frame, objects);
-  }
+  for (const CaptureFrame& f : frames) pipeline.process(f, objects);
+  const CaptureFrame& frame = frames.back();
   size_t boxes = 0, vertices = 0;
   for (const TrackedObject& o : objects.objects) {
     if (!o.object.is_thing) continue;

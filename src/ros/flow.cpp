@@ -69,14 +69,16 @@ std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::v
     by_id[i + 1] = (frame.draws[i].matrix_flags & kHasProjection) ? rows(frame.draws[i].projection) : fallback;
 
   std::vector<float> out(n, 1.0f);
-  size_t bad = 0;
+  // Per draw: pixels without usable depth, and with it. A draw with none at all is a background at
+  // the far plane (a sky): its pixels have no surface, which is not an error.
+  std::vector<uint32_t> bad(by_id.size(), 0), good(by_id.size(), 0);
   for (size_t p = 0; p < n; ++p) {
     const uint32_t id = frame.draw_ids[p];
     if (id == 0 || id >= by_id.size()) continue;
     const Rows& r = by_id[id];
     const float m = depth_m[p];
     if (!r.valid || !(m > 0.0f) || !std::isfinite(m)) {
-      ++bad;
+      ++bad[id];
       continue;
     }
     // OpenGL eye z is -depth; window depth = (z_ndc + 1) / 2 with z_ndc = (P22 z + P23) / (P32 z + P33).
@@ -85,11 +87,15 @@ std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::v
     const double d = 0.5 * (z_ndc + 1.0);
     if (d >= 0.0 && d < 1.0) {
       out[p] = static_cast<float>(d);
+      ++good[id];
     } else {
-      ++bad;
+      ++bad[id];
     }
   }
-  if (bad_depth_pixels) *bad_depth_pixels = bad;
+  size_t bad_total = 0;
+  for (size_t id = 1; id < bad.size(); ++id)
+    if (good[id] > 0) bad_total += bad[id];
+  if (bad_depth_pixels) *bad_depth_pixels = bad_total;
   return out;
 }
 

@@ -35,7 +35,8 @@ namespace viper {
 /// null too). Pixels without a draw, and pixels whose depth is not finite or not positive, become 1.
 /// `frame` supplies draws and draw ids; `depth_m` holds frame.pixelCount() values.
 /// Returns the window depths and, in `bad_depth_pixels`, how many pixels of a draw had no usable
-/// depth. Throws std::invalid_argument when a size does not match the frame.
+/// depth, counting only draws that have usable depth elsewhere (a draw with none at all is a
+/// background at the far plane, such as a sky, and not an error). Throws std::invalid_argument when a size does not match the frame.
 std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,
                                          const GlMatrix* fallback_projection, size_t* bad_depth_pixels = nullptr);
 

@@ -2,7 +2,8 @@
 // broken frame is dropped (no output with its stamp) while the nodes keep running and still
 // process the good frames. Cases: draw ids with the wrong encoding, draw ids whose size disagrees
 // with the data, a stamp older than the previous frame, a non-rigid (scaled) view matrix, a NaN
-// world matrix (the object is skipped, the frame kept), and a draw whose mesh never arrived.
+// world matrix (the object is skipped, the frame kept), a draw whose mesh never arrived, and
+// missing frames (a gap of four frames: the moving car keeps its track id).
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -23,6 +24,7 @@ struct Outputs {
   std::mutex mutex;
   std::set<double> objects, odom, boxes;
   std::map<double, size_t> boxes_count;
+  std::map<double, int32_t> car_track;  // the car's track id per stamp
   bool has(std::set<double>& s, const ros::Time& t) {
     std::lock_guard<std::mutex> lock(mutex);
     return s.count(t.toSec()) > 0;
@@ -54,11 +56,11 @@ class BadInput : public ::testing::Test {
     ids_pub_.publish(ids);
   }
   // A consistent 4x2 frame: a car (mesh 1, labelled car in the test's label table) on a road.
-  std::pair<viper::DrawList, sensor_msgs::Image> goodFrame(double t) {
+  std::pair<viper::DrawList, sensor_msgs::Image> goodFrame(double t, float car_x = 3.0f) {
     viper::DrawList dl;
     dl.header.stamp = ros::Time(t);
     dl.header.frame_id = "camera_optical";
-    dl.draws = {draw(0, 2, 0), draw(1, 1, 3)};
+    dl.draws = {draw(0, 2, 0), draw(1, 1, car_x)};
     sensor_msgs::Image ids;
     ids.header = dl.header;
     ids.width = 4, ids.height = 2, ids.encoding = "32SC1", ids.step = 16;
@@ -93,11 +95,13 @@ TEST_F(BadInput, BrokenFramesAreDroppedAndTheNodesKeepRunning) {
       s.insert(t.toSec());
     };
   };
-  auto on_objects = keep(out_.objects);
   auto on_odom = keep(out_.odom);
-  auto on_boxes = keep(out_.boxes);
-  ros::Subscriber s1 = nh_.subscribe<viper::ObjectArray>("/ground_truth/objects", 20,
-                                                        [&](const viper::ObjectArrayConstPtr& m) { on_objects(m->header.stamp); });
+  ros::Subscriber s1 = nh_.subscribe<viper::ObjectArray>("/ground_truth/objects", 20, [&](const viper::ObjectArrayConstPtr& m) {
+    std::lock_guard<std::mutex> lock(out_.mutex);
+    out_.objects.insert(m->header.stamp.toSec());
+    for (const viper::Object& o : m->objects)
+      if (o.track_id > 0) out_.car_track[m->header.stamp.toSec()] = o.track_id;
+  });
   ros::Subscriber s2 = nh_.subscribe<nav_msgs::Odometry>("/ground_truth/odom", 20,
                                                         [&](const nav_msgs::OdometryConstPtr& m) { on_odom(m->header.stamp); });
   ros::Subscriber s3 = nh_.subscribe<viper::Box3DArray>("/ground_truth/boxes", 20, [&](const viper::Box3DArrayConstPtr& m) {
@@ -164,6 +168,21 @@ TEST_F(BadInput, BrokenFramesAreDroppedAndTheNodesKeepRunning) {
     publish(dl, ids);
     expectAlive("a scaled view matrix");
     EXPECT_FALSE(out_.has(out_.odom, ros::Time(t_ - 1.0))) << "odometry used a scaled view matrix";
+  }
+  {  // missing frames: the car drives at 0.5 m per frame; four frames never arrive
+    t_ += 1.0;
+    auto [dl, ids] = goodFrame(t_, 3.0f);
+    publish(dl, ids);
+    ASSERT_TRUE(waitFor(out_.objects, dl.header.stamp)) << "instances silent before the gap";
+    t_ += 5.0;
+    auto [dl2, ids2] = goodFrame(t_, 5.5f);
+    publish(dl2, ids2);
+    ASSERT_TRUE(waitFor(out_.objects, dl2.header.stamp)) << "instances silent after missing frames";
+    EXPECT_TRUE(waitFor(out_.odom, dl2.header.stamp)) << "odometry silent after missing frames";
+    EXPECT_TRUE(waitFor(out_.boxes, dl2.header.stamp)) << "boxes silent after missing frames";
+    std::lock_guard<std::mutex> lock(out_.mutex);
+    ASSERT_TRUE(out_.car_track.count(t_ - 5.0) && out_.car_track.count(t_)) << "the car has no track id";
+    EXPECT_EQ(out_.car_track[t_ - 5.0], out_.car_track[t_]) << "the car lost its id over four missing frames";
   }
   {  // a NaN world matrix: that object is skipped, the frame is kept
     t_ += 1.0;

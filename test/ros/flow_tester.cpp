@@ -6,6 +6,8 @@
 // agrees with two composed single steps; the correspondences service answers with the topics' flow
 // and the relative pose that the odometry node's poses give.
 // Private parameters: bag (path, required), wide_baseline (k of the flow node, 2), timeout_s (120).
+#include "bag_publishers.h"
+
 #include "viper/core/camera_model.h"
 #include "viper/core/capture_frame.h"
 #include "viper/core/ego_motion.h"
@@ -154,12 +156,7 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
 
   rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
   rosbag::View view(bag);
-  std::map<std::string, ros::Publisher> pubs;
-  for (const rosbag::ConnectionInfo* c : view.getConnections()) {
-    topic_tools::ShapeShifter shape;
-    shape.morph(c->md5sum, c->datatype, c->msg_def, "");
-    pubs[c->topic] = shape.advertise(nh, c->topic, 100, c->topic == "/capture/mesh_store");
-  }
+  std::map<std::string, ros::Publisher> pubs = viper::test::advertiseBagTopics(nh, view);
   for (const char* t : {"/capture/draws", "/capture/draw_ids", "/capture/depth/image_raw", "/capture/primitive_ids"})
     ASSERT_TRUE(pubs.count(t)) << bag_path << " has no " << t;
 

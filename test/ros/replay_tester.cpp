@@ -3,6 +3,8 @@
 // The tester publishes the bag itself (rosbag API) so it can start once every node is connected and
 // send a frame only after the previous one came out: conditions, not sleeps.
 // Private parameters: bag (path, required), timeout_s (60).
+#include "bag_publishers.h"
+
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -82,12 +84,7 @@ TEST_F(ReplayTest, EveryFrameComesOutOfEveryNodeWithItsStamp) {
 
   rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
   rosbag::View view(bag);
-  std::map<std::string, ros::Publisher> pubs;
-  for (const rosbag::ConnectionInfo* c : view.getConnections()) {
-    topic_tools::ShapeShifter shape;
-    shape.morph(c->md5sum, c->datatype, c->msg_def, "");
-    pubs[c->topic] = shape.advertise(nh, c->topic, 100, c->topic == "/capture/mesh_store");
-  }
+  std::map<std::string, ros::Publisher> pubs = viper::test::advertiseBagTopics(nh, view);
   ASSERT_TRUE(pubs.count("/capture/draws")) << bag_path << " has no /capture/draws";
 
   // Start once every output reaches us (each node advertises, then subscribes, in its start())

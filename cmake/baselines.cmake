@@ -1,0 +1,50 @@
+# Reference baselines for the benchmark (docs/baselines.md): flow_baseline (OpenCV dense optical
+# flow) and vo_baseline (monocular visual odometry), nodes + nodelets in viper_baselines_ros.
+# OpenCV's config (found in CMakeLists.txt) imports every installed module; these come with libopencv-dev.
+foreach(module opencv_video opencv_calib3d)
+  if(NOT TARGET ${module})
+    message(FATAL_ERROR "baselines need ${module} (Debian: libopencv-dev)")
+  endif()
+endforeach()
+
+add_library(viper_baselines_ros
+  src/ros/flow_baseline.cpp
+  src/ros/vo_baseline.cpp
+  src/ros/baselines_nodelets.cpp
+)
+target_include_directories(viper_baselines_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_baselines_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
+target_link_libraries(viper_baselines_ros PUBLIC viper_core ${catkin_LIBRARIES}
+  opencv_core opencv_imgproc opencv_video opencv_calib3d)
+set_target_properties(viper_baselines_ros PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+
+foreach(node flow_baseline vo_baseline)
+  add_executable(${node} nodes/${node}_node.cpp)
+  target_link_libraries(${node} viper_baselines_ros)
+  set_target_properties(${node} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+endforeach()
+install(TARGETS viper_baselines_ros flow_baseline vo_baseline
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  # The committed raw bag through replay.launch + baselines.launch, fed and scored by baselines_tester.
+  find_package(pluginlib REQUIRED)
+  find_package(class_loader REQUIRED)
+  add_executable(baselines_tester EXCLUDE_FROM_ALL test/ros/baselines_tester.cpp)
+  # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
+  target_include_directories(baselines_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+    ${class_loader_INCLUDE_DIRS})
+  target_link_libraries(baselines_tester viper_core ${catkin_LIBRARIES} ${GTEST_LIBRARIES})
+  add_dependencies(baselines_tester viper_generate_messages_cpp)
+  set_target_properties(baselines_tester PROPERTIES
+    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  if(TARGET tests)
+    add_dependencies(tests baselines_tester)
+  endif()
+  add_rostest(test/ros/baselines.test
+    DEPENDENCIES baselines_tester viper_baselines_ros viper_flow_ros viper_ground_truth_ros)
+  roslaunch_add_file_check(launch/baselines.launch)
+endif()

@@ -16,7 +16,7 @@ PKGS=(
   libegl-dev libgl-dev libglx-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
   libgtest-dev libbenchmark-dev
   xvfb imagemagick
-  libzip-dev python3-numpy
+  libzip-dev python3-numpy libpng-dev
 )
 
 missing=()

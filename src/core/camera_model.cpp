@@ -56,7 +56,7 @@ PinholeIntrinsics intrinsicsFromGlProjection(const GlMatrix& projection, uint32_
   k.width = width;
   k.height = height;
   k.fx = width * p(0, 0) / 2.0;
-  k.skew = -width * p(0, 1) / 2.0;
+  k.skew = -static_cast<double>(width) * p(0, 1) / 2.0;
   k.fy = height * p(1, 1) / 2.0;
   k.cx = width * (1.0 - p(0, 2)) / 2.0 - 0.5;
   k.cy = height * (1.0 + p(1, 2)) / 2.0 - 0.5;

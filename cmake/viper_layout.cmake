@@ -1,0 +1,95 @@
+# VIPER's release layout beyond flow (issue 6): the player node + nodelet, the viper_to_bag and
+# export_viper commands, their tests and benchmark. The ROS-free readers and writers (images, camera
+# and box CSV, sequences) are part of viper_dataset (cmake/dataset.cmake globs src/dataset).
+
+# test/dataset/test_viper_images.cpp checks what OpenCV sees in our files.
+if(TARGET test_viper_images)
+  target_include_directories(test_viper_images SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+  target_link_libraries(test_viper_images opencv_core opencv_imgcodecs)
+endif()
+
+# viper_layout_ros: layout <-> messages, the exporter, the player (node + nodelet).
+add_library(viper_layout_ros
+  src/ros/viper_layout_conversions.cpp
+  src/ros/viper_exporter.cpp
+  src/ros/viper_bag_conversion.cpp
+  src/ros/player.cpp
+  src/ros/player_nodelet.cpp
+)
+# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
+find_package(pluginlib REQUIRED)
+find_package(class_loader REQUIRED)
+target_include_directories(viper_layout_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_layout_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+  ${class_loader_INCLUDE_DIRS})
+target_link_libraries(viper_layout_ros PUBLIC viper_ground_truth_ros viper_ros viper_core viper_dataset ${catkin_LIBRARIES})
+add_dependencies(viper_layout_ros viper_generate_messages_cpp)
+set_target_properties(viper_layout_ros PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+
+add_executable(player nodes/player_node.cpp)
+add_executable(viper_to_bag tools/viper_to_bag.cpp)
+add_executable(export_viper tools/export_viper.cpp)
+foreach(t player viper_to_bag export_viper)
+  target_link_libraries(${t} viper_layout_ros)
+  set_target_properties(${t} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+endforeach()
+install(TARGETS viper_layout_ros player viper_to_bag export_viper
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+target_include_directories(viper_to_bag PRIVATE ${PROJECT_SOURCE_DIR}/tools)
+target_include_directories(export_viper PRIVATE ${PROJECT_SOURCE_DIR}/tools)
+# Where the class table is found when the package is not on ROS_PACKAGE_PATH.
+target_compile_definitions(viper_to_bag PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+target_compile_definitions(export_viper PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+
+if(CATKIN_ENABLE_TESTING)
+  find_package(rostest REQUIRED)
+  # Plain gtest, no roscore: the converter and the exporter.
+  catkin_add_gtest(test_viper_layout_conversions test/ros/test_viper_layout_conversions.cpp)
+  if(TARGET test_viper_layout_conversions)
+    target_link_libraries(test_viper_layout_conversions viper_layout_ros gtest_main)
+  endif()
+  # The export_viper command on bags written by the test.
+  catkin_add_gtest(test_export_viper test/ros/test_export_viper.cpp)
+  if(TARGET test_export_viper)
+    target_link_libraries(test_export_viper viper_layout_ros gtest_main)
+    target_compile_definitions(test_export_viper PRIVATE VIPER_EXPORT_VIPER="$<TARGET_FILE:export_viper>")
+    add_dependencies(test_export_viper export_viper)
+  endif()
+
+  # The player tests' dataset (damage included), written at build time by our own writers.
+  add_executable(make_viper_test_layout test/ros/make_viper_test_layout.cpp)
+  target_link_libraries(make_viper_test_layout viper_dataset)
+  set(VIPER_TEST_LAYOUT ${PROJECT_BINARY_DIR}/test_data/viper_layout)
+  add_custom_command(OUTPUT ${VIPER_TEST_LAYOUT}/train/camera/001.csv
+    COMMAND make_viper_test_layout --out ${VIPER_TEST_LAYOUT}
+    DEPENDS make_viper_test_layout
+    COMMENT "Writing the player tests' VIPER layout")
+  add_custom_target(viper_test_layout DEPENDS ${VIPER_TEST_LAYOUT}/train/camera/001.csv)
+
+  add_executable(viper_layout_tester EXCLUDE_FROM_ALL test/ros/viper_layout_tester.cpp)
+  target_include_directories(viper_layout_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
+  target_link_libraries(viper_layout_tester viper_layout_ros ${GTEST_LIBRARIES})
+  set_target_properties(viper_layout_tester PROPERTIES
+    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  if(TARGET tests)
+    add_dependencies(tests viper_layout_tester viper_test_layout)
+  endif()
+
+  set(_layout_deps viper_layout_tester viper_test_layout player viper_layout_ros)
+  add_rostest(test/ros/viper_player.test ARGS layout:=${VIPER_TEST_LAYOUT} DEPENDENCIES ${_layout_deps})
+  add_rostest(test/ros/viper_player_nodelet.test ARGS layout:=${VIPER_TEST_LAYOUT} DEPENDENCIES ${_layout_deps})
+  add_rostest(test/ros/viper_player_loop.test ARGS layout:=${VIPER_TEST_LAYOUT} DEPENDENCIES ${_layout_deps})
+  add_rostest(test/ros/viper_layout_roundtrip.test
+    ARGS export_viper:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/export_viper
+         viper_to_bag:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/viper_to_bag
+    DEPENDENCIES viper_layout_tester export_viper viper_to_bag viper_ground_truth_ros viper_flow_ros)
+  roslaunch_add_file_check(launch/viper_player.launch root:=/tmp/viper)
+endif()
+
+# bench/bench_viper_layout.cpp (built by cmake/bench.cmake when Google Benchmark is there).
+if(TARGET bench_viper_layout)
+  target_link_libraries(bench_viper_layout viper_layout_ros)
+endif()

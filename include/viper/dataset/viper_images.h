@@ -1,0 +1,80 @@
+// Image files of VIPER's release layout: camera images (`img`, PNG or JPEG), class id images
+// (`cls`, 8-bit single-channel PNG, palette or grayscale) and instance images (`inst`, RGB PNG with
+// R = class id and instance id = 256 * G + B). PNG through libpng, JPEG through OpenCV's
+// imgcodecs. Details: docs/viper_layout.md.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace viper::dataset {
+
+/// An 8-bit image: `channels` bytes per pixel, rows from the top, no padding.
+struct Image8 {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  uint32_t channels = 0;       ///< 1 (class ids) or 3 (RGB, red first)
+  std::vector<uint8_t> data;   ///< width * height * channels bytes
+
+  size_t pixels() const { return static_cast<size_t>(width) * height; }
+};
+
+/// How image files are written.
+struct ImageWriteOptions {
+  /// zlib level of PNG files, 0 (stored) .. 9; 1 is fast and compresses label images well.
+  int png_compression_level = 1;
+  /// JPEG quality 0..100 for `img` files written as .jpg / .jpeg.
+  int jpeg_quality = 95;
+};
+
+/// A class color per class id (index), for the palette of `cls` files.
+using ClassPalette = std::vector<std::array<uint8_t, 3>>;
+
+/// Reads a camera image (`img`): a PNG of any color type and bit depth (palette and gray are
+/// expanded, alpha dropped, 16 bits reduced to 8) or a JPEG (.jpg, .jpeg). Returns 3 channels,
+/// RGB. Throws std::runtime_error starting with `path` if the file is missing, is neither PNG nor
+/// JPEG, or is truncated or corrupt (libpng's or OpenCV's reason is included).
+Image8 readViperColorImage(const std::string& path);
+
+/// Writes an RGB image (3 channels) as PNG, or as JPEG when `path` ends in .jpg / .jpeg (lossy).
+/// The file is written beside `path` under a temporary name and renamed, so readers never see half
+/// a file. Throws std::invalid_argument if `rgb` is not 3 channels of width * height pixels (both
+/// non-zero), std::runtime_error naming `path` if it cannot be written.
+void writeViperColorImage(const std::string& path, const Image8& rgb,
+                          const ImageWriteOptions& options = ImageWriteOptions());
+
+/// Reads a class id image (`cls`): a PNG with one 8-bit (or 1/2/4-bit) channel, either palette
+/// (the palette indices are the class ids; the palette colors are ignored) or grayscale (the gray
+/// values are the ids, never rescaled). Returns 1 channel. Throws std::runtime_error starting with
+/// `path` for a missing, truncated or corrupt file, a JPEG, or a PNG with color channels, alpha or
+/// 16 bits (which cannot hold class ids as VIPER writes them).
+Image8 readViperClassImage(const std::string& path);
+
+/// Writes class ids (1 channel) as an 8-bit PNG: indexed, with `palette` as its color table (class
+/// colors, so viewers show the classes; ids beyond the palette get black), or grayscale when
+/// `palette` is empty. Either way every reader that takes palette indices or gray values gets the
+/// ids back. Same temporary-file rule and throws as writeViperColorImage.
+void writeViperClassImage(const std::string& path, const Image8& class_ids, const ClassPalette& palette,
+                          const ImageWriteOptions& options = ImageWriteOptions());
+
+/// Reads an instance image (`inst`): an 8-bit RGB PNG (RGBA: alpha dropped). Returns 3 channels.
+/// Throws std::runtime_error starting with `path` for a missing, truncated or corrupt file, or a
+/// PNG that is not 8-bit RGB(A) (palette, gray or 16-bit images cannot be VIPER instance images).
+Image8 readViperInstanceImage(const std::string& path);
+
+/// Writes an instance image (3 channels, R = class id, 256 * G + B = instance id) as an 8-bit RGB
+/// PNG. Same temporary-file rule and throws as writeViperColorImage.
+void writeViperInstanceImage(const std::string& path, const Image8& instances,
+                             const ImageWriteOptions& options = ImageWriteOptions());
+
+/// Instance ids of an instance image: 256 * G + B per pixel (0 = no instance). Throws
+/// std::invalid_argument if `instances` is not 3 channels of width * height pixels.
+std::vector<int32_t> viperInstanceIds(const Image8& instances);
+
+/// Class ids of an instance image: its R channel. Same throws as viperInstanceIds.
+std::vector<uint8_t> viperInstanceClasses(const Image8& instances);
+
+}  // namespace viper::dataset

@@ -1,0 +1,329 @@
+#include "viper/dataset/viper_images.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <png.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+namespace viper::dataset {
+namespace {
+
+// Largest side accepted from a file header: a damaged header must not make us allocate terabytes.
+constexpr uint32_t kMaxSide = 32768;
+
+std::vector<uint8_t> readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open: " + std::strerror(errno));
+  return std::vector<uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+bool endsWith(const std::string& s, const std::string& tail) {
+  if (s.size() < tail.size()) return false;
+  return std::equal(tail.rbegin(), tail.rend(), s.rbegin(),
+                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
+}
+
+bool isJpegPath(const std::string& path) { return endsWith(path, ".jpg") || endsWith(path, ".jpeg"); }
+
+std::string temporaryPath(const std::string& path) {
+  static std::atomic<unsigned> counter{0};
+  return path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+}
+
+void checkImage(const Image8& image, uint32_t channels, const char* what) {
+  if (image.width == 0 || image.height == 0 || image.channels != channels ||
+      image.data.size() != image.pixels() * channels)
+    throw std::invalid_argument(std::string(what) + ": expected " + std::to_string(channels) + " channel(s) of " +
+                                std::to_string(image.width) + "x" + std::to_string(image.height) + " pixels, got " +
+                                std::to_string(image.channels) + " channel(s) and " + std::to_string(image.data.size()) +
+                                " bytes");
+}
+
+// libpng reports errors through a callback that must not return; it long-jumps back to the
+// setjmp in the caller. Everything the caller touches after setjmp lives in this context (in
+// memory, not in registers), so its value is defined after the jump.
+struct PngContext {
+  const std::vector<uint8_t>* bytes = nullptr;
+  size_t pos = 0;
+  char error[256] = {0};
+  Image8 image;
+  std::vector<png_bytep> rows;
+};
+
+[[noreturn]] void pngError(png_structp png, png_const_charp message) {
+  auto* ctx = static_cast<PngContext*>(png_get_error_ptr(png));
+  if (ctx->error[0] == 0) std::snprintf(ctx->error, sizeof ctx->error, "%s", message);
+  png_longjmp(png, 1);
+}
+
+void pngWarning(png_structp, png_const_charp) {}  // e.g. odd color profiles: not our business
+
+void pngRead(png_structp png, png_bytep out, size_t n) {
+  auto* ctx = static_cast<PngContext*>(png_get_io_ptr(png));
+  if (ctx->pos + n > ctx->bytes->size()) {
+    std::snprintf(ctx->error, sizeof ctx->error, "file is truncated: %zu bytes, data needed up to byte %zu",
+                  ctx->bytes->size(), ctx->pos + n);
+    png_error(png, ctx->error);
+  }
+  std::memcpy(out, ctx->bytes->data() + ctx->pos, n);
+  ctx->pos += n;
+}
+
+enum class PngKind { kColor, kClassIds, kInstances };
+
+Image8 decodePng(const std::string& path, const std::vector<uint8_t>& bytes, PngKind kind) {
+  if (bytes.size() < 8 || png_sig_cmp(bytes.data(), 0, 8) != 0)
+    throw std::runtime_error(path + ": not a PNG file (no PNG signature in its first 8 bytes)");
+  PngContext ctx;
+  ctx.bytes = &bytes;
+  ctx.pos = 8;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &ctx, pngError, pngWarning);
+  if (png == nullptr) throw std::runtime_error(path + ": libpng could not start");
+  png_infop info = png_create_info_struct(png);
+  std::string rejected;
+  if (info == nullptr || setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw std::runtime_error(path + ": corrupt PNG: " + (ctx.error[0] ? ctx.error : "libpng could not start"));
+  }
+  png_set_read_fn(png, &ctx, pngRead);
+  png_set_sig_bytes(png, 8);
+  png_set_user_limits(png, kMaxSide, kMaxSide);
+  png_read_info(png, info);
+  png_uint_32 width = 0, height = 0;
+  int depth = 0, color = 0;
+  png_get_IHDR(png, info, &width, &height, &depth, &color, nullptr, nullptr, nullptr);
+  const char* color_name = color == PNG_COLOR_TYPE_GRAY         ? "gray"
+                           : color == PNG_COLOR_TYPE_GRAY_ALPHA ? "gray+alpha"
+                           : color == PNG_COLOR_TYPE_PALETTE    ? "palette"
+                           : color == PNG_COLOR_TYPE_RGB        ? "RGB"
+                                                                : "RGBA";
+  uint32_t channels = 3;
+  switch (kind) {
+    case PngKind::kClassIds:
+      channels = 1;
+      if ((color != PNG_COLOR_TYPE_PALETTE && color != PNG_COLOR_TYPE_GRAY) || depth > 8)
+        rejected = std::string("is a ") + std::to_string(depth) + "-bit " + color_name +
+                   " PNG; class ids need one 8-bit channel (palette or gray)";
+      else
+        png_set_packing(png);  // 1/2/4-bit indices or gray values to one byte each, not rescaled
+      break;
+    case PngKind::kInstances:
+      if ((color != PNG_COLOR_TYPE_RGB && color != PNG_COLOR_TYPE_RGB_ALPHA) || depth != 8)
+        rejected = std::string("is a ") + std::to_string(depth) + "-bit " + color_name +
+                   " PNG; instance images are 8-bit RGB (R = class, 256 * G + B = instance)";
+      else if (color == PNG_COLOR_TYPE_RGB_ALPHA)
+        png_set_strip_alpha(png);
+      break;
+    case PngKind::kColor:
+      png_set_expand(png);
+      if (depth == 16) png_set_strip_16(png);
+      png_set_strip_alpha(png);
+      if (color == PNG_COLOR_TYPE_GRAY || color == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(png);
+      break;
+  }
+  if (!rejected.empty()) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw std::runtime_error(path + ": " + rejected);
+  }
+  png_set_interlace_handling(png);
+  png_read_update_info(png, info);
+  const size_t row_bytes = png_get_rowbytes(png, info);
+  if (row_bytes != static_cast<size_t>(width) * channels) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw std::runtime_error(path + ": unexpected PNG row size " + std::to_string(row_bytes) + " for " +
+                             std::to_string(width) + " pixels of " + std::to_string(channels) + " channel(s)");
+  }
+  ctx.image.width = width;
+  ctx.image.height = height;
+  ctx.image.channels = channels;
+  ctx.image.data.resize(row_bytes * height);
+  ctx.rows.resize(height);
+  for (png_uint_32 y = 0; y < height; ++y) ctx.rows[y] = ctx.image.data.data() + y * row_bytes;
+  png_read_image(png, ctx.rows.data());
+  png_read_end(png, nullptr);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return std::move(ctx.image);
+}
+
+struct PngWriteContext {
+  char error[256] = {0};
+  std::FILE* file = nullptr;
+  std::vector<png_const_bytep> rows;
+  std::vector<png_color> palette;
+};
+
+[[noreturn]] void pngWriteError(png_structp png, png_const_charp message) {
+  auto* ctx = static_cast<PngWriteContext*>(png_get_error_ptr(png));
+  if (ctx->error[0] == 0) std::snprintf(ctx->error, sizeof ctx->error, "%s", message);
+  png_longjmp(png, 1);
+}
+
+void encodePng(const std::string& path, const Image8& image, int color_type, const ClassPalette* palette,
+               const ImageWriteOptions& options) {
+  if (options.png_compression_level < 0 || options.png_compression_level > 9)
+    throw std::invalid_argument("PNG compression level must be 0..9, got " +
+                                std::to_string(options.png_compression_level));
+  const std::string tmp = temporaryPath(path);
+  PngWriteContext ctx;
+  ctx.file = std::fopen(tmp.c_str(), "wb");
+  if (ctx.file == nullptr) throw std::runtime_error(path + ": cannot write PNG: " + std::strerror(errno));
+  const size_t row_bytes = static_cast<size_t>(image.width) * image.channels;
+  ctx.rows.resize(image.height);
+  for (uint32_t y = 0; y < image.height; ++y) ctx.rows[y] = image.data.data() + y * row_bytes;
+  if (palette != nullptr) {
+    ctx.palette.assign(256, png_color{0, 0, 0});
+    for (size_t i = 0; i < std::min<size_t>(256, palette->size()); ++i)
+      ctx.palette[i] = png_color{(*palette)[i][0], (*palette)[i][1], (*palette)[i][2]};
+  }
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &ctx, pngWriteError, pngWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (png == nullptr || info == nullptr || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    std::fclose(ctx.file);
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write PNG: " + (ctx.error[0] ? ctx.error : "libpng could not start"));
+  }
+  png_init_io(png, ctx.file);
+  png_set_compression_level(png, options.png_compression_level);
+  png_set_IHDR(png, info, image.width, image.height, 8, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  if (palette != nullptr) png_set_PLTE(png, info, ctx.palette.data(), static_cast<int>(ctx.palette.size()));
+  png_write_info(png, info);
+  png_write_rows(png, const_cast<png_bytepp>(ctx.rows.data()), image.height);
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  const bool flushed = std::fflush(ctx.file) == 0;
+  const int saved_errno = errno;
+  if (std::fclose(ctx.file) != 0 || !flushed) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write PNG: " + std::strerror(flushed ? errno : saved_errno));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int e = errno;
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write PNG: rename failed: " + std::strerror(e));
+  }
+}
+
+Image8 decodeJpeg(const std::string& path, const std::vector<uint8_t>& bytes) {
+  if (bytes.size() < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8)
+    throw std::runtime_error(path + ": not a JPEG file (no start-of-image marker)");
+  // libjpeg fills a truncated file with gray and only warns; the end-of-image marker tells.
+  const size_t tail = std::min<size_t>(bytes.size(), 64);
+  bool has_end = false;
+  for (size_t i = bytes.size() - tail; i + 1 < bytes.size(); ++i)
+    if (bytes[i] == 0xFF && bytes[i + 1] == 0xD9) has_end = true;
+  if (!has_end) throw std::runtime_error(path + ": truncated JPEG (no end-of-image marker)");
+  cv::Mat bgr;
+  try {
+    bgr = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<uint8_t*>(bytes.data())),
+                       cv::IMREAD_COLOR);
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error(path + ": corrupt JPEG: " + e.what());
+  }
+  if (bgr.empty() || bgr.type() != CV_8UC3) throw std::runtime_error(path + ": corrupt JPEG (cannot be decoded)");
+  Image8 out;
+  out.width = static_cast<uint32_t>(bgr.cols);
+  out.height = static_cast<uint32_t>(bgr.rows);
+  out.channels = 3;
+  out.data.resize(out.pixels() * 3);
+  cv::Mat rgb(bgr.rows, bgr.cols, CV_8UC3, out.data.data());
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return out;
+}
+
+void encodeJpeg(const std::string& path, const Image8& rgb, int quality) {
+  if (quality < 0 || quality > 100) throw std::invalid_argument("JPEG quality must be 0..100");
+  cv::Mat src(static_cast<int>(rgb.height), static_cast<int>(rgb.width), CV_8UC3, const_cast<uint8_t*>(rgb.data.data()));
+  cv::Mat bgr;
+  cv::cvtColor(src, bgr, cv::COLOR_RGB2BGR);
+  std::vector<uint8_t> bytes;
+  if (!cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, quality}))
+    throw std::runtime_error(path + ": cannot encode JPEG");
+  const std::string tmp = temporaryPath(path);
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot write JPEG: " + std::strerror(errno));
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error(path + ": cannot write JPEG: " + std::strerror(errno));
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int e = errno;
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write JPEG: rename failed: " + std::strerror(e));
+  }
+}
+
+}  // namespace
+
+Image8 readViperColorImage(const std::string& path) {
+  const std::vector<uint8_t> bytes = readFile(path);
+  if (bytes.size() >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8) return decodeJpeg(path, bytes);
+  if (isJpegPath(path)) return decodeJpeg(path, bytes);
+  return decodePng(path, bytes, PngKind::kColor);
+}
+
+void writeViperColorImage(const std::string& path, const Image8& rgb, const ImageWriteOptions& options) {
+  checkImage(rgb, 3, "writeViperColorImage");
+  if (isJpegPath(path)) encodeJpeg(path, rgb, options.jpeg_quality);
+  else encodePng(path, rgb, PNG_COLOR_TYPE_RGB, nullptr, options);
+}
+
+Image8 readViperClassImage(const std::string& path) {
+  const std::vector<uint8_t> bytes = readFile(path);
+  if (bytes.size() >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8)
+    throw std::runtime_error(path + ": is a JPEG; class ids must be a lossless PNG");
+  return decodePng(path, bytes, PngKind::kClassIds);
+}
+
+void writeViperClassImage(const std::string& path, const Image8& class_ids, const ClassPalette& palette,
+                          const ImageWriteOptions& options) {
+  checkImage(class_ids, 1, "writeViperClassImage");
+  if (palette.empty()) encodePng(path, class_ids, PNG_COLOR_TYPE_GRAY, nullptr, options);
+  else encodePng(path, class_ids, PNG_COLOR_TYPE_PALETTE, &palette, options);
+}
+
+Image8 readViperInstanceImage(const std::string& path) {
+  const std::vector<uint8_t> bytes = readFile(path);
+  if (bytes.size() >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8)
+    throw std::runtime_error(path + ": is a JPEG; instance images must be a lossless PNG");
+  return decodePng(path, bytes, PngKind::kInstances);
+}
+
+void writeViperInstanceImage(const std::string& path, const Image8& instances, const ImageWriteOptions& options) {
+  checkImage(instances, 3, "writeViperInstanceImage");
+  encodePng(path, instances, PNG_COLOR_TYPE_RGB, nullptr, options);
+}
+
+std::vector<int32_t> viperInstanceIds(const Image8& instances) {
+  checkImage(instances, 3, "viperInstanceIds");
+  std::vector<int32_t> ids(instances.pixels());
+  const uint8_t* p = instances.data.data();
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = 256 * p[3 * i + 1] + p[3 * i + 2];
+  return ids;
+}
+
+std::vector<uint8_t> viperInstanceClasses(const Image8& instances) {
+  checkImage(instances, 3, "viperInstanceClasses");
+  std::vector<uint8_t> classes(instances.pixels());
+  for (size_t i = 0; i < classes.size(); ++i) classes[i] = instances.data[3 * i];
+  return classes;
+}
+
+}  // namespace viper::dataset

@@ -1,0 +1,218 @@
+// VIPER's image files: camera images (PNG/JPEG), class id images (palette or gray PNG) and instance
+// images (RGB PNG); exact round trips, what other readers (OpenCV) see in our files, every PNG
+// color type we accept or refuse, and damaged files.
+#include "viper/dataset/viper_images.h"
+
+#include "dataset_test_util.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdlib>
+#include <random>
+
+namespace {
+
+using namespace viper::dataset;
+using viper_dataset_test::expectErrorNaming;
+using viper_dataset_test::readBytes;
+using viper_dataset_test::TempDir;
+using viper_dataset_test::writeBytes;
+
+Image8 makeImage(uint32_t w, uint32_t h, uint32_t channels, uint32_t seed) {
+  Image8 im;
+  im.width = w, im.height = h, im.channels = channels;
+  im.data.resize(im.pixels() * channels);
+  std::mt19937 rng(seed);
+  for (auto& b : im.data) b = static_cast<uint8_t>(rng());
+  return im;
+}
+
+// A smooth picture (JPEG's kind of input): gradients plus a square.
+Image8 smoothImage(uint32_t w, uint32_t h) {
+  Image8 im;
+  im.width = w, im.height = h, im.channels = 3;
+  im.data.resize(im.pixels() * 3);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      uint8_t* p = &im.data[3 * (y * w + x)];
+      const bool square = x > w / 4 && x < w / 2 && y > h / 4 && y < h / 2;
+      p[0] = static_cast<uint8_t>(255 * x / w), p[1] = static_cast<uint8_t>(255 * y / h), p[2] = square ? 200 : 40;
+    }
+  return im;
+}
+
+ClassPalette viperPalette() {
+  // The first classes of VIPER's classes.csv (unlabeled, ambiguous, sky, road, sidewalk).
+  return {{{0, 0, 0}}, {{111, 74, 0}}, {{70, 130, 180}}, {{128, 64, 128}}, {{244, 35, 232}}};
+}
+
+TEST(ViperImages, ColorPngRoundTripsExactly) {
+  TempDir dir;
+  for (int level : {0, 1, 9}) {
+    const Image8 im = makeImage(33, 17, 3, 1 + level);
+    ImageWriteOptions o;
+    o.png_compression_level = level;
+    writeViperColorImage(dir / "a.png", im, o);
+    const Image8 back = readViperColorImage(dir / "a.png");
+    EXPECT_EQ(back.width, 33u);
+    EXPECT_EQ(back.height, 17u);
+    EXPECT_EQ(back.channels, 3u);
+    EXPECT_EQ(back.data, im.data) << "level " << level;
+    // OpenCV (BGR) sees the same pixels.
+    const cv::Mat cvim = cv::imread(dir / "a.png", cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(cvim.type(), CV_8UC3);
+    EXPECT_EQ(cvim.at<cv::Vec3b>(5, 7)[2], im.data[3 * (5 * 33 + 7)]);
+  }
+}
+
+TEST(ViperImages, JpegRoundTripIsCloseAndReadsAsRgb) {
+  TempDir dir;
+  const Image8 im = smoothImage(64, 48);
+  writeViperColorImage(dir / "a.jpg", im);
+  const Image8 back = readViperColorImage(dir / "a.jpg");
+  ASSERT_EQ(back.data.size(), im.data.size());
+  double error = 0;
+  for (size_t i = 0; i < im.data.size(); ++i) error += std::abs(int(back.data[i]) - int(im.data[i]));
+  EXPECT_LT(error / im.data.size(), 3.0) << "mean absolute error at quality 95";
+  EXPECT_GT(back.data[3 * (20 * 64 + 20) + 2], 150) << "blue channel of the square: RGB order kept";
+  // A JPEG under a .png name is still recognised by its bytes.
+  writeBytes(dir / "b.png", readBytes(dir / "a.jpg"));
+  EXPECT_EQ(readViperColorImage(dir / "b.png").data, back.data);
+}
+
+TEST(ViperImages, ColorReaderExpandsGrayAlphaAnd16Bit) {
+  TempDir dir;
+  cv::Mat gray(4, 5, CV_8UC1);
+  for (int i = 0; i < 20; ++i) gray.data[i] = static_cast<uint8_t>(i * 12);
+  ASSERT_TRUE(cv::imwrite(dir / "g.png", gray));
+  Image8 g = readViperColorImage(dir / "g.png");
+  ASSERT_EQ(g.channels, 3u);
+  EXPECT_EQ(g.data[3 * 7], 84);
+  EXPECT_EQ(g.data[3 * 7 + 2], 84);
+
+  cv::Mat bgra(2, 3, CV_8UC4, cv::Scalar(10, 20, 30, 128));
+  ASSERT_TRUE(cv::imwrite(dir / "a.png", bgra));
+  Image8 a = readViperColorImage(dir / "a.png");
+  EXPECT_EQ(a.channels, 3u);
+  EXPECT_EQ(a.data[0], 30);  // R
+  EXPECT_EQ(a.data[2], 10);  // B
+
+  cv::Mat deep(2, 2, CV_16UC3, cv::Scalar(0, 256 * 100, 65535));
+  ASSERT_TRUE(cv::imwrite(dir / "d.png", deep));
+  Image8 d = readViperColorImage(dir / "d.png");
+  EXPECT_EQ(d.data[0], 255);
+  EXPECT_EQ(d.data[1], 100);
+  EXPECT_EQ(d.data[2], 0);
+}
+
+TEST(ViperImages, ClassIdsRoundTripAsPaletteAndAsGray) {
+  TempDir dir;
+  Image8 ids = makeImage(40, 30, 1, 7);
+  for (auto& b : ids.data) b %= 32;
+  writeViperClassImage(dir / "p.png", ids, viperPalette());
+  EXPECT_EQ(readViperClassImage(dir / "p.png").data, ids.data);
+  // Viewers that expand the palette see the class colors (OpenCV expands palettes to BGR).
+  const cv::Mat shown = cv::imread(dir / "p.png", cv::IMREAD_COLOR);
+  ASSERT_EQ(shown.type(), CV_8UC3);
+  for (int i = 0; i < 40 * 30; ++i) {
+    const uint8_t id = ids.data[i];
+    const cv::Vec3b bgr = shown.at<cv::Vec3b>(i / 40, i % 40);
+    const auto expected = id < 5 ? viperPalette()[id] : std::array<uint8_t, 3>{{0, 0, 0}};
+    ASSERT_EQ(bgr[2], expected[0]) << "pixel " << i << " id " << int(id);
+    ASSERT_EQ(bgr[0], expected[2]);
+  }
+  writeViperClassImage(dir / "g.png", ids, {});
+  EXPECT_EQ(readViperClassImage(dir / "g.png").data, ids.data);
+  const cv::Mat gray = cv::imread(dir / "g.png", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(gray.type(), CV_8UC1);
+  EXPECT_EQ(gray.data[17], ids.data[17]);
+}
+
+TEST(ViperImages, InstanceImagesRoundTripAndSplit) {
+  TempDir dir;
+  Image8 inst;
+  inst.width = 3, inst.height = 1, inst.channels = 3;
+  inst.data = {24, 0, 5, 20, 1, 2, 3, 0, 0};  // car 5, person 258, road without instance
+  writeViperInstanceImage(dir / "i.png", inst);
+  const Image8 back = readViperInstanceImage(dir / "i.png");
+  EXPECT_EQ(back.data, inst.data);
+  EXPECT_EQ(viperInstanceIds(back), (std::vector<int32_t>{5, 258, 0}));
+  EXPECT_EQ(viperInstanceClasses(back), (std::vector<uint8_t>{24, 20, 3}));
+}
+
+TEST(ViperImages, RefusesImagesThatCannotHoldTheirLabels) {
+  TempDir dir;
+  writeViperColorImage(dir / "rgb.png", makeImage(4, 4, 3, 1));
+  expectErrorNaming([&] { readViperClassImage(dir / "rgb.png"); }, {dir / "rgb.png", "RGB", "class ids"}, "rgb as cls");
+  Image8 ids = makeImage(4, 4, 1, 2);
+  writeViperClassImage(dir / "ids.png", ids, {});
+  expectErrorNaming([&] { readViperInstanceImage(dir / "ids.png"); }, {dir / "ids.png", "gray", "instance"}, "gray as inst");
+  cv::Mat deep(2, 2, CV_16UC1, cv::Scalar(300));
+  ASSERT_TRUE(cv::imwrite(dir / "deep.png", deep));
+  expectErrorNaming([&] { readViperClassImage(dir / "deep.png"); }, {dir / "deep.png", "16-bit"}, "16-bit cls");
+  writeViperColorImage(dir / "c.jpg", smoothImage(8, 8));
+  expectErrorNaming([&] { readViperClassImage(dir / "c.jpg"); }, {dir / "c.jpg", "JPEG"}, "jpeg cls");
+  expectErrorNaming([&] { readViperInstanceImage(dir / "c.jpg"); }, {dir / "c.jpg", "JPEG"}, "jpeg inst");
+}
+
+TEST(ViperImages, DamagedFilesThrowNamingTheFile) {
+  TempDir dir;
+  expectErrorNaming([&] { readViperColorImage(dir / "none.png"); }, {dir / "none.png", "cannot open"}, "missing");
+  writeBytes(dir / "text.png", std::vector<uint8_t>{'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd'});
+  expectErrorNaming([&] { readViperColorImage(dir / "text.png"); }, {dir / "text.png", "not a PNG"}, "not png");
+
+  const Image8 im = makeImage(64, 64, 3, 3);
+  writeViperColorImage(dir / "good.png", im);
+  std::vector<uint8_t> bytes = readBytes(dir / "good.png");
+  writeBytes(dir / "cut.png", std::vector<uint8_t>(bytes.begin(), bytes.begin() + bytes.size() / 2));
+  expectErrorNaming([&] { readViperColorImage(dir / "cut.png"); }, {dir / "cut.png", "truncated"}, "truncated");
+  std::vector<uint8_t> flipped = bytes;
+  flipped[bytes.size() / 2] ^= 0x40;  // inside the image data: a CRC error
+  writeBytes(dir / "flip.png", flipped);
+  expectErrorNaming([&] { readViperColorImage(dir / "flip.png"); }, {dir / "flip.png", "corrupt PNG"}, "flipped");
+
+  writeViperColorImage(dir / "good.jpg", smoothImage(32, 32));
+  bytes = readBytes(dir / "good.jpg");
+  writeBytes(dir / "cut.jpg", std::vector<uint8_t>(bytes.begin(), bytes.begin() + bytes.size() / 2));
+  expectErrorNaming([&] { readViperColorImage(dir / "cut.jpg"); }, {dir / "cut.jpg", "truncated JPEG"}, "jpeg cut");
+}
+
+TEST(ViperImages, RandomDamageEitherThrowsOrGivesTheRightSize) {
+  TempDir dir;
+  const Image8 im = makeImage(48, 20, 3, 4);
+  writeViperInstanceImage(dir / "good.png", im);
+  const std::vector<uint8_t> bytes = readBytes(dir / "good.png");
+  std::mt19937 rng(11);
+  int threw = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::vector<uint8_t> damaged = bytes;
+    if (trial % 3 == 0) damaged.resize(rng() % bytes.size());
+    else
+      for (int k = 0; k < 1 + trial % 4; ++k) damaged[rng() % damaged.size()] ^= static_cast<uint8_t>(1 + rng() % 255);
+    writeBytes(dir / "d.png", damaged);
+    try {
+      const Image8 back = readViperInstanceImage(dir / "d.png");
+      EXPECT_EQ(back.data.size(), back.pixels() * 3);
+    } catch (const std::runtime_error& e) {
+      ++threw;
+      EXPECT_EQ(std::string(e.what()).rfind(dir / "d.png", 0), 0u) << e.what();
+    }
+  }
+  EXPECT_GT(threw, 200);
+}
+
+TEST(ViperImages, WritersCheckTheirInput) {
+  TempDir dir;
+  Image8 bad = makeImage(4, 4, 3, 1);
+  bad.data.pop_back();
+  EXPECT_THROW(writeViperColorImage(dir / "a.png", bad), std::invalid_argument);
+  EXPECT_THROW(writeViperClassImage(dir / "a.png", makeImage(4, 4, 3, 1), {}), std::invalid_argument);
+  EXPECT_THROW(writeViperInstanceImage(dir / "a.png", makeImage(0, 4, 3, 1)), std::invalid_argument);
+  expectErrorNaming([&] { writeViperColorImage(dir / "no/such/a.png", makeImage(4, 4, 3, 1)); },
+                    {dir / "no/such/a.png", "cannot write"}, "missing folder");
+  EXPECT_FALSE(std::filesystem::exists(dir / "a.png")) << "nothing written for bad input";
+}
+
+}  // namespace

@@ -1,0 +1,68 @@
+# The evaluate node + nodelet (scores perception topics against the ground truth) and its report.
+# Core: src/core/evaluation.cpp, src/core/eval_report.cpp (viper_core). docs/evaluate.md.
+find_package(std_srvs REQUIRED)
+find_package(opencv_apps REQUIRED)  # opencv_apps/FlowArrayStamped (Debian: libopencv-apps-dev)
+
+# viper_report: the report's PNG figures (OpenCV), kept out of the core.
+add_library(viper_report src/report/plots.cpp)
+target_include_directories(viper_report PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_report SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
+target_link_libraries(viper_report PUBLIC viper_core opencv_core opencv_imgproc opencv_imgcodecs)
+set_target_properties(viper_report PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+
+add_library(viper_evaluate_ros
+  src/ros/evaluate_inputs.cpp
+  src/ros/evaluate.cpp
+  src/ros/evaluate_nodelet.cpp
+)
+target_include_directories(viper_evaluate_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_evaluate_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
+  ${opencv_apps_INCLUDE_DIRS})
+target_link_libraries(viper_evaluate_ros PUBLIC viper_report viper_ground_truth_ros viper_core ${catkin_LIBRARIES})
+add_dependencies(viper_evaluate_ros viper_generate_messages_cpp)
+set_target_properties(viper_evaluate_ros PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+
+add_executable(evaluate nodes/evaluate_node.cpp)
+target_link_libraries(evaluate viper_evaluate_ros)
+set_target_properties(evaluate PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS viper_report viper_evaluate_ros evaluate
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  # Plain gtests: the figures, and the node's input checks.
+  catkin_add_gtest(test_eval_plots test/ros/test_eval_plots.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_link_libraries(test_eval_plots viper_report gtest_main)
+  catkin_add_gtest(test_evaluate_inputs test/ros/test_evaluate_inputs.cpp)
+  target_link_libraries(test_evaluate_inputs viper_evaluate_ros gtest_main)
+
+  # rostests: the committed raw bag through replay.launch, a fake perception made by the tester
+  # (ground truth republished, or corrupted in known ways), scored by evaluate (node and nodelet).
+  find_package(pluginlib REQUIRED)
+  find_package(class_loader REQUIRED)
+  add_executable(evaluate_tester EXCLUDE_FROM_ALL test/ros/evaluate_tester.cpp)
+  # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
+  target_include_directories(evaluate_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+    ${class_loader_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS} ${opencv_apps_INCLUDE_DIRS})
+  target_link_libraries(evaluate_tester viper_core ${catkin_LIBRARIES} ${GTEST_LIBRARIES})
+  add_executable(evaluate_bad_input_tester EXCLUDE_FROM_ALL test/ros/evaluate_bad_input_tester.cpp)
+  target_include_directories(evaluate_bad_input_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
+    ${opencv_apps_INCLUDE_DIRS})
+  target_link_libraries(evaluate_bad_input_tester ${catkin_LIBRARIES} ${GTEST_LIBRARIES})
+  foreach(tester evaluate_tester evaluate_bad_input_tester)
+    add_dependencies(${tester} viper_generate_messages_cpp)
+    set_target_properties(${tester} PROPERTIES
+      RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+    if(TARGET tests)
+      add_dependencies(tests ${tester})
+    endif()
+  endforeach()
+  set(_evaluate_test_deps evaluate_tester evaluate viper_evaluate_ros viper_flow_ros viper_ground_truth_ros)
+  add_rostest(test/ros/evaluate_perfect.test DEPENDENCIES ${_evaluate_test_deps})
+  add_rostest(test/ros/evaluate_corrupted.test DEPENDENCIES ${_evaluate_test_deps})
+  add_rostest(test/ros/evaluate_bad_input.test DEPENDENCIES evaluate_bad_input_tester evaluate)
+  roslaunch_add_file_check(launch/evaluate.launch bag:=raw.bag label_table:=labels.yaml)
+endif()

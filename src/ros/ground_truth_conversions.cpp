@@ -19,6 +19,19 @@ geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) {
   return toPoseMsg(pose.translation(), Eigen::Quaterniond(pose.linear()).normalized());
 }
 
+geometry_msgs::TransformStamped toTransformMsg(const Eigen::Isometry3d& t, const ros::Time& stamp,
+                                               const std::string& parent, const std::string& child) {
+  geometry_msgs::TransformStamped m;
+  m.header.stamp = stamp;
+  m.header.frame_id = parent;
+  m.child_frame_id = child;
+  const geometry_msgs::Pose p = toPoseMsg(t);
+  m.transform.translation.x = p.position.x, m.transform.translation.y = p.position.y;
+  m.transform.translation.z = p.position.z;
+  m.transform.rotation = p.orientation;
+  return m;
+}
+
 Eigen::Isometry3d fromPoseMsg(const geometry_msgs::Pose& m) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = Eigen::Vector3d(m.position.x, m.position.y, m.position.z);

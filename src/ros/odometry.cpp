@@ -8,23 +8,6 @@
 #include <nav_msgs/Odometry.h>
 
 namespace viper {
-namespace {
-
-geometry_msgs::TransformStamped toTransformMsg(const Eigen::Isometry3d& t, const ros::Time& stamp,
-                                               const std::string& parent, const std::string& child) {
-  geometry_msgs::TransformStamped m;
-  m.header.stamp = stamp;
-  m.header.frame_id = parent;
-  m.child_frame_id = child;
-  const geometry_msgs::Pose p = toPoseMsg(t);
-  m.transform.translation.x = p.position.x, m.transform.translation.y = p.position.y;
-  m.transform.translation.z = p.position.z;
-  m.transform.rotation = p.orientation;
-  return m;
-}
-
-}  // namespace
-
 Odometry::Odometry(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), private_nh_(pnh) {}
 
 bool Odometry::start() {

@@ -73,19 +73,6 @@ void swapWords(uint8_t* bytes, size_t n_words) {
 
 bool hostBigEndian() { return __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__; }
 
-geometry_msgs::TransformStamped transformMsg(const Eigen::Isometry3d& t, const ros::Time& stamp,
-                                             const std::string& parent, const std::string& child) {
-  geometry_msgs::TransformStamped m;
-  m.header.stamp = stamp;
-  m.header.frame_id = parent;
-  m.child_frame_id = child;
-  const geometry_msgs::Pose p = toPoseMsg(t);
-  m.transform.translation.x = p.position.x, m.transform.translation.y = p.position.y;
-  m.transform.translation.z = p.position.z;
-  m.transform.rotation = p.orientation;
-  return m;
-}
-
 }  // namespace
 
 Eigen::Matrix4d toEigen(const dataset::RowMajor4& m) {
@@ -241,7 +228,7 @@ void ViperMessageBuilder::startSequence() {
 }
 
 geometry_msgs::TransformStamped ViperMessageBuilder::bodyToOptical(const ros::Time& stamp) const {
-  return transformMsg(bodyFromOptical(), stamp, frames_.body, frames_.optical);
+  return toTransformMsg(bodyFromOptical(), stamp, frames_.body, frames_.optical);
 }
 
 ViperFrameMessages ViperMessageBuilder::build(const dataset::ViperFrame& f, const ros::Time& stamp,
@@ -299,7 +286,7 @@ ViperFrameMessages ViperMessageBuilder::build(const dataset::ViperFrame& f, cons
     EgoPose pose;
     pose.time_s = stamp.toSec();
     pose.map_from_body = *map_from_body;
-    out.map_to_body = transformMsg(*map_from_body, stamp, frames_.map, frames_.body);
+    out.map_to_body = toTransformMsg(*map_from_body, stamp, frames_.map, frames_.body);
     if (want.odom) {
       out.odom = boost::make_shared<nav_msgs::Odometry>();
       out.odom->header.stamp = stamp;

@@ -7,6 +7,8 @@
 #include "viper/core/instance_pipeline.h"
 
 #include <geometry_msgs/Pose.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <ros/time.h>
 #include <sensor_msgs/Image.h>
 #include <std_msgs/Header.h>
 #include <viper/Box3D.h>
@@ -23,6 +25,9 @@ namespace viper {
 
 geometry_msgs::Pose toPoseMsg(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation);
 geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose);
+/// A tf transform: `t` is the pose of `child` in `parent` (parent_from_child).
+geometry_msgs::TransformStamped toTransformMsg(const Eigen::Isometry3d& t, const ros::Time& stamp,
+                                               const std::string& parent, const std::string& child);
 Eigen::Isometry3d fromPoseMsg(const geometry_msgs::Pose& msg);
 
 /// Name of a class id in `classes`, or "class_<id>" for ids outside the table.

@@ -83,6 +83,8 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDENCIES ${_bridge_test_deps})
   add_rostest(test/ros/capture_bridge_damaged.test ARGS capture:=${VIPER_ROS_TEST_DATA}/bridge_truncated.vcap
     DEPENDENCIES ${_bridge_test_deps})
+  add_rostest(test/ros/capture_bridge_start_delay.test ARGS capture:=${VIPER_ROS_TEST_DATA}/bridge_ok.vcap
+    DEPENDENCIES ${_bridge_test_deps})
   add_rostest(test/ros/capture_bridge_follow.test DEPENDENCIES make_test_capture ${_bridge_test_deps})
   roslaunch_add_file_check(launch/capture_bridge.launch file:=capture.vcap)
   roslaunch_add_file_check(launch/capture_bridge.launch file:=capture.vcap nodelet:=true)

@@ -184,7 +184,11 @@ bool CaptureBridge::publishPass(ReplayTiming& timing, bool& first_frame, ros::Wa
       continue;
     }
 
-    if (first_frame && options_.wait_for_subscribers && !waitForSubscribers()) return false;
+    if (first_frame) {
+      // Subscribers that connect while the bridge waits (nodes launched beside it) miss nothing.
+      if (options_.start_delay_s > 0.0 && !sleepFor(options_.start_delay_s)) return false;
+      if (options_.wait_for_subscribers && !waitForSubscribers()) return false;
+    }
     const double stamp_s = timing.stampOf(frame.time_s);
     if (timing.lastWasClamped()) {
       ROS_WARN_THROTTLE(kThrottleS, "capture_bridge: frame %lu of '%s' goes back in time (%.6f s); stamping it 1 ms "

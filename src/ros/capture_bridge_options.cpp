@@ -26,6 +26,13 @@ std::optional<CaptureBridgeOptions> loadCaptureBridgeOptions(const ros::NodeHand
   pnh.param("publish_clock", o.publish_clock, o.publish_clock);
   pnh.param("exit_when_done", o.exit_when_done, o.exit_when_done);
 
+  pnh.param("start_delay_s", o.start_delay_s, o.start_delay_s);
+  if (!std::isfinite(o.start_delay_s) || o.start_delay_s < 0.0) {
+    ROS_ERROR("capture_bridge: %s/start_delay_s = %g is invalid (seconds >= 0); starting at once", ns.c_str(),
+              o.start_delay_s);
+    o.start_delay_s = 0.0;
+  }
+
   pnh.param("rate", o.rate, o.rate);
   if (!std::isfinite(o.rate) || o.rate < 0.0) {
     ROS_ERROR("capture_bridge: %s/rate = %g is invalid (a factor >= 0; 1 = real time, 0 = as fast as possible); "

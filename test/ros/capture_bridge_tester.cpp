@@ -6,7 +6,8 @@
 // Private parameters: capture (path, required), frame_id (default camera_optical), timeout_s (60),
 // expect_damage (false: when true, also expects the bridge's ERROR log on /rosout naming the capture
 // and checks that ~bridge_node is still alive afterwards), follow (false; true: the capture is still
-// being written, read it to its end marker).
+// being written, read it to its end marker), subscribe_after_s (0: subscribe only after this many
+// seconds, like a node that starts late).
 #include "viper/core/capture_stream.h"
 #include "viper/core/content_key.h"
 #include "viper/ros/capture_conversions.h"
@@ -60,6 +61,9 @@ class BridgeTester : public testing::Test {
     pnh_.param("expect_damage", expect_damage_, false);
     pnh_.param("bridge_node", bridge_node_, std::string());
     pnh_.param("follow", follow_, false);
+    double subscribe_after_s = 0.0;
+    pnh_.param("subscribe_after_s", subscribe_after_s, 0.0);
+    if (subscribe_after_s > 0.0) ros::WallDuration(subscribe_after_s).sleep();
 
     // Listen to the bridge's log (/rosout directly: rostest may run without the rosout aggregator)
     // before the bridge can start, which it does only once our image subscriptions exist.

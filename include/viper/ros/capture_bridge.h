@@ -29,6 +29,7 @@ struct CaptureBridgeOptions {
   bool follow = false;                ///< ~follow: keep reading a file that is still being written
   double rate = 1.0;                  ///< ~rate: speed factor over capture time; 0 = as fast as possible
   bool wait_for_subscribers = false;  ///< ~wait_for_subscribers: start once every topic has a subscriber
+  double start_delay_s = 0.0;         ///< ~start_delay_s: wait this long after advertising (like rosbag --delay)
   bool loop = false;                  ///< ~loop: start over at the end (not with follow)
   bool publish_clock = false;         ///< ~publish_clock: publish /clock from the frame stamps
   std::optional<double> start_time;   ///< ~start_time: stamp of the first frame, seconds

@@ -3,10 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <exception>
 #include <stdexcept>
-#include <system_error>
-#include <thread>
 
 namespace viper {
 namespace {
@@ -73,6 +70,7 @@ void Evaluation::addInstances(const std::string& condition, const int32_t* gt_id
       throw std::invalid_argument("Evaluation::addInstances: prediction " + std::to_string(p) + " mask has " +
                                   std::to_string(predictions[p].mask.size()) + " pixels, frame has " +
                                   std::to_string(n));
+  if (n >= std::numeric_limits<uint32_t>::max()) throw std::invalid_argument("Evaluation::addInstances: frame too large");
   // A full-frame mask is a box of one row of n pixels.
   std::vector<BoxedInstance> boxed(predictions.size());
   for (size_t p = 0; p < predictions.size(); ++p) {
@@ -81,7 +79,7 @@ void Evaluation::addInstances(const std::string& condition, const int32_t* gt_id
     boxed[p].width = static_cast<uint32_t>(n), boxed[p].height = n > 0 ? 1 : 0;
     boxed[p].mask = predictions[p].mask.data();
   }
-  addCompactInstances(condition, gt_ids, gt_classes, n, boxed, static_cast<uint32_t>(n));
+  addInstanceOverlaps(condition, gt_ids, gt_classes, static_cast<uint32_t>(n), n > 0 ? 1 : 0, boxed);
 }
 
 void Evaluation::addInstances(const std::string& condition, const int32_t* gt_ids, const uint8_t* gt_classes,
@@ -96,80 +94,14 @@ void Evaluation::addInstances(const std::string& condition, const int32_t* gt_id
     if (b.mask == nullptr && b.width > 0 && b.height > 0)
       throw std::invalid_argument("Evaluation::addInstances: prediction " + std::to_string(p) + " has no mask");
   }
-  addCompactInstances(condition, gt_ids, gt_classes, static_cast<size_t>(width) * height, predictions, width);
+  addInstanceOverlaps(condition, gt_ids, gt_classes, width, height, predictions);
 }
 
-// Only pixels of a ground-truth instance or inside some predicted mask enter the AP: instance
-// sizes, intersections and void overlaps are all counted on them, and pixel order does not
-// matter. The accumulators see the frame reduced to those pixels, which gives the same scores for
-// a fraction of the work when instances cover a small part of the frame.
-void Evaluation::addCompactInstances(const std::string& condition, const int32_t* gt_ids, const uint8_t* gt_classes,
-                                     size_t n, const std::vector<BoxedInstance>& predictions, uint32_t width) {
-  if (n > 0 && (gt_ids == nullptr || gt_classes == nullptr))
+// The overlaps are counted once and added to both accumulators.
+void Evaluation::addInstanceOverlaps(const std::string& condition, const int32_t* gt_ids, const uint8_t* gt_classes,
+                                     uint32_t width, uint32_t height, const std::vector<BoxedInstance>& predictions) {
+  if (static_cast<size_t>(width) * height > 0 && (gt_ids == nullptr || gt_classes == nullptr))
     throw std::invalid_argument("Evaluation::addInstances: null ground truth image");
-  if (n >= std::numeric_limits<uint32_t>::max()) throw std::invalid_argument("Evaluation::addInstances: frame too large");
-  InstanceScratch& sc = scratch_;
-  // keep[i]: pixel i lies in a ground-truth instance or in some mask (loops the compiler vectorises).
-  // Box fields are copied to locals throughout: byte stores may alias them, which would keep the
-  // compiler from vectorising.
-  sc.keep.resize(n);
-  uint8_t* keep = sc.keep.data();
-  for (size_t i = 0; i < n; ++i) keep[i] = gt_ids[i] > 0;
-  for (const BoxedInstance& b : predictions) {
-    const uint32_t bw = b.width, bh = b.height, bx = b.x0, by = b.y0;
-    const uint8_t* mask = b.mask;
-    for (uint32_t y = 0; y < bh; ++y) {
-      const uint8_t* row = mask + static_cast<size_t>(y) * bw;
-      uint8_t* k = keep + static_cast<size_t>(by + y) * width + bx;
-      for (uint32_t x = 0; x < bw; ++x) k[x] |= row[x] != 0;
-    }
-  }
-  // index[i]: 1 + position of pixel i in the reduced frame, 0 if dropped.
-  sc.index.resize(n);
-  sc.ids.clear();
-  sc.classes.clear();
-  sc.x.clear();
-  sc.y.clear();
-  uint32_t m = 0;
-  for (size_t i = 0; i < n; ++i) {
-    if (!keep[i]) {
-      sc.index[i] = 0;
-      continue;
-    }
-    sc.index[i] = ++m;
-    sc.ids.push_back(gt_ids[i]);
-    sc.classes.push_back(gt_classes[i]);
-    sc.x.push_back(static_cast<uint32_t>(i % width));
-    sc.y.push_back(static_cast<uint32_t>(i / width));
-  }
-  sc.reduced.resize(predictions.size());
-  for (size_t p = 0; p < predictions.size(); ++p) {
-    const BoxedInstance& b = predictions[p];
-    PredictedInstance& r = sc.reduced[p];
-    r.class_id = b.class_id;
-    r.score = b.score;
-    r.mask.assign(m, 0);
-    uint8_t* out = r.mask.data();
-    const uint32_t bw = b.width, bh = b.height, bx = b.x0, by = b.y0;
-    const uint8_t* mask = b.mask;
-    if (static_cast<uint64_t>(bw) * bh > m) {
-      // A box larger than the reduced frame (a full-frame mask): visit the kept pixels instead.
-      const uint32_t* xs = sc.x.data();
-      const uint32_t* ys = sc.y.data();
-      for (uint32_t j = 0; j < m; ++j) {
-        const uint32_t x = xs[j] - bx, y = ys[j] - by;  // wraps around left of / above the box
-        if (x < bw && y < bh) out[j] = mask[static_cast<size_t>(y) * bw + x] != 0;
-      }
-      continue;
-    }
-    const uint32_t* index = sc.index.data();
-    for (uint32_t y = 0; y < bh; ++y) {
-      const uint8_t* row = mask + static_cast<size_t>(y) * bw;
-      const uint32_t* idx = index + static_cast<size_t>(by + y) * width + bx;
-      for (uint32_t x = 0; x < bw; ++x)
-        if (row[x]) out[idx[x] - 1] = 1;
-    }
-  }
   auto it = instances_.find(condition);
   if (it == instances_.end())
     it = instances_
@@ -178,24 +110,9 @@ void Evaluation::addCompactInstances(const std::string& condition, const int32_t
                                                 uint64_t{0}))
              .first;
   if (!all_instances_) all_instances_.emplace(instance_eval_, void_class_, options_.min_instance_px);
-  // The two accumulators are independent: the overall one runs on a second thread.
-  InstanceApAccumulator& here = it->second.first;
-  std::exception_ptr failure;
-  std::thread overall;
-  try {
-    overall = std::thread([&] {
-      try {
-        all_instances_->add(sc.ids.data(), sc.classes.data(), m, sc.reduced);
-      } catch (...) {
-        failure = std::current_exception();
-      }
-    });
-  } catch (const std::system_error&) {
-    all_instances_->add(sc.ids.data(), sc.classes.data(), m, sc.reduced);  // no thread to be had
-  }
-  here.add(sc.ids.data(), sc.classes.data(), m, sc.reduced);
-  if (overall.joinable()) overall.join();
-  if (failure) std::rethrow_exception(failure);
+  const InstanceOverlaps frame = it->second.first.overlaps(gt_ids, gt_classes, width, height, predictions);
+  it->second.first.add(frame);
+  all_instances_->add(frame);
   ++it->second.second;
   ++instance_frames_;
 }

@@ -25,15 +25,6 @@ struct SparseFlowVector {
   double x = 0.0, y = 0.0, u = 0.0, v = 0.0;
 };
 
-/// A predicted instance whose mask covers a box of the frame (cheaper than a full-frame mask).
-struct BoxedInstance {
-  int class_id = 0;
-  double score = 0.0;
-  uint32_t x0 = 0, y0 = 0;          ///< the box's top-left pixel in the frame
-  uint32_t width = 0, height = 0;   ///< the box's size (pixels)
-  const uint8_t* mask = nullptr;    ///< width x height bytes, row-major, non-zero = inside (not owned)
-};
-
 /// Settings of an evaluation.
 struct EvaluationOptions {
   /// KITTI segment lengths (m). KITTI uses 100..800 m; short sequences need shorter ones.
@@ -145,18 +136,9 @@ class Evaluation {
     FlowErrorAccumulator all, noc;
     uint64_t frames = 0, vectors = 0;
   };
-  // What an instance frame is reduced to, kept between frames to spare the allocations.
-  struct InstanceScratch {
-    std::vector<uint8_t> keep;
-    std::vector<uint32_t> index;
-    std::vector<uint32_t> x, y;  // frame column and row of each kept pixel
-    std::vector<int32_t> ids;
-    std::vector<uint8_t> classes;
-    std::vector<PredictedInstance> reduced;
-  };
-  /// Adds a frame reduced to the pixels that can change any score (see evaluation.cpp).
-  void addCompactInstances(const std::string& condition, const int32_t* gt_ids, const uint8_t* gt_classes, size_t n,
-                           const std::vector<BoxedInstance>& predictions, uint32_t width);
+  /// Adds one frame's overlaps to its condition's accumulator and to the overall one.
+  void addInstanceOverlaps(const std::string& condition, const int32_t* gt_ids, const uint8_t* gt_classes,
+                           uint32_t width, uint32_t height, const std::vector<BoxedInstance>& predictions);
   void fillOdometry(const std::vector<const Trajectory*>& trajectories, ConditionSummary& out) const;
 
   ClassTable classes_;
@@ -166,7 +148,6 @@ class Evaluation {
   std::map<std::string, std::pair<SemanticConfusion, uint64_t>> semantic_;  // confusion, frames
   std::map<std::string, std::pair<InstanceApAccumulator, uint64_t>> instances_;
   std::optional<InstanceApAccumulator> all_instances_;  // AP does not merge: frames are also added here
-  InstanceScratch scratch_;
   std::map<std::string, FlowState> flow_, sparse_;
   std::map<std::string, std::vector<Trajectory>> trajectories_;
   std::string last_pose_condition_;

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace viper {
@@ -13,6 +14,38 @@ struct PredictedInstance {
   int class_id = 0;
   double score = 0.0;
   std::vector<uint8_t> mask;
+};
+
+/// A predicted instance whose mask covers a box of the frame (cheaper than a full-frame mask).
+struct BoxedInstance {
+  int class_id = 0;
+  double score = 0.0;
+  uint32_t x0 = 0, y0 = 0;          ///< the box's top-left pixel in the frame
+  uint32_t width = 0, height = 0;   ///< the box's size (pixels)
+  const uint8_t* mask = nullptr;    ///< width x height bytes, row-major, non-zero = inside (not owned)
+};
+
+/// What one frame contributes to instance AP: its ground-truth instances and every prediction's
+/// overlaps with them. Made by InstanceApAccumulator::overlaps(); one frame's overlaps can be
+/// added to several accumulators (e.g. one per condition and one over all).
+struct InstanceOverlaps {
+  /// A ground-truth instance: its id, its majority class (of equal counts the lower class id) and
+  /// its size in pixels.
+  struct GroundTruth {
+    int32_t id = 0;
+    int class_id = 0;
+    uint64_t pixels = 0;
+  };
+  /// A prediction: its pixels, those of them on void ground truth, and its intersection with each
+  /// ground-truth instance it meets (index into `ground_truth` in ascending order, pixels > 0).
+  struct Prediction {
+    int class_id = 0;
+    double score = 0.0;
+    uint64_t pixels = 0, void_pixels = 0;
+    std::vector<std::pair<uint32_t, uint64_t>> with_gt;
+  };
+  std::vector<GroundTruth> ground_truth;  ///< in ascending id
+  std::vector<Prediction> predictions;    ///< in the order given
 };
 
 /// Accumulates matches over frames and computes average precision per class.
@@ -35,6 +68,14 @@ class InstanceApAccumulator {
   /// std::invalid_argument if a prediction's mask size differs from n.
   void add(const int32_t* gt_instance_ids, const uint8_t* gt_class_ids, size_t n,
            const std::vector<PredictedInstance>& predictions);
+  /// The overlaps of one width x height frame (images as in add()) with predictions given in
+  /// boxes, void counted with this accumulator's void classes. Reads each image and mask byte
+  /// once. Throws std::invalid_argument on a null image, a box that leaves the frame or a
+  /// non-empty box without a mask.
+  InstanceOverlaps overlaps(const int32_t* gt_instance_ids, const uint8_t* gt_class_ids, uint32_t width,
+                            uint32_t height, const std::vector<BoxedInstance>& predictions) const;
+  /// Adds one frame's overlaps, made by an accumulator with the same void classes.
+  void add(const InstanceOverlaps& frame);
 
   /// The IoU thresholds 0.50, 0.55, ..., 0.95.
   static const std::vector<double>& thresholds();

@@ -120,8 +120,7 @@ void Evaluation::addInstanceOverlaps(const std::string& condition, const int32_t
 void Evaluation::addFlow(const std::string& condition, const float* gt_uv, const uint8_t* visible,
                          const float* pred_uv, size_t n) {
   FlowState& f = flow_[condition];
-  f.all.add(gt_uv, pred_uv, nullptr, n);
-  f.noc.add(gt_uv, pred_uv, visible, n);
+  FlowErrorAccumulator::addBoth(f.all, f.noc, gt_uv, pred_uv, visible, n);
   ++f.frames;
   ++flow_frames_;
 }
@@ -142,8 +141,7 @@ size_t Evaluation::addSparseFlow(const std::string& condition, const float* gt_u
   }
   FlowState& s = sparse_[condition];
   const uint64_t before = s.all.scoredPixels();
-  s.all.add(gt.data(), pred.data(), nullptr, vis.size());
-  s.noc.add(gt.data(), pred.data(), vis.data(), vis.size());
+  FlowErrorAccumulator::addBoth(s.all, s.noc, gt.data(), pred.data(), vis.data(), vis.size());
   s.vectors += flow.size();
   ++s.frames;
   ++sparse_frames_;

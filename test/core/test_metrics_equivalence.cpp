@@ -1,12 +1,14 @@
 // The optimised metric kernels against simple reference implementations written here (the
 // per-pixel std::map counting they replaced), on random frames: the scores must be identical, not
 // just close.
+#include "viper/core/flow_metrics.h"
 #include "viper/core/instance_metrics.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <vector>
@@ -170,8 +172,11 @@ void expectSameAp(const ReferenceAp& ref, const InstanceApAccumulator& acc, cons
   for (int c = 0; c < 32; ++c)
     for (size_t t = 0; t < InstanceApAccumulator::thresholds().size(); ++t) {
       const double a = ref.ap(c, t), b = acc.ap(c, t);
-      if (std::isnan(a)) EXPECT_TRUE(std::isnan(b)) << what << " class " << c << " threshold " << t;
-      else EXPECT_EQ(a, b) << what << " class " << c << " threshold " << t;
+      if (std::isnan(a)) {
+        EXPECT_TRUE(std::isnan(b)) << what << " class " << c << " threshold " << t;
+      } else {
+        EXPECT_EQ(a, b) << what << " class " << c << " threshold " << t;
+      }
     }
 }
 
@@ -282,6 +287,90 @@ TEST(InstanceApEquivalence, WholeBlocksAndEdgesInsideBlocks) {
   ref.add(ids.data(), cls.data(), w * h, {p});
   acc.add(o);
   expectSameAp(ref, acc, "blocks");
+}
+
+// Flow errors added pixel by pixel with a hypot per pixel and per outlier test (the accumulator's
+// original implementation), read back through the same formulas as the accumulator's.
+struct ReferenceFlow {
+  uint64_t scored = 0, invalid = 0, outliers = 0;
+  double wauc_sum = 0.0, epe_sum = 0.0;
+  uint64_t hist[500] = {};
+  void add(const float* gt, const float* pred, const uint8_t* mask, size_t n) {
+    for (size_t i = 0; i < n; ++i) {
+      const float gu = gt[2 * i], gv = gt[2 * i + 1];
+      if (!std::isfinite(gu) || !std::isfinite(gv) || (mask != nullptr && mask[i] == 0)) continue;
+      ++scored;
+      const float pu = pred[2 * i], pv = pred[2 * i + 1];
+      if (!std::isfinite(pu) || !std::isfinite(pv)) {
+        ++invalid, ++outliers;
+        continue;
+      }
+      const double e = std::hypot(static_cast<double>(pu) - gu, static_cast<double>(pv) - gv);
+      epe_sum += e;
+      if (e < 5.0) {
+        const double w = 1.0 - e / 5.0;
+        wauc_sum += w * w;
+        ++hist[static_cast<int>(e * (500 / 5.0))];
+      }
+      if (e > 3.0 && e > 0.05 * std::hypot(static_cast<double>(gu), static_cast<double>(gv))) ++outliers;
+    }
+  }
+  void expectSame(const FlowErrorAccumulator& acc, const std::string& what) const {
+    EXPECT_EQ(acc.scoredPixels(), scored) << what;
+    EXPECT_EQ(acc.invalidPredictions(), invalid) << what;
+    if (scored == 0) return;
+    EXPECT_EQ(acc.wauc(), 100.0 * wauc_sum / scored) << what;
+    EXPECT_EQ(acc.outlierPercent(), 100.0 * outliers / scored) << what;
+    if (scored > invalid) {
+      EXPECT_EQ(acc.averageEndpointError(), epe_sum / (scored - invalid)) << what;
+    }
+    uint64_t below = 0;
+    for (int b = 0; b < 500; ++b) {
+      EXPECT_EQ(acc.inlierPercent(0.01 * (b + 0.5)), 100.0 * below / scored) << what << " bin " << b;
+      below += hist[b];
+    }
+    EXPECT_EQ(acc.inlierPercent(7.0), 100.0 * below / scored) << what;
+  }
+};
+
+// Random flows with undefined ground truth and predictions, errors across the 3 and 5 px
+// thresholds, and predictions right at KITTI's 5 % outlier margin.
+TEST(FlowEquivalence, RandomFlowsScoreAsTheHypotPerPixelReference) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  Rng rnd{7};
+  auto uniform = [&](float lo, float hi) { return lo + (hi - lo) * static_cast<float>(rnd.next(1u << 20)) / (1u << 20); };
+  FlowErrorAccumulator all, noc, masked, unmasked;
+  ReferenceFlow ref_all, ref_noc;
+  for (int frame = 0; frame < 5; ++frame) {
+    const size_t n = 1 + rnd.next(5000);
+    std::vector<float> gt(2 * n), pred(2 * n);
+    std::vector<uint8_t> mask(n);
+    for (size_t i = 0; i < n; ++i) {
+      const uint32_t kind = rnd.next(20);
+      float gu = uniform(-80, 80), gv = uniform(-80, 80);
+      if (kind == 0) gu = nan;
+      if (kind == 1) gv = inf;
+      if (kind == 2) gu = static_cast<float>(rnd.next(200)), gv = 0.0f;  // integer, for exact margins
+      float pu = gu + uniform(-6, 6), pv = gv + uniform(-6, 6);
+      if (kind == 3) pv = nan;
+      if (kind == 4) pu = -inf;
+      if (kind == 5 || kind == 2) pu = gu * 1.05f, pv = gv * 1.05f;  // 5 % of the ground truth
+      if (kind == 6) pu = gu + 3.0f, pv = gv;                        // exactly 3 px
+      if (kind == 7) pu = gu, pv = gv + 5.0f;                        // exactly 5 px
+      gt[2 * i] = gu, gt[2 * i + 1] = gv, pred[2 * i] = pu, pred[2 * i + 1] = pv;
+      mask[i] = rnd.next(4) == 0 ? 0 : static_cast<uint8_t>(1 + rnd.next(255));
+    }
+    FlowErrorAccumulator::addBoth(all, noc, gt.data(), pred.data(), mask.data(), n);
+    masked.add(gt.data(), pred.data(), mask.data(), n);
+    unmasked.add(gt.data(), pred.data(), nullptr, n);
+    ref_all.add(gt.data(), pred.data(), nullptr, n);
+    ref_noc.add(gt.data(), pred.data(), mask.data(), n);
+  }
+  ref_all.expectSame(all, "addBoth, all");
+  ref_noc.expectSame(noc, "addBoth, masked");
+  ref_all.expectSame(unmasked, "add without mask");
+  ref_noc.expectSame(masked, "add with mask");
+  EXPECT_GT(ref_all.outliers, ref_all.invalid) << "some finite errors should be outliers";
 }
 
 }  // namespace

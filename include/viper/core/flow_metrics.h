@@ -18,6 +18,11 @@ class FlowErrorAccumulator {
 
   /// Adds `n` pixels. `mask` may be null (score every pixel with valid ground truth).
   void add(const float* gt_uv, const float* pred_uv, const uint8_t* mask, size_t n);
+  /// Adds `n` pixels to `all` (mask ignored) and to `masked` (where `mask` is non-zero; every
+  /// pixel if it is null) in one pass, each endpoint error computed once: the same as
+  /// all.add(gt_uv, pred_uv, nullptr, n) followed by masked.add(gt_uv, pred_uv, mask, n).
+  static void addBoth(FlowErrorAccumulator& all, FlowErrorAccumulator& masked, const float* gt_uv,
+                      const float* pred_uv, const uint8_t* mask, size_t n);
   void merge(const FlowErrorAccumulator& other);
 
   /// Weighted area under the curve, 0..100: the fraction of pixels with endpoint error <= x,
@@ -38,9 +43,12 @@ class FlowErrorAccumulator {
 
  private:
   static constexpr int kHistBins = 500;  // 0.01 px bins over [0, 5) for inlierPercent()
+  /// Adds pixels to `unmasked` and/or `masked` (either may be null).
+  static void accumulate(FlowErrorAccumulator* unmasked, FlowErrorAccumulator* masked, const float* gt_uv,
+                         const float* pred_uv, const uint8_t* mask, size_t n);
   uint64_t scored_ = 0, invalid_pred_ = 0, outliers_ = 0;
   double wauc_sum_ = 0.0, epe_sum_ = 0.0;
-  uint64_t hist_[kHistBins] = {};
+  uint64_t hist_[kHistBins + 1] = {};  // the last bin takes errors >= 5 px, so that adding needs no branch
 };
 
 }  // namespace viper

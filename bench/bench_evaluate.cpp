@@ -72,35 +72,45 @@ struct FlowFrame {
   std::vector<uint8_t> visible;
 };
 
-// Smooth ground truth, undefined on the sky; 8 % occluded; predictions off by 0..8 px, 0.5 % NaN.
-const FlowFrame& flowFrame() {
-  static const FlowFrame f = [] {
-    FlowFrame f;
-    f.gt.resize(2 * kN), f.pred.resize(2 * kN), f.visible.resize(kN);
-    Lcg rnd;
-    const float nan = std::numeric_limits<float>::quiet_NaN();
-    for (uint32_t y = 0; y < kH; ++y)
-      for (uint32_t x = 0; x < kW; ++x) {
-        const size_t i = size_t(y) * kW + x;
-        const bool sky = y < kH / 8;
-        f.gt[2 * i] = sky ? nan : 6.0f * std::sin(x / 100.0f);
-        f.gt[2 * i + 1] = sky ? nan : 3.0f * std::cos(y / 80.0f);
-        f.visible[i] = (x / 37 + y / 23) % 12 != 0;
-        const float r = 8.0f * rnd.unit(), a = 6.2831853f * rnd.unit();
-        const bool bad = rnd.next(200) == 0;
-        f.pred[2 * i] = bad ? nan : (sky ? 0.0f : f.gt[2 * i]) + r * std::cos(a);
-        f.pred[2 * i + 1] = bad ? nan : (sky ? 0.0f : f.gt[2 * i + 1]) + r * std::sin(a);
-      }
-    return f;
-  }();
+// Smooth ground truth, undefined on the sky; 8 % occluded; 0.5 % NaN predictions. The other
+// predictions are off by 0..8 px: by an error that varies smoothly over the frame (as an
+// estimator's errors do, region by region), or, the worst case for branch prediction, by a random
+// error at every pixel.
+FlowFrame makeFlowFrame(bool random_errors) {
+  FlowFrame f;
+  f.gt.resize(2 * kN), f.pred.resize(2 * kN), f.visible.resize(kN);
+  Lcg rnd;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (uint32_t y = 0; y < kH; ++y)
+    for (uint32_t x = 0; x < kW; ++x) {
+      const size_t i = size_t(y) * kW + x;
+      const bool sky = y < kH / 8;
+      f.gt[2 * i] = sky ? nan : 6.0f * std::sin(x / 100.0f);
+      f.gt[2 * i + 1] = sky ? nan : 3.0f * std::cos(y / 80.0f);
+      f.visible[i] = (x / 37 + y / 23) % 12 != 0;
+      const float noise = rnd.unit(), turn = rnd.unit();
+      const float r = random_errors ? 8.0f * noise : std::abs(4.0f + 4.0f * std::sin(x / 97.0f) * std::cos(y / 61.0f) + 0.3f * (noise - 0.5f));
+      const float a = 6.2831853f * (random_errors ? turn : x / 640.0f + y / 360.0f + 0.02f * turn);
+      const bool bad = rnd.next(200) == 0;
+      f.pred[2 * i] = bad ? nan : (sky ? 0.0f : f.gt[2 * i]) + r * std::cos(a);
+      f.pred[2 * i + 1] = bad ? nan : (sky ? 0.0f : f.gt[2 * i + 1]) + r * std::sin(a);
+    }
   return f;
+}
+
+const FlowFrame& flowFrame(bool random_errors = false) {
+  static const FlowFrame smooth = makeFlowFrame(false);
+  if (!random_errors) return smooth;
+  static const FlowFrame random = makeFlowFrame(true);
+  return random;
 }
 
 // dense flow: reads ground truth (8 B/px), prediction (8) and visibility (1).
 void BM_MemcpyFlowBytes(benchmark::State& state) { copyBytes(state, kN * (8 + 8 + 1)); }
 
+// Arg: 0 smooth errors, 1 random errors.
 void BM_DenseFlow(benchmark::State& state) {
-  const FlowFrame& f = flowFrame();
+  const FlowFrame& f = flowFrame(state.range(0) != 0);
   Evaluation e(classes());
   for (auto _ : state) e.addFlow("day", f.gt.data(), f.visible.data(), f.pred.data(), kN);
   benchmark::DoNotOptimize(e.summarize().all.flow_all.wauc);
@@ -228,7 +238,7 @@ void BM_InstancesFullFrameMasks(benchmark::State& state) {
 BENCHMARK(BM_MemcpySemanticBytes)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Semantic)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MemcpyFlowBytes)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_DenseFlow)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DenseFlow)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SparseFlow)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MemcpyInstanceBoxBytes)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_InstancesBoxMasks)->Unit(benchmark::kMillisecond)->UseRealTime();

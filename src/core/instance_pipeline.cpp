@@ -53,7 +53,8 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) {
   }
   objects.swap(kept);
   const DrawAssignment assignment = assignDraws(frame, labels_, objects);
-  measureObjects(frame, assignment, objects);
+  findDrawRuns(frame, runs_);
+  measureObjects(runs_, assignment, objects);
 
   std::vector<Eigen::Vector3d> positions;
   for (const FrameObject& o : objects) positions.push_back(o.world.block<3, 1>(0, 3).cast<double>());
@@ -64,8 +65,8 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) {
   out.semantic.resize(n);
   out.instance_ids.resize(n);
   out.boundaries.resize(n);
-  renderSemantic(frame, assignment, out.semantic.data());
-  renderInstances(frame, assignment, ids, out.instance_ids.data());
+  renderSemantic(runs_, assignment, out.semantic.data());
+  renderInstances(runs_, assignment, ids, out.instance_ids.data());
   renderBoundaries(out.instance_ids.data(), static_cast<int>(frame.width), static_cast<int>(frame.height),
                    out.boundaries.data());
 

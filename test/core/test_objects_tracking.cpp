@@ -76,23 +76,91 @@ TEST(Objects, SharedWorldMatrixFormsOneObjectAndTheVoteOverridesSharedParts) {
   EXPECT_EQ(a.draw_class[0], kRoad) << "stuff keeps its own label";
   EXPECT_EQ(a.draw_class[7], 9);
 
+  DrawRuns runs;
+  findDrawRuns(s.frame, runs);
   std::vector<uint8_t> sem(8);
-  renderSemantic(s.frame, a, sem.data());
+  renderSemantic(runs, a, sem.data());
   EXPECT_EQ(sem, (std::vector<uint8_t>{kRoad, kBus, kBus, 0, kCar, kCar, 9, kBus}));
   std::vector<int32_t> inst(8);
-  renderInstances(s.frame, a, {0, 5, 7}, inst.data());
+  renderInstances(runs, a, {0, 5, 7}, inst.data());
   EXPECT_EQ(inst, (std::vector<int32_t>{0, 5, 5, 0, 7, 7, 0, 5}));
   std::vector<uint8_t> edges(8);
   renderBoundaries(inst.data(), 4, 2, edges.data());
   EXPECT_EQ(edges, (std::vector<uint8_t>{255, 255, 255, 255, 255, 255, 255, 255}));
 
   auto objs = objects;
-  measureObjects(s.frame, a, objs);
+  measureObjects(runs, a, objs);
   EXPECT_EQ(objs[1].pixel_count, 3u);
   EXPECT_EQ(objs[1].x_min, 1);
   EXPECT_EQ(objs[1].x_max, 3);
   EXPECT_EQ(objs[1].y_min, 0);
   EXPECT_EQ(objs[1].y_max, 1);
+}
+
+// The run-based kernels against the per-pixel definition, on rows whose width is no multiple of
+// the four ids compared at once, with runs of 1..37 pixels, ids past the draw list and id 0.
+TEST(Objects, DrawRunsGiveThePerPixelImagesAndMeasures) {
+  std::mt19937 rng(7);
+  CaptureFrame f;
+  f.width = 67, f.height = 9;
+  constexpr uint32_t kDraws = 12;
+  for (uint32_t i = 0; i < kDraws; ++i) f.draws.push_back(draw(i, 100 + i, translation(float(i % 4), 0, 0)));
+  while (f.draw_ids.size() < f.pixelCount()) {
+    const uint32_t id = std::uniform_int_distribution<uint32_t>(0, kDraws + 2)(rng);
+    const size_t length = std::uniform_int_distribution<size_t>(1, 37)(rng);
+    f.draw_ids.insert(f.draw_ids.end(), std::min(length, f.pixelCount() - f.draw_ids.size()), id);
+  }
+  LabelTable labels;
+  for (uint32_t i = 0; i < kDraws; ++i) labels.setMesh(100 + i, i % 2 ? kCar : kRoad);
+  auto objects = groupObjects(f, labels, thingMask());
+  const DrawAssignment a = assignDraws(f, labels, objects);
+  std::vector<int32_t> object_ids(objects.size());
+  std::iota(object_ids.begin(), object_ids.end(), 40);
+
+  DrawRuns runs;
+  findDrawRuns(f, runs);
+  size_t next = 0;
+  for (const DrawRuns::Run& r : runs.runs) {
+    ASSERT_EQ(r.start, next) << "runs cover every pixel in order";
+    ASSERT_GT(r.length, 0u);
+    ASSERT_EQ(r.start / f.width, (r.start + r.length - 1) / f.width) << "a run stays in its row";
+    for (uint32_t i = r.start; i < r.start + r.length; ++i) ASSERT_EQ(f.draw_ids[i], r.id) << "pixel " << i;
+    const uint32_t end = r.start + r.length;
+    if (end % f.width != 0) {
+      ASSERT_NE(f.draw_ids[end], r.id) << "a run ends where the id changes, pixel " << end;
+    }
+    next = end;
+  }
+  ASSERT_EQ(next, f.pixelCount());
+
+  std::vector<uint8_t> sem(f.pixelCount(), 99);
+  std::vector<int32_t> inst(f.pixelCount(), -7);
+  renderSemantic(runs, a, sem.data());
+  renderInstances(runs, a, object_ids, inst.data());
+  auto measured = objects;
+  measureObjects(runs, a, measured);
+  std::vector<uint32_t> count(objects.size(), 0);
+  std::vector<int> x_min(objects.size(), 1 << 20), x_max(objects.size(), -1), y_min = x_min, y_max = x_max;
+  for (size_t i = 0; i < f.pixelCount(); ++i) {
+    const uint32_t id = f.draw_ids[i];
+    const bool drawn = id != 0 && id <= kDraws;
+    const int32_t k = drawn ? a.draw_object[id - 1] : -1;
+    EXPECT_EQ(sem[i], drawn ? a.draw_class[id - 1] : 0) << "pixel " << i;
+    EXPECT_EQ(inst[i], k >= 0 ? object_ids[k] : 0) << "pixel " << i;
+    if (k < 0) continue;
+    ++count[k];
+    const int x = static_cast<int>(i % f.width), y = static_cast<int>(i / f.width);
+    x_min[k] = std::min(x_min[k], x), x_max[k] = std::max(x_max[k], x);
+    y_min[k] = std::min(y_min[k], y), y_max[k] = std::max(y_max[k], y);
+  }
+  for (size_t k = 0; k < objects.size(); ++k) {
+    EXPECT_EQ(measured[k].pixel_count, count[k]) << "object " << k;
+    if (count[k] == 0) continue;
+    EXPECT_EQ(measured[k].x_min, x_min[k]) << "object " << k;
+    EXPECT_EQ(measured[k].x_max, x_max[k]) << "object " << k;
+    EXPECT_EQ(measured[k].y_min, y_min[k]) << "object " << k;
+    EXPECT_EQ(measured[k].y_max, y_max[k]) << "object " << k;
+  }
 }
 
 TEST(Objects, VoteTieGoesToTheClassWithMorePixels) {

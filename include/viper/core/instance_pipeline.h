@@ -70,6 +70,7 @@ class InstancePipeline {
   InstancePipelineOptions options_;
   MeshRegistry meshes_;
   Tracker tracker_;
+  DrawRuns runs_;  // of the current frame; kept for its storage
 };
 
 /// VIPER's instance encoding: R = class id, G = id / 256, B = id % 256 (ids above 65535 wrap).

@@ -3,6 +3,7 @@
 // just close.
 #include "viper/core/flow_metrics.h"
 #include "viper/core/instance_metrics.h"
+#include "viper/core/semantic_metrics.h"
 
 #include <gtest/gtest.h>
 
@@ -371,6 +372,54 @@ TEST(FlowEquivalence, RandomFlowsScoreAsTheHypotPerPixelReference) {
   ref_all.expectSame(unmasked, "add without mask");
   ref_noc.expectSame(masked, "add with mask");
   EXPECT_GT(ref_all.outliers, ref_all.invalid) << "some finite errors should be outliers";
+}
+
+// Random class images (runs and noise, ids past the table) against a confusion matrix counted
+// pixel by pixel.
+TEST(SemanticEquivalence, RandomFramesScoreAsThePerPixelConfusionReference) {
+  Rng rnd{3};
+  for (size_t k : {size_t{1}, size_t{5}, size_t{32}, size_t{256}}) {
+    std::vector<bool> evaluated(k);
+    for (size_t c = 0; c < k; ++c) evaluated[c] = rnd.next(4) != 0;
+    SemanticConfusion acc(evaluated);
+    std::vector<uint64_t> tp(k), fp(k), fn(k), gt_count(k);
+    uint64_t scored = 0;
+    for (int frame = 0; frame < 4; ++frame) {
+      const size_t n = rnd.next(20000);
+      std::vector<uint8_t> gt(n), pred(n);
+      uint8_t g = 0, p = 0;
+      for (size_t i = 0; i < n; ++i) {
+        if (rnd.next(40) == 0) g = static_cast<uint8_t>(rnd.next(rnd.next(2) ? static_cast<uint32_t>(k) + 1 : 256));
+        if (rnd.next(40) == 0) p = rnd.next(2) ? g : static_cast<uint8_t>(rnd.next(256));
+        gt[i] = g, pred[i] = rnd.next(10) == 0 ? static_cast<uint8_t>(rnd.next(static_cast<uint32_t>(k) + 2)) : p;
+        if (g >= k || !evaluated[g]) continue;
+        ++scored, ++gt_count[g];
+        if (pred[i] == g) {
+          ++tp[g];
+        } else {
+          ++fn[g];
+          if (pred[i] < k) ++fp[pred[i]];
+        }
+      }
+      acc.add(gt.data(), pred.data(), n);
+    }
+    EXPECT_EQ(acc.scoredPixels(), scored) << k;
+    double sum = 0.0;
+    int present = 0;
+    for (size_t c = 0; c < k; ++c) {
+      const uint64_t denom = tp[c] + fp[c] + fn[c];
+      const double iou = evaluated[c] && denom > 0 ? static_cast<double>(tp[c]) / static_cast<double>(denom) : std::nan("");
+      if (std::isnan(iou)) {
+        EXPECT_TRUE(std::isnan(acc.iou(static_cast<int>(c)))) << k << " class " << c;
+      } else {
+        EXPECT_EQ(acc.iou(static_cast<int>(c)), iou) << k << " class " << c;
+      }
+      if (evaluated[c] && gt_count[c] > 0) sum += iou, ++present;
+    }
+    if (present > 0) {
+      EXPECT_EQ(acc.meanIou(), sum / present) << k;
+    }
+  }
 }
 
 }  // namespace

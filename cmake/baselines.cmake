@@ -47,4 +47,5 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/baselines.test
     DEPENDENCIES baselines_tester viper_baselines_ros viper_flow_ros viper_ground_truth_ros)
   roslaunch_add_file_check(launch/baselines.launch)
+  roslaunch_add_file_check(launch/benchmark_baselines.launch capture:=world.vcap report_dir:=/tmp/report)
 endif()

@@ -47,8 +47,14 @@ bool FlowBaseline::start() {
     ROS_FATAL("flow_baseline: ~method '%s' unknown (dis or farneback)", method_.c_str());
     return false;
   }
-  flow_pub_ = nh_.advertise<sensor_msgs::Image>("flow", 10);
-  image_sub_ = nh_.subscribe("image", 10, &FlowBaseline::onImage, this);
+  private_nh_.param("queue_size", queue_size_, queue_size_);
+  if (queue_size_ < 1) {
+    ROS_ERROR("flow_baseline: ~queue_size must be >= 1 (got %d); using 10", queue_size_);
+    queue_size_ = 10;
+  }
+  const auto q = static_cast<uint32_t>(queue_size_);
+  flow_pub_ = nh_.advertise<sensor_msgs::Image>("flow", q);
+  image_sub_ = nh_.subscribe("image", q, &FlowBaseline::onImage, this);
   ROS_INFO("flow_baseline: %s flow from %s to %s", method_.c_str(), image_sub_.getTopic().c_str(),
            flow_pub_.getTopic().c_str());
   return true;

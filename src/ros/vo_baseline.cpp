@@ -42,16 +42,18 @@ bool VoBaseline::start() {
   private_nh_.param("max_pending", max_pending_, max_pending_);
   private_nh_.param("forward_backward_px", fb_threshold_px_, fb_threshold_px_);
   private_nh_.param("min_parallax_px", min_parallax_px_, min_parallax_px_);
-  if (max_features_ < 8 || min_inliers_ < 5 || !(ransac_threshold_px_ > 0) || !(fb_threshold_px_ > 0) || max_pending_ < 1) {
+  private_nh_.param("queue_size", queue_size_, queue_size_);
+  if (max_features_ < 8 || min_inliers_ < 5 || !(ransac_threshold_px_ > 0) || !(fb_threshold_px_ > 0) || max_pending_ < 1 ||
+      queue_size_ < 1) {
     ROS_FATAL("vo_baseline: need ~max_features >= 8, ~min_inliers >= 5, ~ransac_threshold_px > 0, "
-              "~forward_backward_px > 0, ~max_pending >= 1 (got %d, %d, %g, %g, %d)", max_features_, min_inliers_,
-              ransac_threshold_px_, fb_threshold_px_, max_pending_);
+              "~forward_backward_px > 0, ~max_pending >= 1, ~queue_size >= 1 (got %d, %d, %g, %g, %d, %d)", max_features_,
+              min_inliers_, ransac_threshold_px_, fb_threshold_px_, max_pending_, queue_size_);
     return false;
   }
   odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", 50);
   info_sub_ = nh_.subscribe("camera_info", 10, &VoBaseline::onCameraInfo, this);
   if (scale_from_gt_) gt_sub_ = nh_.subscribe("ground_truth_odom", 50, &VoBaseline::onGroundTruth, this);
-  image_sub_ = nh_.subscribe("image", 10, &VoBaseline::onImage, this);
+  image_sub_ = nh_.subscribe("image", static_cast<uint32_t>(queue_size_), &VoBaseline::onImage, this);
   ROS_INFO("vo_baseline: %s -> %s (scale %s)", image_sub_.getTopic().c_str(), odom_pub_.getTopic().c_str(),
            scale_from_gt_ ? ("from " + gt_sub_.getTopic()).c_str() : "unknown: unit steps");
   return true;

@@ -30,6 +30,7 @@ class FlowBaseline {
 
   ros::NodeHandle nh_, private_nh_;
   std::string method_ = "dis";
+  int queue_size_ = 10;
   ros::Subscriber image_sub_;
   ros::Publisher flow_pub_;
   cv::Ptr<cv::DISOpticalFlow> dis_;

@@ -41,7 +41,7 @@ class VoBaseline {
   ros::NodeHandle nh_, private_nh_;
   std::string map_frame_ = "map", child_frame_ = "vo_camera";
   bool scale_from_gt_ = true;
-  int max_features_ = 1000, min_inliers_ = 30, max_pending_ = 30;
+  int max_features_ = 1000, min_inliers_ = 30, max_pending_ = 30, queue_size_ = 10;
   double ransac_threshold_px_ = 1.0, fb_threshold_px_ = 0.5, min_parallax_px_ = 5.0;
   ros::Subscriber image_sub_, info_sub_, gt_sub_;
   ros::Publisher odom_pub_;

@@ -140,6 +140,10 @@ struct FlowKernel {
   uint32_t n_draws;
   float* uv;
   uint8_t* visible;
+  // A row's worth each: b's pixel index and depth limit of rigid targets, and pixels to redo.
+  int32_t* row_q;
+  float* row_limit;
+  int32_t* row_pending;
 
   DrawMapping& mappingOf(uint32_t id) const { return maps[id <= n_draws ? id : 0]; }
 
@@ -243,21 +247,20 @@ VIPER_AVX2_INLINE __m256 depthAt(const float* depth_b, int n_b, __m256i q) {
   return _mm256_blendv_ps(lo, hi, _mm256_castsi256_ps(_mm256_slli_epi32(i, 28)));
 }
 
-constexpr int kPrefetchAhead = 128;  // pixels
-
 // What rigid8 needs of frame b and the options, as vectors, held in locals: through the uint8_t
 // mask, every store could change a member of FlowKernel, so the compiler would reload those.
 struct Avx2Target {
   const float* depth_b;
-  int n_b, width;
+  int n_b;  // b's pixel count
   __m256 x_end, y_end, last_x, last_y, occ_rel, occ_abs;
   __m256i width_v;
 };
 
-// Flow (u, v) and whether the point is seen in b, for 8 pixels at xf of row y of a rigid draw
+// Flow (u, v), b's pixel index q (clamped into b) and the least depth of b there that does not
+// hide the point (NaN where the point is outside b), for 8 pixels at xf of row y of a rigid draw
 // whose forms are at row y; e = 1 - window depth. Lanes without a surface get garbage.
 VIPER_AVX2_INLINE void rigid8(const DrawMapping& m, const Avx2Target& t, __m256 xf, __m256 yf, __m256 e, __m256& u,
-                              __m256& v, __m256& seen) {
+                              __m256& v, __m256i& q, __m256& limit) {
   const RowForms& f = m.at_row;
   const __m256 u_cw = _mm256_fmadd_ps(
       _mm256_fmadd_ps(_mm256_set1_ps(f.ue1), xf, _mm256_set1_ps(f.ue0)), e,
@@ -281,44 +284,41 @@ VIPER_AVX2_INLINE void rigid8(const DrawMapping& m, const Avx2Target& t, __m256 
   // Clamped (NaN becomes 0) so that every lane may be looked up, inside or not.
   const __m256i xi = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(_mm256_add_ps(xb, half), zero), t.last_x));
   const __m256i yi = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(_mm256_add_ps(yb, half), zero), t.last_y));
-  const __m256i q = _mm256_add_epi32(_mm256_mullo_epi32(yi, t.width_v), xi);
-  // The targets walk along rows of b in an order the hardware prefetcher does not follow.
-  _mm_prefetch(reinterpret_cast<const char*>(t.depth_b + _mm256_cvtsi256_si32(q) + kPrefetchAhead), _MM_HINT_T0);
-  const __m256 there = depthAt(t.depth_b, t.n_b, q);
-  // NaN in b's depth (no surface) counts as visible: nothing is in front of the point.
-  const __m256 not_hidden = _mm256_cmp_ps(there, _mm256_fmsub_ps(depth, t.occ_rel, t.occ_abs), _CMP_NLT_UQ);
-  seen = _mm256_and_ps(inside, not_hidden);
+  q = _mm256_add_epi32(_mm256_mullo_epi32(yi, t.width_v), xi);
+  // The targets walk along rows of b in an order the hardware prefetcher does not follow; the
+  // second pass over the row finds them fetched.
+  _mm_prefetch(reinterpret_cast<const char*>(t.depth_b + _mm256_cvtsi256_si32(q) + 8), _MM_HINT_T0);
+  limit = _mm256_blendv_ps(_mm256_set1_ps(kNaN), _mm256_fmsub_ps(depth, t.occ_rel, t.occ_abs), inside);
 }
 
-// Stores 8 pixels' flow and mask at uv, visible; NaN and 0 where there is no surface.
-VIPER_AVX2_INLINE void store8(__m256 u, __m256 v, __m256 seen, __m256 surface, float* uv, uint8_t* visible) {
+// Stores 8 pixels' flow at uv, NaN where there is no surface.
+VIPER_AVX2_INLINE void storeFlow8(__m256 u, __m256 v, __m256 surface, float* uv) {
   const __m256 nan = _mm256_set1_ps(kNaN);
   u = _mm256_blendv_ps(nan, u, surface);
   v = _mm256_blendv_ps(nan, v, surface);
   const __m256 lo = _mm256_unpacklo_ps(u, v), hi = _mm256_unpackhi_ps(u, v);
   _mm256_storeu_ps(uv, _mm256_permute2f128_ps(lo, hi, 0x20));
   _mm256_storeu_ps(uv + 8, _mm256_permute2f128_ps(lo, hi, 0x31));
-  const __m256i mask = _mm256_castps_si256(_mm256_and_ps(seen, surface));
-  const __m256i bytes = _mm256_packs_epi16(_mm256_packs_epi32(mask, mask), _mm256_setzero_si256());
-  _mm_storel_epi64(reinterpret_cast<__m128i*>(visible),
-                   _mm_unpacklo_epi32(_mm256_castsi256_si128(bytes), _mm256_extracti128_si256(bytes, 1)));
 }
 
 // Row y in blocks of 8 pixels, as far as whole blocks go; returns where the rest begins. A block of
 // one rigid draw (the common case) is computed at once; in a block of several draws, each rigid
 // draw is computed over the whole block and blended in by lanes, and non-rigid lanes are redone
-// one at a time.
+// one at a time. Two passes, each with a short chain of dependent steps per block, so that the
+// CPU overlaps many blocks: flow and target, then b's depth at the target and the mask.
 VIPER_AVX2 int FlowKernel::avx2Pixels(int y, double ndc_y, Counts& n) const {
   const size_t row = static_cast<size_t>(y) * width;
   const uint32_t* const row_ids = ids + row;
   const float* const row_depth = depth_a + row;
   float* const row_uv = uv + 2 * row;
   uint8_t* const row_visible = visible + row;
+  int32_t* const qs = row_q;
+  float* const limits = row_limit;
+  int32_t* const pending = row_pending;
   DrawMapping* const by_id = maps;
   const uint32_t last_id = n_draws;
   const Avx2Target t{depth_b,
                      width * height,
-                     width,
                      _mm256_set1_ps(width - 0.5f),
                      _mm256_set1_ps(height - 0.5f),
                      _mm256_set1_ps(static_cast<float>(width - 1)),
@@ -330,6 +330,7 @@ VIPER_AVX2 int FlowKernel::avx2Pixels(int y, double ndc_y, Counts& n) const {
   const __m256 yf = _mm256_set1_ps(static_cast<float>(y));
   __m256 xf = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
   const int end = width & ~7;
+  int n_pending = 0;
   size_t n_rigid = 0, n_no_surface = 0, n_no_assoc = 0, n_missing = 0;
   for (int x = 0; x < end; x += 8, xf = _mm256_add_ps(xf, _mm256_set1_ps(8.0f))) {
     const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row_ids + x));
@@ -341,70 +342,78 @@ VIPER_AVX2 int FlowKernel::avx2Pixels(int y, double ndc_y, Counts& n) const {
     DrawMapping& m = by_id[first <= last_id ? first : 0];
     const unsigned first_bits = static_cast<unsigned>(
         _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(id, _mm256_set1_epi32(static_cast<int>(first))))));
+    __m256 u, v, limit;
+    __m256i q;
     if (first_bits == 0xff && m.kind == DrawMapping::kRigid) {
       m.toRow(y, ndc_y);
-      __m256 u, v, seen;
-      rigid8(m, t, xf, yf, e, u, v, seen);
-      store8(u, v, seen, surface, row_uv + 2 * x, row_visible + x);
+      rigid8(m, t, xf, yf, e, u, v, q, limit);
       const int with_surface = __builtin_popcount(surface_bits);
       n_rigid += with_surface;
       n_no_surface += 8 - with_surface;
-      continue;
-    }
-    __m256 u = nan, v = nan, seen = zero;
-    unsigned remaining = 0xff, non_rigid_bits = 0;
-    while (remaining) {
-      const uint32_t draw = row_ids[x + __builtin_ctz(remaining)];
-      const __m256 lanes = _mm256_castsi256_ps(_mm256_cmpeq_epi32(id, _mm256_set1_epi32(static_cast<int>(draw))));
-      const unsigned bits = static_cast<unsigned>(_mm256_movemask_ps(lanes));
-      remaining &= ~bits;
-      DrawMapping& dm = by_id[draw <= last_id ? draw : 0];
-      const int with_surface = __builtin_popcount(bits & surface_bits);
-      const int without = __builtin_popcount(bits & ~surface_bits);
-      switch (dm.kind) {
-        case DrawMapping::kRigid: {
-          dm.toRow(y, ndc_y);
-          __m256 du, dv, dseen;
-          rigid8(dm, t, xf, yf, e, du, dv, dseen);
-          u = _mm256_blendv_ps(u, du, lanes);
-          v = _mm256_blendv_ps(v, dv, lanes);
-          seen = _mm256_blendv_ps(seen, dseen, lanes);
-          n_rigid += with_surface;
-          n_no_surface += without;
-          break;
+    } else {
+      u = v = limit = nan;
+      q = _mm256_setzero_si256();
+      unsigned remaining = 0xff;
+      while (remaining) {
+        const uint32_t draw = row_ids[x + __builtin_ctz(remaining)];
+        const __m256 lanes = _mm256_castsi256_ps(_mm256_cmpeq_epi32(id, _mm256_set1_epi32(static_cast<int>(draw))));
+        const unsigned bits = static_cast<unsigned>(_mm256_movemask_ps(lanes));
+        remaining &= ~bits;
+        DrawMapping& dm = by_id[draw <= last_id ? draw : 0];
+        const int with_surface = __builtin_popcount(bits & surface_bits);
+        const int without = __builtin_popcount(bits & ~surface_bits);
+        switch (dm.kind) {
+          case DrawMapping::kRigid: {
+            dm.toRow(y, ndc_y);
+            __m256 du, dv, dlimit;
+            __m256i dq;
+            rigid8(dm, t, xf, yf, e, du, dv, dq, dlimit);
+            u = _mm256_blendv_ps(u, du, lanes);
+            v = _mm256_blendv_ps(v, dv, lanes);
+            limit = _mm256_blendv_ps(limit, dlimit, lanes);
+            q = _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(q), _mm256_castsi256_ps(dq), lanes));
+            n_rigid += with_surface;
+            n_no_surface += without;
+            break;
+          }
+          case DrawMapping::kNonRigid:
+            for (unsigned b = bits; b; b &= b - 1) pending[n_pending++] = x + __builtin_ctz(b);
+            break;
+          case DrawMapping::kNoDraw:
+            n_no_surface += with_surface + without;
+            break;
+          case DrawMapping::kNone:
+            n_no_assoc += with_surface;
+            n_no_surface += without;
+            break;
+          case DrawMapping::kMissing:
+            n_missing += with_surface;
+            n_no_surface += without;
+            break;
         }
-        case DrawMapping::kNonRigid:
-          non_rigid_bits |= bits;
-          break;
-        case DrawMapping::kNoDraw:
-          n_no_surface += with_surface + without;
-          break;
-        case DrawMapping::kNone:
-          n_no_assoc += with_surface;
-          n_no_surface += without;
-          break;
-        case DrawMapping::kMissing:
-          n_missing += with_surface;
-          n_no_surface += without;
-          break;
       }
     }
-    store8(u, v, seen, surface, row_uv + 2 * x, row_visible + x);
-    if (non_rigid_bits) {
-      Counts others;
-      for (unsigned bits = non_rigid_bits; bits; bits &= bits - 1) {
-        const int xo = x + __builtin_ctz(bits);
-        otherPixel(mappingOf(row_ids[xo]), xo, y, ndc_y, others);
-      }
-      n.non_rigid += others.non_rigid;
-      n_no_surface += others.no_surface;
-      n_missing += others.missing;
-    }
+    storeFlow8(u, v, surface, row_uv + 2 * x);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(qs + x), q);
+    _mm256_storeu_ps(limits + x, _mm256_blendv_ps(nan, limit, surface));
   }
+  for (int x = 0; x < end; x += 8) {
+    const __m256 limit = _mm256_loadu_ps(limits + x);
+    const __m256 there = depthAt(t.depth_b, t.n_b, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(qs + x)));
+    // NaN in b's depth (no surface) counts as visible: nothing is in front of the point.
+    const __m256i seen = _mm256_castps_si256(
+        _mm256_and_ps(_mm256_cmp_ps(limit, limit, _CMP_ORD_Q), _mm256_cmp_ps(there, limit, _CMP_NLT_UQ)));
+    const __m256i bytes = _mm256_packs_epi16(_mm256_packs_epi32(seen, seen), _mm256_setzero_si256());
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(row_visible + x),
+                     _mm_unpacklo_epi32(_mm256_castsi256_si128(bytes), _mm256_extracti128_si256(bytes, 1)));
+  }
+  Counts others;
+  for (int i = 0; i < n_pending; ++i) otherPixel(mappingOf(row_ids[pending[i]]), pending[i], y, ndc_y, others);
   n.rigid += n_rigid;
-  n.no_surface += n_no_surface;
+  n.non_rigid += others.non_rigid;
+  n.no_surface += n_no_surface + others.no_surface;
   n.no_assoc += n_no_assoc;
-  n.missing += n_missing;
+  n.missing += n_missing + others.missing;
   return end;
 }
 #endif
@@ -501,6 +510,8 @@ void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector
   f.height = a.height;
   f.uv.resize(2 * n);
   f.visible.resize(n);
+  std::vector<int32_t> row_q(a.width), row_pending(a.width);
+  std::vector<float> row_limit(a.width);
   const FlowKernel kernel{a.draw_ids.data(),
                           a.depth_window.data(),
                           a.primitive_ids.data(),
@@ -512,7 +523,10 @@ void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector
                           maps.data(),
                           static_cast<uint32_t>(a.draws.size()),
                           f.uv.data(),
-                          f.visible.data()};
+                          f.visible.data(),
+                          row_q.data(),
+                          row_limit.data(),
+                          row_pending.data()};
 #ifdef VIPER_FLOW_AVX2
   static const bool avx2 =
       __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("popcnt");

@@ -105,7 +105,9 @@ Eigen::Vector4d clipAt(const std::vector<float>& c, uint32_t vertex) {
 
 // The point of a non-rigid pixel in b's clip space: screen-space barycentrics of the pixel
 // center in its triangle, made perspective-correct with the vertices' w, applied to b's vertices.
-std::optional<Eigen::Vector4d> nonRigidClip(const DrawMapping& m, uint32_t primitive, double ndc_x, double ndc_y) {
+// Inlined: called once per non-rigid pixel, and its divisions overlap with the caller's.
+__attribute__((always_inline)) inline std::optional<Eigen::Vector4d> nonRigidClip(const DrawMapping& m, uint32_t primitive,
+                                                                                double ndc_x, double ndc_y) {
   const size_t t = 3 * static_cast<size_t>(primitive);
   const auto& idx = *m.indices;
   const size_t verts = m.clip_a->size() / 4;

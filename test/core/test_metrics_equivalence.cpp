@@ -290,11 +290,13 @@ TEST(InstanceApEquivalence, WholeBlocksAndEdgesInsideBlocks) {
   expectSameAp(ref, acc, "blocks");
 }
 
-// Flow errors added pixel by pixel with a hypot per pixel and per outlier test (the accumulator's
-// original implementation), read back through the same formulas as the accumulator's.
+// Flow errors added pixel by pixel with a hypot per outlier test (the accumulator's original
+// implementation; the endpoint error as sqrt of the sum of squares, as the accumulator computes it,
+// and also by hypot: the two sums must agree to 1e-12), read back through the same formulas as the
+// accumulator's.
 struct ReferenceFlow {
   uint64_t scored = 0, invalid = 0, outliers = 0;
-  double wauc_sum = 0.0, epe_sum = 0.0;
+  double wauc_sum = 0.0, epe_sum = 0.0, epe_hypot_sum = 0.0;
   uint64_t hist[500] = {};
   void add(const float* gt, const float* pred, const uint8_t* mask, size_t n) {
     for (size_t i = 0; i < n; ++i) {
@@ -306,8 +308,10 @@ struct ReferenceFlow {
         ++invalid, ++outliers;
         continue;
       }
-      const double e = std::hypot(static_cast<double>(pu) - gu, static_cast<double>(pv) - gv);
+      const double du = static_cast<double>(pu) - gu, dv = static_cast<double>(pv) - gv;
+      const double e = std::sqrt(du * du + dv * dv);
       epe_sum += e;
+      epe_hypot_sum += std::hypot(du, dv);
       if (e < 5.0) {
         const double w = 1.0 - e / 5.0;
         wauc_sum += w * w;
@@ -324,6 +328,8 @@ struct ReferenceFlow {
     EXPECT_EQ(acc.outlierPercent(), 100.0 * outliers / scored) << what;
     if (scored > invalid) {
       EXPECT_EQ(acc.averageEndpointError(), epe_sum / (scored - invalid)) << what;
+      EXPECT_NEAR(acc.averageEndpointError(), epe_hypot_sum / (scored - invalid),
+                  1e-12 * epe_hypot_sum / (scored - invalid)) << what << ": sqrt and hypot disagree";
     }
     uint64_t below = 0;
     for (int b = 0; b < 500; ++b) {

@@ -86,6 +86,44 @@ if(CATKIN_ENABLE_TESTING)
     ARGS export_viper:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/export_viper
          viper_to_bag:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/viper_to_bag
     DEPENDENCIES viper_layout_tester export_viper viper_to_bag viper_ground_truth_ros viper_flow_ros)
+
+  # The same round trip on the world: 20 frames of the town (day, driving) captured at build time and
+  # turned into a raw bag by capture_to_bag (cmake/tools.cmake).
+  set(VIPER_WORLD_ROUNDTRIP_CAPTURE ${PROJECT_BINARY_DIR}/test_data/world_roundtrip.vcap)
+  set(VIPER_WORLD_RAW_BAG ${PROJECT_BINARY_DIR}/test_data/world_raw.bag)
+  add_custom_command(OUTPUT ${VIPER_WORLD_ROUNDTRIP_CAPTURE}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/test_data
+    COMMAND $<TARGET_FILE:viper_capture> --output ${VIPER_WORLD_ROUNDTRIP_CAPTURE}
+            --profile ${PROJECT_SOURCE_DIR}/config/profiles/world.yaml --condition day --fps 15
+            -- $<TARGET_FILE:world> --condition day --ego drive --frames 20 --width 480 --height 270
+    DEPENDS viper_capture viper_intercept world
+    COMMENT "Capturing the world for the VIPER layout round trip")
+  add_custom_command(OUTPUT ${VIPER_WORLD_RAW_BAG}
+    COMMAND capture_to_bag ${VIPER_WORLD_ROUNDTRIP_CAPTURE} --output ${VIPER_WORLD_RAW_BAG}
+    DEPENDS capture_to_bag ${VIPER_WORLD_ROUNDTRIP_CAPTURE}
+    COMMENT "Converting the world capture into a raw bag")
+  add_custom_target(world_raw_bag DEPENDS ${VIPER_WORLD_RAW_BAG})
+  if(TARGET tests)
+    add_dependencies(tests world_raw_bag)
+  endif()
+  # (Its own small .test file: the test's name is made of its arguments, and these paths would make it
+  # longer than a file name may be.)
+  add_rostest(test/ros/viper_layout_roundtrip_world.test
+    ARGS test_data:=${PROJECT_BINARY_DIR}/test_data bin:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}
+    DEPENDENCIES viper_layout_tester export_viper viper_to_bag viper_ground_truth_ros viper_flow_ros world_raw_bag)
+
+  # That bag holds what capture_bridge publishes for the same capture, message for message.
+  add_executable(capture_to_bag_tester EXCLUDE_FROM_ALL test/ros/capture_to_bag_tester.cpp)
+  target_include_directories(capture_to_bag_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
+  target_link_libraries(capture_to_bag_tester viper_layout_ros ${GTEST_LIBRARIES})
+  set_target_properties(capture_to_bag_tester PROPERTIES
+    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  if(TARGET tests)
+    add_dependencies(tests capture_to_bag_tester)
+  endif()
+  add_rostest(test/ros/capture_to_bag.test
+    ARGS capture:=${VIPER_WORLD_ROUNDTRIP_CAPTURE} bag:=${VIPER_WORLD_RAW_BAG}
+    DEPENDENCIES capture_to_bag_tester capture_bridge world_raw_bag)
   roslaunch_add_file_check(launch/viper_player.launch root:=/tmp/viper)
 endif()
 

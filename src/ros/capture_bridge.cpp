@@ -1,10 +1,8 @@
 #include "viper/ros/capture_bridge.h"
 
-#include "viper/core/camera_model.h"
 #include "viper/core/capture_stream.h"
 #include "viper/ros/capture_conversions.h"
 
-#include <boost/make_shared.hpp>
 #include <rosgraph_msgs/Clock.h>
 
 #include <sys/stat.h>
@@ -212,57 +210,26 @@ void CaptureBridge::publishFrame(const CaptureFrame& frame, double stamp_s) {
   header.stamp = ros::Time(stamp_s);
   header.frame_id = options_.frame_id;
 
-  const std::optional<FrameCamera> camera = chooseFrameCamera(frame);
-  std::optional<PinholeIntrinsics> intrinsics;
-  if (camera) {
-    try {
-      intrinsics = intrinsicsFromGlProjection(camera->projection, frame.width, frame.height);
-    } catch (const std::invalid_argument& e) {
-      ROS_WARN_THROTTLE(kThrottleS, "capture_bridge: frame %lu of '%s': %s; camera_info left uncalibrated",
-                        static_cast<unsigned long>(frame.number), options_.file.c_str(), e.what());
-    }
-  } else {
-    ROS_WARN_THROTTLE(kThrottleS, "capture_bridge: frame %lu of '%s' has no draw with view and projection "
-                      "matrices: depth is NaN where no draw projection applies, camera_info uncalibrated "
-                      "(check the capture profile)",
-                      static_cast<unsigned long>(frame.number), options_.file.c_str());
-  }
-
   try {
-    auto color = boost::make_shared<sensor_msgs::Image>(colorImage(frame, header));
-    auto depth = boost::make_shared<sensor_msgs::Image>(
-        depthImage(frame, depthMetres(frame, camera ? &*camera : nullptr), header));
-    auto draw_ids = boost::make_shared<sensor_msgs::Image>(drawIdImage(frame, header));
-    auto primitive_ids = boost::make_shared<sensor_msgs::Image>(primitiveIdImage(frame, header));
-    auto info = boost::make_shared<sensor_msgs::CameraInfo>(
-        cameraInfo(intrinsics ? &*intrinsics : nullptr, frame.width, frame.height, header));
-    auto draws = boost::make_shared<DrawList>(toDrawListMsg(frame, header));
-
-    bool store_grew = false;
-    for (const MeshRecord& mesh : frame.new_meshes) {
-      if (mesh_keys_.insert(mesh.key).second) {
-        mesh_store_.meshes.push_back(toMeshMsg(mesh));
-        store_grew = true;
-      }
+    const FrameMessages m = frameMessages(frame, header, mesh_store_);
+    if (!m.camera_problem.empty()) {
+      ROS_WARN_THROTTLE(kThrottleS, "capture_bridge: frame %lu of '%s': %s", static_cast<unsigned long>(frame.number),
+                        options_.file.c_str(), m.camera_problem.c_str());
     }
-
     // The clock first, so sim-time subscribers see the frame's time when its messages arrive.
     if (options_.publish_clock) {
       rosgraph_msgs::Clock clock;
       clock.clock = header.stamp;
       clock_pub_.publish(clock);
     }
-    if (store_grew) {
-      mesh_store_.header = header;
-      mesh_store_pub_.publish(mesh_store_);
-    }
-    color_pub_.publish(color);
-    color_info_pub_.publish(info);
-    depth_pub_.publish(depth);
-    depth_info_pub_.publish(info);
-    draw_ids_pub_.publish(draw_ids);
-    primitive_ids_pub_.publish(primitive_ids);
-    draws_pub_.publish(draws);
+    if (m.mesh_store) mesh_store_pub_.publish(m.mesh_store);
+    color_pub_.publish(m.color);
+    color_info_pub_.publish(m.camera_info);
+    depth_pub_.publish(m.depth);
+    depth_info_pub_.publish(m.camera_info);
+    draw_ids_pub_.publish(m.draw_ids);
+    primitive_ids_pub_.publish(m.primitive_ids);
+    draws_pub_.publish(m.draws);
     ++frames_published_;
   } catch (const std::exception& e) {
     ROS_ERROR_THROTTLE(kThrottleS, "capture_bridge: dropping frame %lu of '%s': %s",

@@ -1,9 +1,11 @@
 #include "viper/ros/capture_conversions.h"
 
+#include <boost/make_shared.hpp>
 #include <sensor_msgs/image_encodings.h>
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -188,6 +190,48 @@ sensor_msgs::CameraInfo cameraInfo(const PinholeIntrinsics* intrinsics, uint32_t
     }
   }
   return info;
+}
+
+bool MeshStoreAccumulator::add(const std::vector<MeshRecord>& meshes) {
+  bool grew = false;
+  for (const MeshRecord& mesh : meshes) {
+    if (keys_.insert(mesh.key).second) {
+      store_.meshes.push_back(toMeshMsg(mesh));
+      grew = true;
+    }
+  }
+  return grew;
+}
+
+FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes) {
+  FrameMessages out;
+  const std::optional<FrameCamera> camera = chooseFrameCamera(frame);
+  std::optional<PinholeIntrinsics> intrinsics;
+  if (camera) {
+    try {
+      intrinsics = intrinsicsFromGlProjection(camera->projection, frame.width, frame.height);
+    } catch (const std::invalid_argument& e) {
+      out.camera_problem = std::string(e.what()) + "; camera_info left uncalibrated";
+    }
+  } else {
+    out.camera_problem =
+        "no draw with view and projection matrices: depth is NaN where no draw projection applies, camera_info "
+        "uncalibrated (check the capture profile)";
+  }
+
+  out.color = boost::make_shared<sensor_msgs::Image>(colorImage(frame, header));
+  out.depth = boost::make_shared<sensor_msgs::Image>(depthImage(frame, depthMetres(frame, camera ? &*camera : nullptr), header));
+  out.draw_ids = boost::make_shared<sensor_msgs::Image>(drawIdImage(frame, header));
+  out.primitive_ids = boost::make_shared<sensor_msgs::Image>(primitiveIdImage(frame, header));
+  out.camera_info = boost::make_shared<sensor_msgs::CameraInfo>(
+      cameraInfo(intrinsics ? &*intrinsics : nullptr, frame.width, frame.height, header));
+  out.draws = boost::make_shared<DrawList>(toDrawListMsg(frame, header));
+  // Only once every message is built, so a frame that throws leaves the store as it was.
+  if (meshes.add(frame.new_meshes)) {
+    out.mesh_store = boost::make_shared<MeshStore>(meshes.store());
+    out.mesh_store->header = header;
+  }
+  return out;
 }
 
 }  // namespace viper

@@ -40,6 +40,7 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <set>
 
 namespace {
 
@@ -511,6 +512,17 @@ TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
     }
   }
   EXPECT_GT(box_count, n) << "the test scene has several boxes per frame";
+  {
+    std::set<int64_t> ids;
+    std::map<std::string, size_t> classes;
+    for (const auto& b : boxes) {
+      const auto frame_boxes = as<viper::Box3DArray>(b);
+      for (const viper::Box3D& box : frame_boxes->boxes) ids.insert(box.id), ++classes[box.class_name];
+    }
+    std::cout << "round trip: " << n << " frames, " << box_count << " boxes of " << ids.size() << " tracks:";
+    for (const auto& [name, count] : classes) std::cout << " " << name << " " << count;
+    std::cout << std::endl;
+  }
   const auto& infos = raw_messages["/capture/color/camera_info"];
   ASSERT_EQ(got.infos.size(), infos.size());
   for (size_t i = 0; i < infos.size(); ++i) {

@@ -3,11 +3,11 @@
 #pragma once
 
 #include "viper/core/capture_frame.h"
+#include "viper/ros/capture_conversions.h"
 #include "viper/ros/replay_timing.h"
 
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
-#include <viper/MeshStore.h>
 
 #include <atomic>
 #include <condition_variable>
@@ -17,7 +17,6 @@
 #include <optional>
 #include <string>
 #include <thread>
-#include <unordered_set>
 
 namespace viper {
 
@@ -81,8 +80,7 @@ class CaptureBridge {
   image_transport::Publisher color_pub_, depth_pub_, draw_ids_pub_, primitive_ids_pub_;
   ros::Publisher color_info_pub_, depth_info_pub_, draws_pub_, mesh_store_pub_, clock_pub_;
 
-  MeshStore mesh_store_;
-  std::unordered_set<uint64_t> mesh_keys_;
+  MeshStoreAccumulator mesh_store_;
 
   std::thread thread_;
   std::mutex mutex_;

@@ -13,6 +13,9 @@
 #include <viper/Mesh.h>
 #include <viper/MeshStore.h>
 
+#include <cstdint>
+#include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace viper {
@@ -53,5 +56,40 @@ sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::H
 /// With no intrinsics (frame without a camera) K, P are all zero: "uncalibrated" in ROS terms.
 sensor_msgs::CameraInfo cameraInfo(const PinholeIntrinsics* intrinsics, uint32_t width, uint32_t height,
                                    const std_msgs::Header& header);
+
+/// The mesh store as the capture bridge publishes it: every mesh seen so far, each key once, in the
+/// order the capture first brought them.
+class MeshStoreAccumulator {
+ public:
+  /// Appends the meshes whose keys are new; returns whether the store grew.
+  bool add(const std::vector<MeshRecord>& meshes);
+  /// The store so far (header left empty).
+  const MeshStore& store() const { return store_; }
+
+ private:
+  MeshStore store_;
+  std::unordered_set<uint64_t> keys_;
+};
+
+/// Every message the capture bridge publishes for one frame (the raw topics of docs/capture_bridge.md),
+/// all with the same header. Shared pointers, so that publishing them in a nodelet manager copies nothing.
+struct FrameMessages {
+  sensor_msgs::ImagePtr color;          ///< color/image_raw, rgb8
+  sensor_msgs::ImagePtr depth;          ///< depth/image_raw, 32FC1 metres, NaN = no surface
+  sensor_msgs::ImagePtr draw_ids;       ///< draw_ids, 32SC1
+  sensor_msgs::ImagePtr primitive_ids;  ///< primitive_ids, 32SC1
+  sensor_msgs::CameraInfoPtr camera_info;  ///< color/camera_info and depth/camera_info (one camera)
+  DrawListPtr draws;                    ///< draws
+  MeshStorePtr mesh_store;              ///< mesh_store (latched) when this frame grew the store, else null
+  /// Empty, or why camera_info is uncalibrated (no draw with view and projection, or a projection
+  /// without intrinsics): a warning for whoever publishes, the messages are complete either way.
+  std::string camera_problem;
+};
+
+/// Builds the messages of `frame` with `header` (the bridge's per-frame conversion, shared with the
+/// capture_to_bag command), and adds the frame's new meshes to `meshes`. The frame should have passed
+/// validateFrame(). Throws std::invalid_argument if an image buffer does not match the frame's size;
+/// `meshes` is then left unchanged.
+FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes);
 
 }  // namespace viper

@@ -34,8 +34,10 @@ void checkSize(const CaptureFrame& frame, size_t have, size_t per_pixel, const c
   }
 }
 
+// The image's fields; its bytes copied from `data` when given (assign: written once, not zeroed
+// first), else zeroed for the caller to fill.
 sensor_msgs::Image imageHeader(const CaptureFrame& frame, const std_msgs::Header& header, const std::string& encoding,
-                               uint32_t bytes_per_pixel) {
+                               uint32_t bytes_per_pixel, const void* data = nullptr) {
   sensor_msgs::Image img;
   img.header = header;
   img.width = frame.width;
@@ -43,7 +45,13 @@ sensor_msgs::Image imageHeader(const CaptureFrame& frame, const std_msgs::Header
   img.encoding = encoding;
   img.is_bigendian = 0;
   img.step = frame.width * bytes_per_pixel;
-  img.data.resize(static_cast<size_t>(img.step) * frame.height);
+  const size_t size = static_cast<size_t>(img.step) * frame.height;
+  if (data != nullptr) {
+    const auto* bytes = static_cast<const uint8_t*>(data);
+    img.data.assign(bytes, bytes + size);
+  } else {
+    img.data.resize(size);
+  }
   return img;
 }
 
@@ -139,25 +147,19 @@ std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::
 
 sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header) {
   checkSize(frame, frame.color_rgb.size(), 3, "color");
-  sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::RGB8, 3);
-  std::copy(frame.color_rgb.begin(), frame.color_rgb.end(), img.data.begin());
-  return img;
+  return imageHeader(frame, header, sensor_msgs::image_encodings::RGB8, 3, frame.color_rgb.data());
 }
 
 sensor_msgs::Image depthImage(const CaptureFrame& frame, const std::vector<float>& depth_m,
                               const std_msgs::Header& header) {
   checkSize(frame, depth_m.size(), 1, "depth");
-  sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32FC1, 4);
-  std::memcpy(img.data.data(), depth_m.data(), img.data.size());
-  return img;
+  return imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32FC1, 4, depth_m.data());
 }
 
 sensor_msgs::Image drawIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
   checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
-  sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32SC1, 4);
   // Draw ids are index + 1 of at most a few million draws: they fit a signed int unchanged.
-  std::memcpy(img.data.data(), frame.draw_ids.data(), img.data.size());
-  return img;
+  return imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32SC1, 4, frame.draw_ids.data());
 }
 
 sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {

@@ -215,10 +215,12 @@ Flow::HeldPtr Flow::makeHeldFrame(const DrawList& draws, const sensor_msgs::Imag
   }
   const size_t n = f.pixelCount();
   held->header = draw_ids.header;
-  held->depth_m.resize(n);
-  std::memcpy(held->depth_m.data(), depth.data.data(), 4 * n);
-  f.primitive_ids.resize(n);  // -1 (no draw) reads as 0xffffffff: meaningless where the draw id is 0
-  std::memcpy(f.primitive_ids.data(), primitive_ids.data.data(), 4 * n);
+  // assign: written once, not zeroed first (message buffers come from new[], aligned for floats).
+  const auto* depth_m = reinterpret_cast<const float*>(depth.data.data());
+  held->depth_m.assign(depth_m, depth_m + n);
+  // -1 (no draw) reads as 0xffffffff: meaningless where the draw id is 0
+  const auto* primitives = reinterpret_cast<const uint32_t*>(primitive_ids.data.data());
+  f.primitive_ids.assign(primitives, primitives + n);
 
   const std::optional<FrameCamera> camera = chooseFrameCamera(f);
   size_t bad_depth = 0;
@@ -296,8 +298,8 @@ void Flow::flowBetween(const HeldFrame& a, const HeldFrame& b, FlowField& out) {
 
 void Flow::publish(const image_transport::Publisher& flow_pub, const image_transport::Publisher& visible_pub,
                    const std_msgs::Header& header, const FlowField& field) {
-  flow_pub.publish(imageMsg(header, field.width, field.height, "32FC2", 8, field.uv.data()));
-  visible_pub.publish(imageMsg(header, field.width, field.height, "mono8", 1, field.visible.data()));
+  flow_pub.publish(imageMsgPtr(header, field.width, field.height, "32FC2", 8, field.uv.data()));
+  visible_pub.publish(imageMsgPtr(header, field.width, field.height, "mono8", 1, field.visible.data()));
 }
 
 void Flow::onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, const ImageConstPtr& draw_ids,

@@ -3,6 +3,7 @@
 #include "viper/ros/capture_conversions.h"
 
 #include <Eigen/SVD>
+#include <boost/make_shared.hpp>
 
 #include <cstring>
 
@@ -143,9 +144,15 @@ sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint
   m.encoding = encoding;
   m.is_bigendian = 0;
   m.step = width * bytes_per_pixel;
-  m.data.resize(static_cast<size_t>(m.step) * height);
-  if (!m.data.empty()) std::memcpy(m.data.data(), data, m.data.size());
+  // assign, not resize + memcpy: the bytes are written once, not zeroed first.
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  m.data.assign(bytes, bytes + static_cast<size_t>(m.step) * height);
   return m;
+}
+
+sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                                  const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
+  return boost::make_shared<sensor_msgs::Image>(imageMsg(header, width, height, encoding, bytes_per_pixel, data));
 }
 
 std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& ids, CaptureFrame& frame) {
@@ -159,8 +166,10 @@ std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& i
   frame.height = ids.height;
   frame.time_s = draws.header.stamp.toSec();
   fromDrawListMsg(draws, frame);
-  frame.draw_ids.resize(static_cast<size_t>(ids.width) * ids.height);
-  std::memcpy(frame.draw_ids.data(), ids.data.data(), ids.data.size());
+  // assign, not resize + memcpy: written once, not zeroed first (message buffers come from new[],
+  // aligned for any scalar type).
+  const auto* id_words = reinterpret_cast<const uint32_t*>(ids.data.data());
+  frame.draw_ids.assign(id_words, id_words + static_cast<size_t>(ids.width) * ids.height);
   return {};
 }
 

@@ -116,7 +116,7 @@ void Instances::publishOverlay(const sensor_msgs::Image& color, const std::vecto
   }
   scratch_rgb_.resize(3 * n);
   overlayClasses(color.data.data(), semantic.data(), n, *classes_, overlay_alpha_, scratch_rgb_.data());
-  overlay_pub_.publish(imageMsg(color.header, color.width, color.height, "rgb8", 3, scratch_rgb_.data()));
+  overlay_pub_.publish(imageMsgPtr(color.header, color.width, color.height, "rgb8", 3, scratch_rgb_.data()));
 }
 
 void Instances::onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Image::ConstPtr& ids) {
@@ -147,11 +147,11 @@ void Instances::onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Imag
   const uint32_t w = frame_.width, h = frame_.height;
   const size_t n = frame_.pixelCount();
   if (semantic_pub_.getNumSubscribers() > 0)
-    semantic_pub_.publish(imageMsg(header, w, h, "mono8", 1, result_.semantic.data()));
+    semantic_pub_.publish(imageMsgPtr(header, w, h, "mono8", 1, result_.semantic.data()));
   if (semantic_color_pub_.getNumSubscribers() > 0) {
     scratch_rgb_.resize(3 * n);
     colorizeClasses(result_.semantic.data(), n, *classes_, scratch_rgb_.data());
-    semantic_color_pub_.publish(imageMsg(header, w, h, "rgb8", 3, scratch_rgb_.data()));
+    semantic_color_pub_.publish(imageMsgPtr(header, w, h, "rgb8", 3, scratch_rgb_.data()));
   }
   if (overlay_pub_.getNumSubscribers() > 0) {
     auto color = pending_color_.find(header.stamp);
@@ -164,13 +164,13 @@ void Instances::onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Imag
     }
   }
   if (instance_ids_pub_.getNumSubscribers() > 0)
-    instance_ids_pub_.publish(imageMsg(header, w, h, "32SC1", 4, result_.instance_ids.data()));
+    instance_ids_pub_.publish(imageMsgPtr(header, w, h, "32SC1", 4, result_.instance_ids.data()));
   if (boundaries_pub_.getNumSubscribers() > 0)
-    boundaries_pub_.publish(imageMsg(header, w, h, "mono8", 1, result_.boundaries.data()));
+    boundaries_pub_.publish(imageMsgPtr(header, w, h, "mono8", 1, result_.boundaries.data()));
   if (viper_pub_.getNumSubscribers() > 0) {
     scratch_rgb_.resize(3 * n);
     encodeViperInstances(result_.semantic.data(), result_.instance_ids.data(), n, scratch_rgb_.data());
-    viper_pub_.publish(imageMsg(header, w, h, "rgb8", 3, scratch_rgb_.data()));
+    viper_pub_.publish(imageMsgPtr(header, w, h, "rgb8", 3, scratch_rgb_.data()));
   }
   objects_pub_.publish(toObjectArrayMsg(result_.objects, *classes_, header));
   ++frames_;

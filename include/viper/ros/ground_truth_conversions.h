@@ -53,6 +53,11 @@ visualization_msgs::MarkerArray boxMarkers(const Box3DArray& boxes, const ClassT
 sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
                             const std::string& encoding, uint32_t bytes_per_pixel, const void* data);
 
+/// The same, shared: what the nodelets publish, so that subscribers in the same manager get the
+/// message itself (zero-copy) instead of a serialised copy of it.
+sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                                  const std::string& encoding, uint32_t bytes_per_pixel, const void* data);
+
 /// Fills `frame`'s size, number, time, draws and draw ids from a draw list and a draw id image
 /// (32SC1). Returns an empty string, or what is wrong (encoding, size, stamps that differ).
 std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& draw_ids, CaptureFrame& frame);

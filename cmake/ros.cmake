@@ -6,6 +6,7 @@ add_library(viper_ros
   src/ros/capture_bridge.cpp
   src/ros/capture_bridge_nodelet.cpp
   src/ros/frame_counter_nodelet.cpp
+  src/ros/output_counter_nodelet.cpp
 )
 target_include_directories(viper_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})

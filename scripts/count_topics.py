@@ -3,8 +3,10 @@
 
 Usage: count_topics.py --expect N --timeout S TOPIC[@M] [TOPIC[@M] ...]
 Subscribes without deserialising (rospy.AnyMsg), waits until every topic has its count (M where
-given, else N) or no message arrived for S seconds, prints one line per topic ("TOPIC: n of N")
-and exits 0 if every topic got exactly its count, 1 otherwise. Run it with Debian's /usr/bin/python3.
+given, else N) or no message arrived for S seconds, prints one line per topic ("TOPIC: n of N,
+first to last message in T s, last one L s after the first topic's last"; L shows a node that
+lagged behind its input and caught up from its queue after the input ended) and exits 0 if every
+topic got exactly its count, 1 otherwise. Run it with Debian's /usr/bin/python3.
 """
 import argparse
 import sys
@@ -27,13 +29,17 @@ def main():
         topic, _, count = spec.partition("@")
         expected[topic] = int(count) if count else args.expect
     counts = {t: 0 for t in expected}
+    first_at, last_at = {}, {}
     lock = threading.Lock()
     last = [time.monotonic()]
 
     def callback(_msg, topic):
+        now = time.monotonic()
         with lock:
             counts[topic] += 1
-            last[0] = time.monotonic()
+            first_at.setdefault(topic, now)
+            last_at[topic] = now
+            last[0] = now
 
     subs = [rospy.Subscriber(t, rospy.AnyMsg, callback, callback_args=t, queue_size=1000, buff_size=2**28)
             for t in expected]
@@ -46,8 +52,14 @@ def main():
             break
         time.sleep(0.1)
     ok = True
+    reference = last_at.get(args.topics[0].partition("@")[0])
     for t in expected:
-        print("%s: %d of %d" % (t, counts[t], expected[t]))
+        timing = ""
+        if t in last_at:
+            timing = ", first to last message in %.2f s" % (last_at[t] - first_at[t])
+            if reference is not None:
+                timing += ", last one %+.2f s after %s's last" % (last_at[t] - reference, args.topics[0].partition("@")[0])
+        print("%s: %d of %d%s" % (t, counts[t], expected[t], timing))
         ok = ok and counts[t] == expected[t]
     sys.exit(0 if ok else 1)
 

@@ -1,23 +1,33 @@
 #!/usr/bin/env bash
-# Counts the frames the whole ground-truth pipeline delivers from a raw 1920x1080 bag played at its
-# own rate (15 Hz): captures the world, records a raw bag (scripts/make_test_bag.sh), starts
-# replay.launch's nodelets in one manager, plays the bag with rosbag play --clock, and counts the
-# messages on every ground-truth output (scripts/count_topics.py). Exits 1 if any topic missed a frame.
+# Counts the frames the whole ground-truth pipeline delivers from a 1920x1080 replay at its own rate
+# (15 Hz): captures the world at 15 fps, starts replay.launch's nodelets in one manager, loads the
+# output_counter nodelet beside them (subscribed to every ground-truth output, zero-copy) and reads
+# its counts after the replay. The replay is either (--source bag, the default) a raw bag written by
+# capture_to_bag (each message at its stamp, so that rosbag play plays 15 frames/s) and played by
+# rosbag play --clock in its own process, or (--source capture) the capture itself through
+# capture_bridge as a nodelet of the same manager (zero-copy, replay.launch capture:=). Exits 1 if
+# any output missed a frame.
 #
 # Usage: scripts/measure_pipeline.sh [--frames N (45)] [--width W (1920)] [--height H (1080)] [--no-flow]
+#                                    [--source bag|capture (bag)] [--rate R (1.0: replay speed factor)]
+#                                    [--queue-size Q (30: the nodelets' input queues, replay.launch's queue_size)]
 # Needs a built workspace sourced first: source build/devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-frames=45 width=1920 height=1080 flow=true
+frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
     --width) width="$2"; shift 2 ;;
     --height) height="$2"; shift 2 ;;
     --no-flow) flow=false; shift ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow]" >&2; exit 2 ;;
+    --queue-size) queue="$2"; shift 2 ;;
+    --source) source="$2"; shift 2 ;;
+    --rate) rate="$2"; shift 2 ;;
+    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|capture] [--rate R] [--queue-size Q]" >&2; exit 2 ;;
   esac
 done
+[ "$source" = bag ] || [ "$source" = capture ] || { echo "measure_pipeline: --source is bag or capture" >&2; exit 2; }
 command -v catkin_find >/dev/null || { echo "measure_pipeline: source <build>/devel/setup.bash first" >&2; exit 2; }
 py=/usr/bin/python3
 ros_tool() { local tool=$1; shift; "$py" "$(command -v "$tool")" "$@"; }
@@ -37,37 +47,64 @@ echo "measure_pipeline: capturing $frames frames of the world at ${width}x${heig
 "$bin/capture" --output "$work/world.vcap" --profile "$here/config/profiles/world.yaml" --fps 15 \
   -- "$bin/world" --frames "$frames" --width "$width" --height "$height" >/dev/null
 echo "measure_pipeline: captured (${SECONDS} s)"
-bash "$here/scripts/make_test_bag.sh" --capture "$work/world.vcap" --output "$work/raw.bag"
-
-echo "measure_pipeline: bag written (${SECONDS} s)"
+if [ "$source" = bag ]; then
+  "$bin/capture_to_bag" --output "$work/raw.bag" "$work/world.vcap" >/dev/null
+  echo "measure_pipeline: bag written (${SECONDS} s)"
+  replay_args=()
+else
+  # The bridge waits 8 s after advertising: output_counter is loaded by then.
+  replay_args=(capture:="$work/world.vcap" rate:="$rate" start_delay:=8)
+fi
 port=$(( 20000 + RANDOM % 20000 ))
 export ROS_MASTER_URI="http://localhost:$port" ROS_HOME="$work/ros_home"
-"$py" "$(command -v roslaunch)" -p "$port" viper replay.launch label_table:="$here/config/labels/world_labels.yaml" flow:="$flow" \
-  >"$work/launch.log" 2>&1 &
+"$py" "$(command -v roslaunch)" -p "$port" viper replay.launch label_table:="$here/config/labels/world_labels.yaml" flow:="$flow" queue_size:="$queue" \
+  "${replay_args[@]}" >"$work/launch.log" 2>&1 &
 pids+=($!)
 for _ in $(seq 150); do
   ros_tool rosnode list 2>/dev/null | grep -q ground_truth/odometry && break
   sleep 0.2
 done
-
+rosrun nodelet nodelet load viper/output_counter /viper_manager __name:=output_counter __ns:=ground_truth \
+  _report_file:="$work/counts.txt" _idle_s:=5 >"$work/counter.log" 2>&1 &
+pids+=($!)
+for _ in $(seq 100); do ros_tool rosnode list 2>/dev/null | grep -q /ground_truth/output_counter && break; sleep 0.2; done
+manager=$(ros_tool rosnode info /viper_manager 2>/dev/null | sed -n 's/^Pid: //p')
+ticks() { awk '{print $14 + $15}' "/proc/$manager/stat"; }
+before=$(ticks)
+echo "measure_pipeline: playing (${SECONDS} s)"
+if [ "$source" = bag ]; then
+  start=$(date +%s.%N)
+  ros_tool rosbag play --clock --quiet --delay=2 --rate="$rate" "$work/raw.bag"  # --delay: every subscriber connects first
+  end=$(date +%s.%N)
+  played="bag $(du -h "$work/raw.bag" | cut -f1), rosbag play took $(echo "$end - $start - 2" | bc) s after its 2 s delay"
+else
+  played="capture $(du -h "$work/world.vcap" | cut -f1) through the bridge nodelet"
+fi
+for _ in $(seq 600); do [ -f "$work/counts.txt" ] && break; sleep 0.2; done
+[ -f "$work/counts.txt" ] || { echo "measure_pipeline: output_counter wrote no counts" >&2; tail -20 "$work/launch.log" >&2; exit 1; }
+after=$(ticks)
+echo "machine: $(nproc) cores; $frames frames ${width}x${height} at rate $rate; $played"
+echo "nodelet manager: $(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc) ms CPU per frame (at 15 Hz, 2 cores give 133 ms)"
 # Flow exists for every frame but one: forward flow of the last frame and backward flow of the first
 # have no other frame.
-topics=(/capture/draws /ground_truth/semantic /ground_truth/instance_ids /ground_truth/objects
-        /ground_truth/boxes /ground_truth/odom)
-# The masks (1 byte/px) stand for the flow images (8 bytes/px, computed together): a Python counter
-# cannot take 2 x 16 MB per frame at 15 Hz itself.
-[ "$flow" = true ] && topics+=("/ground_truth/flow/forward_visible@$((frames - 1))" "/ground_truth/flow/backward_visible@$((frames - 1))")
-"$py" "$here/scripts/count_topics.py" --expect "$frames" --timeout 20 "${topics[@]}" >"$work/counts.txt" 2>&1 &
-counter=$!
-for _ in $(seq 100); do grep -q subscribed "$work/counts.txt" && break; sleep 0.2; done
-sleep 3  # let the subscriptions connect before the first message
-echo "measure_pipeline: playing (${SECONDS} s)"
-start=$(date +%s.%N)
-ros_tool rosbag play --clock --quiet "$work/raw.bag"
-end=$(date +%s.%N)
 status=0
-wait "$counter" || status=$?
-echo "machine: $(nproc) cores; bag: $frames frames ${width}x${height}, $(du -h "$work/raw.bag" | cut -f1), played in $(echo "$end - $start" | bc) s"
-grep -v subscribed "$work/counts.txt"
-[ "$status" = 0 ] && echo "measure_pipeline: no frame dropped" || { echo "measure_pipeline: frames dropped" >&2; tail -20 "$work/launch.log" >&2; }
+draws_last=$(awk '$1 == "/capture/draws" {print $4}' "$work/counts.txt")
+outputs=(/capture/draws semantic semantic_color instance_ids boundaries instances_viper semantic_overlay objects
+         boxes boxes_optical odom)
+[ "$flow" = true ] && outputs+=(flow/forward flow/forward_visible flow/backward flow/backward_visible)
+for topic in "${outputs[@]}"; do
+  want=$frames
+  case "$topic" in flow/*) want=$((frames - 1)) ;; esac
+  read -r n first last < <(awk -v t="$topic" '$1 == t {print $2, $3, $4}' "$work/counts.txt")  || true
+  if [ -z "${n:-}" ]; then
+    echo "$topic: 0 of $want"
+    status=1
+    continue
+  fi
+  printf '%s: %d of %d, first to last in %.2f s, last one %+.2f s after the last draw list\n' \
+    "$topic" "$n" "$want" "$(echo "$last - $first" | bc)" "$(echo "$last - ${draws_last:-$last}" | bc)"
+  [ "$n" = "$want" ] || status=1
+  n=""
+done
+[ "$status" = 0 ] && echo "measure_pipeline: no frame dropped" || { echo "measure_pipeline: frames dropped" >&2; grep -i "error\|warn" "$work/launch.log" | tail -20 >&2; }
 exit "$status"

@@ -28,20 +28,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ "$source" = bag ] || [ "$source" = capture ] || { echo "measure_pipeline: --source is bag or capture" >&2; exit 2; }
-command -v catkin_find >/dev/null || { echo "measure_pipeline: source <build>/devel/setup.bash first" >&2; exit 2; }
-py=/usr/bin/python3
-ros_tool() { local tool=$1; shift; "$py" "$(command -v "$tool")" "$@"; }
-bin=$(dirname "$("$py" "$(command -v catkin_find)" --without-underlays --libexec viper | head -1)/x")
-
-work=$(mktemp -d /tmp/viper_measure_pipeline.XXXXXX)
-pids=()
-cleanup() {
-  local pid
-  for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done
-  for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+source "$here/scripts/measure_common.sh" measure_pipeline
 
 echo "measure_pipeline: capturing $frames frames of the world at ${width}x${height}"
 "$bin/capture" --output "$work/world.vcap" --profile "$here/config/profiles/world.yaml" --fps 15 \

@@ -17,7 +17,7 @@ PKGS=(
   libgtest-dev libbenchmark-dev
   xvfb imagemagick
   libzip-dev python3-numpy libpng-dev
-  libstd-srvs-dev libopencv-apps-dev ros-opencv-apps
+  libstd-srvs-dev libopencv-apps-dev ros-opencv-apps python3-opencv-apps python3-sensor-msgs
 )
 
 missing=()

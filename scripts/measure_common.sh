@@ -16,3 +16,15 @@ cleanup() {
   rm -rf "$work"
 }
 trap cleanup EXIT
+
+# rosbag play in the background, kept alive after the bag's end (--keep-alive): a player that exits
+# drops what its outgoing queues still hold, i.e. the large images it could not send yet, and that
+# would count as frames the subscribers lost. stdin is a FIFO this shell keeps open (rosbag play
+# reads keys from it; /dev/null would stall it). Node name /bag_player; stop it with stop_bag.
+play_bag() {
+  mkfifo "$work/play.in"
+  ros_tool rosbag play --quiet --keep-alive --delay=2 "$@" __name:=bag_player <"$work/play.in" >"$work/play.log" 2>&1 &
+  pids+=($!)
+  exec 9>"$work/play.in"
+}
+stop_bag() { ros_tool rosnode kill /bag_player >/dev/null 2>&1 || true; }

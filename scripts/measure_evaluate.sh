@@ -75,22 +75,24 @@ pids+=($evaluate)
 for _ in $(seq 100); do ros_tool rosnode list 2>/dev/null | grep -q /evaluate && break; sleep 0.2; done
 ticks() { awk '{print $14 + $15}' "/proc/$evaluate/stat"; }
 before=$(ticks)
-start=$(date +%s.%N)
-ros_tool rosbag play --quiet --delay=2 --rate="$rate" "$work/scored.bag"  # --delay: evaluate connects first
-end=$(date +%s.%N)
-# Evaluate's CPU time until it has worked through its queues (before the report: no input for 5 s).
-after=$(ticks)
-for _ in $(seq 20); do
+play_bag --rate="$rate" "$work/scored.bag"  # --delay=2: evaluate connects first
+# Evaluate's CPU time for the frames: until it has been idle for 3 s (it writes its report only
+# after 5 s without input).
+sleep 3  # the player's 2 s delay, and the first frames
+after=$(ticks) still=0
+while [ "$still" -lt 6 ]; do
   sleep 0.5
   now=$(ticks)
-  [ $((now - after)) -le 1 ] && break
+  if [ $((now - after)) -le 1 ]; then still=$((still + 1)); else still=0; fi
   after=$now
 done
+for _ in $(seq 600); do grep -q "no input for" "$work/evaluate.log" && break; sleep 0.2; done
+stop_bag
 wait "$evaluate" || true
 
 summary="$work/report/summary.csv"
 [ -f "$summary" ] || { echo "measure_evaluate: evaluate wrote no report" >&2; tail -20 "$work/evaluate.log" >&2; exit 1; }
-echo "machine: $(nproc) cores; bag: $frames frames ${width}x${height} with ground truth and predictions, $(du -h "$work/scored.bag" | cut -f1), played in $(echo "$end - $start - 2" | bc) s (after a 2 s delay)"
+echo "machine: $(nproc) cores; bag: $frames frames ${width}x${height} with ground truth and predictions, $(du -h "$work/scored.bag" | cut -f1), at rate $rate"
 echo "evaluate: $(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc) ms CPU per frame (at 15 Hz a frame lasts 66.7 ms)"
 "$py" - "$summary" "$frames" <<'EOF'
 import csv, sys

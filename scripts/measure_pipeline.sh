@@ -4,7 +4,7 @@
 # output_counter nodelet beside them (subscribed to every ground-truth output, zero-copy) and reads
 # its counts after the replay. The replay is either (--source bag, the default) a raw bag written by
 # capture_to_bag (each message at its stamp, so that rosbag play plays 15 frames/s) and played by
-# rosbag play --clock in its own process, or (--source capture) the capture itself through
+# rosbag play --clock in its own process (kept alive until the counts are in), or (--source capture) the capture itself through
 # capture_bridge as a nodelet of the same manager (zero-copy, replay.launch capture:=). Exits 1 if
 # any output missed a frame.
 #
@@ -60,15 +60,14 @@ ticks() { awk '{print $14 + $15}' "/proc/$manager/stat"; }
 before=$(ticks)
 echo "measure_pipeline: playing (${SECONDS} s)"
 if [ "$source" = bag ]; then
-  start=$(date +%s.%N)
-  ros_tool rosbag play --clock --quiet --delay=2 --rate="$rate" "$work/raw.bag"  # --delay: every subscriber connects first
-  end=$(date +%s.%N)
-  played="bag $(du -h "$work/raw.bag" | cut -f1), rosbag play took $(echo "$end - $start - 2" | bc) s after its 2 s delay"
+  play_bag --clock --rate="$rate" "$work/raw.bag"  # --delay=2: every subscriber connects first
+  played="bag $(du -h "$work/raw.bag" | cut -f1) played by rosbag play"
 else
   played="capture $(du -h "$work/world.vcap" | cut -f1) through the bridge nodelet"
 fi
 for _ in $(seq 600); do [ -f "$work/counts.txt" ] && break; sleep 0.2; done
 [ -f "$work/counts.txt" ] || { echo "measure_pipeline: output_counter wrote no counts" >&2; tail -20 "$work/launch.log" >&2; exit 1; }
+[ "$source" = bag ] && stop_bag
 after=$(ticks)
 echo "machine: $(nproc) cores; $frames frames ${width}x${height} at rate $rate; $played"
 echo "nodelet manager: $(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc) ms CPU per frame (at 15 Hz, 2 cores give 133 ms)"

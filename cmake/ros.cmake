@@ -1,4 +1,7 @@
-# viper_ros: message conversions and the capture bridge (node + nodelet).
+# viper_ros: message conversions, the capture bridge and the bag player (nodes + nodelets).
+# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
+find_package(pluginlib REQUIRED)
+find_package(class_loader REQUIRED)
 add_library(viper_ros
   src/ros/capture_conversions.cpp
   src/ros/replay_timing.cpp
@@ -7,9 +10,11 @@ add_library(viper_ros
   src/ros/capture_bridge_nodelet.cpp
   src/ros/frame_counter_nodelet.cpp
   src/ros/output_counter_nodelet.cpp
+  src/ros/bag_player.cpp
+  src/ros/bag_player_nodelet.cpp
 )
 target_include_directories(viper_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
+target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
 target_link_libraries(viper_ros PUBLIC viper_core ${catkin_LIBRARIES})
 add_dependencies(viper_ros viper_generate_messages_cpp)
 set_target_properties(viper_ros PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
@@ -19,7 +24,12 @@ target_link_libraries(capture_bridge viper_ros)
 set_target_properties(capture_bridge PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 
-install(TARGETS viper_ros capture_bridge
+add_executable(bag_player nodes/bag_player_node.cpp)
+target_link_libraries(bag_player viper_ros)
+set_target_properties(bag_player PROPERTIES
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+
+install(TARGETS viper_ros capture_bridge bag_player
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -124,6 +124,11 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/capture_to_bag.test
     ARGS capture:=${VIPER_WORLD_ROUNDTRIP_CAPTURE} bag:=${VIPER_WORLD_RAW_BAG}
     DEPENDENCIES capture_to_bag_tester capture_bridge world_raw_bag)
+  # And bag_player (node and nodelet) plays that bag message for message.
+  add_rostest(test/ros/bag_player.test ARGS bag:=${VIPER_WORLD_RAW_BAG}
+    DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
+  add_rostest(test/ros/bag_player.test ARGS bag:=${VIPER_WORLD_RAW_BAG} nodelet:=true
+    DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
   roslaunch_add_file_check(launch/viper_player.launch root:=/tmp/viper)
 endif()
 

@@ -2,14 +2,15 @@
 # Counts the frames the whole ground-truth pipeline delivers from a 1920x1080 replay at its own rate
 # (15 Hz): captures the world at 15 fps, starts replay.launch's nodelets in one manager, loads the
 # output_counter nodelet beside them (subscribed to every ground-truth output, zero-copy) and reads
-# its counts after the replay. The replay is either (--source bag, the default) a raw bag written by
-# capture_to_bag (each message at its stamp, so that rosbag play plays 15 frames/s) and played by
-# rosbag play --clock in its own process (kept alive until the counts are in), or (--source capture) the capture itself through
-# capture_bridge as a nodelet of the same manager (zero-copy, replay.launch capture:=). Exits 1 if
-# any output missed a frame.
+# its counts after the replay. The replay is a raw bag written by capture_to_bag (each message at its
+# stamp, so that it plays at 15 frames/s) played by the viper/bag_player nodelet in the same manager
+# (--source bag, the default: replay.launch bag:=, zero-copy) or by rosbag play --clock in its own
+# process, kept alive until the counts are in (--source rosbag), or the capture itself through
+# capture_bridge as a nodelet of the same manager (--source capture: replay.launch capture:=).
+# Exits 1 if any output missed a frame.
 #
 # Usage: scripts/measure_pipeline.sh [--frames N (45)] [--width W (1920)] [--height H (1080)] [--no-flow]
-#                                    [--source bag|capture (bag)] [--rate R (1.0: replay speed factor)]
+#                                    [--source bag|rosbag|capture (bag)] [--rate R (1.0: replay speed factor)]
 #                                    [--queue-size Q (30: the nodelets' input queues, replay.launch's queue_size)]
 # Needs a built workspace sourced first: source build/devel/setup.bash
 set -euo pipefail
@@ -24,23 +25,23 @@ while [ $# -gt 0 ]; do
     --queue-size) queue="$2"; shift 2 ;;
     --source) source="$2"; shift 2 ;;
     --rate) rate="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|capture] [--rate R] [--queue-size Q]" >&2; exit 2 ;;
+    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q]" >&2; exit 2 ;;
   esac
 done
-[ "$source" = bag ] || [ "$source" = capture ] || { echo "measure_pipeline: --source is bag or capture" >&2; exit 2; }
+case "$source" in bag|rosbag|capture) ;; *) echo "measure_pipeline: --source is bag, rosbag or capture" >&2; exit 2 ;; esac
 source "$here/scripts/measure_common.sh" measure_pipeline
 
 echo "measure_pipeline: capturing $frames frames of the world at ${width}x${height}"
 "$bin/capture" --output "$work/world.vcap" --profile "$here/config/profiles/world.yaml" --fps 15 \
   -- "$bin/world" --frames "$frames" --width "$width" --height "$height" >/dev/null
 echo "measure_pipeline: captured (${SECONDS} s)"
-if [ "$source" = bag ]; then
+# The bridge and the bag player wait 8 s after advertising: output_counter is loaded by then.
+replay_args=(capture:="$work/world.vcap" rate:="$rate" start_delay:=8)
+if [ "$source" != capture ]; then
   "$bin/capture_to_bag" --output "$work/raw.bag" "$work/world.vcap" >/dev/null
   echo "measure_pipeline: bag written (${SECONDS} s)"
   replay_args=()
-else
-  # The bridge waits 8 s after advertising: output_counter is loaded by then.
-  replay_args=(capture:="$work/world.vcap" rate:="$rate" start_delay:=8)
+  [ "$source" = bag ] && replay_args=(bag:="$work/raw.bag" rate:="$rate" start_delay:=8)
 fi
 port=$(( 20000 + RANDOM % 20000 ))
 export ROS_MASTER_URI="http://localhost:$port" ROS_HOME="$work/ros_home"
@@ -59,15 +60,16 @@ manager=$(ros_tool rosnode info /viper_manager 2>/dev/null | sed -n 's/^Pid: //p
 ticks() { awk '{print $14 + $15}' "/proc/$manager/stat"; }
 before=$(ticks)
 echo "measure_pipeline: playing (${SECONDS} s)"
-if [ "$source" = bag ]; then
-  play_bag --clock --rate="$rate" "$work/raw.bag"  # --delay=2: every subscriber connects first
-  played="bag $(du -h "$work/raw.bag" | cut -f1) played by rosbag play"
-else
-  played="capture $(du -h "$work/world.vcap" | cut -f1) through the bridge nodelet"
-fi
+case "$source" in
+  rosbag)
+    play_bag --clock --rate="$rate" "$work/raw.bag"  # --delay=2: every subscriber connects first
+    played="bag $(du -h "$work/raw.bag" | cut -f1) played by rosbag play" ;;
+  bag) played="bag $(du -h "$work/raw.bag" | cut -f1) played by the bag_player nodelet" ;;
+  capture) played="capture $(du -h "$work/world.vcap" | cut -f1) through the bridge nodelet" ;;
+esac
 for _ in $(seq 600); do [ -f "$work/counts.txt" ] && break; sleep 0.2; done
 [ -f "$work/counts.txt" ] || { echo "measure_pipeline: output_counter wrote no counts" >&2; tail -20 "$work/launch.log" >&2; exit 1; }
-[ "$source" = bag ] && stop_bag
+[ "$source" = rosbag ] && stop_bag
 after=$(ticks)
 echo "machine: $(nproc) cores; $frames frames ${width}x${height} at rate $rate; $played"
 echo "nodelet manager: $(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc) ms CPU per frame (at 15 Hz, 2 cores give 133 ms)"

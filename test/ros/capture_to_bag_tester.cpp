@@ -1,6 +1,7 @@
 // rostest tester for capture_to_bag: subscribes to every topic of a capture_bridge node replaying a
 // capture and compares what arrives with capture_to_bag's bag of the same capture, message by message
-// and byte by byte (so topics, types, stamps, frame ids and content). Per-frame topics must match
+// and byte by byte (so topics, types, stamps, frame ids and content). bag_player.test uses it the
+// other way round: bag_player plays the bag, and what arrives must be the bag. Per-frame topics must match
 // exactly, in order; the latched mesh store may lose a message the bridge replaced before sending it,
 // so every mesh store received must be the bag's one with the same stamp, and the last ones equal.
 //

@@ -1,0 +1,154 @@
+#include "viper/ros/bag_player.h"
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <rosgraph_msgs/Clock.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <topic_tools/shape_shifter.h>
+#include <viper/DrawList.h>
+#include <viper/MeshStore.h>
+
+#include <algorithm>
+
+namespace viper {
+
+namespace {
+
+const char* const kImage = "sensor_msgs/Image";
+const char* const kCameraInfo = "sensor_msgs/CameraInfo";
+const char* const kDrawList = "viper/DrawList";
+const char* const kMeshStore = "viper/MeshStore";
+
+bool latched(const rosbag::ConnectionInfo& c) {
+  if (!c.header) return false;
+  const auto it = c.header->find("latching");
+  return it != c.header->end() && it->second == "1";
+}
+
+}  // namespace
+
+std::string readBagPlayerOptions(const ros::NodeHandle& pnh, BagPlayerOptions& o) {
+  pnh.param<std::string>("bag", o.bag, "");
+  pnh.param("rate", o.rate, 1.0);
+  pnh.param("start_delay_s", o.start_delay_s, 0.0);
+  pnh.param("publish_clock", o.publish_clock, true);
+  pnh.param("queue_size", o.queue_size, 100);
+  pnh.param("exit_when_done", o.exit_when_done, false);
+  if (o.bag.empty()) return "~bag is empty: give the raw bag to play";
+  if (!(o.rate >= 0.0)) return "~rate must be >= 0 (0: as fast as possible), got " + std::to_string(o.rate);
+  if (!(o.start_delay_s >= 0.0)) return "~start_delay_s must be >= 0, got " + std::to_string(o.start_delay_s);
+  if (o.queue_size < 1) return "~queue_size must be >= 1, got " + std::to_string(o.queue_size);
+  return {};
+}
+
+BagPlayer::BagPlayer(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
+
+BagPlayer::~BagPlayer() { stop(); }
+
+bool BagPlayer::start(bool is_node) {
+  is_node_ = is_node;
+  const std::string problem = readBagPlayerOptions(pnh_, options_);
+  if (!problem.empty()) {
+    ROS_FATAL("bag_player %s: %s", pnh_.getNamespace().c_str(), problem.c_str());
+    return false;
+  }
+  try {
+    rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
+    rosbag::View view(bag);
+    for (const rosbag::ConnectionInfo* c : view.getConnections()) {
+      if (pubs_.count(c->topic)) continue;
+      const uint32_t q = static_cast<uint32_t>(options_.queue_size);
+      const bool latch = latched(*c);
+      if (c->datatype == kImage) pubs_[c->topic] = nh_.advertise<sensor_msgs::Image>(c->topic, q, latch);
+      else if (c->datatype == kCameraInfo) pubs_[c->topic] = nh_.advertise<sensor_msgs::CameraInfo>(c->topic, q, latch);
+      else if (c->datatype == kDrawList) pubs_[c->topic] = nh_.advertise<DrawList>(c->topic, q, latch);
+      else if (c->datatype == kMeshStore) pubs_[c->topic] = nh_.advertise<MeshStore>(c->topic, q, latch);
+      else {
+        topic_tools::ShapeShifter shape;
+        shape.morph(c->md5sum, c->datatype, c->msg_def, latch ? "1" : "0");
+        pubs_[c->topic] = shape.advertise(nh_, c->topic, q, latch);
+      }
+    }
+  } catch (const rosbag::BagException& e) {
+    ROS_FATAL("bag_player: cannot read '%s': %s (a truncated bag has no index: 'rosbag reindex' recovers "
+              "the messages before the damage)",
+              options_.bag.c_str(), e.what());
+    return false;
+  }
+  if (pubs_.empty()) {
+    ROS_FATAL("bag_player: '%s' holds no message", options_.bag.c_str());
+    return false;
+  }
+  if (options_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  ROS_INFO("bag_player: playing '%s' (%zu topics) at rate %g", options_.bag.c_str(), pubs_.size(), options_.rate);
+  thread_ = std::thread(&BagPlayer::run, this);
+  return true;
+}
+
+void BagPlayer::stop() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+bool BagPlayer::sleepUntil(const ros::WallTime& t) {
+  while (!stop_ && ros::ok()) {
+    const double left = (t - ros::WallTime::now()).toSec();
+    if (left <= 0.0) return true;
+    ros::WallDuration(std::min(left, 0.1)).sleep();
+  }
+  return false;
+}
+
+bool BagPlayer::publish(const rosbag::MessageInstance& m) {
+  ros::Publisher& pub = pubs_[m.getTopic()];
+  const std::string& type = m.getDataType();
+  if (type == kImage) pub.publish(m.instantiate<sensor_msgs::Image>());
+  else if (type == kCameraInfo) pub.publish(m.instantiate<sensor_msgs::CameraInfo>());
+  else if (type == kDrawList) pub.publish(m.instantiate<DrawList>());
+  else if (type == kMeshStore) pub.publish(m.instantiate<MeshStore>());
+  else pub.publish(m.instantiate<topic_tools::ShapeShifter>());
+  return true;
+}
+
+void BagPlayer::run() {
+  if (options_.start_delay_s > 0.0 && !sleepUntil(ros::WallTime::now() + ros::WallDuration(options_.start_delay_s)))
+    return;
+  uint64_t count = 0;
+  ros::Time last_time;
+  try {
+    rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
+    rosbag::View view(bag);
+    ros::Time first;
+    ros::WallTime wall_start;
+    for (const rosbag::MessageInstance& m : view) {
+      if (stop_ || !ros::ok()) return;
+      const ros::Time t = m.getTime();
+      if (count == 0) {
+        first = t;
+        wall_start = ros::WallTime::now();
+      } else if (options_.rate > 0.0 && !sleepUntil(wall_start + ros::WallDuration((t - first).toSec() / options_.rate))) {
+        return;
+      }
+      // The clock first, so sim-time subscribers see the message's time when it arrives.
+      if (options_.publish_clock && t > last_time) {
+        rosgraph_msgs::Clock clock;
+        clock.clock = t;
+        clock_pub_.publish(clock);
+      }
+      last_time = t;
+      publish(m);
+      ++count;
+      published_ = count;
+    }
+  } catch (const std::exception& e) {
+    ROS_ERROR("bag_player: '%s' is damaged after %lu messages (bag time %.6f): %s; stopping, the messages before "
+              "were published",
+              options_.bag.c_str(), static_cast<unsigned long>(count), last_time.toSec(), e.what());
+  }
+  ROS_INFO("bag_player: done with '%s': %lu messages published", options_.bag.c_str(),
+           static_cast<unsigned long>(count));
+  if (is_node_ && options_.exit_when_done) ros::requestShutdown();
+}
+
+}  // namespace viper

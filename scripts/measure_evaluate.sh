@@ -2,17 +2,21 @@
 # Does evaluate keep up with a 1920x1080 replay at 15 Hz with every metric on? Captures the world,
 # makes its ground truth with replay.launch at a slow rate (record:=), turns it into a bag that also
 # holds a perfect perception's outputs for every metric (scripts/perfect_predictions.py: semantic,
-# instances, dense and sparse flow, odometry), plays that bag at its own rate (15 Hz) into the
-# evaluate node and reads back what evaluate scored: every metric must have scored every frame
-# (flow: every frame but the last), with perfect scores. Also reports evaluate's CPU time per frame.
-# Exits 1 if a metric lost a frame or a score is not perfect.
+# instances, dense and sparse flow, odometry), plays that bag at its own rate (15 Hz) into evaluate
+# and reads back what it scored: every metric must have scored every frame (flow: every frame but
+# the last), with perfect scores. The player and evaluate are nodelets of one manager (--source
+# manager, the default: zero-copy, as in evaluate.launch nodelet:=true) or rosbag play --keep-alive
+# and the evaluate node, two processes (--source rosbag). Also reports the CPU time per frame of the
+# manager (player and evaluate) or of the evaluate node. Exits 1 if a metric lost a frame or a score
+# is not perfect.
 #
 # Usage: scripts/measure_evaluate.sh [--frames N (45)] [--width W (1920)] [--height H (1080)]
-#                                    [--rate R (1.0: rosbag play's factor)] [--queue-size Q (10)]
+#                                    [--rate R (1.0: the player's factor)] [--queue-size Q (10)]
+#                                    [--source manager|rosbag (manager)]
 # Needs a built workspace sourced first: source build/devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-frames=45 width=1920 height=1080 rate=1.0 queue=10
+frames=45 width=1920 height=1080 rate=1.0 queue=10 source=manager
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
@@ -20,9 +24,11 @@ while [ $# -gt 0 ]; do
     --height) height="$2"; shift 2 ;;
     --rate) rate="$2"; shift 2 ;;
     --queue-size) queue="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--rate R] [--queue-size Q]" >&2; exit 2 ;;
+    --source) source="$2"; shift 2 ;;
+    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--rate R] [--queue-size Q] [--source manager|rosbag]" >&2; exit 2 ;;
   esac
 done
+case "$source" in manager|rosbag) ;; *) echo "measure_evaluate: --source is manager or rosbag" >&2; exit 2 ;; esac
 source "$here/scripts/measure_common.sh" measure_evaluate
 port=$(( 20000 + RANDOM % 20000 ))
 export ROS_MASTER_URI="http://localhost:$port" ROS_HOME="$work/ros_home"
@@ -66,18 +72,37 @@ tunables=glibc.malloc.arena_max=1:glibc.malloc.mmap_threshold=1073741824:glibc.m
 # The world's short drive is a few tens of metres: VO segments of 5 to 20 m, one every 5 poses.
 # (A list: rosparam parses it; a roscpp node's _name:= would take it for a string.)
 ros_tool rosparam set /evaluate/odometry_segment_lengths_m "[5.0, 10.0, 20.0]"
-GLIBC_TUNABLES="$tunables" "$bin/evaluate" __name:=evaluate _report_dir:="$work/report" _queue_size:="$queue" _shutdown_after_idle_s:=5 \
-  _odometry_step_frames:=5 \
-  semantic:=/perception/semantic instances:=/perception/instances flow:=/perception/flow \
-  flow_sparse:=/perception/flow_sparse odom:=/perception/odom >"$work/evaluate.log" 2>&1 &
-evaluate=$!
-pids+=($evaluate)
-for _ in $(seq 100); do ros_tool rosnode list 2>/dev/null | grep -q /evaluate && break; sleep 0.2; done
-ticks() { awk '{print $14 + $15}' "/proc/$evaluate/stat"; }
+eval_args=(_report_dir:="$work/report" _queue_size:="$queue" _shutdown_after_idle_s:=5 _odometry_step_frames:=5
+           semantic:=/perception/semantic instances:=/perception/instances flow:=/perception/flow
+           flow_sparse:=/perception/flow_sparse odom:=/perception/odom)
+if [ "$source" = manager ]; then
+  # evaluate and bag_player as nodelets of one manager: the bag's messages reach evaluate zero-copy.
+  GLIBC_TUNABLES="$tunables" rosrun nodelet nodelet manager __name:=manager >"$work/evaluate.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 100); do ros_tool rosnode list 2>/dev/null | grep -q /manager && break; sleep 0.2; done
+  rosrun nodelet nodelet load viper/evaluate /manager __name:=evaluate "${eval_args[@]}" >"$work/load.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 100); do ros_tool rosnode list 2>/dev/null | grep -q /evaluate && break; sleep 0.2; done
+  process=$(ros_tool rosnode info /manager 2>/dev/null | sed -n 's/^Pid: //p')
+  who="the manager (bag_player and evaluate)"
+else
+  GLIBC_TUNABLES="$tunables" "$bin/evaluate" __name:=evaluate "${eval_args[@]}" >"$work/evaluate.log" 2>&1 &
+  process=$!
+  pids+=($process)
+  for _ in $(seq 100); do ros_tool rosnode list 2>/dev/null | grep -q /evaluate && break; sleep 0.2; done
+  who="evaluate"
+fi
+ticks() { awk '{print $14 + $15}' "/proc/$process/stat"; }
 before=$(ticks)
-play_bag --rate="$rate" "$work/scored.bag"  # --delay=2: evaluate connects first
-# Evaluate's CPU time for the frames: until it has been idle for 3 s (it writes its report only
-# after 5 s without input).
+if [ "$source" = manager ]; then
+  rosrun nodelet nodelet load viper/bag_player /manager __name:=bag_player _bag:="$work/scored.bag" _rate:="$rate" \
+    _start_delay_s:=2 _publish_clock:=false >"$work/play.log" 2>&1 &
+  pids+=($!)
+else
+  play_bag --rate="$rate" "$work/scored.bag"  # --delay=2: evaluate connects first
+fi
+# The CPU time for the frames: until the process has been idle for 3 s (evaluate writes its report
+# only after 5 s without input).
 sleep 3  # the player's 2 s delay, and the first frames
 after=$(ticks) still=0
 while [ "$still" -lt 6 ]; do
@@ -87,13 +112,16 @@ while [ "$still" -lt 6 ]; do
   after=$now
 done
 for _ in $(seq 600); do grep -q "no input for" "$work/evaluate.log" && break; sleep 0.2; done
-stop_bag
-wait "$evaluate" || true
+[ "$source" = rosbag ] && stop_bag
+for _ in $(seq 300); do [ -f "$work/report/summary.csv" ] && break; sleep 0.2; done
+sleep 1
 
 summary="$work/report/summary.csv"
 [ -f "$summary" ] || { echo "measure_evaluate: evaluate wrote no report" >&2; tail -20 "$work/evaluate.log" >&2; exit 1; }
 echo "machine: $(nproc) cores; bag: $frames frames ${width}x${height} with ground truth and predictions, $(du -h "$work/scored.bag" | cut -f1), at rate $rate"
-echo "evaluate: $(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc) ms CPU per frame (at 15 Hz a frame lasts 66.7 ms)"
+[ "$source" = manager ] && grep -o "bag_player: done with .*" "$work/evaluate.log" | sed 's/\x1b\[[0-9;]*m//g'
+true
+echo "$who: $(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc) ms CPU per frame (at 15 Hz a frame lasts 66.7 ms)"
 "$py" - "$summary" "$frames" <<'EOF'
 import csv, sys
 rows = {r["condition"]: r for r in csv.DictReader(open(sys.argv[1]))}

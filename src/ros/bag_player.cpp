@@ -115,12 +115,11 @@ void BagPlayer::run() {
   if (options_.start_delay_s > 0.0 && !sleepUntil(ros::WallTime::now() + ros::WallDuration(options_.start_delay_s)))
     return;
   uint64_t count = 0;
-  ros::Time last_time;
+  ros::Time first, last_time;
+  ros::WallTime wall_start;
   try {
     rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
     rosbag::View view(bag);
-    ros::Time first;
-    ros::WallTime wall_start;
     for (const rosbag::MessageInstance& m : view) {
       if (stop_ || !ros::ok()) return;
       const ros::Time t = m.getTime();
@@ -146,8 +145,9 @@ void BagPlayer::run() {
               "were published",
               options_.bag.c_str(), static_cast<unsigned long>(count), last_time.toSec(), e.what());
   }
-  ROS_INFO("bag_player: done with '%s': %lu messages published", options_.bag.c_str(),
-           static_cast<unsigned long>(count));
+  ROS_INFO("bag_player: done with '%s': %lu messages published in %.2f s (%.2f s of bag time)", options_.bag.c_str(),
+           static_cast<unsigned long>(count), count ? (ros::WallTime::now() - wall_start).toSec() : 0.0,
+           count ? (last_time - first).toSec() : 0.0);
   if (is_node_ && options_.exit_when_done) ros::requestShutdown();
 }
 

@@ -129,6 +129,19 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
   add_rostest(test/ros/bag_player.test ARGS bag:=${VIPER_WORLD_RAW_BAG} nodelet:=true
     DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
+  # ... and names a damaged chunk, keeping what came before it.
+  set(VIPER_WORLD_DAMAGED_BAG ${PROJECT_BINARY_DIR}/test_data/world_raw_damaged.bag)
+  add_custom_command(OUTPUT ${VIPER_WORLD_DAMAGED_BAG}
+    COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/ros/damage_file.py ${VIPER_WORLD_RAW_BAG} ${VIPER_WORLD_DAMAGED_BAG}
+    DEPENDS ${VIPER_WORLD_RAW_BAG} ${PROJECT_SOURCE_DIR}/test/ros/damage_file.py
+    COMMENT "Damaging a copy of the world raw bag")
+  add_custom_target(world_raw_damaged_bag DEPENDS ${VIPER_WORLD_DAMAGED_BAG})
+  if(TARGET tests)
+    add_dependencies(tests world_raw_damaged_bag)
+  endif()
+  add_rostest(test/ros/bag_player_damaged.test
+    ARGS bag:=${VIPER_WORLD_DAMAGED_BAG} intact_bag:=${VIPER_WORLD_RAW_BAG}
+    DEPENDENCIES capture_to_bag_tester bag_player world_raw_damaged_bag)
   roslaunch_add_file_check(launch/viper_player.launch root:=/tmp/viper)
 endif()
 

@@ -10,6 +10,7 @@
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <rosgraph_msgs/Log.h>
 #include <topic_tools/shape_shifter.h>
 
 #include <cstring>
@@ -129,6 +130,50 @@ TEST(CaptureToBag, BagHoldsWhatTheBridgePublishes) {
   EXPECT_TRUE(stores.back() == expected[store].back()) << "the last mesh store";
   std::cout << "capture_to_bag_tester: " << frames << " frames equal on 7 topics; " << stores.size() << " of "
             << expected[store].size() << " mesh stores received, all equal\n";
+}
+
+// bag_player on a bag with a damaged chunk (~bag; ~intact_bag: the same bag undamaged): an error on
+// /rosout names the bag; the draw lists that arrive are the intact bag's first ones, byte for byte,
+// fewer than all; the player is still running afterwards.
+TEST(BagPlayer, NamesTheDamageAndKeepsWhatCameBefore) {
+  ros::NodeHandle nh, pnh("~");
+  std::string bag_path, intact_path;
+  ASSERT_TRUE(pnh.getParam("bag", bag_path)) << "tester needs ~bag";
+  ASSERT_TRUE(pnh.getParam("intact_bag", intact_path)) << "tester needs ~intact_bag";
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(pnh.param("timeout_s", 60.0));
+  std::vector<Bytes> intact;
+  {
+    rosbag::Bag bag(intact_path, rosbag::bagmode::Read);
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery("/capture/draws")))
+      intact.push_back(bytesOf(m));
+  }
+  ASSERT_GE(intact.size(), 2u);
+  std::mutex mutex;
+  std::vector<Bytes> got;
+  std::string error;
+  auto draws = nh.subscribe<topic_tools::ShapeShifter>("/capture/draws", 1000, [&](const topic_tools::ShapeShifter::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    got.push_back(bytesOf(*m));
+  });
+  auto rosout = nh.subscribe<rosgraph_msgs::Log>("/rosout", 100, [&](const rosgraph_msgs::Log::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (m->level == rosgraph_msgs::Log::ERROR && m->msg.find(bag_path) != std::string::npos) error = m->msg;
+  });
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ASSERT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    return !error.empty();
+  }, deadline)) << "no error on /rosout naming " << bag_path;
+  ros::WallDuration(0.5).sleep();
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_NE(error.find("damaged after"), std::string::npos) << error;
+  EXPECT_GT(got.size(), 0u) << "nothing before the damage was published";
+  EXPECT_LT(got.size(), intact.size()) << "the damage went unnoticed";
+  for (size_t i = 0; i < got.size() && i < intact.size(); ++i) EXPECT_TRUE(got[i] == intact[i]) << "draw list " << i;
+  EXPECT_TRUE(ros::service::exists("/bag_player/get_loggers", false)) << "the player did not keep running";
+  std::cout << "bag_player: " << got.size() << " of " << intact.size() << " draw lists before the damage; " << error
+            << "\n";
 }
 
 }  // namespace

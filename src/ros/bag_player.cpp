@@ -100,7 +100,7 @@ bool BagPlayer::sleepUntil(const ros::WallTime& t) {
   return false;
 }
 
-bool BagPlayer::publish(const rosbag::MessageInstance& m) {
+void BagPlayer::publish(const rosbag::MessageInstance& m) {
   ros::Publisher& pub = pubs_[m.getTopic()];
   const std::string& type = m.getDataType();
   if (type == kImage) pub.publish(m.instantiate<sensor_msgs::Image>());
@@ -108,7 +108,6 @@ bool BagPlayer::publish(const rosbag::MessageInstance& m) {
   else if (type == kDrawList) pub.publish(m.instantiate<DrawList>());
   else if (type == kMeshStore) pub.publish(m.instantiate<MeshStore>());
   else pub.publish(m.instantiate<topic_tools::ShapeShifter>());
-  return true;
 }
 
 void BagPlayer::run() {

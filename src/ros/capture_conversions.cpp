@@ -34,10 +34,9 @@ void checkSize(const CaptureFrame& frame, size_t have, size_t per_pixel, const c
   }
 }
 
-// The image's fields; its bytes copied from `data` when given (assign: written once, not zeroed
-// first), else zeroed for the caller to fill.
+// The image's fields, its bytes zeroed for the caller to fill.
 sensor_msgs::Image imageHeader(const CaptureFrame& frame, const std_msgs::Header& header, const std::string& encoding,
-                               uint32_t bytes_per_pixel, const void* data = nullptr) {
+                               uint32_t bytes_per_pixel) {
   sensor_msgs::Image img;
   img.header = header;
   img.width = frame.width;
@@ -45,13 +44,7 @@ sensor_msgs::Image imageHeader(const CaptureFrame& frame, const std_msgs::Header
   img.encoding = encoding;
   img.is_bigendian = 0;
   img.step = frame.width * bytes_per_pixel;
-  const size_t size = static_cast<size_t>(img.step) * frame.height;
-  if (data != nullptr) {
-    const auto* bytes = static_cast<const uint8_t*>(data);
-    img.data.assign(bytes, bytes + size);
-  } else {
-    img.data.resize(size);
-  }
+  img.data.resize(static_cast<size_t>(img.step) * frame.height);
   return img;
 }
 
@@ -147,19 +140,20 @@ std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::
 
 sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header) {
   checkSize(frame, frame.color_rgb.size(), 3, "color");
-  return imageHeader(frame, header, sensor_msgs::image_encodings::RGB8, 3, frame.color_rgb.data());
+  return imageMsg(header, frame.width, frame.height, sensor_msgs::image_encodings::RGB8, 3, frame.color_rgb.data());
 }
 
 sensor_msgs::Image depthImage(const CaptureFrame& frame, const std::vector<float>& depth_m,
                               const std_msgs::Header& header) {
   checkSize(frame, depth_m.size(), 1, "depth");
-  return imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32FC1, 4, depth_m.data());
+  return imageMsg(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32FC1, 4, depth_m.data());
 }
 
 sensor_msgs::Image drawIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
   checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
   // Draw ids are index + 1 of at most a few million draws: they fit a signed int unchanged.
-  return imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32SC1, 4, frame.draw_ids.data());
+  return imageMsg(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32SC1, 4,
+                  frame.draw_ids.data());
 }
 
 sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
@@ -192,6 +186,26 @@ sensor_msgs::CameraInfo cameraInfo(const PinholeIntrinsics* intrinsics, uint32_t
     }
   }
   return info;
+}
+
+sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                            const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
+  sensor_msgs::Image m;
+  m.header = header;
+  m.width = width;
+  m.height = height;
+  m.encoding = encoding;
+  m.is_bigendian = 0;
+  m.step = width * bytes_per_pixel;
+  // assign, not resize + memcpy: the bytes are written once, not zeroed first.
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  m.data.assign(bytes, bytes + static_cast<size_t>(m.step) * height);
+  return m;
+}
+
+sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                                  const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
+  return boost::make_shared<sensor_msgs::Image>(imageMsg(header, width, height, encoding, bytes_per_pixel, data));
 }
 
 bool MeshStoreAccumulator::add(const std::vector<MeshRecord>& meshes) {

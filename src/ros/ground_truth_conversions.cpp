@@ -3,7 +3,6 @@
 #include "viper/ros/capture_conversions.h"
 
 #include <Eigen/SVD>
-#include <boost/make_shared.hpp>
 
 #include <cstring>
 
@@ -133,26 +132,6 @@ visualization_msgs::MarkerArray boxMarkers(const Box3DArray& boxes, const ClassT
     out.markers.push_back(label);
   }
   return out;
-}
-
-sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
-                            const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
-  sensor_msgs::Image m;
-  m.header = header;
-  m.width = width;
-  m.height = height;
-  m.encoding = encoding;
-  m.is_bigendian = 0;
-  m.step = width * bytes_per_pixel;
-  // assign, not resize + memcpy: the bytes are written once, not zeroed first.
-  const auto* bytes = static_cast<const uint8_t*>(data);
-  m.data.assign(bytes, bytes + static_cast<size_t>(m.step) * height);
-  return m;
-}
-
-sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
-                                  const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
-  return boost::make_shared<sensor_msgs::Image>(imageMsg(header, width, height, encoding, bytes_per_pixel, data));
 }
 
 std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& ids, CaptureFrame& frame) {

@@ -45,7 +45,7 @@ class BagPlayer {
 
  private:
   void run();
-  bool publish(const rosbag::MessageInstance& m);
+  void publish(const rosbag::MessageInstance& m);
   bool sleepUntil(const ros::WallTime& t);
 
   ros::NodeHandle nh_, pnh_;

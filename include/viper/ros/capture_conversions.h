@@ -57,6 +57,15 @@ sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::H
 sensor_msgs::CameraInfo cameraInfo(const PinholeIntrinsics* intrinsics, uint32_t width, uint32_t height,
                                    const std_msgs::Header& header);
 
+/// An image message of `width` x `height` pixels of `bytes_per_pixel` bytes copied from `data`.
+sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                            const std::string& encoding, uint32_t bytes_per_pixel, const void* data);
+
+/// The same, shared: what the nodelets publish, so that subscribers in the same manager get the
+/// message itself (zero-copy) instead of a serialised copy of it.
+sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                                  const std::string& encoding, uint32_t bytes_per_pixel, const void* data);
+
 /// The mesh store as the capture bridge publishes it: every mesh seen so far, each key once, in the
 /// order the capture first brought them.
 class MeshStoreAccumulator {

@@ -5,6 +5,7 @@
 #include "viper/core/capture_frame.h"
 #include "viper/core/class_table.h"
 #include "viper/core/instance_pipeline.h"
+#include "viper/ros/capture_conversions.h"  // imageMsg, imageMsgPtr
 
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -48,15 +49,6 @@ OrientedBox fromBox3DMsg(const Box3D& msg);
 /// text label "class id" above it (namespace "labels"), preceded by a DELETEALL so boxes of earlier
 /// frames disappear.
 visualization_msgs::MarkerArray boxMarkers(const Box3DArray& boxes, const ClassTable& classes);
-
-/// An image message of `width` x `height` pixels of `bytes_per_pixel` bytes copied from `data`.
-sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
-                            const std::string& encoding, uint32_t bytes_per_pixel, const void* data);
-
-/// The same, shared: what the nodelets publish, so that subscribers in the same manager get the
-/// message itself (zero-copy) instead of a serialised copy of it.
-sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
-                                  const std::string& encoding, uint32_t bytes_per_pixel, const void* data);
 
 /// Fills `frame`'s size, number, time, draws and draw ids from a draw list and a draw id image
 /// (32SC1). Returns an empty string, or what is wrong (encoding, size, stamps that differ).

@@ -16,10 +16,6 @@
 namespace viper {
 namespace capture {
 
-/// Turns read-back images into the frame's images (top row first) and per-draw visible pixel
-/// counts. Pure; used by FrameSink and by tests.
-void finishFrame(const RawImages& raw, CaptureFrame& frame);
-
 /// Background writer with a short bounded queue (the render thread waits when it is full, which
 /// bounds memory and keeps the stream complete).
 class FrameSink {

@@ -12,6 +12,9 @@ if(benchmark_FOUND)
     set_target_properties(${name} PROPERTIES
       RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
   endforeach()
+  # The capture writer's frame finishing lives in the capture layer, not in viper_core.
+  target_sources(bench_capture_finish PRIVATE ${PROJECT_SOURCE_DIR}/capture/finish_frame.cpp)
+  target_include_directories(bench_capture_finish PRIVATE ${PROJECT_SOURCE_DIR}/capture)
 else()
   message(STATUS "Google Benchmark not found: benchmarks are not built (apt install libbenchmark-dev)")
 endif()

@@ -6,6 +6,7 @@ set(VIPER_INTERCEPT_SOURCES
   capture/gl_real.cpp
   capture/frame_target.cpp
   capture/frame_sink.cpp
+  capture/finish_frame.cpp
   capture/mesh_extract.cpp
   capture/interceptor.cpp
   capture/interceptor_resources.cpp
@@ -46,9 +47,14 @@ if(CATKIN_ENABLE_TESTING)
   endif()
 
   catkin_add_gtest(test_capture_mesh test/capture/test_capture_mesh.cpp capture/mesh_extract.cpp
-    capture/frame_sink.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    capture/frame_sink.cpp capture/finish_frame.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   target_include_directories(test_capture_mesh PRIVATE ${PROJECT_SOURCE_DIR}/capture)
   target_link_libraries(test_capture_mesh viper_core Threads::Threads ${CMAKE_DL_LIBS})
+
+  catkin_add_gtest(test_finish_frame test/capture/test_finish_frame.cpp capture/finish_frame.cpp
+    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_include_directories(test_finish_frame PRIVATE ${PROJECT_SOURCE_DIR}/capture)
+  target_link_libraries(test_finish_frame viper_core)
 
   catkin_add_gtest(test_capture_run test/capture/test_capture_run.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   target_include_directories(test_capture_run PRIVATE ${PROJECT_SOURCE_DIR}/test/capture)

@@ -1,5 +1,4 @@
-// Mesh extraction from shadow buffers and frame finishing (row flip, id decoding, visible pixels).
-#include "frame_sink.h"
+// Mesh extraction from shadow buffers.
 #include "mesh_extract.h"
 #include "viper/core/content_key.h"
 
@@ -76,39 +75,6 @@ TEST(MeshExtract, RefusesWhatItCannotExtract) {
   EXPECT_FALSE(extractMesh(vb, PositionLayout{3, GL_FLOAT, 0, 0}, r, m));
   EXPECT_EQ(primitiveCount(GL_TRIANGLE_STRIP, 5), 3u);
   EXPECT_EQ(primitiveCount(GL_LINES, 5), 2u);
-}
-
-TEST(FinishFrame, FlipsRowsDecodesIdsAndCountsVisiblePixels) {
-  RawImages raw;
-  raw.width = 2;
-  raw.height = 2;
-  // Bottom row first: bottom-left, bottom-right, top-left, top-right.
-  raw.rgba = {1, 1, 1, 255, 2, 2, 2, 255, 3, 3, 3, 255, 4, 4, 4, 255};
-  raw.depth = {0.1f, 0.2f, 0.3f, 0.4f};
-  raw.ids = {1, 5, 0, 0, 2, 7, 1, 6};
-  CaptureFrame f;
-  f.draws.resize(2);
-  f.draws[1].index = 1;
-  finishFrame(raw, f);
-  EXPECT_EQ(f.color_rgb, (std::vector<uint8_t>{3, 3, 3, 4, 4, 4, 1, 1, 1, 2, 2, 2}));
-  EXPECT_EQ(f.depth_window, (std::vector<float>{0.3f, 0.4f, 0.1f, 0.2f}));
-  EXPECT_EQ(f.draw_ids, (std::vector<uint32_t>{2, 1, 1, 0}));
-  EXPECT_EQ(f.primitive_ids, (std::vector<uint32_t>{7, 6, 5, 0}));
-  EXPECT_EQ(f.draws[0].visible_pixels, 2u);
-  EXPECT_EQ(f.draws[1].visible_pixels, 1u);
-  EXPECT_EQ(validateFrame(f), "");
-}
-
-TEST(FinishFrame, UnpacksDepth24Stencil8) {
-  RawImages raw;
-  raw.width = 1;
-  raw.height = 2;
-  raw.depth_24_8 = {0xFFFFFF00u | 0x12u, (0x800000u << 8) | 0x34u};  // bottom: far plane; top: ~0.5
-  CaptureFrame f;
-  finishFrame(raw, f);
-  ASSERT_EQ(f.depth_window.size(), 2u);
-  EXPECT_NEAR(f.depth_window[0], 0x800000 / 16777215.0, 1e-7);
-  EXPECT_EQ(f.depth_window[1], 1.0f);
 }
 
 int main(int argc, char** argv) {

@@ -12,6 +12,9 @@ echo "machine: $(nproc) cores, $(free -g | awk '/Mem/ {print $2}') GiB, $(. /etc
 echo "== capture stream: write and read of a 1920x1080 frame vs memcpy of the same bytes"
 "$bin/bench_capture_stream" --benchmark_min_time=2 2>/dev/null | tee "$out/stream.txt"
 
+echo "== capture writer: finishing a 1920x1080 frame, vectorised and one pixel at a time, vs memcpy"
+"$bin/bench_capture_finish" --benchmark_min_time=2 2>/dev/null | tee "$out/finish.txt"
+
 echo "== ground-truth kernels at 1920x1080 on one core: synthetic frames (200 objects) and a world capture"
 "$bin/capture" --output "$out/world_bench.vcap" --profile "$here/config/profiles/world.yaml" --fps 15 \
   -- "$bin/world" --frames 24 --width 1920 --height 1080 >/dev/null

@@ -44,7 +44,7 @@ std::string usage() {
          "  --route-length M  length of the ego route in metres (default 1000)\n"
          "  --oracle FILE     write the oracle file (true draws, objects, matrices; tests only)\n"
          "  --dump-dir DIR    write every frame as DIR/frame_NNNNNN.ppm\n"
-         "  --benchmark       print the mean milliseconds per frame (glFinish included)\n"
+         "  --benchmark       print the mean milliseconds per frame (rendering and swap, glFinish included)\n"
          "  --window          show the frames in an X11 window when $DISPLAY opens\n"
          "  --list-meshes     print every mesh name with its class id and exit\n"
          "  --no-effects      leave out rain streaks, snow flakes and sun glare (for tests)\n"

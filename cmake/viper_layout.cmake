@@ -136,6 +136,10 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDS ${VIPER_WORLD_RAW_BAG} ${PROJECT_SOURCE_DIR}/test/ros/damage_file.py
     COMMENT "Damaging a copy of the world raw bag")
   add_custom_target(world_raw_damaged_bag DEPENDS ${VIPER_WORLD_DAMAGED_BAG})
+  # The damaged bag's command names the raw bag as a file, which brings the raw bag's command into
+  # this target too: without the order, make -j runs capture_to_bag twice at once on the same
+  # output and the bag's index comes out broken ("Error reading INDEX_DATA header").
+  add_dependencies(world_raw_damaged_bag world_raw_bag)
   if(TARGET tests)
     add_dependencies(tests world_raw_damaged_bag)
   endif()

@@ -66,8 +66,19 @@ constexpr size_t kFlowBytesPerPixel = 4 + 4 + 4 + 4 + 8 + 1;
 
 void BM_MemcpyFlowBytes(benchmark::State& state) { copyBytes(state, 2 * size_t(kW) * kH * kFlowBytesPerPixel); }
 
+// The instruction path of flow named by a benchmark argument (0 widest, 1 AVX-512, 2 AVX2, 3 one
+// pixel at a time), shown in the benchmark's label as the path actually taken on this CPU.
+FlowOptions flowPath(benchmark::State& state, int64_t arg) {
+  static const char* const names[] = {"widest", "avx512", "avx2", "scalar"};
+  FlowOptions options;
+  options.instructions = static_cast<FlowInstructions>(arg);
+  state.SetLabel(names[static_cast<int>(flowInstructionsUsed(options.instructions))]);
+  return options;
+}
+
 void BM_FlowForwardAndBackward(benchmark::State& state) {
   const int deformed_every = static_cast<int>(state.range(0));
+  const FlowOptions options = flowPath(state, state.range(1));
   const CaptureFrame a = bench::syntheticFrame(kW, kH, kObjects, kParts, 0, nullptr, deformed_every);
   const CaptureFrame b = bench::syntheticFrame(kW, kH, kObjects, kParts, 1, nullptr, deformed_every);
   MeshRegistry meshes;
@@ -78,8 +89,8 @@ void BM_FlowForwardAndBackward(benchmark::State& state) {
   const std::vector<float> depth(size_t(kW) * kH, 20.0f);
   FlowField fwd, bwd;
   for (auto _ : state) {
-    computeFlow(a, b, fwd_map, depth, meshes, fwd);
-    computeFlow(b, a, bwd_map, depth, meshes, bwd);
+    computeFlow(a, b, fwd_map, depth, meshes, fwd, options);
+    computeFlow(b, a, bwd_map, depth, meshes, bwd, options);
     benchmark::DoNotOptimize(fwd.uv.data());
     benchmark::DoNotOptimize(bwd.uv.data());
   }
@@ -115,6 +126,7 @@ void BM_FlowForwardAndBackwardCapture(benchmark::State& state) {
   std::vector<CaptureFrame> frames;
   std::optional<LabelTable> labels;
   if (!benchCapture(state, static_cast<size_t>(state.range(0)) + 1, frames, labels)) return;
+  const FlowOptions options = flowPath(state, state.range(1));
   InstancePipeline pipeline(*labels);
   InstanceFrame objects;
   std::vector<int32_t> a_ids, b_ids;
@@ -134,8 +146,8 @@ void BM_FlowForwardAndBackwardCapture(benchmark::State& state) {
   FlowField fwd, bwd;
   FlowStats stats;
   for (auto _ : state) {
-    computeFlow(a, b, fwd_map, b_depth, pipeline.meshes(), fwd, FlowOptions(), &stats);
-    computeFlow(b, a, bwd_map, a_depth, pipeline.meshes(), bwd);
+    computeFlow(a, b, fwd_map, b_depth, pipeline.meshes(), fwd, options, &stats);
+    computeFlow(b, a, bwd_map, a_depth, pipeline.meshes(), bwd, options);
     benchmark::DoNotOptimize(fwd.uv.data());
     benchmark::DoNotOptimize(bwd.uv.data());
   }
@@ -200,9 +212,11 @@ BENCHMARK(BM_InstancesAndTracking)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_InstancesAndTrackingCapture)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BoxesCapture)->Arg(1)->Arg(20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MemcpyFlowBytes)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_FlowForwardAndBackward)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
-// Frames 1 -> 2 and 20 -> 21 of the capture.
-BENCHMARK(BM_FlowForwardAndBackwardCapture)->Arg(1)->Arg(20)->Unit(benchmark::kMillisecond);
+// {deformed every, path}: the widest path and AVX2 side by side.
+BENCHMARK(BM_FlowForwardAndBackward)->ArgsProduct({{0, 3}, {0, 2}})->Unit(benchmark::kMillisecond);
+// {frame, path}: frames 1 -> 2 and 20 -> 21 of the capture, each path (AVX2 and one pixel at a time
+// for comparison with the widest).
+BENCHMARK(BM_FlowForwardAndBackwardCapture)->ArgsProduct({{1, 20}, {0, 2, 3}})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace viper

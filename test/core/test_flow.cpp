@@ -7,7 +7,9 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace viper {
 namespace {
@@ -160,6 +162,53 @@ TEST(Flow, RigidFlowIsTheSameInBlocksAndAtTheEndOfARow) {
   for (uint32_t id : c.a.draw_ids) square += id == 1;
   EXPECT_EQ(stats.rigid, square);
   EXPECT_EQ(stats.no_surface, c.a.draw_ids.size() - square);
+}
+
+// How many values of x and y differ in their bits (NaN equals NaN of the same bits).
+size_t differingBits(const std::vector<float>& x, const std::vector<float>& y) {
+  EXPECT_EQ(x.size(), y.size());
+  size_t n = 0;
+  for (size_t i = 0; i < std::min(x.size(), y.size()); ++i) n += std::memcmp(&x[i], &y[i], sizeof(float)) != 0;
+  return n;
+}
+
+// At a width of 16 + 8 + 5 a row has one block of 16 (AVX-512), one of 8 (AVX2) and 5 pixels done
+// one at a time; the paths must agree: the block kernels bit for bit, one pixel at a time to float
+// rounding. The wider path is skipped where the CPU lacks it.
+TEST(Flow, EveryInstructionPathGivesTheSameFlow) {
+  RigidCase c(29);
+  const std::vector<float> depth_b = c.depthB();
+  auto flowWith = [&](FlowInstructions path, FlowStats* stats) {
+    FlowOptions options;
+    options.instructions = path;
+    return computeFlow(c.a, c.b, {0}, depth_b, MeshRegistry(), options, stats);
+  };
+  EXPECT_EQ(flowInstructionsUsed(FlowInstructions::kScalar), FlowInstructions::kScalar);
+  EXPECT_EQ(flowInstructionsUsed(FlowInstructions::kWidest), flowInstructionsUsed(FlowInstructions::kAvx512));
+  FlowStats scalar_stats;
+  const FlowField scalar = flowWith(FlowInstructions::kScalar, &scalar_stats);
+  ASSERT_GT(scalar_stats.rigid, 300u);
+  EXPECT_LT(worstRigidError(c, scalar), 2e-3);
+  if (flowInstructionsUsed(FlowInstructions::kAvx2) != FlowInstructions::kAvx2) GTEST_SKIP() << "no AVX2 on this CPU";
+  FlowStats avx2_stats;
+  const FlowField avx2 = flowWith(FlowInstructions::kAvx2, &avx2_stats);
+  EXPECT_EQ(avx2_stats.rigid, scalar_stats.rigid);
+  EXPECT_EQ(avx2_stats.no_surface, scalar_stats.no_surface);
+  double worst = 0;
+  for (size_t i = 0; i < scalar.uv.size(); ++i) {
+    ASSERT_EQ(std::isnan(scalar.uv[i]), std::isnan(avx2.uv[i])) << "value " << i;
+    if (!std::isnan(scalar.uv[i])) worst = std::max(worst, double(std::abs(scalar.uv[i] - avx2.uv[i])));
+  }
+  EXPECT_LT(worst, 1e-4) << "px between one pixel at a time and AVX2";
+  EXPECT_GT(worst, 0.0) << "the scalar path fuses no multiply-adds: its last bits differ";
+  if (flowInstructionsUsed(FlowInstructions::kAvx512) != FlowInstructions::kAvx512)
+    GTEST_SKIP() << "no AVX-512 on this CPU";
+  FlowStats avx512_stats;
+  const FlowField avx512 = flowWith(FlowInstructions::kAvx512, &avx512_stats);
+  EXPECT_EQ(differingBits(avx512.uv, avx2.uv), 0u);
+  EXPECT_EQ(avx512.visible, avx2.visible);
+  EXPECT_EQ(avx512_stats.rigid, avx2_stats.rigid);
+  EXPECT_EQ(avx512_stats.no_surface, avx2_stats.no_surface);
 }
 
 TEST(Flow, ForwardThenBackwardReturnsToThePixel) {

@@ -16,7 +16,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
+#include <tuple>
 
 namespace viper {
 namespace {
@@ -322,6 +324,45 @@ TEST(FlowAgainstOracle, OracleMeshesAreTheCapturedBuffers) {
     }
   }
   EXPECT_GT(compared, 100u);
+}
+
+// The block kernels on real frames (rows of many draws, skinned people among them): AVX-512 and
+// AVX2 give the same flow and mask bit for bit, every pair, both directions, all five conditions.
+TEST(FlowAgainstOracle, AvxPathsGiveTheSameFlowOnTheWorld) {
+  if (flowInstructionsUsed(FlowInstructions::kAvx512) != FlowInstructions::kAvx512)
+    GTEST_SKIP() << "no AVX-512 on this CPU: only one block kernel runs here";
+  FlowOptions wide, narrow;
+  wide.instructions = FlowInstructions::kAvx512;
+  narrow.instructions = FlowInstructions::kAvx2;
+  size_t pairs = 0, non_rigid = 0, differing = 0;
+  for (const Sequence& s : truth::sequences()) {
+    SCOPED_TRACE(s.condition);
+    InstancePipeline pipeline = makePipeline();
+    const auto ids = objectIdsPerDraw(s, pipeline);
+    for (size_t i = 0; i + 1 < s.frames.size(); ++i)
+      for (const auto& [a, b, a_ids, b_ids] : {std::tie(s.frames[i], s.frames[i + 1], ids[i], ids[i + 1]),
+                                                std::tie(s.frames[i + 1], s.frames[i], ids[i + 1], ids[i])}) {
+        const auto camera = chooseFrameCamera(b);
+        const std::vector<float> b_depth = depthMetres(b, camera ? &*camera : nullptr);
+        const auto a_to_b = associateDraws(a, a_ids, b, b_ids);
+        FlowStats wide_stats, narrow_stats;
+        const FlowField x = computeFlow(a, b, a_to_b, b_depth, pipeline.meshes(), wide, &wide_stats);
+        const FlowField y = computeFlow(a, b, a_to_b, b_depth, pipeline.meshes(), narrow, &narrow_stats);
+        ASSERT_EQ(x.uv.size(), y.uv.size());
+        const size_t before = differing;
+        for (size_t p = 0; p < x.uv.size(); ++p) differing += std::memcmp(&x.uv[p], &y.uv[p], sizeof(float)) != 0;
+        for (size_t p = 0; p < x.visible.size(); ++p) differing += x.visible[p] != y.visible[p];
+        EXPECT_EQ(differing, before) << "frames " << a.number << " -> " << b.number;
+        EXPECT_EQ(wide_stats.rigid, narrow_stats.rigid);
+        EXPECT_EQ(wide_stats.non_rigid, narrow_stats.non_rigid);
+        EXPECT_EQ(wide_stats.no_surface, narrow_stats.no_surface);
+        EXPECT_EQ(wide_stats.no_association, narrow_stats.no_association);
+        non_rigid += wide_stats.non_rigid;
+        ++pairs;
+      }
+  }
+  EXPECT_GE(pairs, 150u);
+  EXPECT_GT(non_rigid, 10000u) << "skinned pixels, so that blocks mixing kernels were compared";
 }
 
 TEST(FlowAgainstOracle, FlowMatchesAnalyticTruthInAllConditions) {

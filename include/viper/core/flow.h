@@ -38,12 +38,28 @@ struct FlowStats {
   size_t missing_geometry = 0;       ///< deformed draw without positions / mesh, or singular matrices
 };
 
+/// The instructions that compute a row's pixels in blocks. Every path gives the same flow: AVX-512
+/// and AVX2 bit for bit; one pixel at a time (kScalar, also used at the end of each row) differs
+/// from them by float rounding, as it fuses no multiply-adds.
+enum class FlowInstructions {
+  kWidest,  ///< the widest this CPU has
+  kAvx512,  ///< 16 pixels a step (AVX-512 F, BW, VL, DQ)
+  kAvx2,    ///< 8 pixels a step (AVX2, FMA)
+  kScalar,  ///< one pixel at a time
+};
+
+/// The path computeFlow takes on this CPU when asked for `requested`: a path the CPU lacks falls
+/// back to the widest it has below it.
+FlowInstructions flowInstructionsUsed(FlowInstructions requested);
+
 /// Options of computeFlow.
 struct FlowOptions {
   /// A point is visible in b when b's depth there is at least the point's depth minus
   /// (relative * depth + absolute).
   double occlusion_relative = 0.005;
   double occlusion_absolute_m = 0.02;
+  /// Which instructions compute the pixels (for comparing the paths; the default is fastest).
+  FlowInstructions instructions = FlowInstructions::kWidest;
 };
 
 /// Computes flow a -> b. `a_to_b` comes from associateDraws; `b_depth_m` is b's depth in metres

@@ -78,26 +78,36 @@ inline Eigen::Vector4d clipAt(const std::vector<float>& c, uint32_t vertex) {
   return Eigen::Vector4d(c[i], c[i + 1], c[i + 2], c[i + 3]);
 }
 
-// The point of a non-rigid pixel in b's clip space: screen-space barycentrics of the pixel
-// center in its triangle, made perspective-correct with the vertices' w, applied to b's vertices.
-// Inlined: called once per non-rigid pixel, and its divisions overlap with the caller's.
+// The point of a non-rigid pixel in b's clip space: the pixel centre's perspective-correct
+// barycentrics in its triangle of a, applied to b's vertices. With a's vertices (x_i, y_i, w_i) as
+// the columns of M, the point sum(l_i c_i) (sum(l_i) = 1) projects to the centre q when
+// M l = s (q, 1), s its clip w; so by Cramer's rule l_i is proportional to det(M with column i
+// replaced by (q, 1)): one division per pixel for the normalisation instead of one per vertex.
+// Inlined: called once per non-rigid pixel.
 __attribute__((always_inline)) inline std::optional<Eigen::Vector4d> nonRigidClip(const DrawMapping& m, uint32_t primitive,
                                                                                 double ndc_x, double ndc_y) {
   const size_t t = 3 * static_cast<size_t>(primitive);
   const auto& idx = *m.indices;
   const size_t verts = m.clip_a->size() / 4;
   if (t + 2 >= idx.size() || idx[t] >= verts || idx[t + 1] >= verts || idx[t + 2] >= verts) return std::nullopt;
-  const Eigen::Vector4d c0 = clipAt(*m.clip_a, idx[t]), c1 = clipAt(*m.clip_a, idx[t + 1]),
-                        c2 = clipAt(*m.clip_a, idx[t + 2]);
-  const Eigen::Vector2d s0 = c0.head<2>() / c0.w(), s1 = c1.head<2>() / c1.w(), s2 = c2.head<2>() / c2.w();
-  const Eigen::Vector2d q(ndc_x, ndc_y), e1 = s1 - s0, e2 = s2 - s0, dq = q - s0;
-  const double area = e1.x() * e2.y() - e1.y() * e2.x();
-  if (area == 0.0) return std::nullopt;
-  const double l1 = (dq.x() * e2.y() - dq.y() * e2.x()) / area;
-  const double l2 = (e1.x() * dq.y() - e1.y() * dq.x()) / area;
-  const double b0 = (1.0 - l1 - l2) / c0.w(), b1 = l1 / c1.w(), b2 = l2 / c2.w();
-  return (b0 * clipAt(*m.clip_b, idx[t]) + b1 * clipAt(*m.clip_b, idx[t + 1]) + b2 * clipAt(*m.clip_b, idx[t + 2])) /
-         (b0 + b1 + b2);
+  // Plain doubles: GCC leaves Eigen's small cross and dot products out of line here.
+  const float *a0 = m.clip_a->data() + 4 * size_t{idx[t]}, *a1 = m.clip_a->data() + 4 * size_t{idx[t + 1]},
+              *a2 = m.clip_a->data() + 4 * size_t{idx[t + 2]};
+  const double x0 = a0[0], y0 = a0[1], w0 = a0[3], x1 = a1[0], y1 = a1[1], w1 = a1[3], x2 = a2[0], y2 = a2[1], w2 = a2[3];
+  // Rows of adj(M): the cross products p1 x p2, p2 x p0, p0 x p1 of M's columns p_i = (x_i, y_i, w_i).
+  const double n0x = y1 * w2 - w1 * y2, n0y = w1 * x2 - x1 * w2, n0z = x1 * y2 - y1 * x2;
+  const double n1x = y2 * w0 - w2 * y0, n1y = w2 * x0 - x2 * w0, n1z = x2 * y0 - y2 * x0;
+  const double n2x = y0 * w1 - w0 * y1, n2y = w0 * x1 - x0 * w1, n2z = x0 * y1 - y0 * x1;
+  if (x0 * n0x + y0 * n0y + w0 * n0z == 0.0) return std::nullopt;  // det(M) = 0: a line on screen
+  const double l0 = ndc_x * n0x + ndc_y * n0y + n0z, l1 = ndc_x * n1x + ndc_y * n1y + n1z,
+               l2 = ndc_x * n2x + ndc_y * n2y + n2z;
+  const double sum = l0 + l1 + l2;
+  if (sum == 0.0 || !std::isfinite(sum)) return std::nullopt;
+  const double inv_sum = 1.0 / sum, k0 = l0 * inv_sum, k1 = l1 * inv_sum, k2 = l2 * inv_sum;
+  const float *b0 = m.clip_b->data() + 4 * size_t{idx[t]}, *b1 = m.clip_b->data() + 4 * size_t{idx[t + 1]},
+              *b2 = m.clip_b->data() + 4 * size_t{idx[t + 2]};
+  return Eigen::Vector4d(k0 * b0[0] + k1 * b1[0] + k2 * b2[0], k0 * b0[1] + k1 * b1[1] + k2 * b2[1],
+                         k0 * b0[2] + k1 * b1[2] + k2 * b2[2], k0 * b0[3] + k1 * b1[3] + k2 * b2[3]);
 }
 
 struct Counts {

@@ -329,6 +329,12 @@ void Flow::onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, 
                          draw_ids_sub_.getTopic().c_str(), number, cur->frame.width, cur->frame.height,
                          prev.frame.width, prev.frame.height);
       window_.clear();
+    } else if (cur->frame.number <= prev.frame.number) {
+      // A looping replay, or another capture: no flow across it, and nothing was lost.
+      ROS_INFO_THROTTLE(5, "%s: frame %lu follows frame %lu: the frame numbers start over (a loop or another "
+                        "capture); the window starts over", topic.c_str(), number,
+                        static_cast<unsigned long>(prev.frame.number));
+      window_.clear();
     } else if (cur->frame.number != prev.frame.number + 1) {
       ROS_WARN_THROTTLE(5, "%s: frame %lu follows frame %lu: the frames between were dropped; the window starts over",
                         topic.c_str(), number, static_cast<unsigned long>(prev.frame.number));

@@ -31,19 +31,7 @@ install(TARGETS viper_baselines_ros flow_baseline vo_baseline
 
 if(CATKIN_ENABLE_TESTING)
   # The committed raw bag through replay.launch + baselines.launch, fed and scored by baselines_tester.
-  find_package(pluginlib REQUIRED)
-  find_package(class_loader REQUIRED)
-  add_executable(baselines_tester EXCLUDE_FROM_ALL test/ros/baselines_tester.cpp)
-  # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
-  target_include_directories(baselines_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-    ${class_loader_INCLUDE_DIRS})
-  target_link_libraries(baselines_tester viper_core ${catkin_LIBRARIES} ${GTEST_LIBRARIES})
-  add_dependencies(baselines_tester viper_generate_messages_cpp)
-  set_target_properties(baselines_tester PROPERTIES
-    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-  if(TARGET tests)
-    add_dependencies(tests baselines_tester)
-  endif()
+  viper_add_tester(baselines_tester test/ros/baselines_tester.cpp viper_core)
   add_rostest(test/ros/baselines.test
     DEPENDENCIES baselines_tester viper_baselines_ros viper_flow_ros viper_ground_truth_ros)
   roslaunch_add_file_check(launch/baselines.launch)

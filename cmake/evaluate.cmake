@@ -41,24 +41,10 @@ if(CATKIN_ENABLE_TESTING)
 
   # rostests: the committed raw bag through replay.launch, a fake perception made by the tester
   # (ground truth republished, or corrupted in known ways), scored by evaluate (node and nodelet).
-  find_package(pluginlib REQUIRED)
-  find_package(class_loader REQUIRED)
-  add_executable(evaluate_tester EXCLUDE_FROM_ALL test/ros/evaluate_tester.cpp)
-  # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
-  target_include_directories(evaluate_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-    ${class_loader_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS} ${opencv_apps_INCLUDE_DIRS})
-  target_link_libraries(evaluate_tester viper_core ${catkin_LIBRARIES} ${GTEST_LIBRARIES})
-  add_executable(evaluate_bad_input_tester EXCLUDE_FROM_ALL test/ros/evaluate_bad_input_tester.cpp)
-  target_include_directories(evaluate_bad_input_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
-    ${opencv_apps_INCLUDE_DIRS})
-  target_link_libraries(evaluate_bad_input_tester ${catkin_LIBRARIES} ${GTEST_LIBRARIES})
+  viper_add_tester(evaluate_tester test/ros/evaluate_tester.cpp viper_core)
+  viper_add_tester(evaluate_bad_input_tester test/ros/evaluate_bad_input_tester.cpp)
   foreach(tester evaluate_tester evaluate_bad_input_tester)
-    add_dependencies(${tester} viper_generate_messages_cpp)
-    set_target_properties(${tester} PROPERTIES
-      RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-    if(TARGET tests)
-      add_dependencies(tests ${tester})
-    endif()
+    target_include_directories(${tester} SYSTEM PRIVATE ${std_srvs_INCLUDE_DIRS} ${opencv_apps_INCLUDE_DIRS})
   endforeach()
   set(_evaluate_test_deps evaluate_tester evaluate viper_evaluate_ros viper_flow_ros viper_ground_truth_ros)
   add_rostest(test/ros/evaluate_perfect.test DEPENDENCIES ${_evaluate_test_deps})

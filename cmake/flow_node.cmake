@@ -22,24 +22,8 @@ install(TARGETS viper_flow_ros flow
 if(CATKIN_ENABLE_TESTING)
   # The committed raw bag through replay.launch (instances + flow nodelets), fed and checked by
   # flow_tester; and broken frames into the flow node, checked by flow_bad_input_tester.
-  find_package(pluginlib REQUIRED)
-  find_package(class_loader REQUIRED)
-  add_executable(flow_tester EXCLUDE_FROM_ALL test/ros/flow_tester.cpp)
-  # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
-  target_include_directories(flow_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-    ${class_loader_INCLUDE_DIRS})
-  target_link_libraries(flow_tester viper_ros viper_core ${catkin_LIBRARIES} ${GTEST_LIBRARIES})
-  add_executable(flow_bad_input_tester EXCLUDE_FROM_ALL test/ros/flow_bad_input_tester.cpp)
-  target_include_directories(flow_bad_input_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
-  target_link_libraries(flow_bad_input_tester ${catkin_LIBRARIES} ${GTEST_LIBRARIES})
-  foreach(tester flow_tester flow_bad_input_tester)
-    add_dependencies(${tester} viper_generate_messages_cpp)
-    set_target_properties(${tester} PROPERTIES
-      RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-    if(TARGET tests)
-      add_dependencies(tests ${tester})
-    endif()
-  endforeach()
+  viper_add_tester(flow_tester test/ros/flow_tester.cpp viper_ros viper_core)
+  viper_add_tester(flow_bad_input_tester test/ros/flow_bad_input_tester.cpp)
   add_rostest(test/ros/flow_replay.test DEPENDENCIES flow_tester viper_flow_ros viper_ground_truth_ros)
   add_rostest(test/ros/flow_bad_input.test DEPENDENCIES flow_bad_input_tester flow)
   roslaunch_add_file_check(launch/replay.launch label_table:=labels.yaml bag:=raw.bag flow_wide_baseline:=2)

@@ -68,22 +68,9 @@ if(CATKIN_ENABLE_TESTING)
   endif()
 
   # rostests: the real node / nodelet on those captures, checked by one tester.
-  add_executable(capture_bridge_tester EXCLUDE_FROM_ALL test/ros/capture_bridge_tester.cpp)
-  target_include_directories(capture_bridge_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
-  target_link_libraries(capture_bridge_tester viper_ros ${GTEST_LIBRARIES})
-  set_target_properties(capture_bridge_tester PROPERTIES
-    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-  if(TARGET tests)
-    add_dependencies(tests capture_bridge_tester)
-  endif()
+  viper_add_tester(capture_bridge_tester test/ros/capture_bridge_tester.cpp viper_ros)
   # Throughput probe (not a test: prints frames/s delivered to another process).
-  add_executable(bridge_throughput EXCLUDE_FROM_ALL test/ros/bridge_throughput.cpp)
-  target_link_libraries(bridge_throughput viper_ros)
-  set_target_properties(bridge_throughput PROPERTIES
-    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-  if(TARGET tests)
-    add_dependencies(tests bridge_throughput)
-  endif()
+  viper_add_tester(bridge_throughput test/ros/bridge_throughput.cpp viper_ros)
 
   set(_bridge_test_deps capture_bridge capture_bridge_tester viper_ros_test_captures)
   add_rostest(test/ros/capture_bridge.test ARGS capture:=${VIPER_ROS_TEST_DATA}/bridge_ok.vcap

@@ -69,13 +69,9 @@ if(CATKIN_ENABLE_TESTING)
     COMMENT "Writing the player tests' VIPER layout")
   add_custom_target(viper_test_layout DEPENDS ${VIPER_TEST_LAYOUT}/train/camera/001.csv)
 
-  add_executable(viper_layout_tester EXCLUDE_FROM_ALL test/ros/viper_layout_tester.cpp)
-  target_include_directories(viper_layout_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
-  target_link_libraries(viper_layout_tester viper_layout_ros ${GTEST_LIBRARIES})
-  set_target_properties(viper_layout_tester PROPERTIES
-    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  viper_add_tester(viper_layout_tester test/ros/viper_layout_tester.cpp viper_layout_ros)
   if(TARGET tests)
-    add_dependencies(tests viper_layout_tester viper_test_layout)
+    add_dependencies(tests viper_test_layout)
   endif()
 
   set(_layout_deps viper_layout_tester viper_test_layout player viper_layout_ros)
@@ -113,14 +109,7 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDENCIES viper_layout_tester export_viper viper_to_bag viper_ground_truth_ros viper_flow_ros world_raw_bag)
 
   # That bag holds what capture_bridge publishes for the same capture, message for message.
-  add_executable(capture_to_bag_tester EXCLUDE_FROM_ALL test/ros/capture_to_bag_tester.cpp)
-  target_include_directories(capture_to_bag_tester SYSTEM PRIVATE ${GTEST_INCLUDE_DIRS})
-  target_link_libraries(capture_to_bag_tester viper_layout_ros ${GTEST_LIBRARIES})
-  set_target_properties(capture_to_bag_tester PROPERTIES
-    RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-  if(TARGET tests)
-    add_dependencies(tests capture_to_bag_tester)
-  endif()
+  viper_add_tester(capture_to_bag_tester test/ros/capture_to_bag_tester.cpp viper_layout_ros)
   add_rostest(test/ros/capture_to_bag.test
     ARGS capture:=${VIPER_WORLD_ROUNDTRIP_CAPTURE} bag:=${VIPER_WORLD_RAW_BAG}
     DEPENDENCIES capture_to_bag_tester capture_bridge world_raw_bag)

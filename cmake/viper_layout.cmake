@@ -118,6 +118,13 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
   add_rostest(test/ros/bag_player.test ARGS bag:=${VIPER_WORLD_RAW_BAG} nodelet:=true
     DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
+  # With ~loop it plays the bag again and again, stamps continuing: on that bag (times = stamps) and on
+  # the committed test bag (recorded: its bag times span less than its stamps).
+  viper_add_tester(bag_player_loop_tester test/ros/bag_player_loop_tester.cpp viper_layout_ros)
+  add_rostest(test/ros/bag_player_loop.test ARGS bag:=${VIPER_WORLD_RAW_BAG} nodelet:=true
+    DEPENDENCIES bag_player_loop_tester bag_player viper_ros world_raw_bag)
+  add_rostest(test/ros/bag_player_loop.test ARGS bag:=${PROJECT_SOURCE_DIR}/bags/test_scene_raw.bag
+    DEPENDENCIES bag_player_loop_tester bag_player viper_ros)
   # ... and names a damaged chunk, keeping what came before it.
   set(VIPER_WORLD_DAMAGED_BAG ${PROJECT_BINARY_DIR}/test_data/world_raw_damaged.bag)
   add_custom_command(OUTPUT ${VIPER_WORLD_DAMAGED_BAG}

@@ -10,6 +10,7 @@
 #include <viper/MeshStore.h>
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace viper {
 
@@ -35,6 +36,7 @@ std::string readBagPlayerOptions(const ros::NodeHandle& pnh, BagPlayerOptions& o
   pnh.param("publish_clock", o.publish_clock, true);
   pnh.param("queue_size", o.queue_size, 100);
   pnh.param("exit_when_done", o.exit_when_done, false);
+  pnh.param("loop", o.loop, false);
   if (o.bag.empty()) return "~bag is empty: give the raw bag to play";
   if (!(o.rate >= 0.0)) return "~rate must be >= 0 (0: as fast as possible), got " + std::to_string(o.rate);
   if (!(o.start_delay_s >= 0.0)) return "~start_delay_s must be >= 0, got " + std::to_string(o.start_delay_s);
@@ -81,7 +83,8 @@ bool BagPlayer::start(bool is_node) {
     return false;
   }
   if (options_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-  ROS_INFO("bag_player: playing '%s' (%zu topics) at rate %g", options_.bag.c_str(), pubs_.size(), options_.rate);
+  ROS_INFO("bag_player: playing '%s' (%zu topics) at rate %g%s", options_.bag.c_str(), pubs_.size(), options_.rate,
+           options_.loop ? ", looping" : "");
   thread_ = std::thread(&BagPlayer::run, this);
   return true;
 }
@@ -100,53 +103,103 @@ bool BagPlayer::sleepUntil(const ros::WallTime& t) {
   return false;
 }
 
-void BagPlayer::publish(const rosbag::MessageInstance& m) {
+namespace {
+
+// Publishes the typed message T of m with its header stamp `shift` later; returns the bag's stamp.
+template <typename T>
+ros::Time publishShifted(ros::Publisher& pub, const rosbag::MessageInstance& m, const ros::Duration& shift) {
+  const boost::shared_ptr<T> msg = m.instantiate<T>();
+  if (!msg) throw std::runtime_error("a " + m.getDataType() + " message on " + m.getTopic() + " does not deserialise");
+  const ros::Time stamp = msg->header.stamp;
+  if (!shift.isZero() && !stamp.isZero()) msg->header.stamp += shift;
+  pub.publish(msg);
+  return stamp;
+}
+
+}  // namespace
+
+ros::Time BagPlayer::publish(const rosbag::MessageInstance& m, const ros::Duration& shift) {
   ros::Publisher& pub = pubs_[m.getTopic()];
   const std::string& type = m.getDataType();
-  if (type == kImage) pub.publish(m.instantiate<sensor_msgs::Image>());
-  else if (type == kCameraInfo) pub.publish(m.instantiate<sensor_msgs::CameraInfo>());
-  else if (type == kDrawList) pub.publish(m.instantiate<DrawList>());
-  else if (type == kMeshStore) pub.publish(m.instantiate<MeshStore>());
-  else pub.publish(m.instantiate<topic_tools::ShapeShifter>());
+  if (type == kImage) return publishShifted<sensor_msgs::Image>(pub, m, shift);
+  if (type == kCameraInfo) return publishShifted<sensor_msgs::CameraInfo>(pub, m, shift);
+  if (type == kDrawList) return publishShifted<DrawList>(pub, m, shift);
+  if (type == kMeshStore) return publishShifted<MeshStore>(pub, m, shift);
+  pub.publish(m.instantiate<topic_tools::ShapeShifter>());
+  return ros::Time();
+}
+
+void BagPlayer::PassSpan::add(const ros::Time& t, ros::Time& first, ros::Time& last, uint64_t& n) {
+  if (t.isZero()) return;
+  if (n == 0) {
+    first = last = t;
+    n = 1;
+  } else if (t > last) {  // counts rises: the messages of one frame share their time
+    last = t;
+    ++n;
+  } else if (t < first) {
+    first = t;
+  }
+}
+
+ros::Duration BagPlayer::PassSpan::step() const {
+  auto one = [](const ros::Time& first, const ros::Time& last, uint64_t n) {
+    const double span = (last - first).toSec();
+    return span + (n > 1 && span > 0.0 ? span / static_cast<double>(n - 1) : 0.1);
+  };
+  return ros::Duration(std::max(one(first_time, last_time, times), stamps ? one(first_stamp, last_stamp, stamps) : 0.0));
+}
+
+bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span) {
+  try {
+    rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
+    rosbag::View view(bag);
+    for (const rosbag::MessageInstance& m : view) {
+      if (stop_ || !ros::ok()) return false;
+      const ros::Time t = m.getTime() + shift;
+      if (p.count == 0) {
+        p.first = t;
+        p.wall_start = ros::WallTime::now();
+      } else if (options_.rate > 0.0 &&
+                 !sleepUntil(p.wall_start + ros::WallDuration((t - p.first).toSec() / options_.rate))) {
+        return false;
+      }
+      // The clock first, so sim-time subscribers see the message's time when it arrives.
+      if (options_.publish_clock && t > p.last) {
+        rosgraph_msgs::Clock clock;
+        clock.clock = t;
+        clock_pub_.publish(clock);
+      }
+      p.last = t;
+      span.add(m.getTime(), span.first_time, span.last_time, span.times);
+      span.add(publish(m, shift), span.first_stamp, span.last_stamp, span.stamps);
+      published_ = ++p.count;
+    }
+    return true;
+  } catch (const std::exception& e) {
+    ROS_ERROR("bag_player: '%s' is damaged after %lu messages (bag time %.6f): %s; stopping, the messages before "
+              "were published",
+              options_.bag.c_str(), static_cast<unsigned long>(p.count), (p.last - shift).toSec(), e.what());
+    return false;
+  }
 }
 
 void BagPlayer::run() {
   if (options_.start_delay_s > 0.0 && !sleepUntil(ros::WallTime::now() + ros::WallDuration(options_.start_delay_s)))
     return;
-  uint64_t count = 0;
-  ros::Time first, last_time;
-  ros::WallTime wall_start;
-  try {
-    rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
-    rosbag::View view(bag);
-    for (const rosbag::MessageInstance& m : view) {
-      if (stop_ || !ros::ok()) return;
-      const ros::Time t = m.getTime();
-      if (count == 0) {
-        first = t;
-        wall_start = ros::WallTime::now();
-      } else if (options_.rate > 0.0 && !sleepUntil(wall_start + ros::WallDuration((t - first).toSec() / options_.rate))) {
-        return;
-      }
-      // The clock first, so sim-time subscribers see the message's time when it arrives.
-      if (options_.publish_clock && t > last_time) {
-        rosgraph_msgs::Clock clock;
-        clock.clock = t;
-        clock_pub_.publish(clock);
-      }
-      last_time = t;
-      publish(m);
-      ++count;
-      published_ = count;
-    }
-  } catch (const std::exception& e) {
-    ROS_ERROR("bag_player: '%s' is damaged after %lu messages (bag time %.6f): %s; stopping, the messages before "
-              "were published",
-              options_.bag.c_str(), static_cast<unsigned long>(count), last_time.toSec(), e.what());
+  Progress progress;
+  ros::Duration shift(0);
+  for (uint64_t pass = 1;; ++pass) {
+    PassSpan span;
+    if (!playPass(shift, progress, span) || !options_.loop || stop_ || !ros::ok()) break;
+    shift += span.step();
+    ROS_INFO("bag_player: '%s' from the start again (pass %lu), times and header stamps %.3f s later",
+             options_.bag.c_str(), static_cast<unsigned long>(pass + 1), shift.toSec());
   }
   ROS_INFO("bag_player: done with '%s': %lu messages published in %.2f s (%.2f s of bag time)", options_.bag.c_str(),
-           static_cast<unsigned long>(count), count ? (ros::WallTime::now() - wall_start).toSec() : 0.0,
-           count ? (last_time - first).toSec() : 0.0);
+           static_cast<unsigned long>(progress.count),
+           progress.count ? (ros::WallTime::now() - progress.wall_start).toSec() : 0.0,
+           progress.count ? (progress.last - progress.first).toSec() : 0.0);
   if (is_node_ && options_.exit_when_done) ros::requestShutdown();
 }
 

@@ -26,6 +26,7 @@ struct BagPlayerOptions {
   bool publish_clock = true;   ///< ~publish_clock: publish /clock from the bag's times
   int queue_size = 100;        ///< ~queue_size: outgoing queue per topic
   bool exit_when_done = false; ///< ~exit_when_done: (node only) shut down after the last message
+  bool loop = false;           ///< ~loop: start over at the end, times and header stamps continuing
 };
 
 /// Reads the options from private parameters; returns an empty string or what is wrong.
@@ -44,8 +45,27 @@ class BagPlayer {
   uint64_t messagesPublished() const { return published_; }
 
  private:
+  // Where the play is: messages published, the first and last (shifted) bag time, when it began.
+  struct Progress {
+    uint64_t count = 0;
+    ros::Time first, last;
+    ros::WallTime wall_start;
+  };
+  // The spans one pass covered, in bag times and in header stamps, for the next pass's shift.
+  struct PassSpan {
+    ros::Time first_time, last_time, first_stamp, last_stamp;
+    uint64_t times = 0, stamps = 0;  // distinct values seen
+    void add(const ros::Time& t, ros::Time& first, ros::Time& last, uint64_t& n);
+    /// How much later the next pass must start: the longer span plus its mean step.
+    ros::Duration step() const;
+  };
+
   void run();
-  void publish(const rosbag::MessageInstance& m);
+  // Plays the bag once, every time and header stamp `shift` later; false when stopped or damaged.
+  bool playPass(const ros::Duration& shift, Progress& progress, PassSpan& span);
+  // Publishes m with its header stamp `shift` later (typed messages; others as they are); returns
+  // the message's header stamp (unshifted), zero for types without one.
+  ros::Time publish(const rosbag::MessageInstance& m, const ros::Duration& shift);
   bool sleepUntil(const ros::WallTime& t);
 
   ros::NodeHandle nh_, pnh_;

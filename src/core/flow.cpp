@@ -4,15 +4,12 @@
 
 #include <Eigen/LU>
 
-#include <algorithm>
-#include <cmath>
+#include <array>
 #include <cstring>
-#include <limits>
 #include <map>
-#include <optional>
 #include <stdexcept>
 #include <string>
-#include <tuple>
+#include <utility>
 
 namespace viper {
 namespace {

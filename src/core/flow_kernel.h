@@ -73,11 +73,6 @@ struct DrawMapping {
   }
 };
 
-inline Eigen::Vector4d clipAt(const std::vector<float>& c, uint32_t vertex) {
-  const size_t i = 4 * static_cast<size_t>(vertex);
-  return Eigen::Vector4d(c[i], c[i + 1], c[i + 2], c[i + 3]);
-}
-
 // The point of a non-rigid pixel in b's clip space: the pixel centre's perspective-correct
 // barycentrics in its triangle of a, applied to b's vertices. With a's vertices (x_i, y_i, w_i) as
 // the columns of M, the point sum(l_i c_i) (sum(l_i) = 1) projects to the centre q when

@@ -5,36 +5,20 @@
 namespace viper {
 namespace capture {
 
-namespace {
-
-GLint getInt(GLenum pname) {
-  GLint v = 0;
-  gl().GetIntegerv(pname, &v);
-  return v;
-}
-
-GLint attachmentParam(GLenum attachment, GLenum pname) {
-  GLint v = 0;
-  gl().GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, attachment, pname, &v);
-  return v;
-}
-
-}  // namespace
-
 void FrameTarget::queryDefaultFormats() {
   const RealGl& g = gl();
-  const GLint prev_draw = getInt(GL_DRAW_FRAMEBUFFER_BINDING);
+  const GLint prev_draw = glInt(GL_DRAW_FRAMEBUFFER_BINDING);
   g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-  const GLenum color_att = getInt(GL_DOUBLEBUFFER) ? GL_BACK_LEFT : GL_FRONT_LEFT;
-  const bool srgb = attachmentParam(color_att, GL_FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING) == GL_SRGB;
-  const bool alpha = attachmentParam(color_att, GL_FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE) > 0;
+  const GLenum color_att = glInt(GL_DOUBLEBUFFER) ? GL_BACK_LEFT : GL_FRONT_LEFT;
+  const bool srgb = drawAttachmentParam(color_att, GL_FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING) == GL_SRGB;
+  const bool alpha = drawAttachmentParam(color_att, GL_FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE) > 0;
   color_format_ = alpha ? (srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8) : (srgb ? GL_SRGB8 : GL_RGB8);
 
   GLint depth_bits = 0, stencil_bits = 0;
-  if (attachmentParam(GL_DEPTH, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) != GL_NONE)
-    depth_bits = attachmentParam(GL_DEPTH, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE);
-  if (attachmentParam(GL_STENCIL, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) != GL_NONE)
-    stencil_bits = attachmentParam(GL_STENCIL, GL_FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE);
+  if (drawAttachmentParam(GL_DEPTH, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) != GL_NONE)
+    depth_bits = drawAttachmentParam(GL_DEPTH, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE);
+  if (drawAttachmentParam(GL_STENCIL, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) != GL_NONE)
+    stencil_bits = drawAttachmentParam(GL_STENCIL, GL_FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE);
   // Same depth precision as the real framebuffer, so depth tests (and pixels) come out identical.
   depth_attachment_ = stencil_bits > 0 ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT;
   if (depth_bits == 0) depth_format_ = 0;
@@ -51,6 +35,9 @@ void FrameTarget::destroy() {
   GLuint tex[3] = {color_, ids_, depth_};
   g.DeleteTextures(3, tex);
   fbo_ = color_ = ids_ = depth_ = 0;
+  // Id textures of the program's framebuffer objects: made again at the new size when next drawn.
+  for (auto& [name, f] : program_fbos_) g.DeleteTextures(1, &f.ids);
+  program_fbos_.clear();
 }
 
 void FrameTarget::ensureSize(int width, int height) {
@@ -61,8 +48,8 @@ void FrameTarget::ensureSize(int width, int height) {
   width_ = width;
   height_ = height;
 
-  const GLint prev_tex = getInt(GL_TEXTURE_BINDING_2D);
-  const GLint prev_unpack = getInt(GL_PIXEL_UNPACK_BUFFER_BINDING);
+  const GLint prev_tex = glInt(GL_TEXTURE_BINDING_2D);
+  const GLint prev_unpack = glInt(GL_PIXEL_UNPACK_BUFFER_BINDING);
   g.BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
   auto make = [&](GLenum internal, GLenum format, GLenum type) {
     GLuint t = 0;
@@ -121,11 +108,11 @@ void FrameTarget::present(RawImages& out, bool to_surface) {
   out.width = width_;
   out.height = height_;
   if (!fbo_) return;
-  const GLint pack_buffer = getInt(GL_PIXEL_PACK_BUFFER_BINDING);
-  const GLint pack_alignment = getInt(GL_PACK_ALIGNMENT);
-  const GLint pack_row_length = getInt(GL_PACK_ROW_LENGTH);
-  const GLint pack_skip_rows = getInt(GL_PACK_SKIP_ROWS);
-  const GLint pack_skip_pixels = getInt(GL_PACK_SKIP_PIXELS);
+  const GLint pack_buffer = glInt(GL_PIXEL_PACK_BUFFER_BINDING);
+  const GLint pack_alignment = glInt(GL_PACK_ALIGNMENT);
+  const GLint pack_row_length = glInt(GL_PACK_ROW_LENGTH);
+  const GLint pack_skip_rows = glInt(GL_PACK_SKIP_ROWS);
+  const GLint pack_skip_pixels = glInt(GL_PACK_SKIP_PIXELS);
   const GLboolean scissor = g.IsEnabled(GL_SCISSOR_TEST);
   const GLboolean srgb = g.IsEnabled(GL_FRAMEBUFFER_SRGB);
   const GLboolean discard = g.IsEnabled(GL_RASTERIZER_DISCARD);
@@ -150,7 +137,19 @@ void FrameTarget::present(RawImages& out, bool to_surface) {
   g.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.rgba.data());
   out.depth.clear();
   out.depth_24_8.clear();
-  if (depth_format_ == GL_DEPTH24_STENCIL8) {
+  const GLuint scene = sceneSource();
+  if (scene) {
+    // The scene was drawn into a framebuffer object of the program's and composited: its depth and
+    // our ids there, read without changing the read buffer the program set on it.
+    g.BindFramebuffer(GL_READ_FRAMEBUFFER, scene);
+    const GLint program_read_buffer = glInt(GL_READ_BUFFER);
+    out.depth.resize(n);
+    g.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, out.depth.data());
+    g.ReadBuffer(kIdAttachment);
+    out.ids.resize(n * 2);
+    g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, out.ids.data());
+    g.ReadBuffer(static_cast<GLenum>(program_read_buffer));
+  } else if (depth_format_ == GL_DEPTH24_STENCIL8) {
     // Packed read-back is a plain copy; the conversion to float happens on the writer thread.
     out.depth_24_8.resize(n);
     g.ReadPixels(0, 0, width_, height_, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, out.depth_24_8.data());
@@ -158,10 +157,14 @@ void FrameTarget::present(RawImages& out, bool to_surface) {
     out.depth.resize(n);
     g.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, out.depth.data());
   }
-  g.ReadBuffer(GL_COLOR_ATTACHMENT1);
-  out.ids.resize(n * 2);
-  g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, out.ids.data());
+  if (!scene) {
+    g.ReadBuffer(GL_COLOR_ATTACHMENT1);
+    out.ids.resize(n * 2);
+    g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, out.ids.data());
+  }
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   applyReadBuffer();
+  endFrame();
 
   g.BindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer);
   g.PixelStorei(GL_PACK_ALIGNMENT, pack_alignment);

@@ -5,6 +5,7 @@
 #include "gl_real.h"
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 namespace viper {
@@ -46,14 +47,49 @@ class FrameTarget {
   /// Sets the read buffer of our framebuffer from program_read_buffer.
   void applyReadBuffer();
 
+  /// A framebuffer object of the program's that may hold its scene (rendered off screen, then
+  /// composited into the default framebuffer): complete, single-sampled, with a depth attachment,
+  /// the size of the default framebuffer. Draws into it write ids into a texture of ours attached
+  /// at kIdAttachment, and the one that took the most draws in a frame gives that frame's depth
+  /// and ids (the color stays the program's final image).
+  struct ProgramFbo {
+    uint64_t checked_frame = ~0ull;  ///< frame serial of the last check
+    bool scene = false;              ///< passed the check
+    GLuint ids = 0;                  ///< our id texture (RG32F)
+    std::vector<GLenum> program_draw_buffers{GL_COLOR_ATTACHMENT0};
+    bool ids_enabled = false;        ///< our attachment is draw buffer 1 now
+    bool ids_cleared = false;        ///< our attachment was cleared this frame
+    uint32_t draws = 0;              ///< draws recorded into it this frame
+  };
+  static constexpr GLenum kIdAttachment = GL_COLOR_ATTACHMENT7;
+  /// The program's bound draw framebuffer object if it may hold the scene (checked once a frame;
+  /// our id attachment added, and cleared for the frame unless `clear_stale` is false), else nullptr.
+  ProgramFbo* sceneFbo(bool clear_stale = true);
+  /// The program's glDrawBuffer(s) on its bound framebuffer object: kept, and applied with our id
+  /// attachment as draw buffer 1 where it has one enabled.
+  void programFboDrawBuffers(GLsizei n, const GLenum* bufs);
+  /// Sets the draw buffers of the bound program framebuffer f: the program's, with ours as 1 if `ids`.
+  void applyFboDrawBuffers(ProgramFbo& f, bool ids);
+  /// After the program cleared color or depth of its bound framebuffer f: our ids back to 0.
+  void clearFboIds(ProgramFbo& f);
+
   /// Copies the program's image to the real default framebuffer (unless `to_surface` is false:
   /// pbuffers, whose content the program can only read through GL, which reads ours) and reads
-  /// color, depth and ids. Restores every binding and state it touches.
+  /// color, and depth and ids from the default framebuffer or the scene's framebuffer object.
+  /// Restores every binding and state it touches.
   void present(RawImages& out, bool to_surface);
 
  private:
   void queryDefaultFormats();
   void destroy();
+  bool isSceneCandidate() const;  // the bound draw framebuffer object
+  // The scene's framebuffer object of this frame (most recorded draws), 0 for ours.
+  GLuint sceneSource() const;
+  void readDepthAndIds(GLuint fb, GLenum id_buffer, RawImages& out);
+  void endFrame();
+
+  std::unordered_map<GLuint, ProgramFbo> program_fbos_;
+  uint64_t frame_serial_ = 0;
 
   GLuint fbo_ = 0;
   GLuint color_ = 0, ids_ = 0, depth_ = 0;

@@ -30,6 +30,9 @@ namespace capture {
   X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                      \
   X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                                  \
   X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                              \
+  X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                          \
+  X(PFNGLGETRENDERBUFFERPARAMETERIVPROC, GetRenderbufferParameteriv)                      \
+  X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)                              \
   X(PFNGLGETFRAMEBUFFERATTACHMENTPARAMETERIVPROC, GetFramebufferAttachmentParameteriv)    \
   X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                                            \
   X(PFNGLDRAWBUFFERPROC, DrawBuffer)                                                      \
@@ -54,6 +57,7 @@ namespace capture {
   X(PFNGLBLENDEQUATIONIPROC, BlendEquationi)                                              \
   X(PFNGLCOLORMASKIPROC, ColorMaski)                                                      \
   X(PFNGLGETBOOLEANVPROC, GetBooleanv)                                                    \
+  X(PFNGLGETBOOLEANI_VPROC, GetBooleani_v)                                                \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                                    \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                              \
   X(PFNGLBINDTEXTUREPROC, BindTexture)                                                    \
@@ -99,6 +103,20 @@ struct RealGl {
 
 /// The real GL table; filled on first use.
 const RealGl& gl();
+
+/// glGetIntegerv of one value, through the real GL.
+inline GLint glInt(GLenum pname) {
+  GLint v = 0;
+  gl().GetIntegerv(pname, &v);
+  return v;
+}
+
+/// A parameter of an attachment of the bound draw framebuffer, through the real GL.
+inline GLint drawAttachmentParam(GLenum attachment, GLenum pname) {
+  GLint v = 0;
+  gl().GetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, attachment, pname, &v);
+  return v;
+}
 
 /// The real dlsym (the interceptor interposes dlsym itself).
 void* realDlsym(void* handle, const char* name);

@@ -131,14 +131,16 @@ void Interceptor::bindFramebuffer(GLenum target_enum, GLuint fb) {
 
 void Interceptor::drawBuffer(GLenum buf) {
   FrameTarget* t = target();
-  if (!t || !t->ready() || t->program_draw_fb != 0) return gl().DrawBuffer(buf);
+  if (!t || !t->ready()) return gl().DrawBuffer(buf);
+  if (t->program_draw_fb != 0) return t->programFboDrawBuffers(1, &buf);
   t->program_draw_buffer = buf == GL_NONE ? GL_NONE : GL_BACK;
   t->applyDrawBuffers(t->ids_enabled);
 }
 
 void Interceptor::drawBuffers(GLsizei n, const GLenum* bufs) {
   FrameTarget* t = target();
-  if (!t || !t->ready() || t->program_draw_fb != 0) return gl().DrawBuffers(n, bufs);
+  if (!t || !t->ready()) return gl().DrawBuffers(n, bufs);
+  if (t->program_draw_fb != 0) return t->programFboDrawBuffers(n, bufs);
   t->program_draw_buffer = (n > 0 && bufs[0] != GL_NONE) ? GL_BACK : GL_NONE;
   t->applyDrawBuffers(t->ids_enabled);
 }
@@ -152,6 +154,13 @@ void Interceptor::readBuffer(GLenum buf) {
 
 void Interceptor::clear(GLbitfield mask) {
   FrameTarget* t = target();
+  if (t && t->ready() && t->program_draw_fb != 0) {
+    gl().Clear(mask);
+    // A new color or depth image in a framebuffer that may hold the scene: its ids start at 0.
+    if (mask & (GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT))
+      if (FrameTarget::ProgramFbo* f = t->sceneFbo(/*clear_stale=*/false)) t->clearFboIds(*f);
+    return;
+  }
   const bool ours = t && t->ready() && t->program_draw_fb == 0 && (mask & GL_COLOR_BUFFER_BIT);
   if (ours && !t->ids_enabled) t->applyDrawBuffers(true);
   gl().Clear(mask);

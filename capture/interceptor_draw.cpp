@@ -30,11 +30,20 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   last_recorded_ = false;
   last_mesh_ = nullptr;
   FrameTarget* t = target();
-  if (!enabled_ || !t || !t->ready() || t->program_draw_fb != 0) return false;  // only the default framebuffer
+  if (!enabled_ || !t || !t->ready()) return false;
+  // Recorded: draws into the default framebuffer, and into a framebuffer object that may hold the
+  // scene (frame_target.h, ProgramFbo).
+  FrameTarget::ProgramFbo* scene_fbo = nullptr;
+  if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return false;
   ProgramInfo* p = currentProgram();
   if (!p) return false;
   const RealGl& g = gl();
-  if (p->rewritten != t->ids_enabled) t->applyDrawBuffers(p->rewritten);
+  if (scene_fbo) {
+    if (p->rewritten != scene_fbo->ids_enabled) t->applyFboDrawBuffers(*scene_fbo, p->rewritten);
+    ++scene_fbo->draws;
+  } else if (p->rewritten != t->ids_enabled) {
+    t->applyDrawBuffers(p->rewritten);
+  }
   if (blend_dirty_) {
     // For blended draws our id buffer keeps what is behind fragments whose coverage (alpha) is
     // 0; opaque draws write ids unblended (blending float targets is slow on software drivers).

@@ -5,6 +5,7 @@ find_package(Threads REQUIRED)
 set(VIPER_INTERCEPT_SOURCES
   capture/gl_real.cpp
   capture/frame_target.cpp
+  capture/scene_fbo.cpp
   capture/frame_sink.cpp
   capture/finish_frame.cpp
   capture/mesh_extract.cpp

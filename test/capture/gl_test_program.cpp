@@ -1,9 +1,14 @@
 // Small OpenGL 3.3 core program for the capture tests: renders test_scene_layout.h into an EGL
 // pbuffer (or a GLX window), loading GL in one of several ways, and writes its own last frame.
 //   gl_test_program [--mode direct|eglproc|dlopen|glx] [--size WxH] [--frames N] [--out FILE]
-//                   [--load N]
+//                   [--load N] [--offscreen 0|1]
 // --out writes the program's own glReadPixels of its last frame (RGBA, bottom row first).
 // --load adds N small extra quads per frame (for overhead measurements). Prints frame_ms=AVG.
+// --offscreen 1 renders the scene into a framebuffer object of its own (color texture, depth
+// renderbuffer) and composites it into the default framebuffer with a post effect (inverted
+// colors), as engines with post-processing do. --offscreen 2 does the same with a depth texture
+// instead of the renderbuffer, after a shadow-map-like pass (the quad into a 64x64 depth-only
+// framebuffer object) that a capture must leave out.
 #include "test_scene_layout.h"  // Eigen before X11 (X11 defines Success)
 
 #define GL_GLEXT_PROTOTYPES 1
@@ -45,7 +50,11 @@ namespace {
   X(PFNGLGETINTEGERVPROC, GetIntegerv) X(PFNGLGENTEXTURESPROC, GenTextures)                                 \
   X(PFNGLBINDTEXTUREPROC, BindTexture) X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                   \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri) X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                         \
-  X(PFNGLUNIFORM1IPROC, Uniform1i)
+  X(PFNGLUNIFORM1IPROC, Uniform1i) X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                         \
+  X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D) X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)    \
+  X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer) X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)      \
+  X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                                              \
+  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)
 
 struct Gl {
 #define DECL(type, name) type name = nullptr;
@@ -130,6 +139,34 @@ void main() {
 }
 )";
 
+// The composite pass: a triangle over the whole screen (no vertex buffer) showing the scene's
+// colors inverted.
+const char* kPostVs = R"(#version 330 core
+out vec2 uv;
+void main() {
+  uv = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+  gl_Position = vec4(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+const char* kPostFs = R"(#version 330 core
+uniform sampler2D uScene;
+in vec2 uv;
+out vec4 color;
+void main() { color = vec4(1.0 - texture(uScene, uv).rgb, 1.0); }
+)";
+
+// A width x height depth texture on unit 3 (unit 0 keeps its binding).
+GLuint depthTexture(const Gl& g, int width, int height) {
+  GLuint t = 0;
+  g.GenTextures(1, &t);
+  g.ActiveTexture(GL_TEXTURE3);
+  g.BindTexture(GL_TEXTURE_2D, t);
+  g.TexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, width, height, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  g.ActiveTexture(GL_TEXTURE0);
+  return t;
+}
+
 struct Mesh {
   GLuint vao = 0;
 };
@@ -154,7 +191,7 @@ void setMatrices(const Gl& g, GLuint prog, const Eigen::Matrix4f& world) {
 int main(int argc, char** argv) {
   namespace ts = viper::test_scene;
   std::string mode = "direct", out;
-  int width = 160, height = 120, frames = 3, load = 0;
+  int width = 160, height = 120, frames = 3, load = 0, offscreen = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--mode") mode = v;
@@ -162,6 +199,7 @@ int main(int argc, char** argv) {
     else if (a == "--frames") frames = std::atoi(v.c_str());
     else if (a == "--out") out = v;
     else if (a == "--load") load = std::atoi(v.c_str());
+    else if (a == "--offscreen") offscreen = std::atoi(v.c_str());
     else die("unknown option " + a);
   }
 
@@ -298,15 +336,62 @@ int main(int argc, char** argv) {
   g.UseProgram(glass);
   g.Uniform1i(g.GetUniformLocation(glass, "uTint"), 1);
 
+  // The scene's framebuffer object (--offscreen): color texture on unit 2, depth renderbuffer.
+  GLuint scene_fb = 0, scene_color = 0, scene_depth = 0, post = 0, post_vao = 0;
+  if (offscreen) {
+    g.GenTextures(1, &scene_color);
+    g.ActiveTexture(GL_TEXTURE2);
+    g.BindTexture(GL_TEXTURE_2D, scene_color);
+    g.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    g.ActiveTexture(GL_TEXTURE0);
+    g.GenFramebuffers(1, &scene_fb);
+    g.BindFramebuffer(GL_FRAMEBUFFER, scene_fb);
+    g.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, scene_color, 0);
+    if (offscreen == 1) {
+      g.GenRenderbuffers(1, &scene_depth);
+      g.BindRenderbuffer(GL_RENDERBUFFER, scene_depth);
+      g.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+      g.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, scene_depth);
+    } else {
+      scene_depth = depthTexture(g, width, height);
+      g.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, scene_depth, 0);
+    }
+    if (g.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("scene framebuffer incomplete");
+    post = program(g, kPostVs, kPostFs);
+    g.UseProgram(post);
+    g.Uniform1i(g.GetUniformLocation(post, "uScene"), 2);
+    post_vao = vao();
+  }
+  GLuint shadow_fb = 0;
+  if (offscreen == 2) {
+    g.GenFramebuffers(1, &shadow_fb);
+    g.BindFramebuffer(GL_FRAMEBUFFER, shadow_fb);
+    g.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depthTexture(g, 64, 64), 0);
+    g.DrawBuffer(GL_NONE);
+    if (g.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("shadow framebuffer incomplete");
+  }
+
   std::vector<uint8_t> pixels(static_cast<size_t>(width) * height * 4);
   double total_ms = 0;
   for (int f = 0; f < frames; ++f) {
     const auto start = std::chrono::steady_clock::now();
-    g.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (shadow_fb) {
+      g.BindFramebuffer(GL_FRAMEBUFFER, shadow_fb);
+      g.Viewport(0, 0, 64, 64);
+      g.Enable(GL_DEPTH_TEST);
+      g.Clear(GL_DEPTH_BUFFER_BIT);
+      g.UseProgram(rigid);
+      setMatrices(g, rigid, ts::world(ts::kQuad, f));
+      g.BindVertexArray(quad_vao);
+      g.DrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, nullptr);
+    }
+    g.BindFramebuffer(GL_FRAMEBUFFER, scene_fb);
     GLint bound = -1;
     g.GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
-    if (bound != 0) die("the default framebuffer does not read back as 0");
-    g.DrawBuffer(GL_BACK);
+    if (bound != static_cast<GLint>(scene_fb)) die("the bound framebuffer does not read back as bound");
+    g.DrawBuffer(offscreen ? GL_COLOR_ATTACHMENT0 : GL_BACK);
     g.Viewport(0, 0, width, height);
     g.ClearColor(0.1f, 0.1f, 0.2f, 1.0f);
     g.Enable(GL_DEPTH_TEST);
@@ -352,6 +437,15 @@ int main(int argc, char** argv) {
       w(0, 0) = w(1, 1) = 0.04f;
       setMatrices(g, rigid, w);
       g.DrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, nullptr);
+    }
+
+    if (offscreen) {
+      g.BindFramebuffer(GL_FRAMEBUFFER, 0);
+      g.DrawBuffer(GL_BACK);
+      g.Disable(GL_DEPTH_TEST);
+      g.UseProgram(post);
+      g.BindVertexArray(post_vao);
+      g.DrawArrays(GL_TRIANGLES, 0, 3);
     }
 
     if (f == frames - 1 && !out.empty()) {

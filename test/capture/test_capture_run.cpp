@@ -50,9 +50,10 @@ std::vector<CaptureFrame> readFrames(const std::string& path) {
   return frames;
 }
 
-std::string program(const std::string& mode, const std::string& out, int frames = kFrames) {
+std::string program(const std::string& mode, const std::string& out, int frames = kFrames,
+                    const std::string& args = "") {
   return std::string(VIPER_GL_TEST_PROGRAM) + " --mode " + mode + " --frames " + std::to_string(frames) +
-         " --size " + std::to_string(kWidth) + "x" + std::to_string(kHeight) + " --out " + out;
+         " --size " + std::to_string(kWidth) + "x" + std::to_string(kHeight) + " --out " + out + args;
 }
 
 std::string capture(const std::string& vcap, const std::string& extra = "") {
@@ -73,27 +74,29 @@ Pixel pixelOf(uint32_t draw, uint64_t frame, float x, float y) {
 }
 size_t at(const Pixel& p) { return static_cast<size_t>(p.y) * kWidth + p.x; }
 
-// Runs a mode plainly and captured once per test binary run; shares the results.
+// Runs a mode (with extra program arguments) plainly and captured once per test binary run;
+// shares the results.
 struct ModeRun {
   int plain_rc = -1, capture_rc = -1;
   std::string plain_pixels, captured_pixels;
   std::vector<CaptureFrame> frames;
 };
-const ModeRun& runMode(const std::string& mode, const std::string& wrapper = "") {
+const ModeRun& runMode(const std::string& mode, const std::string& wrapper = "", const std::string& args = "") {
   static std::map<std::string, ModeRun> runs;
-  auto it = runs.find(mode);
+  auto it = runs.find(mode + args);
   if (it != runs.end()) return it->second;
-  ModeRun& r = runs[mode];
-  const std::string d = tempDir() + "/" + mode;
-  r.plain_rc = run(wrapper + program(mode, d + "_plain.rgba"));
-  r.capture_rc = run(wrapper + capture(d + ".vcap") + program(mode, d + "_captured.rgba"));
+  ModeRun& r = runs[mode + args];
+  const std::string d = tempDir() + "/" + mode + (args.empty() ? "" : "_args" + std::to_string(runs.size()));
+  r.plain_rc = run(wrapper + program(mode, d + "_plain.rgba", kFrames, args));
+  r.capture_rc = run(wrapper + capture(d + ".vcap") + program(mode, d + "_captured.rgba", kFrames, args));
   r.plain_pixels = readFile(d + "_plain.rgba");
   r.captured_pixels = readFile(d + "_captured.rgba");
   if (r.capture_rc == 0) r.frames = readFrames(d + ".vcap");
   return r;
 }
 
-void checkRun(const ModeRun& r) {
+// `extra_draws`: draws after the scene's (a composite pass), which must own no pixel.
+void checkRun(const ModeRun& r, uint32_t extra_draws = 0) {
   ASSERT_EQ(r.plain_rc, 0);
   ASSERT_EQ(r.capture_rc, 0);
   ASSERT_EQ(r.plain_pixels.size(), size_t(kWidth) * kHeight * 4);
@@ -115,7 +118,8 @@ void checkRun(const ModeRun& r) {
     EXPECT_EQ(viper::validateFrame(f), "");
     EXPECT_EQ(f.condition, "rain");
     ASSERT_EQ(f.width, uint32_t(kWidth));
-    ASSERT_EQ(f.draws.size(), size_t(ts::kDrawCount));
+    ASSERT_EQ(f.draws.size(), size_t(ts::kDrawCount + extra_draws));
+    for (uint32_t d = ts::kDrawCount; d < f.draws.size(); ++d) EXPECT_EQ(f.draws[d].visible_pixels, 0u) << d;
     // Draw ids where the program drew, and not where only the transparent glass is.
     EXPECT_EQ(f.draw_ids[at(pixelOf(ts::kQuad, f.number, -0.5f, 0.6f))], ts::kQuad + 1);
     EXPECT_EQ(f.draw_ids[at(pixelOf(ts::kTriangle, f.number, 0.0f, -0.7f))], ts::kTriangle + 1);
@@ -198,6 +202,32 @@ void checkRun(const ModeRun& r) {
 TEST(CaptureRun, LinkedGl) { checkRun(runMode("direct")); }
 TEST(CaptureRun, EglGetProcAddress) { checkRun(runMode("eglproc")); }
 TEST(CaptureRun, DlopenedEgl) { checkRun(runMode("dlopen")); }
+
+// A program that renders its scene into a framebuffer object of its own and composites it into the
+// default framebuffer with a post effect: ids and depth are the scene's, exactly as when it renders
+// straight into the default framebuffer; the color is its final (inverted) image.
+static void checkOffscreen(const std::string& offscreen_arg) {
+  const ModeRun& offscreen = runMode("direct", "", " --offscreen " + offscreen_arg);
+  checkRun(offscreen, /*extra_draws=*/1);
+  const ModeRun& direct = runMode("direct");
+  ASSERT_EQ(offscreen.frames.size(), direct.frames.size());
+  for (size_t i = 0; i < direct.frames.size(); ++i) {
+    SCOPED_TRACE("frame " + std::to_string(i));
+    const CaptureFrame &a = offscreen.frames[i], &b = direct.frames[i];
+    EXPECT_TRUE(a.draw_ids == b.draw_ids);
+    EXPECT_TRUE(a.primitive_ids == b.primitive_ids);
+    EXPECT_TRUE(a.depth_window == b.depth_window);
+    ASSERT_EQ(a.color_rgb.size(), b.color_rgb.size());
+    size_t not_inverted = 0;
+    for (size_t k = 0; k < a.color_rgb.size(); ++k) not_inverted += a.color_rgb[k] != 255 - b.color_rgb[k];
+    EXPECT_EQ(not_inverted, 0u) << "the captured color is not the composite";
+  }
+}
+
+TEST(CaptureRun, SceneRenderedOffscreenAndComposited) { checkOffscreen("1"); }
+// With a depth texture, after a shadow pass into a smaller depth-only framebuffer object, whose
+// draws are not the scene's and stay out of the draw list (checkRun counts the draws).
+TEST(CaptureRun, SceneInADepthTextureFramebufferAfterAShadowPass) { checkOffscreen("2"); }
 
 TEST(CaptureRun, GlxUnderXvfb) {
   if (run("command -v xvfb-run > /dev/null") != 0) GTEST_SKIP() << "xvfb-run not installed";

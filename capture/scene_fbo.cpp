@@ -1,0 +1,134 @@
+// The program's own framebuffer objects that may hold its scene (FrameTarget::ProgramFbo): which
+// qualify, our id attachment on them, their draw buffers and clears.
+#include "frame_target.h"
+
+namespace viper {
+namespace capture {
+
+namespace {
+
+// Width and height of the bound draw framebuffer's depth attachment (0 if none or not 2D).
+void depthAttachmentSize(GLint& width, GLint& height) {
+  const RealGl& g = gl();
+  width = height = 0;
+  GLenum attachment = GL_DEPTH_ATTACHMENT;
+  GLint type = drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE);
+  if (type == GL_NONE) {
+    attachment = GL_DEPTH_STENCIL_ATTACHMENT;
+    type = drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE);
+  }
+  const GLuint name = static_cast<GLuint>(drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME));
+  if (type == GL_RENDERBUFFER) {
+    const GLint prev = glInt(GL_RENDERBUFFER_BINDING);
+    g.BindRenderbuffer(GL_RENDERBUFFER, name);
+    g.GetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_WIDTH, &width);
+    g.GetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_HEIGHT, &height);
+    g.BindRenderbuffer(GL_RENDERBUFFER, static_cast<GLuint>(prev));
+  } else if (type == GL_TEXTURE && drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_CUBE_MAP_FACE) == 0 &&
+             drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_LAYERED) == GL_FALSE &&
+             drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LAYER) == 0) {
+    // Taken for a 2D texture: GL 3.3 cannot say a texture's target (a layer of an array texture
+    // attached at layer 0 would not bind here, and is not supported).
+    const GLint level = drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL);
+    const GLint prev = glInt(GL_TEXTURE_BINDING_2D);
+    g.BindTexture(GL_TEXTURE_2D, name);
+    g.GetTexLevelParameteriv(GL_TEXTURE_2D, level, GL_TEXTURE_WIDTH, &width);
+    g.GetTexLevelParameteriv(GL_TEXTURE_2D, level, GL_TEXTURE_HEIGHT, &height);
+    g.BindTexture(GL_TEXTURE_2D, static_cast<GLuint>(prev));
+  }
+}
+
+}  // namespace
+
+bool FrameTarget::isSceneCandidate() const {
+  const RealGl& g = gl();
+  if (g.CheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return false;
+  if (glInt(GL_SAMPLES) != 0) return false;  // multisampled: no read-back of its pixels
+  GLint w = 0, h = 0;
+  depthAttachmentSize(w, h);
+  return w == width_ && h == height_;
+}
+
+FrameTarget::ProgramFbo* FrameTarget::sceneFbo(bool clear_stale) {
+  if (program_draw_fb == 0 || !fbo_) return nullptr;
+  ProgramFbo& f = program_fbos_[program_draw_fb];
+  if (f.checked_frame != frame_serial_) {
+    f.checked_frame = frame_serial_;
+    f.scene = isSceneCandidate();
+    if (f.scene) {
+      const RealGl& g = gl();
+      if (!f.ids) {
+        const GLint prev_tex = glInt(GL_TEXTURE_BINDING_2D);
+        const GLint prev_unpack = glInt(GL_PIXEL_UNPACK_BUFFER_BINDING);
+        g.BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+        g.GenTextures(1, &f.ids);
+        g.BindTexture(GL_TEXTURE_2D, f.ids);
+        g.TexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, width_, height_, 0, GL_RG, GL_FLOAT, nullptr);
+        g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        g.BindTexture(GL_TEXTURE_2D, static_cast<GLuint>(prev_tex));
+        g.BindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(prev_unpack));
+      }
+      // Attached again whenever it is not (a new framebuffer object under a reused name).
+      if (static_cast<GLuint>(drawAttachmentParam(kIdAttachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME)) != f.ids) {
+        g.FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, kIdAttachment, GL_TEXTURE_2D, f.ids, 0);
+        f.ids_enabled = false;
+        applyFboDrawBuffers(f, false);
+      }
+    }
+  }
+  if (!f.scene) return nullptr;
+  if (clear_stale && !f.ids_cleared) clearFboIds(f);  // drawn into this frame before any clear
+  return &f;
+}
+
+void FrameTarget::programFboDrawBuffers(GLsizei n, const GLenum* bufs) {
+  ProgramFbo& f = program_fbos_[program_draw_fb];
+  f.program_draw_buffers.assign(bufs, bufs + (n > 0 ? n : 0));
+  applyFboDrawBuffers(f, f.scene && f.ids_enabled);
+}
+
+void FrameTarget::applyFboDrawBuffers(ProgramFbo& f, bool ids) {
+  std::vector<GLenum> bufs = f.program_draw_buffers;
+  const bool color = !bufs.empty() && bufs[0] != GL_NONE;
+  if (ids && color && f.ids) {
+    if (bufs.size() < 2) bufs.resize(2, GL_NONE);
+    bufs[1] = kIdAttachment;
+  }
+  gl().DrawBuffers(static_cast<GLsizei>(bufs.size()), bufs.data());
+  f.ids_enabled = ids && color && f.ids;
+}
+
+void FrameTarget::clearFboIds(ProgramFbo& f) {
+  const RealGl& g = gl();
+  const bool was_enabled = f.ids_enabled;
+  if (!was_enabled) applyFboDrawBuffers(f, true);
+  if (f.ids_enabled) {
+    static const GLfloat kZero[4] = {0, 0, 0, 0};
+    GLboolean mask[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
+    g.GetBooleani_v(GL_COLOR_WRITEMASK, 1, mask);
+    const GLboolean scissor = g.IsEnabled(GL_SCISSOR_TEST);
+    if (scissor) g.Disable(GL_SCISSOR_TEST);
+    g.ColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    g.ClearBufferfv(GL_COLOR, 1, kZero);
+    g.ColorMaski(1, mask[0], mask[1], mask[2], mask[3]);
+    if (scissor) g.Enable(GL_SCISSOR_TEST);
+    f.ids_cleared = true;
+  }
+  if (!was_enabled) applyFboDrawBuffers(f, false);
+}
+
+GLuint FrameTarget::sceneSource() const {
+  GLuint best = 0;
+  uint32_t most = 0;
+  for (const auto& [name, f] : program_fbos_)
+    if (f.scene && f.draws > most) best = name, most = f.draws;
+  return best;
+}
+
+void FrameTarget::endFrame() {
+  ++frame_serial_;
+  for (auto& [name, f] : program_fbos_) f.draws = 0, f.ids_cleared = false;
+}
+
+}  // namespace capture
+}  // namespace viper

@@ -57,7 +57,8 @@ class FrameTarget {
     bool scene = false;              ///< passed the check
     GLuint ids = 0;                  ///< our id texture (RG32F)
     std::vector<GLenum> program_draw_buffers{GL_COLOR_ATTACHMENT0};
-    bool ids_enabled = false;        ///< our attachment is draw buffer 1 now
+    bool ids_wanted = false;         ///< last asked for: the drawing program writes ids
+    bool ids_enabled = false;        ///< our attachment is draw buffer 1 now (wanted, and color drawn)
     bool ids_cleared = false;        ///< our attachment was cleared this frame
     uint32_t draws = 0;              ///< draws recorded into it this frame
   };

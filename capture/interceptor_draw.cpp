@@ -39,7 +39,7 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   if (!p) return false;
   const RealGl& g = gl();
   if (scene_fbo) {
-    if (p->rewritten != scene_fbo->ids_enabled) t->applyFboDrawBuffers(*scene_fbo, p->rewritten);
+    if (p->rewritten != scene_fbo->ids_wanted) t->applyFboDrawBuffers(*scene_fbo, p->rewritten);
     ++scene_fbo->draws;
   } else if (p->rewritten != t->ids_enabled) {
     t->applyDrawBuffers(p->rewritten);

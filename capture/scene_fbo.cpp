@@ -84,7 +84,7 @@ FrameTarget::ProgramFbo* FrameTarget::sceneFbo(bool clear_stale) {
 void FrameTarget::programFboDrawBuffers(GLsizei n, const GLenum* bufs) {
   ProgramFbo& f = program_fbos_[program_draw_fb];
   f.program_draw_buffers.assign(bufs, bufs + (n > 0 ? n : 0));
-  applyFboDrawBuffers(f, f.scene && f.ids_enabled);
+  applyFboDrawBuffers(f, f.scene && f.ids_wanted);
 }
 
 void FrameTarget::applyFboDrawBuffers(ProgramFbo& f, bool ids) {
@@ -95,12 +95,13 @@ void FrameTarget::applyFboDrawBuffers(ProgramFbo& f, bool ids) {
     bufs[1] = kIdAttachment;
   }
   gl().DrawBuffers(static_cast<GLsizei>(bufs.size()), bufs.data());
+  f.ids_wanted = ids;
   f.ids_enabled = ids && color && f.ids;
 }
 
 void FrameTarget::clearFboIds(ProgramFbo& f) {
   const RealGl& g = gl();
-  const bool was_enabled = f.ids_enabled;
+  const bool was_enabled = f.ids_enabled, was_wanted = f.ids_wanted;
   if (!was_enabled) applyFboDrawBuffers(f, true);
   if (f.ids_enabled) {
     static const GLfloat kZero[4] = {0, 0, 0, 0};
@@ -114,7 +115,7 @@ void FrameTarget::clearFboIds(ProgramFbo& f) {
     if (scissor) g.Enable(GL_SCISSOR_TEST);
     f.ids_cleared = true;
   }
-  if (!was_enabled) applyFboDrawBuffers(f, false);
+  if (!was_enabled) applyFboDrawBuffers(f, was_wanted);
 }
 
 GLuint FrameTarget::sceneSource() const {

@@ -129,25 +129,22 @@ ros::Time BagPlayer::publish(const rosbag::MessageInstance& m, const ros::Durati
   return ros::Time();
 }
 
-void BagPlayer::PassSpan::add(const ros::Time& t, ros::Time& first, ros::Time& last, uint64_t& n) {
+void BagPlayer::Span::add(const ros::Time& t) {
   if (t.isZero()) return;
-  if (n == 0) {
+  if (values == 0) {
     first = last = t;
-    n = 1;
+    values = 1;
   } else if (t > last) {  // counts rises: the messages of one frame share their time
     last = t;
-    ++n;
+    ++values;
   } else if (t < first) {
     first = t;
   }
 }
 
-ros::Duration BagPlayer::PassSpan::step() const {
-  auto one = [](const ros::Time& first, const ros::Time& last, uint64_t n) {
-    const double span = (last - first).toSec();
-    return span + (n > 1 && span > 0.0 ? span / static_cast<double>(n - 1) : 0.1);
-  };
-  return ros::Duration(std::max(one(first_time, last_time, times), stamps ? one(first_stamp, last_stamp, stamps) : 0.0));
+double BagPlayer::Span::step() const {
+  const double span = (last - first).toSec();
+  return span + (values > 1 && span > 0.0 ? span / static_cast<double>(values - 1) : 0.1);
 }
 
 bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span) {
@@ -171,8 +168,8 @@ bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span
         clock_pub_.publish(clock);
       }
       p.last = t;
-      span.add(m.getTime(), span.first_time, span.last_time, span.times);
-      span.add(publish(m, shift), span.first_stamp, span.last_stamp, span.stamps);
+      span.times.add(m.getTime());
+      span.stamps.add(publish(m, shift));
       published_ = ++p.count;
     }
     return true;

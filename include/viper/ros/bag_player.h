@@ -7,6 +7,7 @@
 
 #include <ros/ros.h>
 
+#include <algorithm>
 #include <atomic>
 #include <map>
 #include <string>
@@ -51,13 +52,17 @@ class BagPlayer {
     ros::Time first, last;
     ros::WallTime wall_start;
   };
-  // The spans one pass covered, in bag times and in header stamps, for the next pass's shift.
+  // The times one pass covered (bag times, or header stamps): first, last, how many rises.
+  struct Span {
+    ros::Time first, last;
+    uint64_t values = 0;
+    void add(const ros::Time& t);  // zero (no stamp) is left out
+    double step() const;           // the span plus its mean step (0.1 s with one value)
+  };
   struct PassSpan {
-    ros::Time first_time, last_time, first_stamp, last_stamp;
-    uint64_t times = 0, stamps = 0;  // distinct values seen
-    void add(const ros::Time& t, ros::Time& first, ros::Time& last, uint64_t& n);
-    /// How much later the next pass must start: the longer span plus its mean step.
-    ros::Duration step() const;
+    Span times, stamps;
+    /// How much later the next pass must start: so that both bag times and stamps keep rising.
+    ros::Duration step() const { return ros::Duration(std::max(times.step(), stamps.values ? stamps.step() : 0.0)); }
   };
 
   void run();

@@ -225,6 +225,7 @@ struct FlowKernel {
       }
     }
   }
+
   // Counts the lanes `bits` of the block at x whose draw is m (the lanes with a surface in
   // surface_bits) and queues its non-rigid lanes in `pending`, to be done one at a time after the
   // row's blocks (finishRow). Rigid lanes the block kernel computes itself.

@@ -35,6 +35,10 @@ void FrameTarget::destroy() {
   GLuint tex[3] = {color_, ids_, depth_};
   g.DeleteTextures(3, tex);
   fbo_ = color_ = ids_ = depth_ = 0;
+  if (scene_color_fbo_) g.DeleteFramebuffers(1, &scene_color_fbo_);
+  if (scene_color_) g.DeleteTextures(1, &scene_color_);
+  scene_color_fbo_ = scene_color_ = 0;
+  scene_color_taken_ = false;
   // Id textures of the program's framebuffer objects: made again at the new size when next drawn.
   for (auto& [name, f] : program_fbos_) g.DeleteTextures(1, &f.ids);
   program_fbos_.clear();
@@ -84,7 +88,7 @@ void FrameTarget::ensureSize(int width, int height) {
   const GLint prev_scissor = g.IsEnabled(GL_SCISSOR_TEST);
   g.Disable(GL_SCISSOR_TEST);
   g.ClearBufferfv(GL_COLOR, 0, zero);
-  g.ClearBufferfv(GL_COLOR, 1, zero);
+  g.ClearBufferfv(GL_COLOR, kIdDrawBuffer, zero);
   if (prev_scissor) g.Enable(GL_SCISSOR_TEST);
   // Where the program thinks the default framebuffer is bound, ours is.
   g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, program_draw_fb ? program_draw_fb : fbo_);
@@ -94,8 +98,11 @@ void FrameTarget::ensureSize(int width, int height) {
 void FrameTarget::applyDrawBuffers(bool ids) {
   const GLenum none_or_color = program_draw_buffer == GL_NONE ? GL_NONE : GL_COLOR_ATTACHMENT0;
   const GLenum ids_buffer = ids && none_or_color != GL_NONE ? GLenum(GL_COLOR_ATTACHMENT1) : GLenum(GL_NONE);
-  const GLenum bufs[2] = {none_or_color, ids_buffer};
-  gl().DrawBuffers(2, bufs);
+  GLenum bufs[kIdDrawBuffer + 1];
+  bufs[0] = none_or_color;
+  for (GLuint i = 1; i < kIdDrawBuffer; ++i) bufs[i] = GL_NONE;
+  bufs[kIdDrawBuffer] = ids_buffer;
+  gl().DrawBuffers(kIdDrawBuffer + 1, bufs);
   ids_enabled = ids;
 }
 
@@ -103,7 +110,45 @@ void FrameTarget::applyReadBuffer() {
   gl().ReadBuffer(program_read_buffer == GL_NONE ? GL_NONE : GL_COLOR_ATTACHMENT0);
 }
 
-void FrameTarget::present(RawImages& out, bool to_surface) {
+void FrameTarget::snapshotSceneColor() {
+  if (scene_color_taken_ || !fbo_) return;
+  const RealGl& g = gl();
+  if (!scene_color_fbo_) {
+    const GLint prev_tex = glInt(GL_TEXTURE_BINDING_2D);
+    const GLint prev_unpack = glInt(GL_PIXEL_UNPACK_BUFFER_BINDING);
+    g.BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    g.GenTextures(1, &scene_color_);
+    g.BindTexture(GL_TEXTURE_2D, scene_color_);
+    g.TexImage2D(GL_TEXTURE_2D, 0, color_format_, width_, height_, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    g.BindTexture(GL_TEXTURE_2D, static_cast<GLuint>(prev_tex));
+    g.BindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(prev_unpack));
+    const GLint prev_draw = glInt(GL_DRAW_FRAMEBUFFER_BINDING);
+    g.GenFramebuffers(1, &scene_color_fbo_);
+    g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_color_fbo_);
+    g.FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, scene_color_, 0);
+    g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(prev_draw));
+  }
+  const GLint prev_draw = glInt(GL_DRAW_FRAMEBUFFER_BINDING), prev_read = glInt(GL_READ_FRAMEBUFFER_BINDING);
+  const GLint prev_read_buffer = glInt(GL_READ_BUFFER);
+  const GLboolean scissor = g.IsEnabled(GL_SCISSOR_TEST);
+  const GLboolean srgb = g.IsEnabled(GL_FRAMEBUFFER_SRGB);
+  if (scissor) g.Disable(GL_SCISSOR_TEST);
+  if (srgb) g.Disable(GL_FRAMEBUFFER_SRGB);
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  g.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_color_fbo_);
+  g.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  g.ReadBuffer(static_cast<GLenum>(prev_read_buffer));
+  g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(prev_draw));
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(prev_read));
+  if (scissor) g.Enable(GL_SCISSOR_TEST);
+  if (srgb) g.Enable(GL_FRAMEBUFFER_SRGB);
+  scene_color_taken_ = true;
+}
+
+void FrameTarget::present(RawImages& out, bool to_surface, bool read_back) {
   const RealGl& g = gl();
   out.width = width_;
   out.height = height_;
@@ -126,6 +171,17 @@ void FrameTarget::present(RawImages& out, bool to_surface) {
     g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
     g.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   }
+  if (!read_back) {
+    out.rgba.clear(), out.depth.clear(), out.depth_24_8.clear(), out.ids.clear();
+    endFrame();
+    if (scissor) g.Enable(GL_SCISSOR_TEST);
+    if (srgb) g.Enable(GL_FRAMEBUFFER_SRGB);
+    if (discard) g.Enable(GL_RASTERIZER_DISCARD);
+    g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, program_draw_fb ? program_draw_fb : fbo_);
+    g.BindFramebuffer(GL_READ_FRAMEBUFFER, program_read_fb ? program_read_fb : fbo_);
+    applyReadBuffer();
+    return;
+  }
 
   g.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   g.PixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -134,7 +190,9 @@ void FrameTarget::present(RawImages& out, bool to_surface) {
   g.PixelStorei(GL_PACK_SKIP_PIXELS, 0);
   const size_t n = static_cast<size_t>(width_) * height_;
   out.rgba.resize(n * 4);
+  if (scene_color_taken_) g.BindFramebuffer(GL_READ_FRAMEBUFFER, scene_color_fbo_);  // the scene without its overlay
   g.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.rgba.data());
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   out.depth.clear();
   out.depth_24_8.clear();
   const GLuint scene = sceneSource();

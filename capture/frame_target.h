@@ -3,6 +3,7 @@
 #pragma once
 
 #include "gl_real.h"
+#include "viper/core/shader_rewrite.h"
 
 #include <cstdint>
 #include <unordered_map>
@@ -20,6 +21,10 @@ struct RawImages {
   std::vector<uint32_t> depth_24_8;  ///< packed depth24/stencil8 (depth in the high 24 bits)
   std::vector<float> ids;      ///< 2 floats per pixel: draw id (index + 1), primitive id
 };
+
+/// Draw buffer index of our id attachment (the fragment location of the rewritten shaders' id
+/// output), on our framebuffer and on the program's scene framebuffer objects alike.
+constexpr GLuint kIdDrawBuffer = static_cast<GLuint>(kIdOutputLocation);
 
 /// One per GL context. Methods must be called with that context current.
 class FrameTarget {
@@ -42,7 +47,7 @@ class FrameTarget {
   /// Whether our id attachment is currently a draw buffer.
   bool ids_enabled = true;
 
-  /// Sets the draw buffers of our framebuffer from program_draw_buffer and `ids`.
+  /// Sets the draw buffers of our framebuffer from program_draw_buffer and `ids` (ours at kIdDrawBuffer).
   void applyDrawBuffers(bool ids);
   /// Sets the read buffer of our framebuffer from program_read_buffer.
   void applyReadBuffer();
@@ -50,7 +55,7 @@ class FrameTarget {
   /// A framebuffer object of the program's that may hold its scene (rendered off screen, then
   /// composited into the default framebuffer): complete, single-sampled, with a depth attachment,
   /// the size of the default framebuffer. Draws into it write ids into a texture of ours attached
-  /// at kIdAttachment, and the one that took the most draws in a frame gives that frame's depth
+  /// at kIdAttachment (draw buffer kIdDrawBuffer), and the one that took the most draws in a frame gives that frame's depth
   /// and ids (the color stays the program's final image).
   struct ProgramFbo {
     uint64_t checked_frame = ~0ull;  ///< frame serial of the last check
@@ -58,7 +63,7 @@ class FrameTarget {
     GLuint ids = 0;                  ///< our id texture (RG32F)
     std::vector<GLenum> program_draw_buffers{GL_COLOR_ATTACHMENT0};
     bool ids_wanted = false;         ///< last asked for: the drawing program writes ids
-    bool ids_enabled = false;        ///< our attachment is draw buffer 1 now (wanted, and color drawn)
+    bool ids_enabled = false;        ///< our attachment is a draw buffer now (wanted, and color drawn)
     bool ids_cleared = false;        ///< our attachment was cleared this frame
     uint32_t draws = 0;              ///< draws recorded into it this frame
   };
@@ -67,18 +72,24 @@ class FrameTarget {
   /// our id attachment added, and cleared for the frame unless `clear_stale` is false), else nullptr.
   ProgramFbo* sceneFbo(bool clear_stale = true);
   /// The program's glDrawBuffer(s) on its bound framebuffer object: kept, and applied with our id
-  /// attachment as draw buffer 1 where it has one enabled.
+  /// attachment as draw buffer kIdDrawBuffer where it has one enabled.
   void programFboDrawBuffers(GLsizei n, const GLenum* bufs);
-  /// Sets the draw buffers of the bound program framebuffer f: the program's, with ours as 1 if `ids`.
+  /// Sets the draw buffers of the bound program framebuffer f: the program's, with ours at
+  /// kIdDrawBuffer if `ids`.
   void applyFboDrawBuffers(ProgramFbo& f, bool ids);
   /// After the program cleared color or depth of its bound framebuffer f: our ids back to 0.
   void clearFboIds(ProgramFbo& f);
 
+  /// Keeps a copy of the program's image as it is now (before its first 2D overlay draw of the
+  /// frame); present() then reads the frame's color from that copy. Once a frame.
+  void snapshotSceneColor();
+
   /// Copies the program's image to the real default framebuffer (unless `to_surface` is false:
   /// pbuffers, whose content the program can only read through GL, which reads ours) and reads
   /// color, and depth and ids from the default framebuffer or the scene's framebuffer object.
-  /// Restores every binding and state it touches.
-  void present(RawImages& out, bool to_surface);
+  /// Restores every binding and state it touches. Without `read_back` (frames not captured) only
+  /// the copy to the surface happens.
+  void present(RawImages& out, bool to_surface, bool read_back = true);
 
  private:
   void queryDefaultFormats();
@@ -90,6 +101,8 @@ class FrameTarget {
   void endFrame();
 
   std::unordered_map<GLuint, ProgramFbo> program_fbos_;
+  GLuint scene_color_fbo_ = 0, scene_color_ = 0;  // snapshotSceneColor()
+  bool scene_color_taken_ = false;
   uint64_t frame_serial_ = 0;
 
   GLuint fbo_ = 0;

@@ -91,8 +91,8 @@ void FrameTarget::applyFboDrawBuffers(ProgramFbo& f, bool ids) {
   std::vector<GLenum> bufs = f.program_draw_buffers;
   const bool color = !bufs.empty() && bufs[0] != GL_NONE;
   if (ids && color && f.ids) {
-    if (bufs.size() < 2) bufs.resize(2, GL_NONE);
-    bufs[1] = kIdAttachment;
+    if (bufs.size() <= kIdDrawBuffer) bufs.resize(kIdDrawBuffer + 1, GL_NONE);
+    bufs[kIdDrawBuffer] = kIdAttachment;
   }
   gl().DrawBuffers(static_cast<GLsizei>(bufs.size()), bufs.data());
   f.ids_wanted = ids;
@@ -106,12 +106,12 @@ void FrameTarget::clearFboIds(ProgramFbo& f) {
   if (f.ids_enabled) {
     static const GLfloat kZero[4] = {0, 0, 0, 0};
     GLboolean mask[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
-    g.GetBooleani_v(GL_COLOR_WRITEMASK, 1, mask);
+    g.GetBooleani_v(GL_COLOR_WRITEMASK, kIdDrawBuffer, mask);
     const GLboolean scissor = g.IsEnabled(GL_SCISSOR_TEST);
     if (scissor) g.Disable(GL_SCISSOR_TEST);
-    g.ColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    g.ClearBufferfv(GL_COLOR, 1, kZero);
-    g.ColorMaski(1, mask[0], mask[1], mask[2], mask[3]);
+    g.ColorMaski(kIdDrawBuffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    g.ClearBufferfv(GL_COLOR, kIdDrawBuffer, kZero);
+    g.ColorMaski(kIdDrawBuffer, mask[0], mask[1], mask[2], mask[3]);
     if (scissor) g.Enable(GL_SCISSOR_TEST);
     f.ids_cleared = true;
   }
@@ -128,6 +128,7 @@ GLuint FrameTarget::sceneSource() const {
 
 void FrameTarget::endFrame() {
   ++frame_serial_;
+  scene_color_taken_ = false;
   for (auto& [name, f] : program_fbos_) f.draws = 0, f.ids_cleared = false;
 }
 

@@ -32,6 +32,7 @@ struct OutputDecl {
   std::string name;
   int components = 4;
   int location = -1;  // -1: no explicit location
+  bool second_source = false;  // layout(index = 1): dual-source blending
 };
 
 int componentsOf(const std::string& type) {
@@ -44,6 +45,7 @@ std::vector<OutputDecl> findOutputs(const std::string& code) {
       R"((?:layout\s*\(([^)]*)\)\s*)?(?:(?:flat|smooth|noperspective|invariant|highp|mediump|lowp)\s+)*)"
       R"(\bout\s+(?:(?:highp|mediump|lowp)\s+)?(vec4|vec3|vec2|float)\s+(\w+)\s*;)");
   static const std::regex kLocation(R"(location\s*=\s*(\d+))");
+  static const std::regex kIndex(R"(\bindex\s*=\s*1\b)");
   std::vector<OutputDecl> outputs;
   for (auto it = std::sregex_iterator(code.begin(), code.end(), kOut); it != std::sregex_iterator(); ++it) {
     OutputDecl d;
@@ -52,6 +54,7 @@ std::vector<OutputDecl> findOutputs(const std::string& code) {
     std::smatch loc;
     const std::string layout = (*it)[1].str();
     if (std::regex_search(layout, loc, kLocation)) d.location = std::stoi(loc[1].str());
+    d.second_source = std::regex_search(layout, kIndex);
     outputs.push_back(d);
   }
   return outputs;
@@ -79,13 +82,19 @@ FragmentRewrite rewriteFragmentShader(const std::string& source) {
     result.reason = "no fragment color output declared";
     return result;
   } else {
-    // Several outputs (MRT) only when all have explicit locations and location 1 is free.
+    // Several outputs (multiple render targets): placed only when all have explicit locations,
+    // ours (kIdOutputLocation) free.
     for (const OutputDecl& d : outputs) {
-      if (d.location < 0 || d.location == 1) {
-        result.reason = "several outputs without explicit locations, or one at location 1";
+      if (d.location < 0) {
+        result.reason = "several outputs, '" + d.name + "' without an explicit location";
         return result;
       }
-      if (d.location == 0) color = &d;
+      if (d.location == kIdOutputLocation) {
+        result.reason = "output '" + d.name + "' at location " + std::to_string(kIdOutputLocation) +
+                        ", which the id output needs";
+        return result;
+      }
+      if (d.location == 0 && !d.second_source) color = &d;
     }
     if (!color) {
       result.reason = "several outputs and none at location 0";
@@ -95,6 +104,12 @@ FragmentRewrite rewriteFragmentShader(const std::string& source) {
   if (color->location > 0) {
     result.reason = "color output is not at location 0";
     return result;
+  }
+  for (const OutputDecl& d : outputs) {
+    if (d.second_source) {
+      result.reason = "dual-source blending (output '" + d.name + "' has index = 1)";
+      return result;
+    }
   }
 
   static const std::regex kMain(R"(\bvoid\s+main\s*\(\s*(?:void\s*)?\))");

@@ -39,6 +39,15 @@ layout(location = 2) out vec4 normal;
 void main() { albedo = vec4(1.0); normal = vec4(0.0, 0.0, 1.0, 1.0); }
 )";
 
+// The shape of SuperTuxKart 1.4's sp_solid.frag: a G-buffer output at location 1, written only
+// when its advanced pipeline is on.
+const char* kNormalAtOneShader = R"(#version 330
+in vec4 color;
+layout(location = 0) out vec4 o_diffuse_color;
+layout(location = 1) out vec4 o_normal_color;
+void main(void) { o_diffuse_color = vec4(color.xyz, 1.0); }
+)";
+
 int countOf(const std::string& s, const std::string& what) {
   int n = 0;
   for (size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
@@ -74,20 +83,33 @@ TEST(ShaderRewrite, PlainOutputWithOutParameterHelper) {
   EXPECT_FALSE(r.explicit_location);
 }
 
-TEST(ShaderRewrite, MrtWithFreeLocationOneUsesLocationZero) {
+TEST(ShaderRewrite, MrtUsesLocationZero) {
   const auto r = rewriteFragmentShader(kMrtShader);
   ASSERT_TRUE(r.ok) << r.reason;
   EXPECT_EQ(r.color_output, "albedo");
+}
+
+TEST(ShaderRewrite, ProgramOutputAtLocationOneKeepsIt) {
+  const auto r = rewriteFragmentShader(kNormalAtOneShader);
+  ASSERT_TRUE(r.ok) << r.reason;
+  EXPECT_EQ(r.color_output, "o_diffuse_color");
+  EXPECT_EQ(countOf(r.source, "layout(location = 1) out vec4 o_normal_color;"), 1);
 }
 
 TEST(ShaderRewrite, RefusesWhatItCannotHandle) {
   EXPECT_FALSE(rewriteFragmentShader("#version 120\nvoid main() { gl_FragColor = vec4(1.0); }\n").ok);
   EXPECT_FALSE(rewriteFragmentShader("#version 300 es\nout highp vec4 c;\nvoid main() { c = vec4(1.0); }\n").ok);
   EXPECT_FALSE(rewriteFragmentShader("#version 330\nout vec4 a;\nout vec4 b;\nvoid main() {}\n").ok);
-  EXPECT_FALSE(
-      rewriteFragmentShader("#version 330\nlayout(location=0) out vec4 a;\nlayout(location=1) out vec4 b;\n"
-                            "void main() {}\n")
-          .ok);
+  const auto at_ours =
+      rewriteFragmentShader("#version 330\nlayout(location=0) out vec4 a;\nlayout(location=7) out vec4 b;\n"
+                            "void main() {}\n");
+  EXPECT_FALSE(at_ours.ok);
+  EXPECT_NE(at_ours.reason.find("'b' at location 7"), std::string::npos) << at_ours.reason;
+  const auto dual = rewriteFragmentShader(
+      "#version 330\nlayout(location=0, index=0) out vec4 a;\nlayout(location=0, index=1) out vec4 b;\n"
+      "void main() {}\n");
+  EXPECT_FALSE(dual.ok);
+  EXPECT_NE(dual.reason.find("dual-source"), std::string::npos) << dual.reason;
   EXPECT_FALSE(rewriteFragmentShader("#version 330\nvoid main() {}\n").ok);
 }
 
@@ -116,7 +138,7 @@ TEST(ShaderRewrite, RewrittenShadersCompileAndLink) {
     GTEST_SKIP() << "no surfaceless GL 3.3 context";
 
   const char* vs = "#version 150\nin vec4 p;\nout vec2 vUv;\nvoid main() { vUv = p.xy; gl_Position = p; }\n";
-  for (const char* fs : {kLayoutShader, kPlainShader, kMrtShader}) {
+  for (const char* fs : {kLayoutShader, kPlainShader, kMrtShader, kNormalAtOneShader}) {
     const auto r = rewriteFragmentShader(fs);
     ASSERT_TRUE(r.ok) << r.reason;
     GLuint program = glCreateProgram();
@@ -133,13 +155,13 @@ TEST(ShaderRewrite, RewrittenShadersCompileAndLink) {
       ASSERT_TRUE(ok) << log << "\n" << src;
       glAttachShader(program, s);
     }
-    glBindFragDataLocation(program, 1, viper::kIdOutputName);
+    glBindFragDataLocation(program, viper::kIdOutputLocation, viper::kIdOutputName);
     if (!r.explicit_location) glBindFragDataLocation(program, 0, r.color_output.c_str());
     glLinkProgram(program);
     GLint linked = 0;
     glGetProgramiv(program, GL_LINK_STATUS, &linked);
     ASSERT_TRUE(linked);
-    EXPECT_EQ(glGetFragDataLocation(program, viper::kIdOutputName), 1);
+    EXPECT_EQ(glGetFragDataLocation(program, viper::kIdOutputName), viper::kIdOutputLocation);
     EXPECT_EQ(glGetFragDataLocation(program, r.color_output.c_str()), 0);
     EXPECT_GE(glGetUniformLocation(program, viper::kDrawIdUniform), 0);
     glDeleteProgram(program);

@@ -7,6 +7,10 @@ namespace viper {
 
 /// Name of the fragment output the rewritten shader adds (draw id, primitive id, 0, coverage).
 constexpr const char* kIdOutputName = "viper_id_out";
+/// Fragment output location (and so draw buffer index) of kIdOutputName: the last of the eight
+/// draw buffers every GL 3.0 implementation has, so that a program's own outputs (G-buffers write
+/// normals at 1, 2, ...) keep theirs.
+constexpr int kIdOutputLocation = 7;
 /// Name of the float uniform that receives draw index + 1.
 constexpr const char* kDrawIdUniform = "viper_draw_id";
 /// Name of the float uniform that is 1 while blending is enabled for the program's own output.
@@ -29,11 +33,14 @@ struct FragmentRewrite {
 /// Replaces GLSL comments by spaces, keeping newlines (so line numbers in compiler logs hold).
 std::string stripGlslComments(const std::string& source);
 
-/// Rewrites a GLSL >= 1.50 fragment shader with one color output so that it also writes
+/// Rewrites a GLSL >= 1.50 fragment shader so that it also writes
 /// `viper_id_out = vec4(viper_draw_id, gl_PrimitiveID, 0, coverage)`, where coverage is 0 when
 /// `viper_alpha_test` is set and the color's alpha is below 0.5. The original `main` is renamed
-/// `viper_original_main` and called from a new `main`. Comments are removed. Shaders that are not
-/// GLSL >= 1.50, have no or several color outputs, or no recognisable `void main()` are refused.
+/// `viper_original_main` and called from a new `main`. Comments are removed. The program's color
+/// is its only output, or, with several outputs (multiple render targets), the one at location 0;
+/// several outputs must all have explicit locations, none at kIdOutputLocation. Shaders that are
+/// not GLSL >= 1.50, have no color output, outputs the rules above do not place, dual-source
+/// blending (`index = 1`), or no recognisable `void main()` are refused with a reason.
 FragmentRewrite rewriteFragmentShader(const std::string& source);
 
 /// True if the (vertex) shader declares a `uniform mat4 NAME[N]` array, which the capture layer

@@ -25,9 +25,14 @@ int usage(const char* argv0, const char* problem) {
   if (problem) std::fprintf(stderr, "capture: %s\n", problem);
   std::fprintf(stderr,
                "usage: %s --output FILE.vcap [--profile PROFILE.yaml] [--condition TAG] [--frames N]\n"
-               "       [--fps F] [--library libviper_intercept.so] -- PROGRAM [ARGS...]\n"
+               "       [--fps F] [--skip-frames N] [--start-on-scene] [--library libviper_intercept.so]\n"
+               "       -- PROGRAM [ARGS...]\n"
+               "  --frames N: write N frames, then stop the program\n"
                "  --fps F: stamp frame n at n / F seconds, for programs that advance a fixed time step\n"
-               "           per frame (default: the monotonic clock at each buffer swap)\n",
+               "           per frame (default: the monotonic clock at each buffer swap)\n"
+               "  --skip-frames N: show but do not write the first N frames (menus, loading screens)\n"
+               "  --start-on-scene: write from the first frame in which a recorded draw has the\n"
+               "           camera's view and projection matrices (the profile's scene programs)\n",
                argv0);
   return 2;
 }
@@ -60,7 +65,8 @@ std::string absolute(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string output, profile, condition, frames, library, fps;
+  std::string output, profile, condition, frames, library, fps, skip;
+  bool start_on_scene = false;
   int i = 1;
   for (; i < argc; ++i) {
     const std::string a = argv[i];
@@ -69,6 +75,10 @@ int main(int argc, char** argv) {
       break;
     }
     if (a == "-h" || a == "--help") return usage(argv[0], nullptr), 0;
+    if (a == "--start-on-scene") {
+      start_on_scene = true;
+      continue;
+    }
     if (i + 1 >= argc) return usage(argv[0], ("option " + a + " needs a value").c_str());
     const std::string v = argv[++i];
     if (a == "--output" || a == "-o") output = v;
@@ -76,6 +86,7 @@ int main(int argc, char** argv) {
     else if (a == "--condition") condition = v;
     else if (a == "--frames") frames = v;
     else if (a == "--fps") fps = v;
+    else if (a == "--skip-frames") skip = v;
     else if (a == "--library") library = v;
     else return usage(argv[0], ("unknown option " + a).c_str());
   }
@@ -85,6 +96,11 @@ int main(int argc, char** argv) {
     char* end = nullptr;
     const long long n = std::strtoll(frames.c_str(), &end, 10);
     if (*end || n <= 0) return usage(argv[0], "--frames must be a positive integer");
+  }
+  if (!skip.empty()) {
+    char* end = nullptr;
+    const long long n = std::strtoll(skip.c_str(), &end, 10);
+    if (*end || n < 0) return usage(argv[0], "--skip-frames must be a non-negative integer");
   }
   if (!fps.empty()) {
     char* end = nullptr;
@@ -117,6 +133,9 @@ int main(int argc, char** argv) {
   else unsetenv("VIPER_CAPTURE_FRAMES");
   if (!fps.empty()) setenv("VIPER_CAPTURE_FPS", fps.c_str(), 1);
   else unsetenv("VIPER_CAPTURE_FPS");
+  if (!skip.empty()) setenv("VIPER_CAPTURE_SKIP", skip.c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_SKIP");
+  setenv("VIPER_CAPTURE_START_ON_SCENE", start_on_scene ? "1" : "0", 1);
 
   g_child = fork();
   if (g_child < 0) {

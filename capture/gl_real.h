@@ -92,7 +92,23 @@ namespace capture {
   X(PFNGLDRAWRANGEELEMENTSBASEVERTEXPROC, DrawRangeElementsBaseVertex)                    \
   X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)                                    \
   X(PFNGLDRAWELEMENTSINSTANCEDPROC, DrawElementsInstanced)                                \
-  X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXPROC, DrawElementsInstancedBaseVertex)
+  X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXPROC, DrawElementsInstancedBaseVertex)                \
+  X(PFNGLDRAWARRAYSINSTANCEDBASEINSTANCEPROC, DrawArraysInstancedBaseInstance)            \
+  X(PFNGLDRAWELEMENTSINSTANCEDBASEINSTANCEPROC, DrawElementsInstancedBaseInstance)        \
+  X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXBASEINSTANCEPROC, DrawElementsInstancedBaseVertexBaseInstance) \
+  X(PFNGLBUFFERSTORAGEPROC, BufferStorage)                                                \
+  X(PFNGLNAMEDBUFFERSTORAGEPROC, NamedBufferStorage)                                      \
+  X(PFNGLCLEARBUFFERIVPROC, ClearBufferiv)                                                \
+  X(PFNGLCLEARBUFFERUIVPROC, ClearBufferuiv)                                              \
+  X(PFNGLCLEARBUFFERFIPROC, ClearBufferfi)                                                \
+  X(PFNGLGETUNIFORMINDICESPROC, GetUniformIndices)                                        \
+  X(PFNGLGETACTIVEUNIFORMSIVPROC, GetActiveUniformsiv)                                    \
+  X(PFNGLGETACTIVEUNIFORMBLOCKIVPROC, GetActiveUniformBlockiv)                            \
+  X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                                                \
+  X(PFNGLGETINTEGER64I_VPROC, GetInteger64i_v)                                            \
+  X(PFNGLPROGRAMBINARYPROC, ProgramBinary)                                                \
+  X(PFNGLCOMPRESSEDTEXIMAGE2DPROC, CompressedTexImage2D)                                  \
+  X(PFNGLCOMPRESSEDTEXSUBIMAGE2DPROC, CompressedTexSubImage2D)
 
 /// Pointers to the real GL functions (libglvnd dispatch stubs, valid for EGL and GLX contexts).
 struct RealGl {

@@ -17,10 +17,33 @@ inline Interceptor* active() {
   return i.enabled() ? &i : nullptr;
 }
 
+// One instance of an instanced draw, as base instance call.base_instance (GL 4.2).
+void issueOneInstance(const DrawCall& c) {
+  if (c.indexed)
+    gl().DrawElementsInstancedBaseVertexBaseInstance(c.mode, c.count, c.index_type,
+                                                     reinterpret_cast<const void*>(c.index_offset), 1, c.base_vertex,
+                                                     c.base_instance);
+  else
+    gl().DrawArraysInstancedBaseInstance(c.mode, c.first, c.count, 1, c.base_instance);
+}
+
 template <typename F>
 inline void draw(const DrawCall& call, F real) {
   Interceptor* i = active();
   if (!i) return real();
+  if (i->splitsInstances(call)) {
+    // Every instance its own draw id and record (Interceptor::splitsInstances says when this
+    // draws exactly what the instanced call would).
+    DrawCall one = call;
+    one.instances = 1;
+    for (GLsizei k = 0; k < call.instances; ++k) {
+      one.base_instance = call.base_instance + static_cast<GLuint>(k);
+      const bool recorded = i->beforeDraw(one);
+      issueOneInstance(one);
+      if (recorded) i->afterDraw(one);
+    }
+    return;
+  }
   const bool recorded = i->beforeDraw(call);
   real();
   if (recorded) i->afterDraw(call);
@@ -69,6 +92,26 @@ VIPER_EXPORT void glClear(GLbitfield mask) {
   if (Interceptor* i = active()) return i->clear(mask);
   gl().Clear(mask);
 }
+VIPER_EXPORT void glClearBufferfv(GLenum buffer, GLint drawbuffer, const GLfloat* value) {
+  gl().ClearBufferfv(buffer, drawbuffer, value);
+  if (Interceptor* i = active()) i->clearBuffer(buffer, drawbuffer);
+}
+VIPER_EXPORT void glClearBufferiv(GLenum buffer, GLint drawbuffer, const GLint* value) {
+  gl().ClearBufferiv(buffer, drawbuffer, value);
+  if (Interceptor* i = active()) i->clearBuffer(buffer, drawbuffer);
+}
+VIPER_EXPORT void glClearBufferuiv(GLenum buffer, GLint drawbuffer, const GLuint* value) {
+  gl().ClearBufferuiv(buffer, drawbuffer, value);
+  if (Interceptor* i = active()) i->clearBuffer(buffer, drawbuffer);
+}
+VIPER_EXPORT void glClearBufferfi(GLenum buffer, GLint drawbuffer, GLfloat depth, GLint stencil) {
+  gl().ClearBufferfi(buffer, drawbuffer, depth, stencil);
+  if (Interceptor* i = active()) i->clearBuffer(buffer, drawbuffer);
+}
+VIPER_EXPORT void glProgramBinary(GLuint program, GLenum format, const void* binary, GLsizei length) {
+  if (Interceptor* i = active()) return i->programBinary(program);
+  gl().ProgramBinary(program, format, binary, length);
+}
 VIPER_EXPORT void glGetIntegerv(GLenum pname, GLint* data) {
   gl().GetIntegerv(pname, data);
   if (Interceptor* i = active()) i->fixIntegerQuery(pname, data);
@@ -116,6 +159,14 @@ VIPER_EXPORT void glBufferData(GLenum target, GLsizeiptr size, const void* data,
 VIPER_EXPORT void glBufferSubData(GLenum target, GLintptr offset, GLsizeiptr size, const void* data) {
   gl().BufferSubData(target, offset, size, data);
   if (Interceptor* i = active()) i->bufferSubData(target, 0, offset, size, data);
+}
+VIPER_EXPORT void glBufferStorage(GLenum target, GLsizeiptr size, const void* data, GLbitfield flags) {
+  gl().BufferStorage(target, size, data, flags);
+  if (Interceptor* i = active()) i->bufferStorage(target, 0, size, data);
+}
+VIPER_EXPORT void glNamedBufferStorage(GLuint buffer, GLsizeiptr size, const void* data, GLbitfield flags) {
+  gl().NamedBufferStorage(buffer, size, data, flags);
+  if (Interceptor* i = active()) i->bufferStorage(0, buffer, size, data);
 }
 VIPER_EXPORT void glNamedBufferData(GLuint buffer, GLsizeiptr size, const void* data, GLenum usage) {
   gl().NamedBufferData(buffer, size, data, usage);
@@ -171,6 +222,17 @@ VIPER_EXPORT void glTexStorage2D(GLenum target, GLsizei levels, GLenum internalf
   if (Interceptor* i = active())
     i->texImage(target, 0, width, height, internalformat, 0, nullptr, false, 0, 0);
 }
+VIPER_EXPORT void glCompressedTexImage2D(GLenum target, GLint level, GLenum internalformat, GLsizei width,
+                                         GLsizei height, GLint border, GLsizei size, const void* data) {
+  gl().CompressedTexImage2D(target, level, internalformat, width, height, border, size, data);
+  if (Interceptor* i = active())
+    i->compressedTexImage(target, level, width, height, internalformat, size, data, false, 0, 0);
+}
+VIPER_EXPORT void glCompressedTexSubImage2D(GLenum target, GLint level, GLint x, GLint y, GLsizei width,
+                                            GLsizei height, GLenum format, GLsizei size, const void* data) {
+  gl().CompressedTexSubImage2D(target, level, x, y, width, height, format, size, data);
+  if (Interceptor* i = active()) i->compressedTexImage(target, level, width, height, format, size, data, true, x, y);
+}
 VIPER_EXPORT void glDeleteTextures(GLsizei n, const GLuint* textures) {
   if (Interceptor* i = active()) i->deleteTextures(n, textures);
   gl().DeleteTextures(n, textures);
@@ -198,6 +260,12 @@ DrawCall indexedCall(GLenum mode, GLsizei count, GLenum type, const void* indice
 }
 }  // namespace
 
+VIPER_EXPORT void glDrawArraysInstancedBaseInstance(GLenum mode, GLint first, GLsizei count, GLsizei instances,
+                                                    GLuint base_instance) {
+  DrawCall c;
+  c.mode = mode, c.first = first, c.count = count, c.instances = instances, c.base_instance = base_instance;
+  draw(c, [&] { gl().DrawArraysInstancedBaseInstance(mode, first, count, instances, base_instance); });
+}
 VIPER_EXPORT void glDrawElements(GLenum mode, GLsizei count, GLenum type, const void* indices) {
   draw(indexedCall(mode, count, type, indices, 0, 1), [&] { gl().DrawElements(mode, count, type, indices); });
 }
@@ -225,6 +293,21 @@ VIPER_EXPORT void glDrawElementsInstancedBaseVertex(GLenum mode, GLsizei count, 
                                                     GLsizei instances, GLint base) {
   draw(indexedCall(mode, count, type, indices, base, instances),
        [&] { gl().DrawElementsInstancedBaseVertex(mode, count, type, indices, instances, base); });
+}
+VIPER_EXPORT void glDrawElementsInstancedBaseInstance(GLenum mode, GLsizei count, GLenum type, const void* indices,
+                                                      GLsizei instances, GLuint base_instance) {
+  DrawCall c = indexedCall(mode, count, type, indices, 0, instances);
+  c.base_instance = base_instance;
+  draw(c, [&] { gl().DrawElementsInstancedBaseInstance(mode, count, type, indices, instances, base_instance); });
+}
+VIPER_EXPORT void glDrawElementsInstancedBaseVertexBaseInstance(GLenum mode, GLsizei count, GLenum type,
+                                                                const void* indices, GLsizei instances, GLint base,
+                                                                GLuint base_instance) {
+  DrawCall c = indexedCall(mode, count, type, indices, base, instances);
+  c.base_instance = base_instance;
+  draw(c, [&] {
+    gl().DrawElementsInstancedBaseVertexBaseInstance(mode, count, type, indices, instances, base, base_instance);
+  });
 }
 
 namespace viper {
@@ -254,6 +337,11 @@ void* wrapperFor(const char* name) {
       VIPER_ENTRY(glDrawArraysInstanced), VIPER_ENTRY(glDrawElements), VIPER_ENTRY(glDrawElementsBaseVertex),
       VIPER_ENTRY(glDrawRangeElements), VIPER_ENTRY(glDrawRangeElementsBaseVertex),
       VIPER_ENTRY(glDrawElementsInstanced), VIPER_ENTRY(glDrawElementsInstancedBaseVertex),
+      VIPER_ENTRY(glDrawArraysInstancedBaseInstance), VIPER_ENTRY(glDrawElementsInstancedBaseInstance),
+      VIPER_ENTRY(glDrawElementsInstancedBaseVertexBaseInstance), VIPER_ENTRY(glBufferStorage),
+      VIPER_ENTRY(glNamedBufferStorage), VIPER_ENTRY(glClearBufferfv), VIPER_ENTRY(glClearBufferiv),
+      VIPER_ENTRY(glClearBufferuiv), VIPER_ENTRY(glClearBufferfi), VIPER_ENTRY(glProgramBinary),
+      VIPER_ENTRY(glCompressedTexImage2D), VIPER_ENTRY(glCompressedTexSubImage2D),
   };
 #undef VIPER_ENTRY
   if (name[0] == 'g' && name[1] == 'l' && name[2] != 'X') {

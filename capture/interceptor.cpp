@@ -44,6 +44,8 @@ Interceptor::Interceptor() {
   condition_ = envOr("VIPER_CAPTURE_CONDITION", "");
   frame_limit_ = std::strtoull(envOr("VIPER_CAPTURE_FRAMES", "0").c_str(), nullptr, 10);
   fixed_fps_ = std::strtod(envOr("VIPER_CAPTURE_FPS", "0").c_str(), nullptr);
+  skip_frames_ = std::strtoull(envOr("VIPER_CAPTURE_SKIP", "0").c_str(), nullptr, 10);
+  start_on_scene_ = envOr("VIPER_CAPTURE_START_ON_SCENE", "0") == "1";
   const std::string profile_path = envOr("VIPER_CAPTURE_PROFILE", "");
   try {
     if (profile_path.empty()) profile_.source = "<default>";
@@ -90,11 +92,33 @@ void Interceptor::onMakeCurrent(void* context, int width, int height) {
   current_program_info_ = nullptr;
   blend0_enabled_ = gl().IsEnabledi(GL_BLEND, 0);
   blend_dirty_ = true;
+  const GLint major = glInt(GL_MAJOR_VERSION), minor = glInt(GL_MINOR_VERSION);
+  base_instance_draws_ = major > 4 || (major == 4 && minor >= 2);
 }
 
 void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   FrameTarget* t = target();
   if (!enabled_ || !t || !t->ready()) return;
+  // Frames before the scene (menus, loading screens) are shown but not written: skipped by count,
+  // or until a recorded draw has the camera's matrices.
+  bool write = frame_number_ >= skip_frames_;
+  if (write && start_on_scene_ && frames_written_ == 0) {
+    write = false;
+    for (const DrawRecord& d : frame_.draws)
+      if ((d.matrix_flags & kHasView) && (d.matrix_flags & kHasProjection)) write = true;
+  }
+  if (!write) {
+    RawImages none;
+    t->present(none, !offscreen, /*read_back=*/false);
+    readDeformed();
+    ++frame_number_;
+    std::vector<MeshRecord> meshes = std::move(frame_.new_meshes);  // sent once: with the next written frame
+    frame_ = CaptureFrame();
+    frame_.new_meshes = std::move(meshes);
+    last_mesh_ = nullptr;
+    t->ensureSize(width, height);
+    return;
+  }
   RawImages raw = sink_->recycledRaw();
   const double t0 = monotonicSeconds();
   t->present(raw, !offscreen);
@@ -113,9 +137,10 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   last_mesh_ = nullptr;
   if (mesh_cache_.size() > 8192) mesh_cache_.clear();  // streamed geometry: keep memory bounded
   t->ensureSize(width, height);
-  if (frame_limit_ && frame_number_ >= frame_limit_) {
+  ++frames_written_;
+  if (frame_limit_ && frames_written_ >= frame_limit_) {
     std::fprintf(stderr, "[viper capture] captured %llu frames, stopping the program\n",
-                 static_cast<unsigned long long>(frame_number_));
+                 static_cast<unsigned long long>(frames_written_));
     shutdown();
     std::exit(0);
   }
@@ -168,15 +193,37 @@ void Interceptor::clear(GLbitfield mask) {
   if (ours) {
     static const GLfloat kZero[4] = {0, 0, 0, 0};
     if (!ids_write_) {  // the clear honours the write mask a preceding effect draw left
-      gl().ColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      gl().ColorMaski(kIdDrawBuffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       ids_write_ = true;
     }
-    gl().ClearBufferfv(GL_COLOR, 1, kZero);
+    gl().ClearBufferfv(GL_COLOR, kIdDrawBuffer, kZero);
   }
+}
+
+void Interceptor::clearBuffer(GLenum buffer, GLint drawbuffer) {
+  FrameTarget* t = target();
+  if (!t || !t->ready()) return;
+  // The program cleared its image (color buffer 0) or depth: ids there start at 0 (no draw).
+  const bool image = (buffer == GL_COLOR && drawbuffer == 0) || buffer == GL_DEPTH || buffer == GL_DEPTH_STENCIL;
+  if (!image) return;
+  if (t->program_draw_fb != 0) {
+    if (FrameTarget::ProgramFbo* f = t->sceneFbo(/*clear_stale=*/false)) t->clearFboIds(*f);
+    return;
+  }
+  static const GLfloat kZero[4] = {0, 0, 0, 0};
+  const bool was_enabled = t->ids_enabled;
+  if (!was_enabled) t->applyDrawBuffers(true);
+  if (!ids_write_) {
+    gl().ColorMaski(kIdDrawBuffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    ids_write_ = true;
+  }
+  gl().ClearBufferfv(GL_COLOR, kIdDrawBuffer, kZero);
+  if (!was_enabled) t->applyDrawBuffers(false);
 }
 
 void Interceptor::fixIntegerQuery(GLenum pname, GLint* data) {
   FrameTarget* t = target();
+  if (pname == GL_NUM_PROGRAM_BINARY_FORMATS && data && enabled_) *data = 0;  // see programBinary
   if (!t || !t->ready() || !data) return;
   if ((pname == GL_DRAW_FRAMEBUFFER_BINDING || pname == GL_READ_FRAMEBUFFER_BINDING) &&
       static_cast<GLuint>(*data) == t->fbo())

@@ -26,6 +26,25 @@ struct ShaderInfo {
   FragmentRewrite rewrite;  ///< rewrite.ok: the driver holds the rewritten source
 };
 
+/// Where a matrix the profile names lives: a default-block uniform, or a member of a uniform block
+/// (read from the buffer bound to the block's binding point at each draw).
+struct MatrixSource {
+  GLint location = -1;               ///< default-block uniform
+  GLuint block = GL_INVALID_INDEX;   ///< uniform block index
+  GLint offset = 0;                  ///< bytes into the block
+  GLint matrix_stride = 16;          ///< bytes between columns (rows if row_major)
+  bool row_major = false;
+  bool found() const { return location >= 0 || block != GL_INVALID_INDEX; }
+};
+
+/// Instanced vertex attributes (locations, -1 = absent) that place each instance of a draw.
+struct InstanceTransform {
+  GLint world = -1;  ///< mat4: four consecutive locations, one column each
+  GLint translation = -1, rotation = -1, scale = -1;
+  bool rotation_conjugate = false;
+  bool any() const { return world >= 0 || translation >= 0 || rotation >= 0 || scale >= 0; }
+};
+
 /// What the interceptor knows about one linked program.
 struct ProgramInfo {
   uint64_t key = 0;
@@ -33,8 +52,13 @@ struct ProgramInfo {
   bool deforming = false;   ///< gl_Position is captured with transform feedback
   bool own_feedback = false;  ///< the program set its own transform feedback varyings
   bool has_geometry_stage = false;
+  bool overlay = false;     ///< the profile says: 2D overlay (HUD, menus), never recorded
+  /// A shader reads gl_InstanceID, gl_BaseInstance or gl_DrawID: instanced and multi draws are
+  /// issued as the program made them (one record for all instances).
+  bool reads_draw_parameters = false;
   GLint loc_draw_id = -1, loc_alpha_test = -1;
-  GLint loc_world = -1, loc_view = -1, loc_projection = -1;
+  MatrixSource world, view, projection;
+  InstanceTransform instance;
   GLint position_attrib = 0;
   std::vector<GLint> sampler_locations;
   std::vector<GLenum> sampler_targets;
@@ -50,6 +74,9 @@ struct BufferShadow {
   // Active write mapping (glMapBuffer*), copied into `data` at unmap.
   void* map_pointer = nullptr;
   size_t map_offset = 0, map_length = 0;
+  /// The mapping is persistent (glBufferStorage + GL_MAP_PERSISTENT_BIT): it stays while the
+  /// program draws, and its memory, not `data`, holds what the GPU reads.
+  bool map_persistent = false;
 };
 
 /// Draw call arguments, normalised.
@@ -62,6 +89,7 @@ struct DrawCall {
   size_t index_offset = 0;     ///< bytes into the element buffer
   GLint base_vertex = 0;
   GLsizei instances = 1;
+  GLuint base_instance = 0;
 };
 
 /// The capture layer (one per process).
@@ -106,11 +134,24 @@ class Interceptor {
   void bindTexture(GLenum target, GLuint name);
   void texImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLenum type, const void* pixels,
                 bool sub, GLint x, GLint y);
+  /// glCompressedTex(Sub)Image2D: `bytes` of compressed data (keyed as they are).
+  void compressedTexImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLsizei bytes,
+                          const void* data, bool sub, GLint x, GLint y);
   void deleteTextures(GLsizei n, const GLuint* names);
 
   /// Called around every draw: `before` returns true if the draw is recorded.
   bool beforeDraw(const DrawCall& call);
   void afterDraw(const DrawCall& call);
+  /// True if an instanced draw is to be issued one instance at a time (instance k as base
+  /// instance + k), so that every instance gets its own draw id and record. Only when that cannot
+  /// change what is drawn: no shader reads gl_InstanceID/gl_BaseInstance/gl_DrawID, every
+  /// instanced attribute advances once per instance, and the context has base-instance draws.
+  bool splitsInstances(const DrawCall& call);
+  void bufferStorage(GLenum target, GLuint name, GLsizeiptr size, const void* data);
+  /// After the program cleared buffers with glClearBuffer*: ids follow its depth and color clears.
+  void clearBuffer(GLenum buffer, GLint drawbuffer);
+  /// glProgramBinary: refused (logged once), so that the program links from source, which we rewrite.
+  void programBinary(GLuint program);
 
  private:
   Interceptor();
@@ -123,10 +164,28 @@ class Interceptor {
   void captureDeformed(const DrawCall& call);
   void readDeformed();
   uint64_t textureKey(GLenum target, GLuint unit);
+  /// The content key of an upload into the texture bound to `target` on the active unit: the
+  /// texture's key (level 0), or combined with it (sub-image updates).
+  void storeTextureKey(GLenum target, GLint level, bool sub, uint64_t key);
+  /// Whether the draw about to be made goes into the frame's scene (default framebuffer or a scene
+  /// framebuffer object) with a program that is recorded.
+  bool recordable();
+  /// Copies bytes of a buffer as the GPU will read them now (a persistent mapping's memory, else
+  /// our shadow copy); false if the range is not known.
+  bool readBufferBytes(GLuint name, size_t offset, size_t size, void* out);
+  bool readMatrix(const MatrixSource& source, GlMatrix& out);
+  /// The world matrix of instance `call.base_instance` from the program's instanced attributes.
+  bool readInstanceWorld(const InstanceTransform& t, const DrawCall& call, GlMatrix& out);
+  bool readAttribute(GLint location, const DrawCall& call, float out[4]);
+  /// Once per distinct message: to stderr, prefixed.
+  void logOnce(const std::string& message);
 
   bool enabled_ = false;
   std::string output_path_, condition_;
-  uint64_t frame_limit_ = 0;
+  uint64_t frame_limit_ = 0;    ///< frames to write (0: until the program ends)
+  uint64_t skip_frames_ = 0;    ///< VIPER_CAPTURE_SKIP: swaps before the first written frame
+  bool start_on_scene_ = false; ///< VIPER_CAPTURE_START_ON_SCENE: first written frame has a camera
+  uint64_t frames_written_ = 0;
   CaptureProfile profile_;
   std::unique_ptr<FrameSink> sink_;
   double start_s_ = 0.0;
@@ -149,6 +208,8 @@ class Interceptor {
   bool ids_write_ = true;  ///< write mask last set on the id attachment
   double fixed_fps_ = 0.0; ///< VIPER_CAPTURE_FPS: frame time = number / fps (0: monotonic clock)
   bool blend0_enabled_ = false;
+  bool base_instance_draws_ = false;  ///< current context is GL >= 4.2 (glDraw*BaseInstance)
+  std::unordered_set<std::string> logged_;
 
   // Frame being recorded.
   uint64_t frame_number_ = 0;

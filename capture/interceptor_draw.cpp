@@ -3,6 +3,9 @@
 
 #include "viper/core/content_key.h"
 
+#include <Eigen/Geometry>
+
+#include <cmath>
 #include <cstring>
 
 namespace viper {
@@ -24,7 +27,126 @@ struct MeshCacheKey {
   uint32_t size, type, mode, index_type;
 };
 
+float halfToFloat(uint16_t h) {
+  const uint32_t sign = (h >> 15) & 1u, exponent = (h >> 10) & 0x1fu, mantissa = h & 0x3ffu;
+  float v;
+  if (exponent == 0) v = std::ldexp(static_cast<float>(mantissa), -24);
+  else if (exponent == 31) v = mantissa ? NAN : INFINITY;
+  else v = std::ldexp(static_cast<float>(mantissa | 0x400u), static_cast<int>(exponent) - 25);
+  return sign ? -v : v;
+}
+
+// Components of one attribute element of GL type `type` (float and half float; others: false).
+bool decodeAttribute(const uint8_t* bytes, GLenum type, int size, float out[4]) {
+  for (int i = 0; i < size; ++i) {
+    if (type == GL_FLOAT) {
+      std::memcpy(&out[i], bytes + 4 * i, 4);
+    } else if (type == GL_HALF_FLOAT) {
+      uint16_t h;
+      std::memcpy(&h, bytes + 2 * i, 2);
+      out[i] = halfToFloat(h);
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
+
+bool Interceptor::readMatrix(const MatrixSource& m, GlMatrix& out) {
+  const RealGl& g = gl();
+  if (m.location >= 0) {
+    g.GetUniformfv(current_program_, m.location, out.data());  // whatever glUniform* the program used
+    return true;
+  }
+  if (m.block == GL_INVALID_INDEX) return false;
+  GLint binding = 0, buffer = 0;
+  GLint64 start = 0;
+  g.GetActiveUniformBlockiv(current_program_, m.block, GL_UNIFORM_BLOCK_BINDING, &binding);
+  g.GetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, static_cast<GLuint>(binding), &buffer);
+  g.GetInteger64i_v(GL_UNIFORM_BUFFER_START, static_cast<GLuint>(binding), &start);
+  if (buffer == 0) return false;
+  for (int v = 0; v < 4; ++v) {  // a column, or a row of a row-major matrix
+    float vec[4];
+    const size_t at = static_cast<size_t>(start) + static_cast<size_t>(m.offset) + static_cast<size_t>(v * m.matrix_stride);
+    if (!readBufferBytes(static_cast<GLuint>(buffer), at, sizeof(vec), vec)) return false;
+    for (int k = 0; k < 4; ++k) (m.row_major ? out(v, k) : out(k, v)) = vec[k];
+  }
+  return true;
+}
+
+bool Interceptor::readAttribute(GLint location, const DrawCall& call, float out[4]) {
+  const GLuint a = static_cast<GLuint>(location);
+  if (!vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_ENABLED)) return false;
+  const GLint divisor = vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_DIVISOR);
+  const GLuint buffer = static_cast<GLuint>(vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING));
+  if (divisor <= 0 || !buffer) return false;  // not an instanced attribute in a buffer object
+  const int size = vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_SIZE);
+  const GLenum type = static_cast<GLenum>(vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_TYPE));
+  const size_t component = type == GL_HALF_FLOAT ? 2 : 4;
+  size_t stride = static_cast<size_t>(vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_STRIDE));
+  if (stride == 0) stride = component * static_cast<size_t>(size);
+  void* pointer = nullptr;
+  gl().GetVertexAttribPointerv(a, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
+  const size_t element = call.base_instance;  // instance 0 of the draw (split draws: one instance)
+  uint8_t bytes[16];
+  if (size < 1 || size > 4 ||
+      !readBufferBytes(buffer, reinterpret_cast<size_t>(pointer) + element * stride, component * size, bytes))
+    return false;
+  out[0] = out[1] = out[2] = 0.0f;
+  out[3] = 1.0f;
+  return decodeAttribute(bytes, type, size, out);
+}
+
+bool Interceptor::readInstanceWorld(const InstanceTransform& t, const DrawCall& call, GlMatrix& out) {
+  float v[4];
+  if (t.world >= 0) {
+    for (int c = 0; c < 4; ++c) {
+      if (!readAttribute(t.world + c, call, v)) return false;
+      out.col(c) = Eigen::Vector4f(v[0], v[1], v[2], v[3]);
+    }
+    return true;
+  }
+  Eigen::Affine3f m = Eigen::Affine3f::Identity();
+  if (t.translation >= 0) {
+    if (!readAttribute(t.translation, call, v)) return false;
+    m.translate(Eigen::Vector3f(v[0], v[1], v[2]));
+  }
+  if (t.rotation >= 0) {
+    if (!readAttribute(t.rotation, call, v)) return false;
+    Eigen::Quaternionf q(v[3], v[0], v[1], v[2]);
+    if (q.norm() < 1e-6f) return false;
+    q.normalize();
+    m.rotate(t.rotation_conjugate ? q.conjugate() : q);
+  }
+  if (t.scale >= 0) {
+    if (!readAttribute(t.scale, call, v)) return false;
+    m.scale(Eigen::Vector3f(v[0], v[1], v[2]));
+  }
+  out = m.matrix();
+  return true;
+}
+
+bool Interceptor::recordable() {
+  FrameTarget* t = target();
+  if (!enabled_ || !t || !t->ready()) return false;
+  if (t->program_draw_fb != 0 && !t->sceneFbo()) return false;
+  ProgramInfo* p = currentProgram();
+  return p && !p->overlay;
+}
+
+bool Interceptor::splitsInstances(const DrawCall& call) {
+  if (call.instances <= 1 || !base_instance_draws_ || !recordable()) return false;
+  const ProgramInfo* p = currentProgram();
+  if (!p->rewritten || p->reads_draw_parameters) return false;
+  const GLint attributes = glInt(GL_MAX_VERTEX_ATTRIBS);
+  for (GLint a = 0; a < attributes; ++a) {
+    if (!vertexAttrib(static_cast<GLuint>(a), GL_VERTEX_ATTRIB_ARRAY_ENABLED)) continue;
+    if (vertexAttrib(static_cast<GLuint>(a), GL_VERTEX_ATTRIB_ARRAY_DIVISOR) > 1) return false;
+  }
+  return true;
+}
 
 bool Interceptor::beforeDraw(const DrawCall& call) {
   last_recorded_ = false;
@@ -44,15 +166,19 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   } else if (p->rewritten != t->ids_enabled) {
     t->applyDrawBuffers(p->rewritten);
   }
+  if (p->overlay) {  // the 2D overlay: ids off (above), not recorded, not in the frame's color
+    if (!scene_fbo) t->snapshotSceneColor();
+    return false;
+  }
   if (blend_dirty_) {
     // For blended draws our id buffer keeps what is behind fragments whose coverage (alpha) is
     // 0; opaque draws write ids unblended (blending float targets is slow on software drivers).
     if (blend0_enabled_) {
-      g.Enablei(GL_BLEND, 1);
-      g.BlendFuncSeparatei(1, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ZERO);
-      g.BlendEquationi(1, GL_FUNC_ADD);
+      g.Enablei(GL_BLEND, kIdDrawBuffer);
+      g.BlendFuncSeparatei(kIdDrawBuffer, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ZERO);
+      g.BlendEquationi(kIdDrawBuffer, GL_FUNC_ADD);
     } else {
-      g.Disablei(GL_BLEND, 1);
+      g.Disablei(GL_BLEND, kIdDrawBuffer);
     }
     blend_dirty_ = false;
   }
@@ -68,7 +194,7 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
     }
     if (write_ids != ids_write_) {
       const GLboolean m = write_ids ? GL_TRUE : GL_FALSE;
-      g.ColorMaski(1, m, m, m, m);
+      g.ColorMaski(kIdDrawBuffer, m, m, m, m);
       ids_write_ = write_ids;
     }
     g.Uniform1f(p->loc_draw_id, static_cast<float>(index + 1));
@@ -85,17 +211,13 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   r.program_key = p->key;
   r.primitive_mode = call.mode;
   r.primitive_count = primitiveCount(call.mode, static_cast<size_t>(call.count)) * static_cast<uint32_t>(call.instances);
-  struct {
-    GLint loc;
-    GlMatrix* m;
-    uint8_t flag;
-  } matrices[3] = {{p->loc_world, &r.world, kHasWorld}, {p->loc_view, &r.view, kHasView},
-                   {p->loc_projection, &r.projection, kHasProjection}};
-  for (auto& m : matrices) {
-    if (m.loc < 0) continue;
-    g.GetUniformfv(current_program_, m.loc, m.m->data());  // whatever glUniform* the program used
-    r.matrix_flags |= m.flag;
+  if (p->instance.any()) {
+    if (readInstanceWorld(p->instance, call, r.world)) r.matrix_flags |= kHasWorld;
+  } else if (p->world.found() && readMatrix(p->world, r.world)) {
+    r.matrix_flags |= kHasWorld;
   }
+  if (p->view.found() && readMatrix(p->view, r.view)) r.matrix_flags |= kHasView;
+  if (p->projection.found() && readMatrix(p->projection, r.projection)) r.matrix_flags |= kHasProjection;
   for (size_t i = 0; i < p->sampler_locations.size(); ++i) {
     GLint unit = 0;
     g.GetUniformiv(current_program_, p->sampler_locations[i], &unit);
@@ -176,7 +298,7 @@ void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRec
   if (m.mesh.key) last_mesh_ = &m;
 }
 
-void Interceptor::afterDraw(const DrawCall&) {
+void Interceptor::afterDraw(const DrawCall& call) {
   if (!last_recorded_ || !last_mesh_ || !current_program_info_ || !current_program_info_->deforming) return;
   const RealGl& g = gl();
   const uint32_t n = last_mesh_->vertex_count;
@@ -199,7 +321,12 @@ void Interceptor::afterDraw(const DrawCall&) {
   const GLboolean discard = g.IsEnabled(GL_RASTERIZER_DISCARD);
   if (!discard) g.Enable(GL_RASTERIZER_DISCARD);
   g.BeginTransformFeedback(GL_POINTS);
-  g.DrawArrays(GL_POINTS, static_cast<GLint>(last_mesh_->first_vertex), static_cast<GLsizei>(n));
+  // The draw's first instance (one instance: split instanced draws are recorded one by one).
+  if (call.base_instance != 0)
+    g.DrawArraysInstancedBaseInstance(GL_POINTS, static_cast<GLint>(last_mesh_->first_vertex), static_cast<GLsizei>(n),
+                                      1, call.base_instance);
+  else
+    g.DrawArrays(GL_POINTS, static_cast<GLint>(last_mesh_->first_vertex), static_cast<GLsizei>(n));
   g.EndTransformFeedback();
   if (!discard) g.Disable(GL_RASTERIZER_DISCARD);
   g.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, static_cast<GLuint>(prev_feedback));

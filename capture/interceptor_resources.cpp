@@ -20,7 +20,9 @@ GLenum bindingOf(GLenum target) {
     case GL_COPY_WRITE_BUFFER: return GL_COPY_WRITE_BUFFER_BINDING;
     case GL_TRANSFORM_FEEDBACK_BUFFER: return GL_TRANSFORM_FEEDBACK_BUFFER_BINDING;
     case GL_SHADER_STORAGE_BUFFER: return GL_SHADER_STORAGE_BUFFER_BINDING;
-    default: return 0;  // uniform, pixel and texture buffers never hold meshes: not shadowed
+    case GL_UNIFORM_BUFFER: return GL_UNIFORM_BUFFER_BINDING;          // matrices in uniform blocks
+    case GL_DRAW_INDIRECT_BUFFER: return GL_DRAW_INDIRECT_BUFFER_BINDING;
+    default: return 0;  // pixel and texture buffers hold neither meshes nor matrices: not shadowed
   }
 }
 
@@ -52,7 +54,46 @@ size_t bytesPerPixel(GLenum format, GLenum type) {
   }
 }
 
+// A matrix the profile names: a default-block uniform, or a member of a uniform block.
+MatrixSource matrixSource(GLuint program, const std::string& name) {
+  MatrixSource m;
+  if (name.empty()) return m;
+  const RealGl& g = gl();
+  m.location = g.GetUniformLocation(program, name.c_str());
+  if (m.location >= 0) return m;
+  GLuint index = GL_INVALID_INDEX;
+  const GLchar* names[1] = {name.c_str()};
+  g.GetUniformIndices(program, 1, names, &index);
+  if (index == GL_INVALID_INDEX) return m;
+  GLint block = -1, offset = -1, stride = 0, row_major = 0, type = 0;
+  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_BLOCK_INDEX, &block);
+  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_OFFSET, &offset);
+  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_MATRIX_STRIDE, &stride);
+  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_IS_ROW_MAJOR, &row_major);
+  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_TYPE, &type);
+  if (block < 0 || offset < 0 || type != GL_FLOAT_MAT4) return m;
+  m.block = static_cast<GLuint>(block);
+  m.offset = offset;
+  m.matrix_stride = stride > 0 ? stride : 16;
+  m.row_major = row_major != 0;
+  return m;
+}
+
 }  // namespace
+
+void Interceptor::logOnce(const std::string& message) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!logged_.insert(message).second) return;
+  }
+  std::fprintf(stderr, "[viper capture] %s\n", message.c_str());
+}
+
+void Interceptor::programBinary(GLuint program) {
+  // Not passed on: the program stays unlinked, reads GL_LINK_STATUS false, and builds from source.
+  logOnce("glProgramBinary refused (program " + std::to_string(program) +
+          "): programs are linked from source so that the capture layer can rewrite their shaders");
+}
 
 void Interceptor::shaderSource(GLuint shader, GLsizei count, const GLchar* const* strings, const GLint* lengths) {
   const RealGl& g = gl();
@@ -64,7 +105,14 @@ void Interceptor::shaderSource(GLuint shader, GLsizei count, const GLchar* const
   GLint type = 0;
   g.GetShaderiv(shader, GL_SHADER_TYPE, &type);
   info.type = static_cast<GLenum>(type);
-  if (info.type == GL_FRAGMENT_SHADER) info.rewrite = rewriteFragmentShader(info.original);
+  if (info.type == GL_FRAGMENT_SHADER) {
+    info.rewrite = rewriteFragmentShader(info.original);
+    if (!info.rewrite.ok) {
+      char key[32];
+      std::snprintf(key, sizeof(key), "%016llx", static_cast<unsigned long long>(contentKey(info.original)));
+      logOnce("fragment shader " + std::string(key) + " not rewritten, its draws get no ids: " + info.rewrite.reason);
+    }
+  }
   if (info.rewrite.ok) {
     const GLchar* src = info.rewrite.source.c_str();
     g.ShaderSource(shader, 1, &src, nullptr);
@@ -132,9 +180,16 @@ void Interceptor::linkProgram(GLuint program) {
 
   info.rewritten = fragment_count == 1 && fragment->rewrite.ok;
   if (info.rewritten) {
-    g.BindFragDataLocation(program, 1, kIdOutputName);
+    g.BindFragDataLocation(program, kIdOutputLocation, kIdOutputName);
     if (!fragment->rewrite.explicit_location) g.BindFragDataLocation(program, 0, fragment->rewrite.color_output.c_str());
   }
+  // Overlay programs keep their rewritten shader (its id output goes to no buffer) but write no ids.
+  info.overlay = profile.overlay;
+  if (info.overlay) info.rewritten = false;
+  const std::string code = stripGlslComments(all);
+  info.reads_draw_parameters = code.find("gl_InstanceID") != std::string::npos ||
+                               code.find("gl_BaseInstance") != std::string::npos ||
+                               code.find("gl_DrawID") != std::string::npos;
   info.deforming = profile.deforming == Deforming::kYes ||
                    (profile.deforming == Deforming::kAuto && declaresMat4ArrayUniform(vertex_source));
   if (info.own_feedback || info.has_geometry_stage) info.deforming = false;
@@ -154,10 +209,35 @@ void Interceptor::linkProgram(GLuint program) {
       info.loc_draw_id = g.GetUniformLocation(program, kDrawIdUniform);
       info.loc_alpha_test = g.GetUniformLocation(program, kAlphaTestUniform);
     }
-    if (!profile.world.empty()) info.loc_world = g.GetUniformLocation(program, profile.world.c_str());
-    if (!profile.view.empty()) info.loc_view = g.GetUniformLocation(program, profile.view.c_str());
-    if (!profile.projection.empty()) info.loc_projection = g.GetUniformLocation(program, profile.projection.c_str());
+    info.world = matrixSource(program, profile.world);
+    info.view = matrixSource(program, profile.view);
+    info.projection = matrixSource(program, profile.projection);
     info.position_attrib = profile.position.empty() ? 0 : g.GetAttribLocation(program, profile.position.c_str());
+    auto attribute = [&](const std::string& name) {
+      return name.empty() ? -1 : g.GetAttribLocation(program, name.c_str());
+    };
+    info.instance.world = attribute(profile.instance_world);
+    info.instance.translation = attribute(profile.instance_translation);
+    info.instance.rotation = attribute(profile.instance_rotation);
+    info.instance.scale = attribute(profile.instance_scale);
+    info.instance.rotation_conjugate = profile.instance_rotation_conjugate;
+    for (const std::string* name : {&profile.world, &profile.view, &profile.projection, &profile.instance_world,
+                                    &profile.instance_translation, &profile.instance_rotation, &profile.instance_scale}) {
+      if (name->empty()) continue;
+      const bool found = (name == &profile.world && info.world.found()) ||
+                         (name == &profile.view && info.view.found()) ||
+                         (name == &profile.projection && info.projection.found()) ||
+                         (name == &profile.instance_world && info.instance.world >= 0) ||
+                         (name == &profile.instance_translation && info.instance.translation >= 0) ||
+                         (name == &profile.instance_rotation && info.instance.rotation >= 0) ||
+                         (name == &profile.instance_scale && info.instance.scale >= 0);
+      if (!found) {
+        char key[32];
+        std::snprintf(key, sizeof(key), "%016llx", static_cast<unsigned long long>(info.key));
+        logOnce("program " + std::string(key) + ": the profile names '" + *name +
+                "', which it does not use (no matrix recorded from it)");
+      }
+    }
     GLint uniforms = 0;
     g.GetProgramiv(program, GL_ACTIVE_UNIFORMS, &uniforms);
     for (GLint i = 0; i < uniforms; ++i) {
@@ -209,6 +289,24 @@ void Interceptor::bufferData(GLenum target, GLuint name, GLsizeiptr size, const 
   ++b.version;
 }
 
+void Interceptor::bufferStorage(GLenum target, GLuint name, GLsizeiptr size, const void* data) {
+  bufferData(target, name, size, data);  // immutable storage: its contents as glBufferData's
+}
+
+bool Interceptor::readBufferBytes(GLuint name, size_t offset, size_t size, void* out) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = buffers_.find(name);
+  if (it == buffers_.end()) return false;
+  const BufferShadow& b = it->second;
+  if (b.map_pointer && b.map_persistent && offset >= b.map_offset && offset + size <= b.map_offset + b.map_length) {
+    std::memcpy(out, static_cast<const uint8_t*>(b.map_pointer) + (offset - b.map_offset), size);
+    return true;
+  }
+  if (offset + size > b.data.size()) return false;
+  std::memcpy(out, b.data.data() + offset, size);
+  return true;
+}
+
 void Interceptor::bufferSubData(GLenum target, GLuint name, GLintptr offset, GLsizeiptr size, const void* data) {
   if (!name) name = boundBuffer(target);
   if (!name || !data || offset < 0 || size < 0) return;
@@ -228,6 +326,7 @@ void Interceptor::mapped(GLenum target, void* pointer, GLintptr offset, GLsizeip
   it->second.map_pointer = pointer;
   it->second.map_offset = static_cast<size_t>(offset);
   it->second.map_length = length < 0 ? it->second.data.size() - offset : static_cast<size_t>(length);
+  it->second.map_persistent = (access & GL_MAP_PERSISTENT_BIT) != 0;
 }
 
 void Interceptor::beforeUnmap(GLenum target) {
@@ -239,6 +338,7 @@ void Interceptor::beforeUnmap(GLenum target) {
   if (b.map_offset + b.map_length <= b.data.size())
     std::memcpy(b.data.data() + b.map_offset, b.map_pointer, b.map_length);
   b.map_pointer = nullptr;
+  b.map_persistent = false;
   ++b.version;
 }
 
@@ -277,22 +377,32 @@ void Interceptor::bindTexture(GLenum target, GLuint name) {
 
 void Interceptor::texImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLenum type,
                            const void* pixels, bool sub, GLint x, GLint y) {
+  const int32_t params[6] = {static_cast<int32_t>(format), static_cast<int32_t>(type), x, y, w, h};
+  uint64_t key = contentKey(params, sizeof(params));
+  if (pixels && !glInt(GL_PIXEL_UNPACK_BUFFER_BINDING) && w > 0 && h > 0) {
+    const GLint alignment = glInt(GL_UNPACK_ALIGNMENT), row_length = glInt(GL_UNPACK_ROW_LENGTH);
+    const size_t row = bytesPerPixel(format, type) * static_cast<size_t>(row_length > 0 ? row_length : w);
+    const size_t pitch = (row + alignment - 1) / alignment * alignment;
+    key = combineKeys(key, contentKey(pixels, pitch * (h - 1) + bytesPerPixel(format, type) * w));
+  }
+  storeTextureKey(target, level, sub, key);
+}
+
+void Interceptor::compressedTexImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLsizei bytes,
+                                     const void* data, bool sub, GLint x, GLint y) {
+  const int32_t params[6] = {static_cast<int32_t>(format), -1, x, y, w, h};
+  uint64_t key = contentKey(params, sizeof(params));
+  if (data && bytes > 0 && !glInt(GL_PIXEL_UNPACK_BUFFER_BINDING))
+    key = combineKeys(key, contentKey(data, static_cast<size_t>(bytes)));
+  storeTextureKey(target, level, sub, key);
+}
+
+void Interceptor::storeTextureKey(GLenum target, GLint level, bool sub, uint64_t key) {
   if (target >= GL_TEXTURE_CUBE_MAP_POSITIVE_X && target <= GL_TEXTURE_CUBE_MAP_NEGATIVE_Z)
     target = GL_TEXTURE_CUBE_MAP;
   auto bound = unit_bindings_.find((static_cast<uint64_t>(active_unit_) << 32) | target);
   if (bound == unit_bindings_.end() || bound->second == 0) return;
   if (level > 0 && !sub) return;  // mip levels follow from level 0
-  const int32_t params[6] = {static_cast<int32_t>(format), static_cast<int32_t>(type), x, y, w, h};
-  uint64_t key = contentKey(params, sizeof(params));
-  GLint unpack_buffer = 0, alignment = 4, row_length = 0;
-  gl().GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &unpack_buffer);
-  if (pixels && !unpack_buffer && w > 0 && h > 0) {
-    gl().GetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
-    gl().GetIntegerv(GL_UNPACK_ROW_LENGTH, &row_length);
-    const size_t row = bytesPerPixel(format, type) * static_cast<size_t>(row_length > 0 ? row_length : w);
-    const size_t pitch = (row + alignment - 1) / alignment * alignment;
-    key = combineKeys(key, contentKey(pixels, pitch * (h - 1) + bytesPerPixel(format, type) * w));
-  }
   std::lock_guard<std::mutex> lock(mutex_);
   uint64_t& stored = texture_keys_[bound->second];
   stored = sub ? combineKeys(stored, key) : key;

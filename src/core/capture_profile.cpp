@@ -44,6 +44,13 @@ Deforming parseDeforming(const std::string& source, const YAML::Node& node) {
   throw profileError(source, node, "'deforming' must be auto, true or false, got '" + text + "'");
 }
 
+bool parseBool(const std::string& source, const YAML::Node& node, const std::string& key) {
+  const std::string text = scalar(source, node, key);
+  if (text == "true" || text == "yes") return true;
+  if (text == "false" || text == "no") return false;
+  throw profileError(source, node, "'" + key + "' must be true or false, got '" + text + "'");
+}
+
 ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
   if (!node.IsMap()) throw profileError(source, node, "each entry of 'programs' must be a map");
   ProgramProfile p;
@@ -57,11 +64,23 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
     else if (key == "projection") p.projection = scalar(source, value, key);
     else if (key == "position") p.position = scalar(source, value, key);
     else if (key == "deforming") p.deforming = parseDeforming(source, value);
+    else if (key == "instance_world") p.instance_world = scalar(source, value, key);
+    else if (key == "instance_translation") p.instance_translation = scalar(source, value, key);
+    else if (key == "instance_rotation") p.instance_rotation = scalar(source, value, key);
+    else if (key == "instance_scale") p.instance_scale = scalar(source, value, key);
+    else if (key == "instance_rotation_conjugate") p.instance_rotation_conjugate = parseBool(source, value, key);
+    else if (key == "overlay") p.overlay = parseBool(source, value, key);
     else
       throw profileError(source, kv.first,
                          "unknown key '" + key +
-                             "' (known: vertex_contains, program_key, world, view, projection, position, deforming)");
+                             "' (known: vertex_contains, program_key, world, view, projection, position, deforming, "
+                             "instance_world, instance_translation, instance_rotation, instance_scale, "
+                             "instance_rotation_conjugate, overlay)");
   }
+  if (!p.instance_world.empty() &&
+      (!p.instance_translation.empty() || !p.instance_rotation.empty() || !p.instance_scale.empty()))
+    throw profileError(source, node,
+                       "'instance_world' (a mat4 attribute) and instance_translation/rotation/scale exclude each other");
   return p;
 }
 

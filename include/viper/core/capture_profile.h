@@ -22,13 +22,32 @@ struct ProgramProfile {
   std::string vertex_contains;
   /// Matches the program with this content key (0: any).
   uint64_t program_key = 0;
-  /// Uniform names of the matrices (empty: not recorded for these programs).
+  /// Names of the matrices (empty: not recorded for these programs): a `uniform mat4`, or a mat4
+  /// member of a uniform block (read from the buffer bound to the block at each draw).
   std::string world;
   std::string view;
   std::string projection;
   /// Name of the position attribute (empty: generic attribute location 0).
   std::string position;
   Deforming deforming = Deforming::kAuto;
+  /// Per-instance world matrices of instanced draws, from instanced vertex attributes (names;
+  /// empty: absent). Either a mat4 attribute (`instance_world`), or translation (vec3), rotation
+  /// (unit quaternion x, y, z, w) and scale (vec3) composed as T * R * S; a missing part is the
+  /// identity. When set, they replace `world` for the draws of these programs.
+  std::string instance_world;
+  std::string instance_translation;
+  std::string instance_rotation;
+  std::string instance_scale;
+  /// The shader rotates by the quaternion's conjugate, v + 2 cross(cross(v, q.xyz) + q.w v, q.xyz).
+  bool instance_rotation_conjugate = false;
+  /// Draws of these programs are the 2D overlay (HUD, menus): never given ids or recorded.
+  bool overlay = false;
+
+  /// True if any instance_* attribute is named.
+  bool hasInstanceTransform() const {
+    return !instance_world.empty() || !instance_translation.empty() || !instance_rotation.empty() ||
+           !instance_scale.empty();
+  }
 };
 
 /// A parsed profile: entries are tried in file order, the first match wins.

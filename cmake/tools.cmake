@@ -4,6 +4,12 @@ target_link_libraries(capture_info viper_core)
 set_target_properties(capture_info PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 install(TARGETS capture_info RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
+# capture_check: ids, matrices and meshes of a capture checked against its own depth (viper::checkReprojection).
+add_executable(capture_check tools/capture_check.cpp)
+target_link_libraries(capture_check viper_core)
+set_target_properties(capture_check PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS capture_check RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
 add_executable(make_label_table tools/make_label_table.cpp)
 target_link_libraries(make_label_table viper_core)
 set_target_properties(make_label_table PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# SuperTuxKart (Debian's supertuxkart 1.4, a program whose source and assets are not ours) under the
+# capture layer: an AI-driven race on a chosen track, captured from the first frame the race's
+# camera draws, then checked against its own depth (capture_check) and turned into a raw bag.
+#
+# Usage: scripts/capture_supertuxkart.sh [--track candela_city] [--frames 60] [--width 1280]
+#          [--height 720] [--karts 4] [--seed 1] [--skip 0] [--out DIR (build/stk)] [--no-bag]
+#          [--bin DIR (the build's devel/lib/viper)]
+# Writes DIR/<track>.vcap and DIR/<track>_raw.bag. Needs `supertuxkart` and `Xvfb` (installed by
+# scripts/setup.sh --test-programs); runs the game in its own Xvfb display unless --display :N.
+# The game runs with its forward pipeline (--disable-dynamic-lights) and without anisotropic
+# filtering (Mesa 22.3's llvmpipe hangs in one instanced draw with it, with or without capture).
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+track=candela_city; frames=60; width=1280; height=720; karts=4; seed=1; skip=0
+out="$here/build/stk"; bag=1; display=""; bin="$here/build/devel/lib/viper"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --track) track="$2"; shift 2 ;;
+    --frames) frames="$2"; shift 2 ;;
+    --width) width="$2"; shift 2 ;;
+    --height) height="$2"; shift 2 ;;
+    --karts) karts="$2"; shift 2 ;;
+    --seed) seed="$2"; shift 2 ;;
+    --skip) skip="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    --display) display="$2"; shift 2 ;;
+    --bin) bin="$2"; shift 2 ;;
+    --no-bag) bag=0; shift ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    *) echo "capture_supertuxkart: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+stk=/usr/games/supertuxkart
+[ -x "$stk" ] || { echo "capture_supertuxkart: $stk not found: run 'bash scripts/setup.sh --test-programs'" >&2; exit 2; }
+[ -x "$bin/capture" ] || { echo "capture_supertuxkart: no capture in $bin: run scripts/setup.sh first" >&2; exit 2; }
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
+capture="$out/$track.vcap"
+
+# The game keeps its configuration under $HOME/.config: a fresh one per run, so that nothing a
+# user set (or an earlier run left) changes what is rendered.
+game_home=$(mktemp -d)
+xvfb_pid=""
+cleanup() {
+  [ -n "$xvfb_pid" ] && kill "$xvfb_pid" 2>/dev/null || true
+  rm -rf "$game_home"
+}
+trap cleanup EXIT
+if [ -z "$display" ]; then
+  # A screen larger than the window: the game shrinks a window that does not fit.
+  for n in $(seq 90 140); do
+    [ -e "/tmp/.X11-unix/X$n" ] || [ -e "/tmp/.X$n-lock" ] && continue
+    Xvfb ":$n" -screen 0 "$((width + 64))x$((height + 64))x24" -nolisten tcp >/dev/null 2>&1 &
+    xvfb_pid=$!
+    display=":$n"
+    for _ in $(seq 50); do [ -e "/tmp/.X11-unix/X$n" ] && break; sleep 0.1; done
+    break
+  done
+  [ -n "$display" ] || { echo "capture_supertuxkart: no free X display number for Xvfb" >&2; exit 1; }
+fi
+
+# Long enough a race that it never ends before the frames are captured (the layer stops the game).
+race_s=$((frames / 2 + 120))
+echo "== capturing $frames frames of SuperTuxKart ($track, ${width}x${height}, $karts karts, seed $seed) -> $capture"
+rm -f "$capture"
+status=0
+HOME="$game_home" DISPLAY="$display" "$bin/capture" --output "$capture" \
+  --profile "$here/config/profiles/supertuxkart.yaml" --condition day --frames "$frames" \
+  --skip-frames "$skip" --start-on-scene -- \
+  "$stk" --track="$track" --numkarts="$karts" --seed="$seed" --profile-time="$race_s" \
+  --disable-dynamic-lights --anisotropic=0 --windowed --screensize="${width}x${height}" \
+  > "$out/$track.game.log" 2>&1 || status=$?
+grep '\[viper capture\]' "$out/$track.game.log" || true
+[ "$status" -eq 0 ] || { echo "capture_supertuxkart: the game exited with $status (log: $out/$track.game.log)" >&2; exit 1; }
+
+echo "== checking ids, matrices and meshes against the capture's own depth"
+"$bin/capture_check" "$capture"
+if [ "$bag" -eq 1 ]; then
+  echo "== raw bag -> $out/${track}_raw.bag"
+  "$bin/capture_to_bag" "$capture" --output "$out/${track}_raw.bag"
+fi

@@ -1,0 +1,172 @@
+#include "viper/core/capture_invariants.h"
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace viper {
+
+namespace {
+
+// Distance from p to the segment a-b.
+double segmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+// Distance along the view axis of window depth z under projection P: the clip w of the point on
+// the axis (GL's -z_eye, or z for left-handed projections such as Irrlicht's), |z| if orthographic.
+double viewDistance(const GlMatrix& P, double window_z) {
+  const double ndc = 2.0 * window_z - 1.0;
+  const double denominator = ndc * P(3, 2) - P(2, 2);
+  if (denominator == 0.0) return std::numeric_limits<double>::quiet_NaN();
+  const double z = (P(2, 3) - ndc * P(3, 3)) / denominator;  // ndc = (P22 z + P23) / (P32 z + P33)
+  return P(3, 2) != 0.0f ? P(3, 2) * z + P(3, 3) : std::abs(z);
+}
+
+// A triangle's clip-space vertices clipped to the half-space w >= kNearW (the part in front of the
+// camera) and projected: a convex polygon of up to four window-space vertices.
+constexpr double kNearW = 1e-5;
+int clipAndProject(const Eigen::Vector4f clip[3], uint32_t W, uint32_t H, Eigen::Vector2d out[4]) {
+  Eigen::Vector4d poly[4];
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector4d a = clip[k].cast<double>();
+    const Eigen::Vector4d b = clip[(k + 1) % 3].cast<double>();
+    const bool a_in = a.w() >= kNearW, b_in = b.w() >= kNearW;
+    if (a_in) poly[n++] = a;
+    if (a_in != b_in) poly[n++] = a + (b - a) * ((kNearW - a.w()) / (b.w() - a.w()));
+  }
+  for (int k = 0; k < n; ++k)
+    out[k] = Eigen::Vector2d((poly[k].x() / poly[k].w() + 1.0) * 0.5 * W, (poly[k].y() / poly[k].w() + 1.0) * 0.5 * H);
+  return n;
+}
+
+}  // namespace
+
+void ReprojectionCheck::add(const ReprojectionCheck& o) {
+  pixels += o.pixels;
+  scene_pixels += o.scene_pixels;
+  id_pixels += o.id_pixels;
+  placed_pixels += o.placed_pixels;
+  checked_pixels += o.checked_pixels;
+  distance_px.insert(distance_px.end(), o.distance_px.begin(), o.distance_px.end());
+  depth_relative.insert(depth_relative.end(), o.depth_relative.begin(), o.depth_relative.end());
+}
+
+ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshStore& meshes) {
+  ReprojectionCheck c;
+  const uint32_t W = frame.width, H = frame.height;
+  c.pixels = frame.pixelCount();
+  if (frame.depth_window.size() != c.pixels || frame.draw_ids.size() != c.pixels ||
+      frame.primitive_ids.size() != c.pixels)
+    return c;
+
+  // Per draw: its mesh, and the transform from mesh positions to clip space (if placed).
+  struct Placed {
+    const MeshRecord* mesh = nullptr;
+    Eigen::Matrix4f clip_from_mesh = Eigen::Matrix4f::Identity();
+    const std::vector<float>* deformed = nullptr;
+  };
+  std::vector<Placed> placed(frame.draws.size());
+  for (size_t i = 0; i < frame.draws.size(); ++i) {
+    const DrawRecord& d = frame.draws[i];
+    auto m = meshes.find(d.mesh_key);
+    if (d.mesh_key == 0 || m == meshes.end()) continue;
+    const bool camera = (d.matrix_flags & kHasView) && (d.matrix_flags & kHasProjection);
+    if (!d.deformed_clip_xyzw.empty()) {
+      if (d.deformed_clip_xyzw.size() / 4 != m->second.positions_xyz.size() / 3 || !camera) continue;
+      placed[i].deformed = &d.deformed_clip_xyzw;
+    } else if (!camera || !(d.matrix_flags & kHasWorld)) {
+      continue;
+    }
+    placed[i].mesh = &m->second;
+    placed[i].clip_from_mesh = d.projection * d.view * d.world;
+  }
+
+  for (uint32_t r = 0; r < H; ++r) {
+    for (uint32_t col = 0; col < W; ++col) {
+      const size_t px = static_cast<size_t>(r) * W + col;
+      const float z = frame.depth_window[px];
+      const uint32_t id = frame.draw_ids[px];
+      if (!(z < 1.0f) && id == 0) continue;
+      ++c.scene_pixels;
+      if (id == 0 || id > frame.draws.size()) continue;
+      ++c.id_pixels;
+      const Placed& p = placed[id - 1];
+      const uint32_t prim = frame.primitive_ids[px];
+      if (!p.mesh || (static_cast<size_t>(prim) + 1) * 3 > p.mesh->indices.size()) continue;
+      ++c.placed_pixels;
+      Eigen::Vector4f clip[3];
+      bool known = true;
+      for (int k = 0; k < 3 && known; ++k) {
+        const uint32_t v = p.mesh->indices[static_cast<size_t>(prim) * 3 + k];
+        if (p.deformed) {
+          known = (static_cast<size_t>(v) + 1) * 4 <= p.deformed->size();
+          if (known) clip[k] = Eigen::Map<const Eigen::Vector4f>(p.deformed->data() + static_cast<size_t>(v) * 4);
+        } else {
+          known = (static_cast<size_t>(v) + 1) * 3 <= p.mesh->positions_xyz.size();
+          const float* x = p.mesh->positions_xyz.data() + static_cast<size_t>(v) * 3;
+          if (known) clip[k] = p.clip_from_mesh * Eigen::Vector4f(x[0], x[1], x[2], 1.0f);
+        }
+      }
+      Eigen::Vector2d poly[4];
+      const int n = known ? clipAndProject(clip, W, H, poly) : 0;
+      if (n < 3) continue;  // wholly behind the camera: the pixel cannot be on it
+      ++c.checked_pixels;
+      // Pixel centre in window coordinates (the image's top row is the window's last).
+      const Eigen::Vector2d q(col + 0.5, static_cast<double>(H - 1 - r) + 0.5);
+      // Inside the convex polygon: on the same side of every edge; else the nearest edge.
+      bool pos = false, neg = false;
+      double distance = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Vector2d& a = poly[k];
+        const Eigen::Vector2d& b = poly[(k + 1) % n];
+        const double side = (b.x() - a.x()) * (q.y() - a.y()) - (b.y() - a.y()) * (q.x() - a.x());
+        pos |= side > 0.0;
+        neg |= side < 0.0;
+        distance = std::min(distance, segmentDistance(q, a, b));
+      }
+      if (!(pos && neg)) distance = 0.0;
+      c.distance_px.push_back(static_cast<float>(distance));
+      // The point of the triangle the pixel centre's ray meets, by its barycentrics in clip space
+      // (exact, also for triangles that cross the camera plane): sum b_i (x_i - u w_i) = 0,
+      // sum b_i (y_i - v w_i) = 0, sum b_i = 1; its window depth is sum b_i z_i / sum b_i w_i.
+      const double u = 2.0 * q.x() / W - 1.0, v = 2.0 * q.y() / H - 1.0;
+      Eigen::Matrix3d A;
+      for (int k = 0; k < 3; ++k) {
+        A(0, k) = static_cast<double>(clip[k].x()) - u * clip[k].w();
+        A(1, k) = static_cast<double>(clip[k].y()) - v * clip[k].w();
+        A(2, k) = 1.0;
+      }
+      const Eigen::Vector3d bary = A.fullPivLu().solve(Eigen::Vector3d(0.0, 0.0, 1.0));
+      double zc = 0.0, wc = 0.0;
+      for (int k = 0; k < 3; ++k) zc += bary[k] * clip[k].z(), wc += bary[k] * clip[k].w();
+      if (!(wc > 0.0)) {
+        c.depth_relative.push_back(std::numeric_limits<float>::quiet_NaN());
+        continue;
+      }
+      const double zp = (zc / wc + 1.0) * 0.5;
+      const GlMatrix& P = frame.draws[id - 1].projection;
+      const double captured = viewDistance(P, z), predicted = viewDistance(P, zp);
+      c.depth_relative.push_back(captured > 0.0 ? static_cast<float>(std::abs(predicted - captured) / captured)
+                                                : std::numeric_limits<float>::quiet_NaN());
+    }
+  }
+  return c;
+}
+
+float quantile(std::vector<float> values, double q) {
+  values.erase(std::remove_if(values.begin(), values.end(), [](float v) { return std::isnan(v); }), values.end());
+  if (values.empty()) return std::numeric_limits<float>::quiet_NaN();
+  const size_t k = std::min(values.size() - 1, static_cast<size_t>(q * (values.size() - 1) + 0.5));
+  std::nth_element(values.begin(), values.begin() + static_cast<long>(k), values.end());
+  return values[k];
+}
+
+}  // namespace viper

@@ -218,6 +218,12 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   }
   if (p->view.found() && readMatrix(p->view, r.view)) r.matrix_flags |= kHasView;
   if (p->projection.found() && readMatrix(p->projection, r.projection)) r.matrix_flags |= kHasProjection;
+  if (profile_.left_handed) {  // the mirror image in z, in OpenGL's conventions (capture_profile.h)
+    const Eigen::Vector4f f(1.0f, 1.0f, -1.0f, 1.0f);
+    if (r.matrix_flags & kHasWorld) r.world = f.asDiagonal() * r.world * f.asDiagonal();
+    if (r.matrix_flags & kHasView) r.view = f.asDiagonal() * r.view * f.asDiagonal();
+    if (r.matrix_flags & kHasProjection) r.projection = r.projection * f.asDiagonal();
+  }
   for (size_t i = 0; i < p->sampler_locations.size(); ++i) {
     GLint unit = 0;
     g.GetUniformiv(current_program_, p->sampler_locations[i], &unit);
@@ -285,6 +291,8 @@ void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRec
       range.index_offset = call.index_offset;
     }
     if (!extractMesh(vb->second.data, layout, range, mesh)) mesh = ExtractedMesh();  // key 0: no mesh
+    if (profile_.left_handed)
+      for (size_t i = 2; i < mesh.mesh.positions_xyz.size(); i += 3) mesh.mesh.positions_xyz[i] = -mesh.mesh.positions_xyz[i];
     cached = mesh_cache_.emplace(cache_key, std::move(mesh)).first;
   }
   ExtractedMesh& m = cached->second;

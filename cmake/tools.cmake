@@ -10,6 +10,13 @@ target_link_libraries(capture_check viper_core)
 set_target_properties(capture_check PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 install(TARGETS capture_check RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
+# capture_sheet: a contact sheet of a capture's frames (color, ids, depth, flow, reprojection).
+add_executable(capture_sheet tools/capture_sheet.cpp)
+target_include_directories(capture_sheet SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+target_link_libraries(capture_sheet viper_core ${OpenCV_LIBS})
+set_target_properties(capture_sheet PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS capture_sheet RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
 add_executable(make_label_table tools/make_label_table.cpp)
 target_link_libraries(make_label_table viper_core)
 set_target_properties(make_label_table PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -69,7 +69,7 @@ HOME="$game_home" DISPLAY="$display" "$bin/capture" --output "$capture" \
   --profile "$here/config/profiles/supertuxkart.yaml" --condition day --frames "$frames" \
   --skip-frames "$skip" --start-on-scene -- \
   "$stk" --track="$track" --numkarts="$karts" --seed="$seed" --profile-time="$race_s" \
-  --disable-dynamic-lights --anisotropic=0 --windowed --screensize="${width}x${height}" \
+  ${STK_PIPELINE:---disable-dynamic-lights} --anisotropic=0 --windowed --screensize="${width}x${height}" \
   > "$out/$track.game.log" 2>&1 || status=$?
 grep '\[viper capture\]' "$out/$track.game.log" || true
 [ "$status" -eq 0 ] || { echo "capture_supertuxkart: the game exited with $status (log: $out/$track.game.log)" >&2; exit 1; }

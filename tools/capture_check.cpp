@@ -1,6 +1,7 @@
 // capture_check: how much of a capture's scene has ids, matrices and meshes, and how well they agree
 // with its depth image (viper::checkReprojection), for captures of programs without an oracle.
 // Exit code 0 = read to the end, 1 = damaged (figures up to the damage printed), 2 = usage/open error.
+#include "viper/core/camera_model.h"
 #include "viper/core/capture_invariants.h"
 #include "viper/core/capture_stream.h"
 
@@ -13,11 +14,14 @@
 namespace {
 
 int usage() {
-  std::cerr << "usage: capture_check FILE.vcap [--from N] [--frames N] [--per-frame]\n"
+  std::cerr << "usage: capture_check FILE.vcap [--from N] [--frames N] [--per-frame] [--flow]\n"
                "  For every pixel with a draw id: projects the triangle its draw and primitive id name with\n"
                "  the recorded matrices (or post-vertex-shader positions) and prints how far the pixel lies\n"
                "  from it (px) and how far its depth is from the triangle's (relative), with the fractions\n"
-               "  of scene pixels that have an id and a placed mesh. --from N skips frames numbered below N.\n";
+               "  of scene pixels that have an id and a placed mesh. --from N skips frames numbered below N.\n"
+               "  --flow: also the flow of each pair of consecutive frames both ways (viper::computeFlow, draws\n"
+               "  associated by mesh and placement): forward-backward endpoint error and the photometric error\n"
+               "  of warping the next frame by the flow, against no motion.\n";
   return 2;
 }
 
@@ -34,17 +38,45 @@ void print(const char* label, const viper::ReprojectionCheck& c) {
               viper::quantile(c.depth_relative, 0.5), viper::quantile(c.depth_relative, 0.99));
 }
 
+void printFlow(const viper::FlowConsistencyCheck& c, uint64_t pairs) {
+  size_t within = 0;
+  for (float d : c.forward_backward_px) within += d <= 0.5f;
+  std::printf("flow of %llu pairs: defined on %5.1f%% of id pixels, visible in the next frame %5.1f%% | "
+              "forward-backward median %.2e p99 %.2e px, <= 0.5 px %.2f%% | photometric error %.2f "
+              "(no motion: %.2f) of 255\n",
+              static_cast<unsigned long long>(pairs), 100.0 * c.flow_pixels / (c.id_pixels ? c.id_pixels : 1),
+              100.0 * c.visible_pixels / (c.flow_pixels ? c.flow_pixels : 1), viper::quantile(c.forward_backward_px, 0.5),
+              viper::quantile(c.forward_backward_px, 0.99),
+              c.forward_backward_px.empty() ? 0.0 : 100.0 * within / c.forward_backward_px.size(), c.photometricFlow(),
+              c.photometricZero());
+}
+
+// A frame with what the flow needs of it.
+struct FlowInput {
+  viper::CaptureFrame frame;
+  std::vector<float> depth_m;
+  std::vector<int32_t> object_ids;  // none: draws associate by mesh and placement
+};
+
+FlowInput flowInput(const viper::CaptureFrame& f) {
+  FlowInput in{f, {}, std::vector<int32_t>(f.draws.size(), 0)};
+  const auto camera = viper::chooseFrameCamera(f);
+  in.depth_m = viper::depthMetres(f, camera ? &*camera : nullptr);
+  return in;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string path;
   uint64_t from = 0, max_frames = 0;
-  bool per_frame = false;
+  bool per_frame = false, flow = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--from" && i + 1 < argc) from = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--frames" && i + 1 < argc) max_frames = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--per-frame") per_frame = true;
+    else if (a == "--flow") flow = true;
     else if (a.rfind("--", 0) == 0 || !path.empty()) return usage();
     else path = a;
   }
@@ -56,18 +88,37 @@ int main(int argc, char** argv) {
     std::cerr << "capture_check: " << e.what() << "\n";
     return 2;
   }
-  viper::MeshStore meshes;
+  viper::MeshRegistry meshes;
   viper::ReprojectionCheck all;
+  viper::FlowConsistencyCheck flow_all;
+  uint64_t pairs = 0;
+  std::unique_ptr<FlowInput> previous;
   viper::CaptureFrame frame;
   uint64_t checked_frames = 0;
   int status = 0;
   try {
     while (reader->next(frame) == viper::CaptureReader::Status::kFrame) {
-      for (auto& m : frame.new_meshes) meshes[m.key] = std::move(m);
+      meshes.add(frame.new_meshes);
       if (frame.number < from) continue;
       const viper::ReprojectionCheck c = viper::checkReprojection(frame, meshes);
       if (per_frame) print(("frame " + std::to_string(frame.number) + ":").c_str(), c);
       all.add(c);
+      if (flow) {
+        auto current = std::make_unique<FlowInput>(flowInput(frame));
+        if (previous && previous->frame.number + 1 == frame.number) {
+          const viper::CaptureFrame& a = previous->frame;
+          const viper::CaptureFrame& b = current->frame;
+          const viper::FlowField fwd = viper::computeFlow(
+              a, b, viper::associateDraws(a, previous->object_ids, b, current->object_ids), current->depth_m, meshes);
+          const viper::FlowField bwd = viper::computeFlow(
+              b, a, viper::associateDraws(b, current->object_ids, a, previous->object_ids), previous->depth_m, meshes);
+          const viper::FlowConsistencyCheck fc = viper::checkFlowPair(a, b, fwd, bwd);
+          if (per_frame) printFlow(fc, 1);
+          flow_all.add(fc);
+          ++pairs;
+        }
+        previous = std::move(current);
+      }
       if (max_frames && ++checked_frames >= max_frames) break;
       if (!max_frames) ++checked_frames;
     }
@@ -76,5 +127,6 @@ int main(int argc, char** argv) {
     status = 1;
   }
   print(("all " + std::to_string(checked_frames) + " frames:").c_str(), all);
+  if (flow) printFlow(flow_all, pairs);
   return status;
 }

@@ -59,7 +59,7 @@ void ReprojectionCheck::add(const ReprojectionCheck& o) {
   depth_relative.insert(depth_relative.end(), o.depth_relative.begin(), o.depth_relative.end());
 }
 
-ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshStore& meshes) {
+ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistry& meshes) {
   ReprojectionCheck c;
   const uint32_t W = frame.width, H = frame.height;
   c.pixels = frame.pixelCount();
@@ -76,16 +76,16 @@ ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshStore& 
   std::vector<Placed> placed(frame.draws.size());
   for (size_t i = 0; i < frame.draws.size(); ++i) {
     const DrawRecord& d = frame.draws[i];
-    auto m = meshes.find(d.mesh_key);
-    if (d.mesh_key == 0 || m == meshes.end()) continue;
+    const MeshRecord* mesh = d.mesh_key ? meshes.find(d.mesh_key) : nullptr;
+    if (!mesh) continue;
     const bool camera = (d.matrix_flags & kHasView) && (d.matrix_flags & kHasProjection);
     if (!d.deformed_clip_xyzw.empty()) {
-      if (d.deformed_clip_xyzw.size() / 4 != m->second.positions_xyz.size() / 3 || !camera) continue;
+      if (d.deformed_clip_xyzw.size() / 4 != mesh->positions_xyz.size() / 3 || !camera) continue;
       placed[i].deformed = &d.deformed_clip_xyzw;
     } else if (!camera || !(d.matrix_flags & kHasWorld)) {
       continue;
     }
-    placed[i].mesh = &m->second;
+    placed[i].mesh = mesh;
     placed[i].clip_from_mesh = d.projection * d.view * d.world;
   }
 
@@ -156,6 +156,80 @@ ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshStore& 
       const double captured = viewDistance(P, z), predicted = viewDistance(P, zp);
       c.depth_relative.push_back(captured > 0.0 ? static_cast<float>(std::abs(predicted - captured) / captured)
                                                 : std::numeric_limits<float>::quiet_NaN());
+    }
+  }
+  return c;
+}
+
+void FlowConsistencyCheck::add(const FlowConsistencyCheck& o) {
+  forward_backward_px.insert(forward_backward_px.end(), o.forward_backward_px.begin(), o.forward_backward_px.end());
+  photometric_flow_sum += o.photometric_flow_sum;
+  photometric_zero_sum += o.photometric_zero_sum;
+  photometric_pixels += o.photometric_pixels;
+  flow_pixels += o.flow_pixels;
+  visible_pixels += o.visible_pixels;
+  id_pixels += o.id_pixels;
+}
+
+namespace {
+
+// Bilinear sample of an interleaved image with `channels` values per pixel at (x, y), the centre
+// of pixel (i, j) being at (i, j) as flow vectors count. False outside, or where a neighbour is NaN.
+template <typename T>
+bool bilinear(const T* image, uint32_t w, uint32_t h, int channels, double x, double y, double* out) {
+  if (!(x >= 0.0 && y >= 0.0 && x <= w - 1.0 && y <= h - 1.0)) return false;
+  const uint32_t x0 = std::min(static_cast<uint32_t>(x), w - 1), y0 = std::min(static_cast<uint32_t>(y), h - 1);
+  const uint32_t x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+  const double fx = x - x0, fy = y - y0;
+  for (int c = 0; c < channels; ++c) {
+    const double v00 = image[(static_cast<size_t>(y0) * w + x0) * channels + c];
+    const double v10 = image[(static_cast<size_t>(y0) * w + x1) * channels + c];
+    const double v01 = image[(static_cast<size_t>(y1) * w + x0) * channels + c];
+    const double v11 = image[(static_cast<size_t>(y1) * w + x1) * channels + c];
+    out[c] = (1 - fy) * ((1 - fx) * v00 + fx * v10) + fy * ((1 - fx) * v01 + fx * v11);
+    if (std::isnan(out[c])) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+FlowConsistencyCheck checkFlowPair(const CaptureFrame& a, const CaptureFrame& b, const FlowField& forward,
+                                   const FlowField& backward) {
+  FlowConsistencyCheck c;
+  const uint32_t W = a.width, H = a.height;
+  const size_t n = a.pixelCount();
+  if (b.width != W || b.height != H || forward.uv.size() != 2 * n || backward.uv.size() != 2 * n ||
+      forward.visible.size() != n || a.color_rgb.size() != 3 * n || b.color_rgb.size() != 3 * n ||
+      a.draw_ids.size() != n)
+    return c;
+  for (uint32_t y = 0; y < H; ++y) {
+    for (uint32_t x = 0; x < W; ++x) {
+      const size_t i = static_cast<size_t>(y) * W + x;
+      c.id_pixels += a.draw_ids[i] != 0;
+      const float u = forward.uv[2 * i], v = forward.uv[2 * i + 1];
+      if (std::isnan(u) || std::isnan(v)) continue;
+      ++c.flow_pixels;
+      const double tx = x + u, ty = y + v;
+      if (!forward.visible[i] || !(tx >= 0.0 && ty >= 0.0 && tx <= W - 1.0 && ty <= H - 1.0)) continue;
+      ++c.visible_pixels;
+      double back[2];
+      if (!bilinear(backward.uv.data(), W, H, 2, tx, ty, back)) {
+        const size_t j = static_cast<size_t>(std::lround(ty)) * W + static_cast<size_t>(std::lround(tx));
+        back[0] = backward.uv[2 * j], back[1] = backward.uv[2 * j + 1];
+        if (std::isnan(back[0]) || std::isnan(back[1])) continue;
+      }
+      c.forward_backward_px.push_back(static_cast<float>(std::hypot(u + back[0], v + back[1])));
+      double warped[3];
+      if (!bilinear(b.color_rgb.data(), W, H, 3, tx, ty, warped)) continue;
+      double flow_err = 0.0, zero_err = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        flow_err += std::abs(warped[k] - a.color_rgb[3 * i + k]);
+        zero_err += std::abs(static_cast<double>(b.color_rgb[3 * i + k]) - a.color_rgb[3 * i + k]);
+      }
+      c.photometric_flow_sum += flow_err / 3.0;
+      c.photometric_zero_sum += zero_err / 3.0;
+      ++c.photometric_pixels;
     }
   }
   return c;

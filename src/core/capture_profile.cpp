@@ -110,7 +110,15 @@ CaptureProfile parseCaptureProfile(const std::string& yaml_text, const std::stri
   if (!root.IsMap()) throw profileError(source_name, root, "top level must be a map with key 'programs'");
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
-    if (key != "programs") throw profileError(source_name, kv.first, "unknown top-level key '" + key + "' (known: programs)");
+    if (key == "handedness") {
+      const std::string h = scalar(source_name, kv.second, key);
+      if (h != "left" && h != "right")
+        throw profileError(source_name, kv.second, "'handedness' must be left or right, got '" + h + "'");
+      profile.left_handed = h == "left";
+      continue;
+    }
+    if (key != "programs")
+      throw profileError(source_name, kv.first, "unknown top-level key '" + key + "' (known: programs, handedness)");
     if (kv.second.IsNull()) continue;
     if (!kv.second.IsSequence()) throw profileError(source_name, kv.second, "'programs' must be a list");
     for (const auto& entry : kv.second) profile.programs.push_back(parseEntry(source_name, entry));

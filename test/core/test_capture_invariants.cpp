@@ -29,14 +29,14 @@ GlMatrix perspective(float fovy_rad, float aspect, float n, float f) {
 // world matrix moving it by `shift` in x; pixels by centre, triangle by side of the diagonal.
 struct QuadScene {
   CaptureFrame frame;
-  viper::MeshStore meshes;
+  viper::MeshRegistry meshes;
 
   explicit QuadScene(float shift = 0.0f) {
     viper::MeshRecord mesh;
     mesh.key = 42;
     mesh.positions_xyz = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
     mesh.indices = {0, 1, 2, 0, 2, 3};  // 0: below the diagonal (y < x), 1: above
-    meshes[mesh.key] = mesh;
+    meshes.add(mesh);
     frame.width = kW;
     frame.height = kH;
     viper::DrawRecord d;
@@ -112,8 +112,61 @@ TEST(CaptureInvariants, UnplacedDrawsAreCountedNotChecked) {
   EXPECT_GT(c.id_pixels, 0u);
   EXPECT_EQ(c.placed_pixels, 0u);
   EXPECT_TRUE(c.distance_px.empty());
-  s.meshes.clear();
+  s.meshes = viper::MeshRegistry();
   s.frame.draws[0].matrix_flags |= viper::kHasWorld;
   c = viper::checkReprojection(s.frame, s.meshes);
   EXPECT_EQ(c.placed_pixels, 0u);
+}
+
+namespace {
+
+// Two frames of a textured image moving 3 px right, with the flow both ways; `bwd_error` is added
+// to the backward flow's u.
+struct ShiftPair {
+  CaptureFrame a, b;
+  viper::FlowField fwd, bwd;
+
+  explicit ShiftPair(float bwd_error = 0.0f) {
+    for (CaptureFrame* f : {&a, &b}) {
+      f->width = kW, f->height = kH;
+      f->color_rgb.assign(kW * kH * 3, 0);
+      f->draw_ids.assign(kW * kH, 1);
+    }
+    auto texture = [](int x, int y) { return static_cast<uint8_t>((x * 37 + y * 11 + (x * y) % 7) % 256); };
+    for (uint32_t y = 0; y < kH; ++y)
+      for (uint32_t x = 0; x < kW; ++x)
+        for (int c = 0; c < 3; ++c) {
+          a.color_rgb[(y * kW + x) * 3 + c] = texture(static_cast<int>(x), static_cast<int>(y));
+          b.color_rgb[(y * kW + x) * 3 + c] = texture(static_cast<int>(x) - 3, static_cast<int>(y));
+        }
+    for (viper::FlowField* f : {&fwd, &bwd}) {
+      f->width = kW, f->height = kH;
+      f->uv.assign(kW * kH * 2, 0.0f);
+      f->visible.assign(kW * kH, 255);
+    }
+    for (size_t i = 0; i < kW * kH; ++i) fwd.uv[2 * i] = 3.0f, bwd.uv[2 * i] = -3.0f + bwd_error;
+  }
+};
+
+}  // namespace
+
+TEST(CaptureInvariants, ConsistentFlowGoesBackAndWarpsTheImage) {
+  ShiftPair p;
+  const viper::FlowConsistencyCheck c = viper::checkFlowPair(p.a, p.b, p.fwd, p.bwd);
+  EXPECT_EQ(c.flow_pixels, kW * kH);
+  EXPECT_EQ(c.visible_pixels, (kW - 3) * kH);  // the last 3 columns land outside b
+  EXPECT_LT(viper::quantile(c.forward_backward_px, 1.0), 1e-6f);
+  EXPECT_LT(c.photometricFlow(), 1e-9);
+  EXPECT_GT(c.photometricZero(), 10.0);
+}
+
+TEST(CaptureInvariants, InconsistentFlowShows) {
+  ShiftPair p(0.5f);
+  viper::FlowConsistencyCheck c = viper::checkFlowPair(p.a, p.b, p.fwd, p.bwd);
+  EXPECT_NEAR(viper::quantile(c.forward_backward_px, 0.5), 0.5f, 1e-5f);
+  ShiftPair q;
+  for (size_t i = 0; i < kW * kH; ++i) q.fwd.uv[2 * i] = 2.0f;  // a wrong forward flow warps wrongly
+  c = viper::checkFlowPair(q.a, q.b, q.fwd, q.bwd);
+  EXPECT_GT(c.photometricFlow(), 5.0);
+  EXPECT_NEAR(viper::quantile(c.forward_backward_px, 0.5), 1.0f, 1e-5f);
 }

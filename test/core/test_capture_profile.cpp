@@ -70,6 +70,51 @@ TEST(CaptureProfile, ErrorsNameTheFileAndTheProblem) {
   EXPECT_NE(message("programs: [\n").find("bad.yaml"), std::string::npos);
 }
 
+TEST(CaptureProfile, SuperTuxKartProfile) {
+  const CaptureProfile p = loadCaptureProfile("config/profiles/supertuxkart.yaml");
+  EXPECT_TRUE(p.left_handed);
+  // A mesh shader of the game (sp_pass.vert): matrices in the Matrices block, instances placed by
+  // origin, rotation and scale attributes.
+  const ProgramProfile* mesh = p.match("layout(location = 8) in vec3 i_origin;\nuniform mat4 x;", 0);
+  EXPECT_EQ(mesh->view, "u_view_matrix");
+  EXPECT_EQ(mesh->instance_translation, "i_origin");
+  EXPECT_TRUE(mesh->instance_rotation_conjugate);
+  EXPECT_EQ(mesh->deforming, Deforming::kNo);
+  EXPECT_TRUE(mesh->hasInstanceTransform());
+  EXPECT_EQ(p.match("uniform samplerBuffer skinning_tex; in vec3 i_origin;", 0)->deforming, Deforming::kYes);
+  EXPECT_EQ(p.match("uniform vec3 wind_direction; in vec3 i_origin;", 0)->deforming, Deforming::kYes);
+  EXPECT_TRUE(p.match("uniform vec2 center;\nuniform vec2 size;", 0)->overlay);
+  EXPECT_FALSE(p.match("in vec3 Position; void main() { gl_Position = vec4(Position, 1.); }", 0)->overlay);
+}
+
+TEST(CaptureProfile, EngineKeysAndTheirErrors) {
+  const CaptureProfile p = parseCaptureProfile(R"(
+handedness: left
+programs:
+  - instance_world: iModel
+    overlay: false
+  - vertex_contains: hud
+    overlay: yes
+)",
+                                               "engine.yaml");
+  EXPECT_TRUE(p.left_handed);
+  EXPECT_EQ(p.programs[0].instance_world, "iModel");
+  EXPECT_TRUE(p.programs[1].overlay);
+  EXPECT_FALSE(parseCaptureProfile("programs: []\n", "x").left_handed);
+  auto message = [](const std::string& yaml) {
+    try {
+      parseCaptureProfile(yaml, "bad.yaml");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("handedness: up\n").find("left or right"), std::string::npos);
+  EXPECT_NE(message("programs:\n  - overlay: maybe\n").find("'overlay' must be true or false"), std::string::npos);
+  EXPECT_NE(message("programs:\n  - instance_world: a\n    instance_scale: b\n").find("exclude each other"),
+            std::string::npos);
+}
+
 TEST(CaptureProfile, MissingFileIsNamed) {
   try {
     loadCaptureProfile("/nonexistent/profile.yaml");

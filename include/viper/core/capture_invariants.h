@@ -6,16 +6,14 @@
 // deformed vertices together.
 #pragma once
 
+#include "viper/core/boxes.h"
 #include "viper/core/capture_frame.h"
+#include "viper/core/flow.h"
 
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 namespace viper {
-
-/// Meshes by key: the union of CaptureFrame::new_meshes over a stream so far.
-using MeshStore = std::unordered_map<uint64_t, MeshRecord>;
 
 /// What checkReprojection() found in one frame (or, added up, in several).
 struct ReprojectionCheck {
@@ -36,7 +34,32 @@ struct ReprojectionCheck {
 /// measures how far the pixel lies from it and how far its depth is from the triangle's there.
 /// Pixels whose draw lacks a mesh in `meshes`, a world, view or projection matrix (and has no
 /// deformed vertices), or whose primitive id is out of range, are counted but not checked.
-ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshStore& meshes);
+ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistry& meshes);
+
+/// What checkFlowPair() found for one pair of frames a, b (or, added up, for several).
+struct FlowConsistencyCheck {
+  /// Per pixel of a with forward flow that lands inside b and is visible there: the endpoint of
+  /// going forward and then back, |F(x) + B(x + F(x))| in pixels (B bilinear where its four
+  /// neighbours are defined, else nearest).
+  std::vector<float> forward_backward_px;
+  /// Over the same pixels: mean absolute difference of the color (0..255, mean over R, G, B) of a
+  /// at x and of b at x + F(x) (bilinear), and of b at x (no motion), to compare against.
+  double photometric_flow_sum = 0.0, photometric_zero_sum = 0.0;
+  uint64_t photometric_pixels = 0;
+  uint64_t flow_pixels = 0;     ///< pixels of a with a defined forward flow
+  uint64_t visible_pixels = 0;  ///< of those, visible in b and inside it
+  uint64_t id_pixels = 0;       ///< pixels of a with a draw id
+
+  void add(const FlowConsistencyCheck& other);
+  double photometricFlow() const { return photometric_pixels ? photometric_flow_sum / photometric_pixels : 0.0; }
+  double photometricZero() const { return photometric_pixels ? photometric_zero_sum / photometric_pixels : 0.0; }
+};
+
+/// Checks the flow a -> b against the flow b -> a and against the images: where the forward flow
+/// says a point is visible in b, going back from where it lands must return to it, and b's color
+/// there must be a's. Sizes must agree (else nothing is counted).
+FlowConsistencyCheck checkFlowPair(const CaptureFrame& a, const CaptureFrame& b, const FlowField& forward,
+                                   const FlowField& backward);
 
 /// The q-quantile (0..1) of `values` without its NaNs (a copy is partially sorted); NaN when none is left.
 float quantile(std::vector<float> values, double q);

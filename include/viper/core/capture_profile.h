@@ -55,6 +55,12 @@ struct CaptureProfile {
   /// Where the profile came from (file path, or "<default>").
   std::string source;
   std::vector<ProgramProfile> programs;
+  /// The program's world is left-handed: its cameras look along +z of eye space (projection row 3
+  /// is (0, 0, +1, 0), as Direct3D-style engines such as Irrlicht build them). The capture then
+  /// records the mirror image of that world in z, in OpenGL's right-handed conventions: with
+  /// F = diag(1, 1, -1, 1), world F W F, view F V F, projection P F and mesh positions F x, so that
+  /// clip positions, and so every pixel, stay what the program drew (P V W x = P F F V F F W F F x).
+  bool left_handed = false;
 
   /// The first entry matching a program, or the built-in fallback (no matrices, position at
   /// location 0, deforming auto) when none does. Never null.

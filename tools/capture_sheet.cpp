@@ -1,0 +1,180 @@
+// capture_sheet: a contact sheet of chosen frames of a capture, one row a frame: the color image,
+// the draw ids (a color per draw), the depth, the flow to the next frame (hue = direction,
+// brightness = length), and where each id pixel's triangle reprojects (capture_check's test:
+// green within 0.5 px, red beyond, grey: no placement recorded, black: no id).
+// Exit code 0 = written, 1 = a frame was not found, 2 = usage/read/write error.
+#include "viper/core/camera_model.h"
+#include "viper/core/capture_invariants.h"
+#include "viper/core/capture_stream.h"
+#include "viper/core/flow.h"
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+int usage() {
+  std::cerr << "usage: capture_sheet FILE.vcap --frames N[,N...] --out SHEET.png [--tile-width 320]\n"
+               "  One row per frame: color, draw ids, depth, flow to the next frame, reprojection check.\n";
+  return 2;
+}
+
+cv::Mat colorImage(const viper::CaptureFrame& f) {
+  cv::Mat rgb(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3,
+              const_cast<uint8_t*>(f.color_rgb.data()));
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  return bgr;
+}
+
+cv::Mat idImage(const viper::CaptureFrame& f) {
+  cv::Mat out(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3, cv::Scalar(0, 0, 0));
+  for (size_t i = 0; i < f.draw_ids.size(); ++i) {
+    const uint32_t id = f.draw_ids[i];
+    if (!id) continue;
+    const uint32_t h = id * 2654435761u;  // a spread of colors over consecutive ids
+    out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) =
+        cv::Vec3b(64 + (h & 0xbf), 64 + ((h >> 8) & 0xbf), 64 + ((h >> 16) & 0xbf));
+  }
+  return out;
+}
+
+cv::Mat depthImage(const viper::CaptureFrame& f) {
+  const auto camera = viper::chooseFrameCamera(f);
+  const std::vector<float> d = viper::depthMetres(f, camera ? &*camera : nullptr);
+  cv::Mat gray(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC1, cv::Scalar(0));
+  for (size_t i = 0; i < d.size(); ++i) {
+    if (!(d[i] > 0.0f)) continue;  // no surface: black
+    // Log scale from 1 m (bright) to 1000 m (dark).
+    const double t = std::clamp(std::log10(static_cast<double>(d[i])) / 3.0, 0.0, 1.0);
+    gray.data[i] = static_cast<uint8_t>(255.0 - 235.0 * t);
+  }
+  cv::Mat out;
+  cv::applyColorMap(gray, out, cv::COLORMAP_INFERNO);
+  for (size_t i = 0; i < d.size(); ++i)
+    if (!(d[i] > 0.0f)) out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) = cv::Vec3b(0, 0, 0);
+  return out;
+}
+
+cv::Mat flowImage(const viper::FlowField& flow) {
+  const int w = static_cast<int>(flow.width), h = static_cast<int>(flow.height);
+  cv::Mat hsv(h, w, CV_8UC3, cv::Scalar(0, 0, 0));
+  double max_len = 1e-6;
+  for (size_t i = 0; i < flow.uv.size() / 2; ++i)
+    if (!std::isnan(flow.uv[2 * i])) max_len = std::max(max_len, static_cast<double>(std::hypot(flow.uv[2 * i], flow.uv[2 * i + 1])));
+  for (size_t i = 0; i < flow.uv.size() / 2; ++i) {
+    const float u = flow.uv[2 * i], v = flow.uv[2 * i + 1];
+    if (std::isnan(u) || std::isnan(v)) continue;
+    const double angle = std::atan2(-v, u);  // up is 90 degrees
+    const double hue = (angle < 0 ? angle + 2 * M_PI : angle) / (2 * M_PI) * 180.0;
+    const double len = std::sqrt(std::hypot(u, v) / max_len);  // square root: small motions visible
+    hsv.at<cv::Vec3b>(static_cast<int>(i / flow.width), static_cast<int>(i % flow.width)) =
+        cv::Vec3b(static_cast<uint8_t>(hue), 255, static_cast<uint8_t>(60 + 195 * len));
+  }
+  cv::Mat out;
+  cv::cvtColor(hsv, out, cv::COLOR_HSV2BGR);
+  return out;
+}
+
+cv::Mat reprojectionImage(const viper::CaptureFrame& f, const viper::MeshRegistry& meshes) {
+  cv::Mat out(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3, cv::Scalar(0, 0, 0));
+  // Per pixel: check the frame with only that pixel's draw... cheaper: one check per draw's pixels.
+  std::map<uint32_t, std::vector<size_t>> by_draw;
+  for (size_t i = 0; i < f.draw_ids.size(); ++i)
+    if (f.draw_ids[i]) by_draw[f.draw_ids[i]].push_back(i);
+  viper::CaptureFrame one = f;
+  for (const auto& [id, pixels] : by_draw) {
+    std::fill(one.draw_ids.begin(), one.draw_ids.end(), 0u);
+    for (size_t i : pixels) one.draw_ids[i] = id;
+    const viper::ReprojectionCheck c = viper::checkReprojection(one, meshes);
+    // checkReprojection visits pixels in order and appends one distance per checked pixel; a draw's
+    // pixels are either all placed or none (placement is per draw), triangles behind the camera aside.
+    const bool placed = c.placed_pixels > 0;
+    size_t k = 0;
+    for (size_t i : pixels) {
+      cv::Vec3b color(128, 128, 128);
+      if (placed && c.checked_pixels == pixels.size())
+        color = c.distance_px[k++] <= 0.5f ? cv::Vec3b(60, 200, 60) : cv::Vec3b(40, 40, 230);
+      out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) = color;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string path, out_path;
+  std::set<uint64_t> wanted;
+  int tile_width = 320;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--frames" && i + 1 < argc) {
+      std::stringstream list(argv[++i]);
+      for (std::string item; std::getline(list, item, ',');) wanted.insert(std::stoull(item));
+    } else if (a == "--out" && i + 1 < argc) {
+      out_path = argv[++i];
+    } else if (a == "--tile-width" && i + 1 < argc) {
+      tile_width = std::max(32, std::atoi(argv[++i]));
+    } else if (a.rfind("--", 0) == 0 || !path.empty()) {
+      return usage();
+    } else {
+      path = a;
+    }
+  }
+  if (path.empty() || out_path.empty() || wanted.empty()) return usage();
+  std::vector<cv::Mat> rows;
+  try {
+    viper::CaptureReader reader(path);
+    viper::MeshRegistry meshes;
+    viper::CaptureFrame frame, previous;
+    bool have_previous = false;
+    while (reader.next(frame) == viper::CaptureReader::Status::kFrame && !wanted.empty()) {
+      meshes.add(frame.new_meshes);
+      if (have_previous && wanted.count(previous.number) && frame.number == previous.number + 1) {
+        const auto camera = viper::chooseFrameCamera(frame);
+        const std::vector<int32_t> none_a(previous.draws.size(), 0), none_b(frame.draws.size(), 0);
+        const viper::FlowField flow =
+            viper::computeFlow(previous, frame, viper::associateDraws(previous, none_a, frame, none_b),
+                               viper::depthMetres(frame, camera ? &*camera : nullptr), meshes);
+        std::vector<cv::Mat> tiles = {colorImage(previous), idImage(previous), depthImage(previous), flowImage(flow),
+                                      reprojectionImage(previous, meshes)};
+        const double scale = static_cast<double>(tile_width) / previous.width;
+        for (cv::Mat& t : tiles) cv::resize(t, t, cv::Size(), scale, scale, cv::INTER_AREA);
+        cv::Mat row;
+        cv::hconcat(tiles, row);
+        rows.push_back(row);
+        wanted.erase(previous.number);
+      }
+      previous = frame;
+      have_previous = true;
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "capture_sheet: " << e.what() << "\n";
+    return 2;
+  }
+  if (rows.empty()) {
+    std::cerr << "capture_sheet: none of the frames (each needs the next one for its flow) is in " << path << "\n";
+    return 1;
+  }
+  cv::Mat sheet;
+  cv::vconcat(rows, sheet);
+  if (!cv::imwrite(out_path, sheet)) {
+    std::cerr << "capture_sheet: cannot write " << out_path << "\n";
+    return 2;
+  }
+  if (!wanted.empty()) {
+    std::cerr << "capture_sheet: frame " << *wanted.begin() << " (or its next frame) not in " << path << "\n";
+    return 1;
+  }
+  return 0;
+}

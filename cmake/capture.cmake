@@ -67,3 +67,17 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_capture_run viper_core)
   add_dependencies(test_capture_run viper_capture viper_intercept viper_gl_test_program)
 endif()
+
+if(CATKIN_ENABLE_TESTING)
+  # SuperTuxKart traced once and replayed plainly and under capture (needs supertuxkart, apitrace
+  # and xvfb-run: scripts/setup.sh --test-programs, which scripts/test.sh runs).
+  catkin_add_gtest(test_supertuxkart test/capture/test_supertuxkart.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  if(TARGET test_supertuxkart)
+    target_include_directories(test_supertuxkart SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+    target_compile_definitions(test_supertuxkart PRIVATE
+      VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
+      VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles")
+    target_link_libraries(test_supertuxkart viper_core gtest_main ${OpenCV_LIBS})
+    add_dependencies(test_supertuxkart viper_capture viper_intercept)
+  endif()
+endif()

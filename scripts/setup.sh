@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
 # Installs every dependency of viper from Debian's packages (idempotent, as root) and builds the
-# package into build/ (a catkin devel space under build/devel). Usage: scripts/setup.sh [--no-build]
+# package into build/ (a catkin devel space under build/devel).
+# Usage: scripts/setup.sh [--no-build] [--test-programs]
+#   --test-programs: also the third-party programs the tests capture (SuperTuxKart) and apitrace,
+#                    which records them once and replays them the same every time (scripts/test.sh
+#                    asks for them; a user who only captures their own program does not need them)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 
@@ -20,6 +24,15 @@ PKGS=(
   libstd-srvs-dev libopencv-apps-dev ros-opencv-apps python3-opencv-apps python3-sensor-msgs
 )
 
+build=1
+for arg in "$@"; do
+  case "$arg" in
+    --no-build) build=0 ;;
+    --test-programs) PKGS+=(supertuxkart apitrace) ;;
+    *) echo "setup: unknown option '$arg' (known: --no-build, --test-programs)" >&2; exit 2 ;;
+  esac
+done
+
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -31,7 +44,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-[ "${1:-}" = "--no-build" ] && exit 0
+[ "$build" -eq 1 ] || exit 0
 
 mkdir -p "$here/build"
 cd "$here/build"

@@ -1,0 +1,257 @@
+// SuperTuxKart (Debian's supertuxkart 1.4: a program whose source and assets are not ours) under
+// the capture layer, checked without an oracle. A short AI race is recorded once with apitrace,
+// then replayed (glretrace: the same frames every time) plainly and under capture, so that the
+// game's own image can be compared frame by frame, and the capture checked against itself:
+// reprojection of every id pixel, flow forward-backward and photometric consistency, instances.
+// Both of the game's pipelines: forward (config/profiles/supertuxkart.yaml) and deferred.
+#include "viper/core/camera_model.h"
+#include "viper/core/capture_invariants.h"
+#include "viper/core/capture_stream.h"
+#include "viper/core/flow.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using viper::CaptureFrame;
+
+namespace {
+
+constexpr int kWidth = 480, kHeight = 270;
+const char* kGame = "/usr/games/supertuxkart";
+
+int run(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+std::string tempDir() {
+  static std::string dir;
+  if (dir.empty()) {
+    char pattern[] = "/tmp/viper_stk_XXXXXX";
+    dir = mkdtemp(pattern);
+  }
+  return dir;
+}
+
+// Each command in its own X server, the screen larger than the window (the game shrinks a window
+// that does not fit).
+std::string xvfb() {
+  return "xvfb-run -a -s '-screen 0 " + std::to_string(kWidth + 64) + "x" + std::to_string(kHeight + 64) + "x24' ";
+}
+
+struct PipelineRun {
+  bool ok = false;
+  std::string problem;
+  std::vector<std::string> plain, captured;  // glretrace's snapshots (PNG), frame by frame
+  std::vector<CaptureFrame> frames;
+  viper::MeshRegistry meshes;
+};
+
+// Traces a 2 s race (after loading) with `pipeline` (--disable-dynamic-lights or
+// --enable-dynamic-lights), replays it plainly and under capture with snapshots of every frame.
+const PipelineRun& runPipeline(const std::string& pipeline) {
+  static std::map<std::string, PipelineRun> runs;
+  auto it = runs.find(pipeline);
+  if (it != runs.end()) return it->second;
+  PipelineRun& r = runs[pipeline];
+  const std::string d = tempDir() + "/" + pipeline.substr(2, 7);
+  fs::create_directories(d + "/home");
+  fs::create_directories(d + "/plain");
+  fs::create_directories(d + "/captured");
+  // A fresh configuration (HOME) so that nothing a user set changes what is drawn.
+  const std::string trace = "HOME=" + d + "/home " + xvfb() + "apitrace trace -o " + d + "/race.trace " + kGame +
+                            " --track=candela_city --numkarts=4 --seed=1 --profile-time=2 --anisotropic=0 " +
+                            pipeline + " --windowed --screensize=" + std::to_string(kWidth) + "x" +
+                            std::to_string(kHeight) + " > " + d + "/trace.log 2>&1";
+  if (run(trace) != 0) {
+    r.problem = "apitrace of the game failed: " + d + "/trace.log";
+    return r;
+  }
+  if (run(xvfb() + "glretrace -b -s " + d + "/plain/ " + d + "/race.trace > " + d + "/plain.log 2>&1") != 0) {
+    r.problem = "plain replay failed: " + d + "/plain.log";
+    return r;
+  }
+  const std::string capture = std::string(VIPER_CAPTURE_EXE) + " --output " + d + "/race.vcap --profile " +
+                              VIPER_PROFILE_DIR "/supertuxkart.yaml --start-on-scene -- ";
+  if (run(xvfb() + capture + "glretrace -b -s " + d + "/captured/ " + d + "/race.trace > " + d + "/captured.log 2>&1") != 0) {
+    r.problem = "replay under capture failed: " + d + "/captured.log";
+    return r;
+  }
+  for (const auto& [dir, list] : {std::make_pair(d + "/plain", &r.plain), std::make_pair(d + "/captured", &r.captured)}) {
+    std::set<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().string());
+    list->assign(names.begin(), names.end());
+  }
+  viper::CaptureReader reader(d + "/race.vcap");
+  CaptureFrame f;
+  while (reader.next(f) == viper::CaptureReader::Status::kFrame) {
+    r.meshes.add(f.new_meshes);
+    r.frames.push_back(f);
+  }
+  r.ok = true;
+  return r;
+}
+
+struct ImageComparison {
+  size_t pixels = 0, identical = 0, within_one = 0;
+  int max_difference = 0;
+};
+
+ImageComparison compareSnapshots(const PipelineRun& r) {
+  ImageComparison c;
+  for (size_t i = 0; i < r.plain.size() && i < r.captured.size(); ++i) {
+    const cv::Mat a = cv::imread(r.plain[i]), b = cv::imread(r.captured[i]);
+    if (a.empty() || a.size() != b.size()) continue;
+    cv::Mat diff;
+    cv::absdiff(a, b, diff);
+    for (int y = 0; y < diff.rows; ++y)
+      for (int x = 0; x < diff.cols; ++x) {
+        const cv::Vec3b v = diff.at<cv::Vec3b>(y, x);
+        const int m = std::max({v[0], v[1], v[2]});
+        ++c.pixels;
+        c.identical += m == 0;
+        c.within_one += m <= 1;
+        c.max_difference = std::max(c.max_difference, m);
+      }
+  }
+  return c;
+}
+
+// The traces (about 100 MB each) and snapshots go when every test passed; kept for a look otherwise.
+class CleanUp : public testing::Environment {
+ public:
+  void TearDown() override {
+    if (testing::UnitTest::GetInstance()->Passed()) fs::remove_all(tempDir());
+  }
+};
+const testing::Environment* const kCleanUp = testing::AddGlobalTestEnvironment(new CleanUp);
+
+void requireTools() {
+  for (const char* tool : {kGame, "/usr/bin/apitrace", "/usr/bin/glretrace", "/usr/bin/xvfb-run"})
+    ASSERT_TRUE(fs::exists(tool)) << tool << " is missing: run 'bash scripts/setup.sh --test-programs'";
+}
+
+void checkCapture(const PipelineRun& r) {
+  ASSERT_TRUE(r.ok) << r.problem;
+  ASSERT_GE(r.frames.size(), 10u) << "the race's frames (from the first with the camera's matrices)";
+  viper::ReprojectionCheck all;
+  for (const CaptureFrame& f : r.frames) {
+    EXPECT_EQ(viper::validateFrame(f), "") << "frame " << f.number;
+    all.add(viper::checkReprojection(f, r.meshes));
+  }
+  std::printf("reprojection: scene %.1f%% of pixels, id %.2f%%, placed %.2f%%, checked %llu, distance <= 0.5 px "
+              "%.4f%%, depth rel. median %.2e p99 %.2e\n",
+              100.0 * all.scene_pixels / all.pixels, 100.0 * all.id_pixels / all.scene_pixels,
+              100.0 * all.placed_pixels / all.scene_pixels, static_cast<unsigned long long>(all.checked_pixels),
+              100.0 * std::count_if(all.distance_px.begin(), all.distance_px.end(), [](float d) { return d <= 0.5f; }) /
+                  all.distance_px.size(),
+              viper::quantile(all.depth_relative, 0.5), viper::quantile(all.depth_relative, 0.99));
+  EXPECT_GE(all.id_pixels, 0.95 * all.scene_pixels) << "scene pixels with a draw id";
+  EXPECT_GE(all.placed_pixels, 0.85 * all.scene_pixels) << "scene pixels whose draw has a mesh and its matrices";
+  EXPECT_LE(viper::quantile(all.distance_px, 0.999), 0.5f) << "id pixels off their projected triangle";
+  EXPECT_LE(viper::quantile(all.depth_relative, 0.99), 1e-4f) << "depth of the projected triangle vs the depth image";
+
+  // Every instance of an instanced draw is its own draw, placed where its own attributes say.
+  size_t instanced_frames = 0;
+  for (const CaptureFrame& f : r.frames) {
+    std::map<uint64_t, std::set<std::vector<float>>> placements;  // mesh -> distinct world matrices
+    for (const viper::DrawRecord& d : f.draws)
+      if (d.mesh_key && d.visible_pixels > 0 && (d.matrix_flags & viper::kHasWorld))
+        placements[d.mesh_key].insert(std::vector<float>(d.world.data(), d.world.data() + 16));
+    for (const auto& [mesh, worlds] : placements)
+      if (worlds.size() >= 2) {
+        ++instanced_frames;
+        break;
+      }
+  }
+  EXPECT_GE(instanced_frames, r.frames.size() / 2) << "frames with a mesh visible at two places";
+}
+
+}  // namespace
+
+TEST(SuperTuxKart, ForwardPipelineGroundTruthHoldsAgainstItself) {
+  requireTools();
+  const PipelineRun& r = runPipeline("--disable-dynamic-lights");
+  checkCapture(r);
+  if (HasFatalFailure()) return;
+  // Flow of consecutive frames, both ways: back where it came from, and b's colors where it lands.
+  viper::FlowConsistencyCheck flow;
+  for (size_t i = 0; i + 1 < r.frames.size(); ++i) {
+    const CaptureFrame& a = r.frames[i];
+    const CaptureFrame& b = r.frames[i + 1];
+    const std::vector<int32_t> none_a(a.draws.size(), 0), none_b(b.draws.size(), 0);
+    const auto ca = viper::chooseFrameCamera(a), cb = viper::chooseFrameCamera(b);
+    ASSERT_TRUE(ca && cb) << "frame " << a.number << ": no camera";
+    const viper::FlowField fwd = viper::computeFlow(a, b, viper::associateDraws(a, none_a, b, none_b),
+                                                    viper::depthMetres(b, &*cb), r.meshes);
+    const viper::FlowField bwd = viper::computeFlow(b, a, viper::associateDraws(b, none_b, a, none_a),
+                                                    viper::depthMetres(a, &*ca), r.meshes);
+    flow.add(viper::checkFlowPair(a, b, fwd, bwd));
+  }
+  const double within = std::count_if(flow.forward_backward_px.begin(), flow.forward_backward_px.end(),
+                                      [](float d) { return d <= 0.5f; }) /
+                        static_cast<double>(std::max<size_t>(flow.forward_backward_px.size(), 1));
+  std::printf("flow: defined on %.1f%% of id pixels, forward-backward median %.2e p99 %.2e px (<= 0.5 px: %.2f%%), "
+              "photometric %.2f vs %.2f without motion\n",
+              100.0 * flow.flow_pixels / flow.id_pixels, viper::quantile(flow.forward_backward_px, 0.5),
+              viper::quantile(flow.forward_backward_px, 0.99), 100.0 * within, flow.photometricFlow(),
+              flow.photometricZero());
+  EXPECT_GE(flow.flow_pixels, 0.85 * flow.id_pixels);
+  EXPECT_GE(flow.forward_backward_px.size(), 100000u);
+  EXPECT_LE(viper::quantile(flow.forward_backward_px, 0.5), 0.01f);
+  EXPECT_GE(within, 0.99);
+  EXPECT_LT(flow.photometricFlow(), 0.5 * flow.photometricZero());
+
+  // The capture's color is the scene without the HUD: mostly the game's image, but not all of it.
+  const cv::Mat last = cv::imread(r.captured.back());
+  const CaptureFrame& f = r.frames.back();
+  ASSERT_EQ(last.cols, static_cast<int>(f.width));
+  size_t same = 0;
+  for (int y = 0; y < last.rows; ++y)
+    for (int x = 0; x < last.cols; ++x) {
+      const cv::Vec3b bgr = last.at<cv::Vec3b>(y, x);
+      const uint8_t* rgb = &f.color_rgb[(static_cast<size_t>(y) * f.width + x) * 3];
+      same += std::abs(bgr[2] - rgb[0]) <= 1 && std::abs(bgr[1] - rgb[1]) <= 1 && std::abs(bgr[0] - rgb[2]) <= 1;
+    }
+  const double same_fraction = static_cast<double>(same) / (f.width * f.height);
+  std::printf("last frame: %.2f%% of the capture's color equals the game's image (the rest: its HUD)\n",
+              100.0 * same_fraction);
+  EXPECT_GT(same_fraction, 0.85);
+  EXPECT_LT(same_fraction, 0.999) << "the HUD (timer, minimap, icons) is not in the capture's color";
+
+  // The game's own image under capture. Forward rendering draws the scene into the window, which
+  // the layer replaces by a framebuffer object; on llvmpipe that changes blended and interpolated
+  // colors by one level on about 1 % of pixels (docs/capture_layer.md, "The program's image").
+  const ImageComparison c = compareSnapshots(r);
+  std::printf("game image under capture: %zu pixels, identical %.4f%%, within 1 level %.4f%%, max %d\n", c.pixels,
+              100.0 * c.identical / c.pixels, 100.0 * c.within_one / c.pixels, c.max_difference);
+  ASSERT_EQ(r.plain.size(), r.captured.size()) << "frames replayed";
+  EXPECT_GE(c.identical, 0.98 * c.pixels);
+  EXPECT_GE(c.within_one, 0.9995 * c.pixels);
+}
+
+TEST(SuperTuxKart, DeferredPipelineIdsFromTheGBufferAndTheSameImage) {
+  requireTools();
+  const PipelineRun& r = runPipeline("--enable-dynamic-lights");
+  checkCapture(r);
+  if (HasFatalFailure()) return;
+  // The scene is drawn into the game's own framebuffers (the G-buffer holds its normals at draw
+  // buffer 1, ours is 7): identical; only what is drawn into the window (HUD text) may differ by one.
+  const ImageComparison c = compareSnapshots(r);
+  std::printf("game image under capture (deferred): %zu pixels, identical %.4f%%, max difference %d\n", c.pixels,
+              100.0 * c.identical / c.pixels, c.max_difference);
+  ASSERT_EQ(r.plain.size(), r.captured.size()) << "frames replayed";
+  EXPECT_GE(c.identical, 0.999 * c.pixels);
+  EXPECT_LE(c.max_difference, 1);
+}

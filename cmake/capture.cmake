@@ -42,6 +42,19 @@ if(CATKIN_ENABLE_TESTING)
   target_include_directories(viper_gl_test_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
   target_link_libraries(viper_gl_test_program PRIVATE PkgConfig::EGL PkgConfig::GL ${X11_LIBRARIES} ${CMAKE_DL_LIBS})
 
+  # GL 4.5 test program that draws as engines do (test/capture/engine_scene.h).
+  add_executable(viper_gl_engine_program test/capture/gl_engine_program.cpp)
+  target_include_directories(viper_gl_engine_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
+  target_link_libraries(viper_gl_engine_program PRIVATE PkgConfig::EGL PkgConfig::GL)
+
+  catkin_add_gtest(test_capture_engine test/capture/test_capture_engine.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_compile_definitions(test_capture_engine PRIVATE
+    VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
+    VIPER_GL_ENGINE_PROGRAM="$<TARGET_FILE:viper_gl_engine_program>"
+    VIPER_ENGINE_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/engine_profile.yaml")
+  target_link_libraries(test_capture_engine viper_core gtest_main)
+  add_dependencies(test_capture_engine viper_capture viper_intercept viper_gl_engine_program)
+
   # The real-context part of the shader rewrite test needs EGL and GL.
   if(TARGET test_shader_rewrite)
     target_link_libraries(test_shader_rewrite PkgConfig::EGL PkgConfig::GL)

@@ -2,9 +2,10 @@
 # Installs every dependency of viper from Debian's packages (idempotent, as root) and builds the
 # package into build/ (a catkin devel space under build/devel).
 # Usage: scripts/setup.sh [--no-build] [--test-programs]
-#   --test-programs: also the third-party programs the tests capture (SuperTuxKart) and apitrace,
-#                    which records them once and replays them the same every time (scripts/test.sh
-#                    asks for them; a user who only captures their own program does not need them)
+#   --test-programs: also what only the tests need: the third-party program they capture
+#                    (SuperTuxKart), apitrace (records it once, replays it the same every time),
+#                    Chromium and Playwright (npm) for the labelling page's browser test.
+#                    scripts/test.sh asks for them; a user who only captures their own program does not.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 
@@ -25,10 +26,11 @@ PKGS=(
 )
 
 build=1
+test_programs=0
 for arg in "$@"; do
   case "$arg" in
     --no-build) build=0 ;;
-    --test-programs) PKGS+=(supertuxkart apitrace) ;;
+    --test-programs) PKGS+=(supertuxkart apitrace chromium nodejs); test_programs=1 ;;
     *) echo "setup: unknown option '$arg' (known: --no-build, --test-programs)" >&2; exit 2 ;;
   esac
 done
@@ -42,6 +44,12 @@ if [ ${#missing[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO=sudo
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+if [ "$test_programs" -eq 1 ] && [ ! -d "$here/test/label_page/node_modules/playwright-core" ]; then
+  # The labelling page's browser test drives Chromium with Playwright (from the npm registry).
+  command -v npm > /dev/null || { echo "setup: npm is missing (the label page test needs node and npm)" >&2; exit 1; }
+  (cd "$here/test/label_page" && npm ci --no-audit --no-fund --loglevel=error)
 fi
 
 [ "$build" -eq 1 ] || exit 0

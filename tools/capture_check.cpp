@@ -4,8 +4,11 @@
 #include "viper/core/camera_model.h"
 #include "viper/core/capture_invariants.h"
 #include "viper/core/capture_stream.h"
+#include "viper/core/instance_pipeline.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -14,14 +17,16 @@
 namespace {
 
 int usage() {
-  std::cerr << "usage: capture_check FILE.vcap [--from N] [--frames N] [--per-frame] [--flow]\n"
+  std::cerr << "usage: capture_check FILE.vcap [--from N] [--frames N] [--per-frame] [--flow] [--labels L.yaml]\n"
                "  For every pixel with a draw id: projects the triangle its draw and primitive id name with\n"
                "  the recorded matrices (or post-vertex-shader positions) and prints how far the pixel lies\n"
                "  from it (px) and how far its depth is from the triangle's (relative), with the fractions\n"
                "  of scene pixels that have an id and a placed mesh. --from N skips frames numbered below N.\n"
                "  --flow: also the flow of each pair of consecutive frames both ways (viper::computeFlow, draws\n"
                "  associated by mesh and placement): forward-backward endpoint error and the photometric error\n"
-               "  of warping the next frame by the flow, against no motion.\n";
+               "  of warping the next frame by the flow, against no motion.\n"
+               "  --labels: also the instances pipeline with that label table: share of id pixels with a class,\n"
+               "  and per thing class its tracks (how many, frames each: ids stable over time).\n";
   return 2;
 }
 
@@ -51,6 +56,35 @@ void printFlow(const viper::FlowConsistencyCheck& c, uint64_t pairs) {
               c.photometricZero());
 }
 
+// Tracks of the instance pipeline: per track id its class and the frames it was seen in.
+struct TrackStats {
+  uint64_t labelled_pixels = 0, id_pixels = 0;
+  std::map<int32_t, std::pair<uint8_t, uint64_t>> tracks;  // id -> (class, frames seen)
+
+  void add(const viper::CaptureFrame& f, const viper::InstanceFrame& g) {
+    for (size_t i = 0; i < f.draw_ids.size(); ++i)
+      if (f.draw_ids[i]) ++id_pixels, labelled_pixels += g.semantic[i] != 0;
+    for (const viper::TrackedObject& o : g.objects)
+      if (o.track_id > 0 && o.object.pixel_count > 0) {
+        auto& t = tracks[o.track_id];
+        t.first = o.object.class_id;
+        ++t.second;
+      }
+  }
+
+  void print(uint64_t frames) const {
+    std::printf("labels: %.2f%% of id pixels have a class\n", 100.0 * labelled_pixels / (id_pixels ? id_pixels : 1));
+    std::map<uint8_t, std::vector<uint64_t>> by_class;
+    for (const auto& [id, t] : tracks) by_class[t.first].push_back(t.second);
+    for (auto& [c, lengths] : by_class) {
+      std::sort(lengths.rbegin(), lengths.rend());
+      std::printf("  class %3d: %zu tracks; frames seen, longest first:", int(c), lengths.size());
+      for (size_t i = 0; i < lengths.size() && i < 12; ++i) std::printf(" %llu", static_cast<unsigned long long>(lengths[i]));
+      std::printf(" (of %llu frames)\n", static_cast<unsigned long long>(frames));
+    }
+  }
+};
+
 // A frame with what the flow needs of it.
 struct FlowInput {
   viper::CaptureFrame frame;
@@ -71,12 +105,14 @@ int main(int argc, char** argv) {
   std::string path;
   uint64_t from = 0, max_frames = 0;
   bool per_frame = false, flow = false;
+  std::string labels;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--from" && i + 1 < argc) from = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--frames" && i + 1 < argc) max_frames = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--per-frame") per_frame = true;
     else if (a == "--flow") flow = true;
+    else if (a == "--labels" && i + 1 < argc) labels = argv[++i];
     else if (a.rfind("--", 0) == 0 || !path.empty()) return usage();
     else path = a;
   }
@@ -93,6 +129,17 @@ int main(int argc, char** argv) {
   viper::FlowConsistencyCheck flow_all;
   uint64_t pairs = 0;
   std::unique_ptr<FlowInput> previous;
+  std::unique_ptr<viper::InstancePipeline> pipeline;
+  TrackStats tracks;
+  viper::InstanceFrame truth;
+  if (!labels.empty()) {
+    try {
+      pipeline = std::make_unique<viper::InstancePipeline>(viper::LabelTable::load(labels));
+    } catch (const std::exception& e) {
+      std::cerr << "capture_check: " << e.what() << "\n";
+      return 2;
+    }
+  }
   viper::CaptureFrame frame;
   uint64_t checked_frames = 0;
   int status = 0;
@@ -100,6 +147,10 @@ int main(int argc, char** argv) {
     while (reader->next(frame) == viper::CaptureReader::Status::kFrame) {
       meshes.add(frame.new_meshes);
       if (frame.number < from) continue;
+      if (pipeline) {
+        pipeline->process(frame, truth);
+        tracks.add(frame, truth);
+      }
       const viper::ReprojectionCheck c = viper::checkReprojection(frame, meshes);
       if (per_frame) print(("frame " + std::to_string(frame.number) + ":").c_str(), c);
       all.add(c);
@@ -128,5 +179,6 @@ int main(int argc, char** argv) {
   }
   print(("all " + std::to_string(checked_frames) + " frames:").c_str(), all);
   if (flow) printFlow(flow_all, pairs);
+  if (pipeline) tracks.print(checked_frames);
   return status;
 }

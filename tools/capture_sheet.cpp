@@ -1,12 +1,16 @@
 // capture_sheet: a contact sheet of chosen frames of a capture, one row a frame: the color image,
 // the draw ids (a color per draw), the depth, the flow to the next frame (hue = direction,
 // brightness = length), and where each id pixel's triangle reprojects (capture_check's test:
-// green within 0.5 px, red beyond, grey: no placement recorded, black: no id).
+// green within 0.5 px, red beyond, grey: no placement recorded, black: no id). With --labels, the
+// ground truth instead: color, semantic classes, instances (a color per track), depth, flow.
 // Exit code 0 = written, 1 = a frame was not found, 2 = usage/read/write error.
 #include "viper/core/camera_model.h"
 #include "viper/core/capture_invariants.h"
 #include "viper/core/capture_stream.h"
+#include "viper/core/class_table.h"
 #include "viper/core/flow.h"
+#include "viper/core/instance_pipeline.h"
+#include "viper/core/semantic_overlay.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -15,6 +19,7 @@
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -24,7 +29,9 @@ namespace {
 
 int usage() {
   std::cerr << "usage: capture_sheet FILE.vcap --frames N[,N...] --out SHEET.png [--tile-width 320]\n"
-               "  One row per frame: color, draw ids, depth, flow to the next frame, reprojection check.\n";
+               "                     [--labels LABELS.yaml [--class-table CSV]]\n"
+               "  One row per frame: color, draw ids, depth, flow to the next frame, reprojection check;\n"
+               "  with --labels: color, semantic classes, instances, depth, flow.\n";
   return 2;
 }
 
@@ -85,6 +92,27 @@ cv::Mat flowImage(const viper::FlowField& flow) {
   return out;
 }
 
+cv::Mat semanticImage(const viper::InstanceFrame& g, const viper::CaptureFrame& f, const viper::ClassTable& classes) {
+  cv::Mat rgb(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3);
+  viper::colorizeClasses(g.semantic.data(), g.semantic.size(), classes, rgb.data);
+  cv::cvtColor(rgb, rgb, cv::COLOR_RGB2BGR);
+  return rgb;
+}
+
+cv::Mat instanceImage(const viper::InstanceFrame& g, const viper::CaptureFrame& f) {
+  cv::Mat out(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3, cv::Scalar(0, 0, 0));
+  for (size_t i = 0; i < g.instance_ids.size(); ++i) {
+    const int32_t id = g.instance_ids[i];
+    if (id <= 0) continue;
+    const uint32_t h = static_cast<uint32_t>(id) * 2654435761u;
+    out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) =
+        cv::Vec3b(64 + (h & 0xbf), 64 + ((h >> 8) & 0xbf), 64 + ((h >> 16) & 0xbf));
+  }
+  for (size_t i = 0; i < g.boundaries.size(); ++i)
+    if (g.boundaries[i]) out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) = cv::Vec3b(255, 255, 255);
+  return out;
+}
+
 cv::Mat reprojectionImage(const viper::CaptureFrame& f, const viper::MeshRegistry& meshes) {
   cv::Mat out(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3, cv::Scalar(0, 0, 0));
   // Per pixel: check the frame with only that pixel's draw... cheaper: one check per draw's pixels.
@@ -116,6 +144,7 @@ int main(int argc, char** argv) {
   std::string path, out_path;
   std::set<uint64_t> wanted;
   int tile_width = 320;
+  std::string labels_path, class_table_path = VIPER_CLASS_TABLE;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--frames" && i + 1 < argc) {
@@ -123,6 +152,10 @@ int main(int argc, char** argv) {
       for (std::string item; std::getline(list, item, ',');) wanted.insert(std::stoull(item));
     } else if (a == "--out" && i + 1 < argc) {
       out_path = argv[++i];
+    } else if (a == "--labels" && i + 1 < argc) {
+      labels_path = argv[++i];
+    } else if (a == "--class-table" && i + 1 < argc) {
+      class_table_path = argv[++i];
     } else if (a == "--tile-width" && i + 1 < argc) {
       tile_width = std::max(32, std::atoi(argv[++i]));
     } else if (a.rfind("--", 0) == 0 || !path.empty()) {
@@ -138,16 +171,27 @@ int main(int argc, char** argv) {
     viper::MeshRegistry meshes;
     viper::CaptureFrame frame, previous;
     bool have_previous = false;
+    std::unique_ptr<viper::InstancePipeline> pipeline;
+    std::unique_ptr<viper::ClassTable> classes;
+    viper::InstanceFrame truth, previous_truth;
+    if (!labels_path.empty()) {
+      classes = std::make_unique<viper::ClassTable>(viper::ClassTable::load(class_table_path));
+      pipeline = std::make_unique<viper::InstancePipeline>(viper::LabelTable::load(labels_path));
+    }
     while (reader.next(frame) == viper::CaptureReader::Status::kFrame && !wanted.empty()) {
       meshes.add(frame.new_meshes);
+      if (pipeline) pipeline->process(frame, truth);  // every frame, so that tracks carry over
       if (have_previous && wanted.count(previous.number) && frame.number == previous.number + 1) {
         const auto camera = viper::chooseFrameCamera(frame);
         const std::vector<int32_t> none_a(previous.draws.size(), 0), none_b(frame.draws.size(), 0);
         const viper::FlowField flow =
             viper::computeFlow(previous, frame, viper::associateDraws(previous, none_a, frame, none_b),
                                viper::depthMetres(frame, camera ? &*camera : nullptr), meshes);
-        std::vector<cv::Mat> tiles = {colorImage(previous), idImage(previous), depthImage(previous), flowImage(flow),
-                                      reprojectionImage(previous, meshes)};
+        std::vector<cv::Mat> tiles =
+            pipeline ? std::vector<cv::Mat>{colorImage(previous), semanticImage(previous_truth, previous, *classes),
+                                            instanceImage(previous_truth, previous), depthImage(previous), flowImage(flow)}
+                     : std::vector<cv::Mat>{colorImage(previous), idImage(previous), depthImage(previous),
+                                            flowImage(flow), reprojectionImage(previous, meshes)};
         const double scale = static_cast<double>(tile_width) / previous.width;
         for (cv::Mat& t : tiles) cv::resize(t, t, cv::Size(), scale, scale, cv::INTER_AREA);
         cv::Mat row;
@@ -156,6 +200,7 @@ int main(int argc, char** argv) {
         wanted.erase(previous.number);
       }
       previous = frame;
+      if (pipeline) std::swap(previous_truth, truth);
       have_previous = true;
     }
   } catch (const std::exception& e) {

@@ -1,5 +1,7 @@
 #include "viper/core/boxes.h"
 
+#include <algorithm>
+
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
@@ -58,6 +60,76 @@ OrientedBox OrientedBox::transformed(const Eigen::Isometry3d& T) const {
   return b;
 }
 
+void attachParts(std::vector<FrameObject>& objects, const CaptureFrame& frame, const MeshRegistry& meshes,
+                 double margin) {
+  constexpr double kPartVolume = 0.2;
+  // Each thing object's own bounds (its parts sharing its world matrix) and their volume.
+  struct Extent {
+    Bounds3 bounds;
+    double volume = 0.0;
+    Eigen::Matrix4d object_from_world;
+  };
+  std::vector<Extent> extents(objects.size());
+  for (size_t k = 0; k < objects.size(); ++k) {
+    const FrameObject& o = objects[k];
+    if (!o.is_thing) continue;
+    for (uint32_t di : o.draws)
+      if (di < frame.draws.size())
+        if (const Bounds3* b = meshes.bounds(frame.draws[di].mesh_key)) extents[k].bounds.add(*b);
+    if (extents[k].bounds.empty()) continue;
+    const Eigen::Vector3d size = extents[k].bounds.max - extents[k].bounds.min;
+    const Eigen::Vector3d scale = o.world.topLeftCorner<3, 3>().cast<double>().colwise().norm().transpose();
+    extents[k].volume = size.cwiseProduct(scale).prod();
+    extents[k].bounds.min -= margin * size, extents[k].bounds.max += margin * size;
+    extents[k].object_from_world = o.world.cast<double>().inverse();
+  }
+  std::vector<int> parent(objects.size(), -1);
+  for (size_t c = 0; c < objects.size(); ++c) {
+    if (!objects[c].is_thing) continue;
+    const Eigen::Vector4d origin = objects[c].world.col(3).cast<double>();
+    for (size_t p = 0; p < objects.size(); ++p) {
+      // A part is much smaller than what it belongs to (a wheel and its kart): two objects of a
+      // size (people walking together, cars side by side) never attach.
+      if (p == c || objects[p].class_id != objects[c].class_id || extents[p].bounds.empty() ||
+          !(extents[c].volume < kPartVolume * extents[p].volume) || !extents[p].object_from_world.allFinite())
+        continue;
+      const Eigen::Vector3d x = (extents[p].object_from_world * origin).head<3>();
+      const bool inside = (x.array() >= extents[p].bounds.min.array()).all() &&
+                          (x.array() <= extents[p].bounds.max.array()).all();
+      if (inside && (parent[c] < 0 || extents[p].volume > extents[parent[c]].volume)) parent[c] = static_cast<int>(p);
+    }
+  }
+  // Follow chains (a part of a part) to the root, then move every part's draws into its root.
+  auto root = [&](size_t k) {
+    size_t r = k;
+    for (int steps = 0; parent[r] >= 0 && steps < static_cast<int>(objects.size()); ++steps) r = static_cast<size_t>(parent[r]);
+    return r;
+  };
+  bool merged = false;
+  for (size_t c = 0; c < objects.size(); ++c) {
+    const size_t r = root(c);
+    if (r == c) continue;
+    FrameObject& into = objects[r];
+    into.draws.insert(into.draws.end(), objects[c].draws.begin(), objects[c].draws.end());
+    into.mesh_keys.insert(into.mesh_keys.end(), objects[c].mesh_keys.begin(), objects[c].mesh_keys.end());
+    into.texture_keys.insert(into.texture_keys.end(), objects[c].texture_keys.begin(), objects[c].texture_keys.end());
+    objects[c].draws.clear();
+    merged = true;
+  }
+  if (!merged) return;
+  std::vector<FrameObject> kept;
+  for (FrameObject& o : objects) {
+    if (o.draws.empty()) continue;
+    std::sort(o.draws.begin(), o.draws.end());
+    std::sort(o.mesh_keys.begin(), o.mesh_keys.end());
+    o.mesh_keys.erase(std::unique(o.mesh_keys.begin(), o.mesh_keys.end()), o.mesh_keys.end());
+    std::sort(o.texture_keys.begin(), o.texture_keys.end());
+    o.texture_keys.erase(std::unique(o.texture_keys.begin(), o.texture_keys.end()), o.texture_keys.end());
+    kept.push_back(std::move(o));
+  }
+  objects.swap(kept);
+}
+
 OrientedBox objectBox(const CaptureFrame& frame, const FrameObject& object, const MeshRegistry& meshes,
                       BoxStatus* status) {
   const Eigen::Matrix4d world = object.world.cast<double>();
@@ -85,7 +157,17 @@ OrientedBox objectBox(const CaptureFrame& frame, const FrameObject& object, cons
         if (std::abs(p.w()) > 1e-12) bounds.add(p.head<3>() / p.w());
       }
     } else if (const Bounds3* b = meshes.bounds(d.mesh_key)) {
-      bounds.add(*b);
+      if ((d.matrix_flags & kHasWorld) && d.world != object.world) {
+        // An attached part (attachParts): its bounds' corners in the object's coordinates.
+        const Eigen::Matrix4d to_object = world.inverse() * d.world.cast<double>();
+        for (int c = 0; c < 8; ++c)
+          bounds.add((to_object * Eigen::Vector3d((c & 1) ? b->max.x() : b->min.x(), (c & 2) ? b->max.y() : b->min.y(),
+                                                  (c & 4) ? b->max.z() : b->min.z())
+                                      .homogeneous())
+                         .head<3>());
+      } else {
+        bounds.add(*b);
+      }
     } else {
       missing = true;
     }

@@ -52,6 +52,7 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) {
     }
   }
   objects.swap(kept);
+  attachParts(objects, frame, meshes_);
   const DrawAssignment assignment = assignDraws(frame, labels_, objects);
   findDrawRuns(frame, runs_);
   measureObjects(runs_, assignment, objects);

@@ -70,6 +70,56 @@ TEST(ObjectBox, CornersAreTheWorldTransformedBoundsOfAllParts) {
   EXPECT_TRUE(box.size.isApprox(Eigen::Vector3d(4.5, 2.2, 1) * 1.5, 1e-6));
 }
 
+// A kart as SuperTuxKart draws it: the body at the kart's world matrix, each wheel at a matrix of
+// its own (turned, at the wheel's place), all labelled car; and a second kart far away.
+TEST(AttachParts, WheelsWithMatricesOfTheirOwnJoinTheirKart) {
+  MeshRegistry store;
+  store.add(boxMesh(1, {-1, -0.5f, -0.4f}, {1, 0.5f, 0.4f}));        // body
+  store.add(boxMesh(2, {-0.2f, -0.2f, -0.1f}, {0.2f, 0.2f, 0.1f}));   // wheel
+  const GlMatrix kart = placed(0.7f, 1.0f, {5, 2, 0});
+  const GlMatrix other = placed(0.0f, 1.0f, {30, 2, 0});
+  CaptureFrame f;
+  auto add = [&](uint64_t mesh, const GlMatrix& w) {
+    DrawRecord d;
+    d.index = static_cast<uint32_t>(f.draws.size());
+    d.mesh_key = mesh;
+    d.matrix_flags = kHasWorld;
+    d.world = w;
+    f.draws.push_back(d);
+  };
+  add(1, kart);
+  for (float x : {-0.8f, 0.8f}) add(2, kart * placed(0.3f * x, 1.0f, {x, 0.5f, -0.35f}));  // two wheels
+  add(1, other);
+  add(2, other * placed(0.1f, 1.0f, {0.8f, -0.5f, -0.3f}));
+  std::vector<FrameObject> objects;
+  for (const DrawRecord& d : f.draws) {
+    FrameObject o;
+    o.draws = {d.index};
+    o.mesh_keys = {d.mesh_key};
+    o.world = d.world;
+    o.class_id = 24;
+    o.is_thing = true;
+    objects.push_back(o);
+  }
+  FrameObject person = objects[1];  // a person at a wheel's place is not the kart's
+  person.class_id = 20;
+  person.draws = {0};
+  attachParts(objects, f, store);
+  ASSERT_EQ(objects.size(), 2u);
+  EXPECT_EQ(objects[0].draws, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(objects[0].world, kart);
+  EXPECT_EQ(objects[1].draws, (std::vector<uint32_t>{3, 4}));
+  // The box takes the wheels where they are (they stick out below the body by 0.05).
+  BoxStatus status;
+  const OrientedBox box = objectBox(f, objects[0], store, &status);
+  ASSERT_EQ(status, BoxStatus::kOk);
+  EXPECT_NEAR(box.size.z(), 0.8 + 0.05, 1e-5);
+
+  std::vector<FrameObject> mixed = {objects[0], person};
+  attachParts(mixed, f, store);
+  EXPECT_EQ(mixed.size(), 2u) << "another class is never attached";
+}
+
 TEST(ObjectBox, DeformedPartsComeBackThroughTheInverseMatrices) {
   CaptureFrame f;
   DrawRecord d;

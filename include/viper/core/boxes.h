@@ -58,9 +58,17 @@ struct OrientedBox {
 /// Why a box could not be made.
 enum class BoxStatus { kOk, kMissingMesh, kSingularMatrix, kEmpty };
 
+/// Parts an engine places under a parent with matrices of their own (a kart's wheels): a thing
+/// object whose origin lies inside the box of a thing object of the same class at least five times
+/// its volume, in that object's coordinates (its parts' mesh bounds, grown by `margin` of their
+/// size on each side), is merged into it (the largest such). Objects come out in the order of their first draw.
+void attachParts(std::vector<FrameObject>& objects, const CaptureFrame& frame, const MeshRegistry& meshes,
+                 double margin = 0.05);
+
 /// Box of an object: the union of its parts' vertices in the object's coordinates (rigid parts from
-/// the mesh store; deformed parts from their post-vertex-shader positions mapped back through the
-/// inverse of projection * view * world), placed with the object's world matrix. The world
+/// the mesh store, moved by their own world matrix where it is not the object's; deformed parts from
+/// their post-vertex-shader positions mapped back through the inverse of projection * view * world),
+/// placed with the object's world matrix. The world
 /// matrix's rotation is taken from its polar decomposition, its column norms scale the size.
 /// Parts whose mesh never arrived are skipped and reported through `status` (kMissingMesh) when no
 /// part is left.

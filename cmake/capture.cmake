@@ -89,7 +89,8 @@ if(CATKIN_ENABLE_TESTING)
     target_include_directories(test_supertuxkart SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
     target_compile_definitions(test_supertuxkart PRIVATE
       VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-      VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles")
+      VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles"
+      VIPER_STK_LABELS="${PROJECT_SOURCE_DIR}/config/labels/supertuxkart_candela_city.yaml")
     target_link_libraries(test_supertuxkart viper_core gtest_main ${OpenCV_LIBS})
     add_dependencies(test_supertuxkart viper_capture viper_intercept)
   endif()

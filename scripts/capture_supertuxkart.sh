@@ -5,7 +5,7 @@
 #
 # Usage: scripts/capture_supertuxkart.sh [--track candela_city] [--frames 60] [--width 1280]
 #          [--height 720] [--karts 4] [--seed 1] [--skip 0] [--out DIR (build/stk)] [--no-bag]
-#          [--bin DIR (the build's devel/lib/viper)]
+#          [--bin DIR (the build's devel/lib/viper)] [--game-args "--kart=tux --ai=nolok,pidgin"]
 # Writes DIR/<track>.vcap and DIR/<track>_raw.bag. Needs `supertuxkart` and `Xvfb` (installed by
 # scripts/setup.sh --test-programs); runs the game in its own Xvfb display unless --display :N.
 # The game runs with its forward pipeline (--disable-dynamic-lights) and without anisotropic
@@ -13,7 +13,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 track=candela_city; frames=60; width=1280; height=720; karts=4; seed=1; skip=0
-out="$here/build/stk"; bag=1; display=""; bin="$here/build/devel/lib/viper"
+out="$here/build/stk"; bag=1; display=""; bin="$here/build/devel/lib/viper"; game_args=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --track) track="$2"; shift 2 ;;
@@ -26,6 +26,7 @@ while [ $# -gt 0 ]; do
     --out) out="$2"; shift 2 ;;
     --display) display="$2"; shift 2 ;;
     --bin) bin="$2"; shift 2 ;;
+    --game-args) game_args="$2"; shift 2 ;;
     --no-bag) bag=0; shift ;;
     -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
     *) echo "capture_supertuxkart: unknown option '$1' (see --help)" >&2; exit 2 ;;
@@ -69,7 +70,7 @@ HOME="$game_home" DISPLAY="$display" "$bin/capture" --output "$capture" \
   --profile "$here/config/profiles/supertuxkart.yaml" --condition day --frames "$frames" \
   --skip-frames "$skip" --start-on-scene -- \
   "$stk" --track="$track" --numkarts="$karts" --seed="$seed" --profile-time="$race_s" \
-  ${STK_PIPELINE:---disable-dynamic-lights} --anisotropic=0 --windowed --screensize="${width}x${height}" \
+  ${STK_PIPELINE:---disable-dynamic-lights} --anisotropic=0 --windowed --screensize="${width}x${height}" $game_args \
   > "$out/$track.game.log" 2>&1 || status=$?
 grep '\[viper capture\]' "$out/$track.game.log" || true
 [ "$status" -eq 0 ] || { echo "capture_supertuxkart: the game exited with $status (log: $out/$track.game.log)" >&2; exit 1; }

@@ -8,6 +8,7 @@
 #include "viper/core/capture_invariants.h"
 #include "viper/core/capture_stream.h"
 #include "viper/core/flow.h"
+#include "viper/core/instance_pipeline.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -212,6 +213,25 @@ TEST(SuperTuxKart, ForwardPipelineGroundTruthHoldsAgainstItself) {
   EXPECT_LE(viper::quantile(flow.forward_backward_px, 0.5), 0.01f);
   EXPECT_GE(within, 0.99);
   EXPECT_LT(flow.photometricFlow(), 0.5 * flow.photometricZero());
+
+  // The shipped label table (made from another, longer capture at another size) labels this one:
+  // resource keys are the game's content, whatever the run. The followed kart keeps one track.
+  viper::InstancePipeline pipeline(viper::LabelTable::load(VIPER_STK_LABELS));
+  uint64_t id_pixels = 0, labelled = 0;
+  std::map<int32_t, size_t> car_frames;
+  for (const CaptureFrame& f : r.frames) {
+    const viper::InstanceFrame g = pipeline.process(f);
+    for (size_t i = 0; i < f.draw_ids.size(); ++i)
+      if (f.draw_ids[i]) ++id_pixels, labelled += g.semantic[i] != 0;
+    for (const viper::TrackedObject& o : g.objects)
+      if (o.track_id > 0 && o.object.class_id == 24 && o.object.pixel_count > 0) ++car_frames[o.track_id];
+  }
+  size_t longest = 0;
+  for (const auto& [id, n] : car_frames) longest = std::max(longest, n);
+  std::printf("labels: %.2f%% of id pixels have a class; %zu car tracks, the longest in %zu of %zu frames\n",
+              100.0 * labelled / id_pixels, car_frames.size(), longest, r.frames.size());
+  EXPECT_GE(labelled, 0.99 * id_pixels);
+  EXPECT_EQ(longest, r.frames.size()) << "the kart the camera follows keeps its id in every frame";
 
   // The capture's color is the scene without the HUD: mostly the game's image, but not all of it.
   const cv::Mat last = cv::imread(r.captured.back());

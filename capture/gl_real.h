@@ -96,6 +96,13 @@ namespace capture {
   X(PFNGLDRAWARRAYSINSTANCEDBASEINSTANCEPROC, DrawArraysInstancedBaseInstance)            \
   X(PFNGLDRAWELEMENTSINSTANCEDBASEINSTANCEPROC, DrawElementsInstancedBaseInstance)        \
   X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXBASEINSTANCEPROC, DrawElementsInstancedBaseVertexBaseInstance) \
+  X(PFNGLMULTIDRAWARRAYSPROC, MultiDrawArrays)                                            \
+  X(PFNGLMULTIDRAWELEMENTSPROC, MultiDrawElements)                                        \
+  X(PFNGLMULTIDRAWELEMENTSBASEVERTEXPROC, MultiDrawElementsBaseVertex)                    \
+  X(PFNGLDRAWARRAYSINDIRECTPROC, DrawArraysIndirect)                                      \
+  X(PFNGLDRAWELEMENTSINDIRECTPROC, DrawElementsIndirect)                                  \
+  X(PFNGLMULTIDRAWARRAYSINDIRECTPROC, MultiDrawArraysIndirect)                            \
+  X(PFNGLMULTIDRAWELEMENTSINDIRECTPROC, MultiDrawElementsIndirect)                        \
   X(PFNGLBUFFERSTORAGEPROC, BufferStorage)                                                \
   X(PFNGLNAMEDBUFFERSTORAGEPROC, NamedBufferStorage)                                      \
   X(PFNGLCLEARBUFFERIVPROC, ClearBufferiv)                                                \

@@ -3,6 +3,7 @@
 #include "interceptor.h"
 
 #include <cstring>
+#include <vector>
 
 using viper::capture::DrawCall;
 using viper::capture::gl;
@@ -310,6 +311,98 @@ VIPER_EXPORT void glDrawElementsInstancedBaseVertexBaseInstance(GLenum mode, GLs
   });
 }
 
+// Multi-draws and indirect draws, as the single draws they stand for (Interceptor::decomposesMultiDraw).
+namespace {
+
+size_t indexSize(GLenum type) { return type == GL_UNSIGNED_BYTE ? 1 : type == GL_UNSIGNED_SHORT ? 2 : 4; }
+
+// An instanced draw exactly as one indirect command would make it.
+void issueInstanced(const DrawCall& c) {
+  if (c.indexed)
+    gl().DrawElementsInstancedBaseVertexBaseInstance(c.mode, c.count, c.index_type,
+                                                     reinterpret_cast<const void*>(c.index_offset), c.instances,
+                                                     c.base_vertex, c.base_instance);
+  else
+    gl().DrawArraysInstancedBaseInstance(c.mode, c.first, c.count, c.instances, c.base_instance);
+}
+
+// Commands of an indirect draw: {count, instances, first, base instance} or {count, instances,
+// first index, base vertex, base instance}, `stride` bytes apart (0: packed).
+bool indirectCalls(Interceptor& i, GLenum mode, bool indexed, GLenum type, const void* indirect, GLsizei drawcount,
+                   GLsizei stride, std::vector<DrawCall>& calls) {
+  const size_t size = indexed ? 20 : 16;
+  const size_t step = stride ? static_cast<size_t>(stride) : size;
+  for (GLsizei k = 0; k < drawcount; ++k) {
+    GLuint cmd[5] = {0, 0, 0, 0, 0};
+    if (!i.readIndirect(reinterpret_cast<size_t>(indirect) + k * step, cmd, size)) return false;
+    DrawCall c;
+    c.mode = mode, c.count = static_cast<GLsizei>(cmd[0]), c.instances = static_cast<GLsizei>(cmd[1]);
+    if (indexed) {
+      c.indexed = true, c.index_type = type, c.index_offset = cmd[2] * indexSize(type);
+      c.base_vertex = static_cast<GLint>(cmd[3]), c.base_instance = cmd[4];
+    } else {
+      c.first = static_cast<GLint>(cmd[2]), c.base_instance = cmd[3];
+    }
+    calls.push_back(c);
+  }
+  return true;
+}
+
+template <typename F>
+void indirectDraw(const char* what, GLenum mode, bool indexed, GLenum type, const void* indirect, GLsizei drawcount,
+                  GLsizei stride, F real) {
+  Interceptor* i = active();
+  std::vector<DrawCall> calls;
+  if (!i) return real();
+  if (!i->decomposesMultiDraw() || !indirectCalls(*i, mode, indexed, type, indirect, drawcount, stride, calls)) {
+    i->beforeUndecomposedDraw(what);
+    return real();
+  }
+  for (const DrawCall& c : calls)
+    if (c.instances > 0) draw(c, [&] { issueInstanced(c); });
+}
+
+}  // namespace
+
+VIPER_EXPORT void glMultiDrawArrays(GLenum mode, const GLint* first, const GLsizei* count, GLsizei drawcount) {
+  Interceptor* i = active();
+  if (!i || !i->decomposesMultiDraw()) {
+    if (i) i->beforeUndecomposedDraw("glMultiDrawArrays");
+    return gl().MultiDrawArrays(mode, first, count, drawcount);
+  }
+  for (GLsizei k = 0; k < drawcount; ++k) glDrawArrays(mode, first[k], count[k]);
+}
+VIPER_EXPORT void glMultiDrawElementsBaseVertex(GLenum mode, const GLsizei* count, GLenum type,
+                                                const void* const* indices, GLsizei drawcount, const GLint* base) {
+  Interceptor* i = active();
+  if (!i || !i->decomposesMultiDraw()) {
+    if (i) i->beforeUndecomposedDraw("glMultiDrawElements");
+    return base ? gl().MultiDrawElementsBaseVertex(mode, count, type, indices, drawcount, base)
+                : gl().MultiDrawElements(mode, count, type, indices, drawcount);
+  }
+  for (GLsizei k = 0; k < drawcount; ++k) glDrawElementsBaseVertex(mode, count[k], type, indices[k], base ? base[k] : 0);
+}
+VIPER_EXPORT void glMultiDrawElements(GLenum mode, const GLsizei* count, GLenum type, const void* const* indices,
+                                      GLsizei drawcount) {
+  glMultiDrawElementsBaseVertex(mode, count, type, indices, drawcount, nullptr);
+}
+VIPER_EXPORT void glDrawArraysIndirect(GLenum mode, const void* indirect) {
+  indirectDraw("glDrawArraysIndirect", mode, false, 0, indirect, 1, 0, [&] { gl().DrawArraysIndirect(mode, indirect); });
+}
+VIPER_EXPORT void glDrawElementsIndirect(GLenum mode, GLenum type, const void* indirect) {
+  indirectDraw("glDrawElementsIndirect", mode, true, type, indirect, 1, 0,
+               [&] { gl().DrawElementsIndirect(mode, type, indirect); });
+}
+VIPER_EXPORT void glMultiDrawArraysIndirect(GLenum mode, const void* indirect, GLsizei drawcount, GLsizei stride) {
+  indirectDraw("glMultiDrawArraysIndirect", mode, false, 0, indirect, drawcount, stride,
+               [&] { gl().MultiDrawArraysIndirect(mode, indirect, drawcount, stride); });
+}
+VIPER_EXPORT void glMultiDrawElementsIndirect(GLenum mode, GLenum type, const void* indirect, GLsizei drawcount,
+                                              GLsizei stride) {
+  indirectDraw("glMultiDrawElementsIndirect", mode, true, type, indirect, drawcount, stride,
+               [&] { gl().MultiDrawElementsIndirect(mode, type, indirect, drawcount, stride); });
+}
+
 namespace viper {
 namespace capture {
 
@@ -342,6 +435,9 @@ void* wrapperFor(const char* name) {
       VIPER_ENTRY(glNamedBufferStorage), VIPER_ENTRY(glClearBufferfv), VIPER_ENTRY(glClearBufferiv),
       VIPER_ENTRY(glClearBufferuiv), VIPER_ENTRY(glClearBufferfi), VIPER_ENTRY(glProgramBinary),
       VIPER_ENTRY(glCompressedTexImage2D), VIPER_ENTRY(glCompressedTexSubImage2D),
+      VIPER_ENTRY(glMultiDrawArrays), VIPER_ENTRY(glMultiDrawElements), VIPER_ENTRY(glMultiDrawElementsBaseVertex),
+      VIPER_ENTRY(glDrawArraysIndirect), VIPER_ENTRY(glDrawElementsIndirect), VIPER_ENTRY(glMultiDrawArraysIndirect),
+      VIPER_ENTRY(glMultiDrawElementsIndirect),
   };
 #undef VIPER_ENTRY
   if (name[0] == 'g' && name[1] == 'l' && name[2] != 'X') {

@@ -147,6 +147,13 @@ class Interceptor {
   /// change what is drawn: no shader reads gl_InstanceID/gl_BaseInstance/gl_DrawID, every
   /// instanced attribute advances once per instance, and the context has base-instance draws.
   bool splitsInstances(const DrawCall& call);
+  /// Multi and indirect draws are issued as the single draws they stand for (each recorded) unless
+  /// a shader of the current program reads gl_DrawID (or no draw would be recorded anyway).
+  bool decomposesMultiDraw();
+  /// Before a multi or indirect draw passed through whole: ids off for it (logged once).
+  void beforeUndecomposedDraw(const char* what);
+  /// `size` bytes of the bound draw indirect buffer at `offset` (false if unknown).
+  bool readIndirect(size_t offset, void* out, size_t size);
   void bufferStorage(GLenum target, GLuint name, GLsizeiptr size, const void* data);
   /// After the program cleared buffers with glClearBuffer*: ids follow its depth and color clears.
   void clearBuffer(GLenum buffer, GLint drawbuffer);

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 namespace viper {
@@ -146,6 +147,34 @@ bool Interceptor::splitsInstances(const DrawCall& call) {
     if (vertexAttrib(static_cast<GLuint>(a), GL_VERTEX_ATTRIB_ARRAY_DIVISOR) > 1) return false;
   }
   return true;
+}
+
+bool Interceptor::decomposesMultiDraw() {
+  if (!recordable()) return false;
+  const ProgramInfo* p = currentProgram();
+  return p->rewritten && !p->reads_draw_parameters;
+}
+
+void Interceptor::beforeUndecomposedDraw(const char* what) {
+  FrameTarget* t = target();
+  if (!enabled_ || !t || !t->ready()) return;
+  ProgramInfo* p = currentProgram();
+  if (recordable() && p && p->rewritten) {
+    char key[32];
+    std::snprintf(key, sizeof(key), "%016llx", static_cast<unsigned long long>(p->key));
+    logOnce(std::string(what) + " of program " + key + ", whose shaders read gl_DrawID: drawn whole, not recorded");
+  }
+  // Whatever the uniform holds would name another draw: no ids from this one.
+  if (t->program_draw_fb == 0) {
+    if (t->ids_enabled) t->applyDrawBuffers(false);
+  } else if (FrameTarget::ProgramFbo* f = t->sceneFbo()) {
+    if (f->ids_wanted) t->applyFboDrawBuffers(*f, false);
+  }
+}
+
+bool Interceptor::readIndirect(size_t offset, void* out, size_t size) {
+  const GLuint buffer = static_cast<GLuint>(glInt(GL_DRAW_INDIRECT_BUFFER_BINDING));
+  return buffer && readBufferBytes(buffer, offset, size, out);
 }
 
 bool Interceptor::beforeDraw(const DrawCall& call) {

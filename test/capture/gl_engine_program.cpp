@@ -3,12 +3,13 @@
 // (glBufferStorage); view and projection in a std140 uniform block filled with glBufferSubData
 // into one of three rotating buffers; a fragment shader with a second output at location 1; a 2D
 // overlay quad (HUD) drawn last; a glProgramBinary attempt before linking from source.
-//   gl_engine_program [--size WxH] [--frames N] [--out FILE] [--offscreen 0|1]
+//   gl_engine_program [--size WxH] [--frames N] [--out FILE] [--offscreen 0|1] [--indirect 0|1]
 // --out writes the program's own read-back of its last frame (RGBA, bottom row first).
 // --offscreen 1 draws the scene into a G-buffer of its own (color at draw buffer 0, normals at 1,
 // depth texture) and composites color and normals into the default framebuffer, so that a capture
-// that wrote over draw buffer 1 would change the output. Prints binary_formats=N (what
-// GL_NUM_PROGRAM_BINARY_FORMATS said).
+// that wrote over draw buffer 1 would change the output. --indirect 1 draws the same instances
+// with glMultiDrawElementsIndirect: two commands (instances 0-1, then instance 2) from a draw
+// indirect buffer. Prints binary_formats=N (what GL_NUM_PROGRAM_BINARY_FORMATS said).
 #include "engine_scene.h"
 
 #define GL_GLEXT_PROTOTYPES 1
@@ -131,7 +132,7 @@ GLuint texture2d(GLenum internal, GLenum format, GLenum type, int w, int h) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int width = 160, height = 120, frames = 3, offscreen = 0;
+  int width = 160, height = 120, frames = 3, offscreen = 0, indirect = 0;
   std::string out;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
@@ -139,6 +140,7 @@ int main(int argc, char** argv) {
     else if (a == "--frames") frames = std::atoi(v.c_str());
     else if (a == "--out") out = v;
     else if (a == "--offscreen") offscreen = std::atoi(v.c_str());
+    else if (a == "--indirect") indirect = std::atoi(v.c_str());
     else die("unknown option " + a);
   }
 
@@ -193,6 +195,12 @@ int main(int argc, char** argv) {
     glEnableVertexAttribArray(a);
     glVertexAttribDivisor(a, 1);
   }
+  // {count, instances, first index, base vertex, base instance} x 2, used by --indirect.
+  const GLuint commands[10] = {6, 2, 0, 0, 0, 6, 1, 0, 0, 2};
+  GLuint indirect_buffer = 0;
+  glGenBuffers(1, &indirect_buffer);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, indirect_buffer);
+  glBufferData(GL_DRAW_INDIRECT_BUFFER, sizeof(commands), commands, GL_STATIC_DRAW);
   GLuint overlay_vao = 0, overlay_vbo = 0;
   glGenVertexArrays(1, &overlay_vao);
   glBindVertexArray(overlay_vao);
@@ -262,7 +270,10 @@ int main(int argc, char** argv) {
     glUseProgram(scene);
     glUniform4f(glGetUniformLocation(scene, "u_color"), 0.8f, 0.3f, 0.2f, 1.0f);
     glBindVertexArray(vao);
-    glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, nullptr, es::kInstances);
+    if (indirect)
+      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_SHORT, nullptr, 2, 0);
+    else
+      glDrawElementsInstanced(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, nullptr, es::kInstances);
 
     glDisable(GL_DEPTH_TEST);
     if (offscreen) {

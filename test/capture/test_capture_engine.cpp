@@ -51,15 +51,15 @@ struct EngineRun {
   viper::MeshRegistry meshes;
 };
 
-const EngineRun& runEngine(int offscreen) {
+const EngineRun& runEngine(int offscreen, int indirect = 0) {
   static std::map<int, EngineRun> runs;
-  auto it = runs.find(offscreen);
+  auto it = runs.find(offscreen * 2 + indirect);
   if (it != runs.end()) return it->second;
-  EngineRun& r = runs[offscreen];
-  const std::string d = tempDir() + "/offscreen" + std::to_string(offscreen);
+  EngineRun& r = runs[offscreen * 2 + indirect];
+  const std::string d = tempDir() + "/offscreen" + std::to_string(offscreen) + "_indirect" + std::to_string(indirect);
   const std::string program = std::string(VIPER_GL_ENGINE_PROGRAM) + " --frames " + std::to_string(kFrames) +
                               " --size " + std::to_string(kWidth) + "x" + std::to_string(kHeight) + " --offscreen " +
-                              std::to_string(offscreen) + " --out ";
+                              std::to_string(offscreen) + " --indirect " + std::to_string(indirect) + " --out ";
   r.plain_rc = run(program + d + "_plain.rgba > " + d + "_plain.txt");
   r.capture_rc = run(std::string(VIPER_CAPTURE_EXE) + " --output " + d + ".vcap --profile " VIPER_ENGINE_PROFILE " -- " +
                      program + d + "_captured.rgba > " + d + "_captured.txt");
@@ -143,6 +143,12 @@ TEST(CaptureEngine, GBufferKeepsItsNormalsAndGivesIds) {
   const EngineRun& r = runEngine(1);
   checkEngineRun(r, 1);
   for (const CaptureFrame& f : r.frames) EXPECT_EQ(f.draws.back().visible_pixels, 0u);
+}
+
+TEST(CaptureEngine, MultiDrawIndirectIsRecordedAsItsInstances) {
+  // glMultiDrawElementsIndirect with two commands (instances 0-1, instance 2): the same three draws.
+  checkEngineRun(runEngine(0, 1), 0);
+  EXPECT_TRUE(runEngine(0, 1).plain_pixels == runEngine(0, 0).plain_pixels) << "the indirect program draws the same";
 }
 
 TEST(CaptureEngine, WithoutCaptureProgramBinariesAreOffered) {

@@ -18,6 +18,7 @@ namespace {
 
 int usage() {
   std::cerr << "usage: capture_check FILE.vcap [--from N] [--frames N] [--per-frame] [--flow] [--labels L.yaml]\n"
+               "                     [--resume-tracks]\n"
                "  For every pixel with a draw id: projects the triangle its draw and primitive id name with\n"
                "  the recorded matrices (or post-vertex-shader positions) and prints how far the pixel lies\n"
                "  from it (px) and how far its depth is from the triangle's (relative), with the fractions\n"
@@ -26,7 +27,8 @@ int usage() {
                "  associated by mesh and placement): forward-backward endpoint error and the photometric error\n"
                "  of warping the next frame by the flow, against no motion.\n"
                "  --labels: also the instances pipeline with that label table: share of id pixels with a class,\n"
-               "  and per thing class its tracks (how many, frames each: ids stable over time).\n";
+               "  and per thing class its tracks (how many, frames each: ids stable over time); --resume-tracks:\n"
+               "  the tracker's resume_by_resources (an object back after a long gap takes up its own id).\n";
   return 2;
 }
 
@@ -104,7 +106,7 @@ FlowInput flowInput(const viper::CaptureFrame& f) {
 int main(int argc, char** argv) {
   std::string path;
   uint64_t from = 0, max_frames = 0;
-  bool per_frame = false, flow = false;
+  bool per_frame = false, flow = false, resume = false;
   std::string labels;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -112,6 +114,7 @@ int main(int argc, char** argv) {
     else if (a == "--frames" && i + 1 < argc) max_frames = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--per-frame") per_frame = true;
     else if (a == "--flow") flow = true;
+    else if (a == "--resume-tracks") resume = true;
     else if (a == "--labels" && i + 1 < argc) labels = argv[++i];
     else if (a.rfind("--", 0) == 0 || !path.empty()) return usage();
     else path = a;
@@ -134,7 +137,9 @@ int main(int argc, char** argv) {
   viper::InstanceFrame truth;
   if (!labels.empty()) {
     try {
-      pipeline = std::make_unique<viper::InstancePipeline>(viper::LabelTable::load(labels));
+      viper::InstancePipelineOptions options;
+      options.tracker.resume_by_resources = resume;
+      pipeline = std::make_unique<viper::InstancePipeline>(viper::LabelTable::load(labels), options);
     } catch (const std::exception& e) {
       std::cerr << "capture_check: " << e.what() << "\n";
       return 2;

@@ -53,6 +53,7 @@ Tracker::Tracker(TrackerOptions options) : options_(std::move(options)) {}
 
 void Tracker::reset() {
   tracks_.clear();
+  dormant_.clear();
   have_time_ = false;
 }
 
@@ -65,6 +66,23 @@ bool Tracker::edgeAllowed(const Track& t, const FrameObject& o, const Eigen::Vec
   const bool dynamic = o.class_id < options_.dynamic_classes.size() && options_.dynamic_classes[o.class_id];
   if (dynamic && !intersects(t.resources, resourcesOf(o)) && miss > options_.lod_tolerance_m) return false;
   return true;
+}
+
+int Tracker::resumable(const FrameObject& o, const std::vector<uint64_t>& res) const {
+  const bool dynamic = o.class_id < options_.dynamic_classes.size() && options_.dynamic_classes[o.class_id];
+  if (!options_.resume_by_resources || !dynamic || res.empty()) return -1;
+  auto holds = [&](const Track& t) {
+    return t.class_id == o.class_id && std::includes(t.resources.begin(), t.resources.end(), res.begin(), res.end());
+  };
+  int found = -1;
+  for (size_t d = 0; d < dormant_.size(); ++d) {
+    if (!holds(dormant_[d])) continue;
+    if (found >= 0) return -1;  // two candidates: the resources do not tell them apart
+    found = static_cast<int>(d);
+  }
+  for (const Track& t : tracks_)
+    if (holds(t)) return -1;
+  return found;
 }
 
 std::vector<int32_t> Tracker::update(double time_s, const std::vector<FrameObject>& objects,
@@ -143,6 +161,12 @@ std::vector<int32_t> Tracker::update(double time_s, const std::vector<FrameObjec
       t.resources.swap(merged);
       track_used[match[r]] = true;
       ids[things[r]] = t.id;
+    } else if (const int d = resumable(o, res); d >= 0) {
+      Track t = std::move(dormant_[d]);  // back after a long absence: its old id
+      dormant_.erase(dormant_.begin() + d);
+      t.position = p, t.velocity = Eigen::Vector3d::Zero(), t.time_s = time_s, t.missed = 0;
+      ids[things[r]] = t.id;
+      born.push_back(std::move(t));
     } else {
       Track t{next_id_++, o.class_id, p, Eigen::Vector3d::Zero(), time_s, 0, std::move(res)};
       ids[things[r]] = t.id;
@@ -151,9 +175,14 @@ std::vector<int32_t> Tracker::update(double time_s, const std::vector<FrameObjec
   }
   std::vector<Track> kept;
   for (size_t c = 0; c < m; ++c) {
-    if (!track_used[c] && ++tracks_[c].missed > options_.extrapolate_frames) continue;
+    if (!track_used[c] && ++tracks_[c].missed > options_.extrapolate_frames) {
+      if (options_.resume_by_resources) dormant_.push_back(std::move(tracks_[c]));
+      continue;
+    }
     kept.push_back(std::move(tracks_[c]));
   }
+  constexpr size_t kMaxDormant = 4096;
+  if (dormant_.size() > kMaxDormant) dormant_.erase(dormant_.begin(), dormant_.end() - kMaxDormant);
   kept.insert(kept.end(), std::make_move_iterator(born.begin()), std::make_move_iterator(born.end()));
   tracks_.swap(kept);
   last_time_s_ = time_s;

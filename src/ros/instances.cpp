@@ -48,6 +48,7 @@ bool Instances::start() {
   }
   options.tracker.extrapolate_frames = extrapolate;
   private_nh_.param("lod_tolerance_m", options.tracker.lod_tolerance_m, 0.05);
+  private_nh_.param("resume_tracks_by_resources", options.tracker.resume_by_resources, false);
   double alpha = 0.5;
   private_nh_.param("overlay_alpha", alpha, 0.5);
   if (!(alpha >= 0.0 && alpha <= 1.0)) {

@@ -282,6 +282,37 @@ TEST(Tracker, HiddenObjectKeepsItsIdWithinTheWindowAndLosesItAfter) {
   EXPECT_NE(tracker.update(f * dt, {thing(kPerson, {2})}, {Eigen::Vector3d(f * 0.15, 0, 0)})[0], id);
 }
 
+TEST(Tracker, ResumingByResourcesGivesAKartBackItsIdAfterAnyGap) {
+  TrackerOptions opt;
+  opt.extrapolate_frames = 5;
+  opt.resume_by_resources = true;
+  Tracker tracker(opt);
+  const double dt = 0.1;
+  // Two karts of their own models (bodies 1 and 2) sharing a wheel mesh (9).
+  auto karts = [&](double t, bool first, bool second) {
+    std::vector<FrameObject> o;
+    std::vector<Eigen::Vector3d> p;
+    if (first) o.push_back(thing(kCar, {1, 9})), p.emplace_back(t * 10, 0, 0);
+    if (second) o.push_back(thing(kCar, {2, 9})), p.emplace_back(t * 10, 5, 0);
+    return tracker.update(t, o, p);
+  };
+  const auto ids = karts(0, true, true);
+  int f = 1;
+  for (; f < 20; ++f) karts(f * dt, false, true);  // the first kart out of sight for 19 frames
+  EXPECT_EQ(karts(f * dt, true, true), ids) << "back with its own id";
+  ++f;
+  // Only the shared wheel comes back (its body not drawn): it could be either kart, so a new id.
+  for (int k = 0; k < 8; ++k, ++f) karts(f * dt, false, true);
+  const int32_t wheel = tracker.update(f * dt, {thing(kCar, {9}), thing(kCar, {2, 9})},
+                                       {Eigen::Vector3d(f * dt * 10, 0, 0), Eigen::Vector3d(f * dt * 10, 5, 0)})[0];
+  EXPECT_NE(wheel, ids[0]);
+  // Off (the default): a long gap means a new id.
+  Tracker plain;
+  const int32_t id = plain.update(0, {thing(kCar, {1})}, {Eigen::Vector3d::Zero()})[0];
+  for (int k = 1; k < 20; ++k) plain.update(k * dt, {}, {});
+  EXPECT_NE(plain.update(2.0, {thing(kCar, {1})}, {Eigen::Vector3d::Zero()})[0], id);
+}
+
 TEST(Tracker, LevelOfDetailSwapKeepsTheId) {
   Tracker tracker;
   const double dt = 1.0 / 15;

@@ -25,6 +25,11 @@ struct TrackerOptions {
   double lod_tolerance_m = 0.05;
   /// Frames a vanished track is extrapolated linearly and can be picked up again.
   int extrapolate_frames = 10;
+  /// A dynamic object that comes back after longer than that takes up its old track again when its
+  /// resources are all among that track's and among no other's of its class (programs whose every
+  /// moving object has resources of its own: a game's karts). Off by default: where objects share
+  /// models (a town's pedestrians and traffic) only the window above holds ids.
+  bool resume_by_resources = false;
 
   /// Speeds for the VIPER classes: people 10 m/s, vehicles 60 m/s, static things 0.5 m/s.
   static std::vector<double> defaultMaxSpeeds();
@@ -65,6 +70,9 @@ class Tracker {
 
   TrackerOptions options_;
   std::vector<Track> tracks_;
+  std::vector<Track> dormant_;  ///< tracks past the window, for resume_by_resources (newest last)
+  /// The dormant track an object takes up again (resume_by_resources), or -1.
+  int resumable(const FrameObject& o, const std::vector<uint64_t>& resources) const;
   int32_t next_id_ = 1;
   double last_time_s_ = 0.0;
   bool have_time_ = false, was_reset_ = false;

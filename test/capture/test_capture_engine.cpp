@@ -5,6 +5,7 @@
 // the 2D overlay neither recorded nor in the capture's color, glProgramBinary refused, and the
 // program's own output unchanged.
 #include "engine_scene.h"
+#include "../common/process_util.h"
 #include "viper/core/capture_invariants.h"
 #include "viper/core/capture_stream.h"
 
@@ -24,25 +25,9 @@ namespace {
 
 constexpr int kWidth = 160, kHeight = 120, kFrames = 4;
 
-std::string tempDir() {
-  static std::string dir = [] {
-    char tmpl[] = "/tmp/viper_engine_test_XXXXXX";
-    return std::string(mkdtemp(tmpl));
-  }();
-  return dir;
-}
-
-int run(const std::string& cmd) {
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using viper::test::readFile;
+using viper::test::run;
+std::string tempDir() { return viper::test::tempDir("viper_engine_test_"); }
 
 struct EngineRun {
   int plain_rc = -1, capture_rc = -1;

@@ -2,6 +2,7 @@
 // what the program knows it drew (test_scene_layout.h): ids, primitive ids, transparency,
 // matrices, meshes, deformed vertices, depth, and that the program's own output is unchanged.
 #include "test_scene_layout.h"
+#include "../common/process_util.h"
 #include "viper/core/capture_stream.h"
 
 #include <gtest/gtest.h>
@@ -22,25 +23,9 @@ namespace {
 
 constexpr int kWidth = 160, kHeight = 120, kFrames = 3;
 
-std::string tempDir() {
-  static std::string dir = [] {
-    char tmpl[] = "/tmp/viper_capture_test_XXXXXX";
-    return std::string(mkdtemp(tmpl));
-  }();
-  return dir;
-}
-
-int run(const std::string& cmd) {
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using viper::test::readFile;
+using viper::test::run;
+std::string tempDir() { return viper::test::tempDir("viper_capture_test_"); }
 
 std::vector<CaptureFrame> readFrames(const std::string& path) {
   std::vector<CaptureFrame> frames;

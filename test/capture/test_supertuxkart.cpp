@@ -4,6 +4,7 @@
 // game's own image can be compared frame by frame, and the capture checked against itself:
 // reprojection of every id pixel, flow forward-backward and photometric consistency, instances.
 // Both of the game's pipelines: forward (config/profiles/supertuxkart.yaml) and deferred.
+#include "../common/process_util.h"
 #include "viper/core/camera_model.h"
 #include "viper/core/capture_invariants.h"
 #include "viper/core/capture_stream.h"
@@ -31,19 +32,8 @@ namespace {
 constexpr int kWidth = 480, kHeight = 270;
 const char* kGame = "/usr/games/supertuxkart";
 
-int run(const std::string& command) {
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-}
-
-std::string tempDir() {
-  static std::string dir;
-  if (dir.empty()) {
-    char pattern[] = "/tmp/viper_stk_XXXXXX";
-    dir = mkdtemp(pattern);
-  }
-  return dir;
-}
+using viper::test::run;
+std::string tempDir() { return viper::test::tempDir("viper_stk_"); }
 
 // Each command in its own X server, the screen larger than the window (the game shrinks a window
 // that does not fit).

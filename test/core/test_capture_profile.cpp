@@ -6,6 +6,20 @@
 
 using namespace viper;
 
+namespace {
+
+// What parsing `yaml` as "bad.yaml" throws, or "no error".
+std::string message(const std::string& yaml) {
+  try {
+    parseCaptureProfile(yaml, "bad.yaml");
+  } catch (const std::runtime_error& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
+}
+
+}  // namespace
+
 TEST(CaptureProfile, ParsesEntriesAndMatchesInOrder) {
   const CaptureProfile p = parseCaptureProfile(R"(
 programs:
@@ -50,14 +64,6 @@ TEST(CaptureProfile, ShippedProfileLoads) {
 }
 
 TEST(CaptureProfile, ErrorsNameTheFileAndTheProblem) {
-  auto message = [](const std::string& yaml) {
-    try {
-      parseCaptureProfile(yaml, "bad.yaml");
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
   const std::string unknown = message("programs:\n  - wrold: uWorld\n");
   EXPECT_NE(unknown.find("bad.yaml:2"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("wrold"), std::string::npos) << unknown;
@@ -101,14 +107,6 @@ programs:
   EXPECT_EQ(p.programs[0].instance_world, "iModel");
   EXPECT_TRUE(p.programs[1].overlay);
   EXPECT_FALSE(parseCaptureProfile("programs: []\n", "x").left_handed);
-  auto message = [](const std::string& yaml) {
-    try {
-      parseCaptureProfile(yaml, "bad.yaml");
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
   EXPECT_NE(message("handedness: up\n").find("left or right"), std::string::npos);
   EXPECT_NE(message("programs:\n  - overlay: maybe\n").find("'overlay' must be true or false"), std::string::npos);
   EXPECT_NE(message("programs:\n  - instance_world: a\n    instance_scale: b\n").find("exclude each other"),

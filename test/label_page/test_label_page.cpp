@@ -2,6 +2,7 @@
 // writes its page, label_page.js (Playwright driving Debian's Chromium) picks a class per resource
 // as a person would and saves; the saved table must hold exactly what was picked, load as a label
 // table, and label the capture's draws with it. Then the same with "Take the proposals".
+#include "../common/process_util.h"
 #include "viper/core/capture_stream.h"
 #include "viper/core/label_table.h"
 
@@ -20,25 +21,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& cmd) {
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string tempDir() {
-  static std::string dir = [] {
-    char tmpl[] = "/tmp/viper_label_page_XXXXXX";
-    return std::string(mkdtemp(tmpl));
-  }();
-  return dir;
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using viper::test::readFile;
+using viper::test::run;
+std::string tempDir() { return viper::test::tempDir("viper_label_page_"); }
 
 struct Page {
   std::string dir;
@@ -109,7 +94,9 @@ TEST(LabelPage, SavedTableIsWhatWasPicked) {
   }
   // The capture's draws take their labels from it.
   for (const auto& draw : p.frames.back().draws)
-    if (draw.mesh_key && picked.count(draw.mesh_key)) EXPECT_EQ(table.classOf(draw), picked.at(draw.mesh_key));
+    if (draw.mesh_key && picked.count(draw.mesh_key)) {
+      EXPECT_EQ(table.classOf(draw), picked.at(draw.mesh_key));
+    }
 
   // A row that does not exist is an error, not a silent skip.
   std::ofstream(tempDir() + "/bad.json") << "{\"mesh:0123456789abcdef\": 3}";

@@ -12,6 +12,7 @@ namespace capture {
   X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                  \
   X(PFNGLCOMPILESHADERPROC, CompileShader)                                                \
   X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                    \
+  X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                          \
   X(PFNGLATTACHSHADERPROC, AttachShader)                                                  \
   X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                    \
   X(PFNGLUSEPROGRAMPROC, UseProgram)                                                      \

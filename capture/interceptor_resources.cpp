@@ -133,7 +133,12 @@ void Interceptor::compileShader(GLuint shader) {
   g.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (ok) return;
   // Our rewrite broke a shader that may well compile as written: give the program its own.
-  std::fprintf(stderr, "[viper capture] rewritten fragment shader %u did not compile; no ids for it\n", shader);
+  char log[512] = "";
+  g.GetShaderInfoLog(shader, sizeof(log), nullptr, log);
+  std::string first_line(log);
+  first_line = first_line.substr(0, first_line.find('\n'));
+  std::fprintf(stderr, "[viper capture] rewritten fragment shader %u did not compile (%s); no ids for it\n", shader,
+               first_line.c_str());
   it->second.rewrite.ok = false;
   const GLchar* src = it->second.original.c_str();
   g.ShaderSource(shader, 1, &src, nullptr);
@@ -179,7 +184,7 @@ void Interceptor::linkProgram(GLuint program) {
   const ProgramProfile& profile = *profile_.match(vertex_source, info.key);
 
   info.rewritten = fragment_count == 1 && fragment->rewrite.ok;
-  if (info.rewritten) {
+  if (info.rewritten && !fragment->rewrite.legacy) {
     g.BindFragDataLocation(program, kIdOutputLocation, kIdOutputName);
     if (!fragment->rewrite.explicit_location) g.BindFragDataLocation(program, 0, fragment->rewrite.color_output.c_str());
   }

@@ -62,17 +62,71 @@ std::vector<OutputDecl> findOutputs(const std::string& code) {
 
 }  // namespace
 
+namespace {
+
+const std::regex& mainRegex() {
+  static const std::regex kMain(R"(\bvoid\s+main\s*\(\s*(?:void\s*)?\))");
+  return kMain;
+}
+
+// GLSL before 1.50: gl_FragColor / gl_FragData[i] become gl_FragData[0] / [i]; the ids go to
+// gl_FragData[kIdOutputLocation]; gl_PrimitiveID comes from GL_EXT_gpu_shader4.
+FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version) {
+  FragmentRewrite result;
+  static const std::regex kFragColor(R"(\bgl_FragColor\b)"), kFragData(R"(\bgl_FragData\b)");
+  static const std::regex kOutDecl(R"(\bout\s+(?:(?:highp|mediump|lowp)\s+)?(?:vec[234]|float)\s+\w+\s*;)");
+  const bool color = std::regex_search(code, kFragColor), data = std::regex_search(code, kFragData);
+  if (!color && !data) {
+    result.reason = "GLSL before 1.50 writing neither gl_FragColor nor gl_FragData";
+    return result;
+  }
+  if (std::regex_search(code, kOutDecl)) {
+    result.reason = "GLSL before 1.50 with user-declared outputs";
+    return result;
+  }
+  if (!std::regex_search(code, mainRegex())) {
+    result.reason = "no `void main()` found";
+    return result;
+  }
+  code = std::regex_replace(code, kFragColor, "gl_FragData[0]");
+  code = std::regex_replace(code, mainRegex(), "void viper_original_main()");
+  // The extension directive goes right after #version (or first, without one), before any code.
+  const std::string extension = "#extension GL_EXT_gpu_shader4 : require\n";
+  if (version) {
+    // version[1] is the number: the directive's line ends after it (the match may begin with blank lines).
+    const size_t end = code.find('\n', static_cast<size_t>(version->position(1)));
+    code.insert(end == std::string::npos ? code.size() : end + 1, extension);
+  } else {
+    code.insert(0, extension);
+  }
+  if (!code.empty() && code.back() != '\n') code += '\n';
+  code += "uniform float " + std::string(kDrawIdUniform) + ";\n";
+  code += "uniform float " + std::string(kAlphaTestUniform) + ";\n";
+  code += "void main() {\n  viper_original_main();\n  gl_FragData[" + std::to_string(kIdOutputLocation) +
+          "] = vec4(" + kDrawIdUniform + ", float(gl_PrimitiveID), 0.0, (" + kAlphaTestUniform +
+          " > 0.5 && gl_FragData[0].a < 0.5) ? 0.0 : 1.0);\n}\n";
+  result.ok = true;
+  result.legacy = true;
+  result.source = code;
+  result.color_output = "gl_FragData[0]";
+  result.explicit_location = true;  // nothing to bind
+  return result;
+}
+
+}  // namespace
+
 FragmentRewrite rewriteFragmentShader(const std::string& source) {
   FragmentRewrite result;
   std::string code = stripGlslComments(source);
 
   static const std::regex kVersion(R"(^\s*#\s*version\s+(\d+)\s*(es)?)", std::regex::multiline);
   std::smatch version;
-  if (!std::regex_search(code, version, kVersion) || std::stoi(version[1].str()) < 150 ||
-      version[2].matched) {
-    result.reason = "needs desktop GLSL >= 1.50 (gl_PrimitiveID)";
+  const bool has_version = std::regex_search(code, version, kVersion);
+  if (has_version && version[2].matched) {
+    result.reason = "GLSL ES (no gl_PrimitiveID)";
     return result;
   }
+  if (!has_version || std::stoi(version[1].str()) < 150) return rewriteLegacy(code, has_version ? &version : nullptr);
 
   const std::vector<OutputDecl> outputs = findOutputs(code);
   const OutputDecl* color = nullptr;
@@ -112,12 +166,11 @@ FragmentRewrite rewriteFragmentShader(const std::string& source) {
     }
   }
 
-  static const std::regex kMain(R"(\bvoid\s+main\s*\(\s*(?:void\s*)?\))");
-  if (!std::regex_search(code, kMain)) {
+  if (!std::regex_search(code, mainRegex())) {
     result.reason = "no `void main()` found";
     return result;
   }
-  code = std::regex_replace(code, kMain, "void viper_original_main()");
+  code = std::regex_replace(code, mainRegex(), "void viper_original_main()");
 
   const std::string coverage =
       color->components == 4

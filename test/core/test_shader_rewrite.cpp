@@ -97,7 +97,8 @@ TEST(ShaderRewrite, ProgramOutputAtLocationOneKeepsIt) {
 }
 
 TEST(ShaderRewrite, RefusesWhatItCannotHandle) {
-  EXPECT_FALSE(rewriteFragmentShader("#version 120\nvoid main() { gl_FragColor = vec4(1.0); }\n").ok);
+  EXPECT_FALSE(rewriteFragmentShader("#version 120\nvoid main() { float x = 1.0; }\n").ok);  // writes no color
+  EXPECT_FALSE(rewriteFragmentShader("#version 130\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n").ok);
   EXPECT_FALSE(rewriteFragmentShader("#version 300 es\nout highp vec4 c;\nvoid main() { c = vec4(1.0); }\n").ok);
   EXPECT_FALSE(rewriteFragmentShader("#version 330\nout vec4 a;\nout vec4 b;\nvoid main() {}\n").ok);
   const auto at_ours =
@@ -111,6 +112,26 @@ TEST(ShaderRewrite, RefusesWhatItCannotHandle) {
   EXPECT_FALSE(dual.ok);
   EXPECT_NE(dual.reason.find("dual-source"), std::string::npos) << dual.reason;
   EXPECT_FALSE(rewriteFragmentShader("#version 330\nvoid main() {}\n").ok);
+}
+
+// Minetest's shape: GLSL 1.20 from a compatibility context (blank lines before #version), gl_FragColor.
+const char* kLegacyShader = "\n\n#version 120\n#define ENABLE_TONE_MAPPING 1\nuniform sampler2D baseTexture;\n"
+                            "varying vec2 uv;\nvoid main(void)\n{\n  vec4 col = texture2D(baseTexture, uv);\n"
+                            "  gl_FragColor = col;\n}\n";
+
+TEST(ShaderRewrite, LegacyGlslWritesItsColorAndTheIdsThroughFragData) {
+  const auto r = rewriteFragmentShader(kLegacyShader);
+  ASSERT_TRUE(r.ok) << r.reason;
+  EXPECT_TRUE(r.legacy);
+  EXPECT_EQ(r.source.find("gl_FragColor"), std::string::npos);
+  EXPECT_EQ(countOf(r.source, "gl_FragData[0] = col;"), 1);
+  EXPECT_EQ(countOf(r.source, "gl_FragData[7] = vec4(viper_draw_id, float(gl_PrimitiveID)"), 1);
+  // The extension directive right after #version, which stays the first directive.
+  EXPECT_LT(r.source.find("#version 120"), r.source.find("#extension GL_EXT_gpu_shader4 : require"));
+  EXPECT_LT(r.source.find("#extension"), r.source.find("#define"));
+  const auto no_version = rewriteFragmentShader("void main() { gl_FragData[0] = vec4(1.0); }\n");
+  ASSERT_TRUE(no_version.ok) << no_version.reason;
+  EXPECT_EQ(no_version.source.rfind("#extension GL_EXT_gpu_shader4 : require\n", 0), 0u);
 }
 
 TEST(ShaderRewrite, Vec3OutputGetsFullCoverage) {
@@ -166,6 +187,43 @@ TEST(ShaderRewrite, RewrittenShadersCompileAndLink) {
     EXPECT_GE(glGetUniformLocation(program, viper::kDrawIdUniform), 0);
     glDeleteProgram(program);
   }
+  eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  eglDestroyContext(dpy, ctx);
+}
+
+// The legacy rewrite compiles and links in a compatibility context (as Minetest's run).
+TEST(ShaderRewrite, LegacyRewriteCompilesInACompatibilityContext) {
+  EGLDisplay dpy = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, nullptr, nullptr)) GTEST_SKIP() << "no EGL display";
+  eglBindAPI(EGL_OPENGL_API);
+  const EGLint ctx_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0,
+                              EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT, EGL_NONE};
+  EGLContext ctx = eglCreateContext(dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attrs);
+  ASSERT_NE(ctx, EGL_NO_CONTEXT);
+  ASSERT_TRUE(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx));
+  const auto r = rewriteFragmentShader(kLegacyShader);
+  ASSERT_TRUE(r.ok) << r.reason;
+  const char* vs = "#version 120\nvarying vec2 uv;\nvoid main() { uv = gl_Vertex.xy; gl_Position = gl_Vertex; }\n";
+  GLuint program = glCreateProgram();
+  for (auto [type, src] : {std::make_pair(GLenum(GL_VERTEX_SHADER), std::string(vs)),
+                           std::make_pair(GLenum(GL_FRAGMENT_SHADER), r.source)}) {
+    GLuint sh = glCreateShader(type);
+    const char* text = src.c_str();
+    glShaderSource(sh, 1, &text, nullptr);
+    glCompileShader(sh);
+    GLint ok = 0;
+    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    char log[1024] = "";
+    glGetShaderInfoLog(sh, sizeof(log), nullptr, log);
+    ASSERT_TRUE(ok) << log << "\n" << src;
+    glAttachShader(program, sh);
+  }
+  glLinkProgram(program);
+  GLint linked = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  EXPECT_TRUE(linked);
+  EXPECT_GE(glGetUniformLocation(program, viper::kDrawIdUniform), 0);
+  glDeleteProgram(program);
   eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   eglDestroyContext(dpy, ctx);
 }

@@ -27,20 +27,25 @@ struct FragmentRewrite {
   bool explicit_location = false;
   /// Number of components of the color output (alpha test needs 4).
   int color_components = 4;
+  /// GLSL before 1.50 writing gl_FragColor or gl_FragData: rewritten to gl_FragData[0] and
+  /// gl_FragData[kIdOutputLocation] (no output to bind; gl_PrimitiveID from GL_EXT_gpu_shader4).
+  bool legacy = false;
   std::string reason;
 };
 
 /// Replaces GLSL comments by spaces, keeping newlines (so line numbers in compiler logs hold).
 std::string stripGlslComments(const std::string& source);
 
-/// Rewrites a GLSL >= 1.50 fragment shader so that it also writes
+/// Rewrites a fragment shader so that it also writes
 /// `viper_id_out = vec4(viper_draw_id, gl_PrimitiveID, 0, coverage)`, where coverage is 0 when
 /// `viper_alpha_test` is set and the color's alpha is below 0.5. The original `main` is renamed
 /// `viper_original_main` and called from a new `main`. Comments are removed. The program's color
 /// is its only output, or, with several outputs (multiple render targets), the one at location 0;
 /// several outputs must all have explicit locations, none at kIdOutputLocation. Shaders that are
 /// not GLSL >= 1.50, have no color output, outputs the rules above do not place, dual-source
-/// blending (`index = 1`), or no recognisable `void main()` are refused with a reason.
+/// blending (`index = 1`), or no recognisable `void main()` are refused with a reason. Shaders of
+/// GLSL before 1.50 (compatibility contexts) that write `gl_FragColor` or `gl_FragData` are rewritten
+/// the legacy way (FragmentRewrite::legacy), needing GL_EXT_gpu_shader4 for gl_PrimitiveID.
 FragmentRewrite rewriteFragmentShader(const std::string& source);
 
 /// True if the (vertex) shader declares a `uniform mat4 NAME[N]` array, which the capture layer

@@ -125,6 +125,46 @@ std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* cam
   return out;
 }
 
+bool decomposeViewProjection(const GlMatrix& view_projection, GlMatrix& view, GlMatrix& projection,
+                             double tolerance) {
+  const Eigen::Matrix4d M = view_projection.cast<double>();
+  if (!M.allFinite()) return false;
+  // Row 3 is P32 * (R2, t2): its direction is the camera's axis, its length |P32|.
+  const Eigen::Vector3d r3 = M.block<1, 3>(3, 0).transpose();
+  const double p32_abs = r3.norm();
+  if (!(p32_abs > 0.0)) return false;  // orthographic: not of this form
+  Eigen::Vector3d axis = r3 / p32_abs;
+  // Rows 0 and 1 without their component along the axis: P00 R0 and P11 R1 (no skew).
+  const Eigen::Vector3d r0 = M.block<1, 3>(0, 0).transpose(), r1 = M.block<1, 3>(1, 0).transpose();
+  const Eigen::Vector3d a0 = r0 - r0.dot(axis) * axis, a1 = r1 - r1.dot(axis) * axis;
+  const double p00 = a0.norm(), p11 = a1.norm();
+  if (!(p00 > 0.0) || !(p11 > 0.0)) return false;
+  Eigen::Matrix3d R;
+  R.row(0) = (a0 / p00).transpose();
+  R.row(1) = (a1 / p11).transpose();
+  // The sign of P32 that makes the view a rotation (not a reflection).
+  double p32 = p32_abs;
+  if (R.row(0).cross(R.row(1)).dot(axis) < 0.0) p32 = -p32_abs, axis = -axis;
+  R.row(2) = axis.transpose();
+  const double t2 = M(3, 3) / p32;
+  const double p02 = r0.dot(axis), p12 = r1.dot(axis), p22 = M.block<1, 3>(2, 0).dot(axis);
+  Eigen::Matrix4d V = Eigen::Matrix4d::Identity(), P = Eigen::Matrix4d::Zero();
+  V.topLeftCorner<3, 3>() = R;
+  V(2, 3) = t2;
+  V(0, 3) = (M(0, 3) - p02 * t2) / p00;
+  V(1, 3) = (M(1, 3) - p12 * t2) / p11;
+  P(0, 0) = p00, P(0, 2) = p02, P(1, 1) = p11, P(1, 2) = p12, P(2, 2) = p22, P(2, 3) = M(2, 3) - p22 * t2;
+  P(3, 2) = p32;
+  // Of that form only if the product gives the matrix back (skew, rows 0-2 leaning on R1/R0, or a
+  // depth-dependent shift would not).
+  const double scale = M.cwiseAbs().maxCoeff();
+  if (!((P * V - M).cwiseAbs().maxCoeff() <= tolerance * scale)) return false;
+  if (!((R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-3)) return false;
+  view = V.cast<float>();
+  projection = P.cast<float>();
+  return true;
+}
+
 Eigen::Matrix3d opticalFromGlCamera() {
   return Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
 }

@@ -91,6 +91,34 @@ TEST(CameraModel, CenteredProjectionPutsPrincipalPointBetweenCenterPixels) {
   EXPECT_NEAR(k.skew, 0.0, 1e-12);
 }
 
+TEST(CameraModel, ViewProjectionSplitsBackIntoViewAndProjection) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    // A random rigid view and an off-centre frustum, OpenGL's (row 3 = (0, 0, -1, 0)) or a
+    // left-handed one (row 3 = (0, 0, 1, 0), Irrlicht), scaled as programs sometimes pass them.
+    Eigen::Matrix4d V = Eigen::Matrix4d::Identity();
+    V.topLeftCorner<3, 3>() = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+    V.topRightCorner<3, 1>() = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 50.0;
+    Eigen::Matrix4d P = glFrustum(-0.6 + 0.1 * u(rng), 0.5, -0.3, 0.4 + 0.1 * u(rng), 0.3, 900).cast<double>();
+    if (trial % 2) P.col(2) = -P.col(2);  // z flipped: a left-handed projection
+    const GlMatrix vp = (P * V).cast<float>();
+    GlMatrix view, projection;
+    ASSERT_TRUE(decomposeViewProjection(vp, view, projection)) << "trial " << trial;
+    EXPECT_LT((view.cast<double>() - V).cwiseAbs().maxCoeff(), 1e-3) << "trial " << trial << "\n" << view;
+    EXPECT_LT(((projection.cast<double>() - P).cwiseAbs().array() / (P.cwiseAbs().array() + 1.0)).maxCoeff(), 1e-4)
+        << "trial " << trial << "\n" << projection;
+    const float det = view.topLeftCorner<3, 3>().determinant();
+    EXPECT_NEAR(det, 1.0f, 1e-4f);
+  }
+  // Not of that form: orthographic, and skewed.
+  GlMatrix view, projection;
+  EXPECT_FALSE(decomposeViewProjection(GlMatrix::Identity(), view, projection));
+  Eigen::Matrix4d skew = glFrustum(-1, 1, -1, 1, 1, 100).cast<double>();
+  skew(0, 1) = 0.3;
+  EXPECT_FALSE(decomposeViewProjection(skew.cast<float>(), view, projection));
+}
+
 TEST(CameraModel, RejectsNonPerspectiveMatrices) {
   EXPECT_THROW(intrinsicsFromGlProjection(GlMatrix::Identity(), 64, 64), std::invalid_argument);
   EXPECT_THROW(intrinsicsFromGlProjection(glOrtho(-1, 1, -1, 1, 0.1, 10), 64, 64), std::invalid_argument);

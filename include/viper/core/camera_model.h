@@ -83,4 +83,13 @@ Eigen::Matrix3d opticalFromGlCamera();
 /// Assumes `view` is rigid (rotation + translation), as view matrices are.
 Eigen::Isometry3d opticalFromWorld(const GlMatrix& view);
 
+/// Splits a combined projection * view (what programs pass as one matrix, e.g. world-view-projection
+/// times the inverse world) into a rigid view (rotation with determinant +1, translation) and a
+/// pinhole perspective projection: row 3 (0, 0, +-1, 0) scaled, no skew, no image shift that depends
+/// on depth (the forms glFrustum, gluPerspective and Direct3D-style builders make). The sign of the
+/// projection's row 3 (OpenGL's -1, left-handed +1) is whichever makes the view a proper rotation.
+/// False (outputs unspecified) if the matrix is not of that form within `tolerance` (relative).
+bool decomposeViewProjection(const GlMatrix& view_projection, GlMatrix& view, GlMatrix& projection,
+                             double tolerance = 1e-4);
+
 }  // namespace viper

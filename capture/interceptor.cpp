@@ -142,7 +142,11 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
     std::fprintf(stderr, "[viper capture] captured %llu frames, stopping the program\n",
                  static_cast<unsigned long long>(frames_written_));
     shutdown();
-    std::exit(0);
+    // Not exit(): the program's static destructors would run on this (its render) thread while its
+    // other threads still use what they destroy (Minetest crashed so). The stream is closed; flush
+    // the program's stdio and end without running anything else of it.
+    std::fflush(nullptr);
+    std::_Exit(0);
   }
 }
 

@@ -7,7 +7,8 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 build="$here/build"
 fuzz_seconds="${1:-20}"
 
-# The third-party programs the tests capture (SuperTuxKart, apitrace): installed here, not for every user.
+# What only the tests need (SuperTuxKart, apitrace, Chromium, Playwright; about 780 MB to download
+# on a fresh machine): installed here, not for every user.
 bash "$here/scripts/setup.sh" --test-programs --no-build || { echo "0 passed, 1 failed"; exit 1; }
 if [ ! -f "$build/Makefile" ]; then
   bash "$here/scripts/setup.sh" || { echo "0 passed, 1 failed"; exit 1; }

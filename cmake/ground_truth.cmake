@@ -53,6 +53,10 @@ if(CATKIN_ENABLE_TESTING)
   viper_oracle_check(gt_world world config/profiles/world.yaml "--frames;90;--width;480;--height;270")
 
   # The committed raw bag through replay.launch's nodelets, fed and checked by replay_tester.
+  # SuperTuxKart live through replay.launch's nodelets (needs scripts/setup.sh --test-programs).
+  viper_add_tester(supertuxkart_tester test/ros/supertuxkart_tester.cpp)
+  add_rostest(test/ros/supertuxkart_live.test DEPENDENCIES supertuxkart_tester viper_ground_truth_ros viper_flow_ros
+    viper_capture viper_intercept capture_check)
   viper_add_tester(replay_tester test/ros/replay_tester.cpp)
   add_rostest(test/ros/replay_bag.test DEPENDENCIES replay_tester viper_ground_truth_ros)
 

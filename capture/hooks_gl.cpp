@@ -18,14 +18,15 @@ inline Interceptor* active() {
   return i.enabled() ? &i : nullptr;
 }
 
-// One instance of an instanced draw, as base instance call.base_instance (GL 4.2).
-void issueOneInstance(const DrawCall& c) {
+// The draw a DrawCall describes, as an instanced draw from its base instance (GL 4.2): one
+// instance of a split instanced draw, or one command of an indirect draw.
+void issueInstanced(const DrawCall& c) {
   if (c.indexed)
     gl().DrawElementsInstancedBaseVertexBaseInstance(c.mode, c.count, c.index_type,
-                                                     reinterpret_cast<const void*>(c.index_offset), 1, c.base_vertex,
-                                                     c.base_instance);
+                                                     reinterpret_cast<const void*>(c.index_offset), c.instances,
+                                                     c.base_vertex, c.base_instance);
   else
-    gl().DrawArraysInstancedBaseInstance(c.mode, c.first, c.count, 1, c.base_instance);
+    gl().DrawArraysInstancedBaseInstance(c.mode, c.first, c.count, c.instances, c.base_instance);
 }
 
 template <typename F>
@@ -40,7 +41,7 @@ inline void draw(const DrawCall& call, F real) {
     for (GLsizei k = 0; k < call.instances; ++k) {
       one.base_instance = call.base_instance + static_cast<GLuint>(k);
       const bool recorded = i->beforeDraw(one);
-      issueOneInstance(one);
+      issueInstanced(one);
       if (recorded) i->afterDraw(one);
     }
     return;
@@ -315,16 +316,6 @@ VIPER_EXPORT void glDrawElementsInstancedBaseVertexBaseInstance(GLenum mode, GLs
 namespace {
 
 size_t indexSize(GLenum type) { return type == GL_UNSIGNED_BYTE ? 1 : type == GL_UNSIGNED_SHORT ? 2 : 4; }
-
-// An instanced draw exactly as one indirect command would make it.
-void issueInstanced(const DrawCall& c) {
-  if (c.indexed)
-    gl().DrawElementsInstancedBaseVertexBaseInstance(c.mode, c.count, c.index_type,
-                                                     reinterpret_cast<const void*>(c.index_offset), c.instances,
-                                                     c.base_vertex, c.base_instance);
-  else
-    gl().DrawArraysInstancedBaseInstance(c.mode, c.first, c.count, c.instances, c.base_instance);
-}
 
 // Commands of an indirect draw: {count, instances, first, base instance} or {count, instances,
 // first index, base vertex, base instance}, `stride` bytes apart (0: packed).

@@ -190,18 +190,21 @@ void Interceptor::clear(GLbitfield mask) {
       if (FrameTarget::ProgramFbo* f = t->sceneFbo(/*clear_stale=*/false)) t->clearFboIds(*f);
     return;
   }
-  const bool ours = t && t->ready() && t->program_draw_fb == 0 && (mask & GL_COLOR_BUFFER_BIT);
-  if (ours && !t->ids_enabled) t->applyDrawBuffers(true);
   gl().Clear(mask);
-  // The program's clear color reached our id attachment too: ids start at 0 (no draw).
-  if (ours) {
-    static const GLfloat kZero[4] = {0, 0, 0, 0};
-    if (!ids_write_) {  // the clear honours the write mask a preceding effect draw left
-      gl().ColorMaski(kIdDrawBuffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      ids_write_ = true;
-    }
-    gl().ClearBufferfv(GL_COLOR, kIdDrawBuffer, kZero);
+  // A new image in the default framebuffer: ids start at 0 (no draw).
+  if (t && t->ready() && (mask & GL_COLOR_BUFFER_BIT)) clearDefaultIds(*t);
+}
+
+void Interceptor::clearDefaultIds(FrameTarget& t) {
+  static const GLfloat kZero[4] = {0, 0, 0, 0};
+  const bool was_enabled = t.ids_enabled;
+  if (!was_enabled) t.applyDrawBuffers(true);
+  if (!ids_write_) {  // the clear honours the write mask a preceding effect draw left
+    gl().ColorMaski(kIdDrawBuffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    ids_write_ = true;
   }
+  gl().ClearBufferfv(GL_COLOR, kIdDrawBuffer, kZero);
+  if (!was_enabled) t.applyDrawBuffers(false);
 }
 
 void Interceptor::clearBuffer(GLenum buffer, GLint drawbuffer) {
@@ -214,15 +217,7 @@ void Interceptor::clearBuffer(GLenum buffer, GLint drawbuffer) {
     if (FrameTarget::ProgramFbo* f = t->sceneFbo(/*clear_stale=*/false)) t->clearFboIds(*f);
     return;
   }
-  static const GLfloat kZero[4] = {0, 0, 0, 0};
-  const bool was_enabled = t->ids_enabled;
-  if (!was_enabled) t->applyDrawBuffers(true);
-  if (!ids_write_) {
-    gl().ColorMaski(kIdDrawBuffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    ids_write_ = true;
-  }
-  gl().ClearBufferfv(GL_COLOR, kIdDrawBuffer, kZero);
-  if (!was_enabled) t->applyDrawBuffers(false);
+  clearDefaultIds(*t);
 }
 
 void Interceptor::fixIntegerQuery(GLenum pname, GLint* data) {

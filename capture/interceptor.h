@@ -157,6 +157,8 @@ class Interceptor {
   void bufferStorage(GLenum target, GLuint name, GLsizeiptr size, const void* data);
   /// After the program cleared buffers with glClearBuffer*: ids follow its depth and color clears.
   void clearBuffer(GLenum buffer, GLint drawbuffer);
+  /// Our id attachment of the default framebuffer back to 0 (no draw), draw buffers as they were.
+  void clearDefaultIds(FrameTarget& t);
   /// glProgramBinary: refused (logged once), so that the program links from source, which we rewrite.
   void programBinary(GLuint program);
 

@@ -67,11 +67,15 @@ bool Interceptor::readMatrix(const MatrixSource& m, GlMatrix& out) {
   g.GetActiveUniformBlockiv(current_program_, m.block, GL_UNIFORM_BLOCK_BINDING, &binding);
   g.GetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, static_cast<GLuint>(binding), &buffer);
   g.GetInteger64i_v(GL_UNIFORM_BUFFER_START, static_cast<GLuint>(binding), &start);
-  if (buffer == 0) return false;
-  for (int v = 0; v < 4; ++v) {  // a column, or a row of a row-major matrix
+  if (buffer == 0 || m.matrix_stride < 16 || m.matrix_stride > 64) return false;
+  // Four columns (rows if row-major) of 16 bytes, matrix_stride apart: one read of the span.
+  uint8_t bytes[4 * 64];
+  const size_t span = 3 * static_cast<size_t>(m.matrix_stride) + 16;
+  if (!readBufferBytes(static_cast<GLuint>(buffer), static_cast<size_t>(start) + static_cast<size_t>(m.offset), span, bytes))
+    return false;
+  for (int v = 0; v < 4; ++v) {
     float vec[4];
-    const size_t at = static_cast<size_t>(start) + static_cast<size_t>(m.offset) + static_cast<size_t>(v * m.matrix_stride);
-    if (!readBufferBytes(static_cast<GLuint>(buffer), at, sizeof(vec), vec)) return false;
+    std::memcpy(vec, bytes + v * m.matrix_stride, sizeof(vec));
     for (int k = 0; k < 4; ++k) (m.row_major ? out(v, k) : out(k, v)) = vec[k];
   }
   return true;

@@ -43,15 +43,16 @@ cv::Mat colorImage(const viper::CaptureFrame& f) {
   return bgr;
 }
 
+// A color per id, spread over consecutive ids.
+cv::Vec3b idColor(uint32_t id) {
+  const uint32_t h = id * 2654435761u;
+  return cv::Vec3b(64 + (h & 0xbf), 64 + ((h >> 8) & 0xbf), 64 + ((h >> 16) & 0xbf));
+}
+
 cv::Mat idImage(const viper::CaptureFrame& f) {
   cv::Mat out(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3, cv::Scalar(0, 0, 0));
-  for (size_t i = 0; i < f.draw_ids.size(); ++i) {
-    const uint32_t id = f.draw_ids[i];
-    if (!id) continue;
-    const uint32_t h = id * 2654435761u;  // a spread of colors over consecutive ids
-    out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) =
-        cv::Vec3b(64 + (h & 0xbf), 64 + ((h >> 8) & 0xbf), 64 + ((h >> 16) & 0xbf));
-  }
+  for (size_t i = 0; i < f.draw_ids.size(); ++i)
+    if (f.draw_ids[i]) out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) = idColor(f.draw_ids[i]);
   return out;
 }
 
@@ -103,10 +104,7 @@ cv::Mat instanceImage(const viper::InstanceFrame& g, const viper::CaptureFrame& 
   cv::Mat out(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3, cv::Scalar(0, 0, 0));
   for (size_t i = 0; i < g.instance_ids.size(); ++i) {
     const int32_t id = g.instance_ids[i];
-    if (id <= 0) continue;
-    const uint32_t h = static_cast<uint32_t>(id) * 2654435761u;
-    out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) =
-        cv::Vec3b(64 + (h & 0xbf), 64 + ((h >> 8) & 0xbf), 64 + ((h >> 16) & 0xbf));
+    if (id > 0) out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) = idColor(static_cast<uint32_t>(id));
   }
   for (size_t i = 0; i < g.boundaries.size(); ++i)
     if (g.boundaries[i]) out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) = cv::Vec3b(255, 255, 255);
@@ -114,26 +112,14 @@ cv::Mat instanceImage(const viper::InstanceFrame& g, const viper::CaptureFrame& 
 }
 
 cv::Mat reprojectionImage(const viper::CaptureFrame& f, const viper::MeshRegistry& meshes) {
+  std::vector<float> distance;
+  viper::checkReprojection(f, meshes, &distance);
   cv::Mat out(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3, cv::Scalar(0, 0, 0));
-  // Per pixel: check the frame with only that pixel's draw... cheaper: one check per draw's pixels.
-  std::map<uint32_t, std::vector<size_t>> by_draw;
-  for (size_t i = 0; i < f.draw_ids.size(); ++i)
-    if (f.draw_ids[i]) by_draw[f.draw_ids[i]].push_back(i);
-  viper::CaptureFrame one = f;
-  for (const auto& [id, pixels] : by_draw) {
-    std::fill(one.draw_ids.begin(), one.draw_ids.end(), 0u);
-    for (size_t i : pixels) one.draw_ids[i] = id;
-    const viper::ReprojectionCheck c = viper::checkReprojection(one, meshes);
-    // checkReprojection visits pixels in order and appends one distance per checked pixel; a draw's
-    // pixels are either all placed or none (placement is per draw), triangles behind the camera aside.
-    const bool placed = c.placed_pixels > 0;
-    size_t k = 0;
-    for (size_t i : pixels) {
-      cv::Vec3b color(128, 128, 128);
-      if (placed && c.checked_pixels == pixels.size())
-        color = c.distance_px[k++] <= 0.5f ? cv::Vec3b(60, 200, 60) : cv::Vec3b(40, 40, 230);
-      out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) = color;
-    }
+  for (size_t i = 0; i < distance.size() && i < f.draw_ids.size(); ++i) {
+    if (!f.draw_ids[i]) continue;  // no id: black
+    const float d = distance[i];
+    out.at<cv::Vec3b>(static_cast<int>(i / f.width), static_cast<int>(i % f.width)) =
+        std::isnan(d) ? cv::Vec3b(128, 128, 128) : d <= 0.5f ? cv::Vec3b(60, 200, 60) : cv::Vec3b(40, 40, 230);
   }
   return out;
 }

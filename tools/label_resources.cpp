@@ -61,21 +61,8 @@ cv::Mat crop(const viper::CaptureFrame& f, const viper::ResourceStats& r, const 
     for (int x = 0; x < box.width; ++x) {
       const size_t i = static_cast<size_t>(y + box.y) * f.width + static_cast<size_t>(x + box.x);
       const uint32_t id = f.draw_ids[i];
-      bool mine = false;
-      if (id > 0 && id <= f.draws.size()) {
-        const viper::DrawRecord& d = f.draws[id - 1];
-        uint64_t key = d.mesh_key;
-        viper::ResourceKind kind = viper::ResourceKind::kMesh;
-        if (!key) {
-          kind = viper::ResourceKind::kProgram, key = d.program_key;
-          for (uint64_t t : d.texture_keys)
-            if (t) {
-              kind = viper::ResourceKind::kTexture, key = t;
-              break;
-            }
-        }
-        mine = kind == r.kind && key == r.key;
-      }
+      const bool mine =
+          id > 0 && id <= f.draws.size() && viper::primaryResource(f.draws[id - 1]) == std::make_pair(r.kind, r.key);
       const uint8_t* rgb = &f.color_rgb[3 * i];
       const double k = mine ? 1.0 : 0.3;
       mask.at<uint8_t>(y, x) = mine ? 255 : 0;

@@ -59,10 +59,12 @@ void ReprojectionCheck::add(const ReprojectionCheck& o) {
   depth_relative.insert(depth_relative.end(), o.depth_relative.begin(), o.depth_relative.end());
 }
 
-ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistry& meshes) {
+ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistry& meshes,
+                                    std::vector<float>* distance_image) {
   ReprojectionCheck c;
   const uint32_t W = frame.width, H = frame.height;
   c.pixels = frame.pixelCount();
+  if (distance_image) distance_image->assign(c.pixels, std::numeric_limits<float>::quiet_NaN());
   if (frame.depth_window.size() != c.pixels || frame.draw_ids.size() != c.pixels ||
       frame.primitive_ids.size() != c.pixels)
     return c;
@@ -134,6 +136,7 @@ ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistr
       }
       if (!(pos && neg)) distance = 0.0;
       c.distance_px.push_back(static_cast<float>(distance));
+      if (distance_image) (*distance_image)[px] = static_cast<float>(distance);
       // The point of the triangle the pixel centre's ray meets, by its barycentrics in clip space
       // (exact, also for triangles that cross the camera plane): sum b_i (x_i - u w_i) = 0,
       // sum b_i (y_i - v w_i) = 0, sum b_i = 1; its window depth is sum b_i z_i / sum b_i w_i.

@@ -4,17 +4,12 @@
 
 namespace viper {
 
-namespace {
-
-// The key of a draw that a label table looks at first (LabelTable::classOf).
 std::pair<ResourceKind, uint64_t> primaryResource(const DrawRecord& d) {
   if (d.mesh_key) return {ResourceKind::kMesh, d.mesh_key};
   for (uint64_t t : d.texture_keys)
     if (t) return {ResourceKind::kTexture, t};
   return {ResourceKind::kProgram, d.program_key};
 }
-
-}  // namespace
 
 const char* resourceKindName(ResourceKind kind) {
   switch (kind) {

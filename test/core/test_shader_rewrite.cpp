@@ -147,35 +147,51 @@ TEST(ShaderRewrite, DetectsBoneArrays) {
   EXPECT_FALSE(declaresMat4ArrayUniform("uniform mat4 uWorld;\n// uniform mat4 uBones[4];\n"));
 }
 
+namespace {
+
+// A surfaceless context of GL `major`.`minor` with `profile_bit` made current (EGL_NO_CONTEXT if none).
+EGLContext makeContext(EGLDisplay& dpy, int major, int minor, EGLint profile_bit) {
+  dpy = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, nullptr, nullptr)) return EGL_NO_CONTEXT;
+  eglBindAPI(EGL_OPENGL_API);
+  const EGLint ctx_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, major, EGL_CONTEXT_MINOR_VERSION, minor,
+                              EGL_CONTEXT_OPENGL_PROFILE_MASK, profile_bit, EGL_NONE};
+  EGLContext ctx = eglCreateContext(dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attrs);
+  if (ctx != EGL_NO_CONTEXT && !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) return EGL_NO_CONTEXT;
+  return ctx;
+}
+
+// Compiles both shaders and attaches them to `program` (compile logs in the failure message).
+void compileAndAttach(GLuint program, const std::string& vs, const std::string& fs) {
+  for (auto [type, src] : {std::make_pair(GLenum(GL_VERTEX_SHADER), vs), std::make_pair(GLenum(GL_FRAGMENT_SHADER), fs)}) {
+    GLuint s = glCreateShader(type);
+    const char* text = src.c_str();
+    glShaderSource(s, 1, &text, nullptr);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    char log[1024] = "";
+    glGetShaderInfoLog(s, sizeof(log), nullptr, log);
+    ASSERT_TRUE(ok) << log << "\n" << src;
+    glAttachShader(program, s);
+  }
+}
+
+}  // namespace
+
 // Compiles and links the rewritten shaders on a real context; skipped where no EGL is available.
 TEST(ShaderRewrite, RewrittenShadersCompileAndLink) {
-  EGLDisplay dpy = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, nullptr, nullptr)) GTEST_SKIP() << "no EGL display";
-  eglBindAPI(EGL_OPENGL_API);
-  const EGLint ctx_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                              EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-  EGLContext ctx = eglCreateContext(dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attrs);
-  if (ctx == EGL_NO_CONTEXT || !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx))
-    GTEST_SKIP() << "no surfaceless GL 3.3 context";
+  EGLDisplay dpy;
+  EGLContext ctx = makeContext(dpy, 3, 3, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT);
+  if (ctx == EGL_NO_CONTEXT) GTEST_SKIP() << "no surfaceless GL 3.3 context";
 
   const char* vs = "#version 150\nin vec4 p;\nout vec2 vUv;\nvoid main() { vUv = p.xy; gl_Position = p; }\n";
   for (const char* fs : {kLayoutShader, kPlainShader, kMrtShader, kNormalAtOneShader}) {
     const auto r = rewriteFragmentShader(fs);
     ASSERT_TRUE(r.ok) << r.reason;
     GLuint program = glCreateProgram();
-    for (auto [type, src] : {std::make_pair(GLenum(GL_VERTEX_SHADER), std::string(vs)),
-                             std::make_pair(GLenum(GL_FRAGMENT_SHADER), r.source)}) {
-      GLuint s = glCreateShader(type);
-      const char* text = src.c_str();
-      glShaderSource(s, 1, &text, nullptr);
-      glCompileShader(s);
-      GLint ok = 0;
-      glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-      char log[1024] = "";
-      glGetShaderInfoLog(s, sizeof(log), nullptr, log);
-      ASSERT_TRUE(ok) << log << "\n" << src;
-      glAttachShader(program, s);
-    }
+    compileAndAttach(program, vs, r.source);
+    if (HasFatalFailure()) return;
     glBindFragDataLocation(program, viper::kIdOutputLocation, viper::kIdOutputName);
     if (!r.explicit_location) glBindFragDataLocation(program, 0, r.color_output.c_str());
     glLinkProgram(program);
@@ -193,31 +209,15 @@ TEST(ShaderRewrite, RewrittenShadersCompileAndLink) {
 
 // The legacy rewrite compiles and links in a compatibility context (as Minetest's run).
 TEST(ShaderRewrite, LegacyRewriteCompilesInACompatibilityContext) {
-  EGLDisplay dpy = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, nullptr, nullptr)) GTEST_SKIP() << "no EGL display";
-  eglBindAPI(EGL_OPENGL_API);
-  const EGLint ctx_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0,
-                              EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT, EGL_NONE};
-  EGLContext ctx = eglCreateContext(dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attrs);
-  ASSERT_NE(ctx, EGL_NO_CONTEXT);
-  ASSERT_TRUE(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx));
+  EGLDisplay dpy;
+  EGLContext ctx = makeContext(dpy, 3, 0, EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT);
+  ASSERT_NE(ctx, EGL_NO_CONTEXT) << "no surfaceless GL 3.0 compatibility context";
   const auto r = rewriteFragmentShader(kLegacyShader);
   ASSERT_TRUE(r.ok) << r.reason;
   const char* vs = "#version 120\nvarying vec2 uv;\nvoid main() { uv = gl_Vertex.xy; gl_Position = gl_Vertex; }\n";
   GLuint program = glCreateProgram();
-  for (auto [type, src] : {std::make_pair(GLenum(GL_VERTEX_SHADER), std::string(vs)),
-                           std::make_pair(GLenum(GL_FRAGMENT_SHADER), r.source)}) {
-    GLuint sh = glCreateShader(type);
-    const char* text = src.c_str();
-    glShaderSource(sh, 1, &text, nullptr);
-    glCompileShader(sh);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    char log[1024] = "";
-    glGetShaderInfoLog(sh, sizeof(log), nullptr, log);
-    ASSERT_TRUE(ok) << log << "\n" << src;
-    glAttachShader(program, sh);
-  }
+  compileAndAttach(program, vs, r.source);
+  if (HasFatalFailure()) return;
   glLinkProgram(program);
   GLint linked = 0;
   glGetProgramiv(program, GL_LINK_STATUS, &linked);

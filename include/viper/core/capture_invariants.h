@@ -34,7 +34,9 @@ struct ReprojectionCheck {
 /// measures how far the pixel lies from it and how far its depth is from the triangle's there.
 /// Pixels whose draw lacks a mesh in `meshes`, a world, view or projection matrix (and has no
 /// deformed vertices), or whose primitive id is out of range, are counted but not checked.
-ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistry& meshes);
+/// With `distance_image`: also per pixel, the distance of a checked pixel (NaN elsewhere).
+ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistry& meshes,
+                                    std::vector<float>* distance_image = nullptr);
 
 /// What checkFlowPair() found for one pair of frames a, b (or, added up, for several).
 struct FlowConsistencyCheck {

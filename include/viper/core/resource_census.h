@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace viper {
@@ -18,6 +19,8 @@ namespace viper {
 /// Which key of a draw names it in a label table (LabelTable::classOf's order).
 enum class ResourceKind : uint8_t { kMesh = 0, kTexture = 1, kProgram = 2 };
 const char* resourceKindName(ResourceKind kind);
+/// The key of a draw that a label table looks at first: its mesh, else its first texture, else its program.
+std::pair<ResourceKind, uint64_t> primaryResource(const DrawRecord& draw);
 
 /// A frame where a resource shows, and where.
 struct ResourceSighting {

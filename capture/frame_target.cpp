@@ -37,8 +37,9 @@ void FrameTarget::destroy() {
   fbo_ = color_ = ids_ = depth_ = 0;
   if (scene_color_fbo_) g.DeleteFramebuffers(1, &scene_color_fbo_);
   if (scene_color_) g.DeleteTextures(1, &scene_color_);
-  scene_color_fbo_ = scene_color_ = 0;
-  scene_color_taken_ = false;
+  if (scene_depth_) g.DeleteTextures(1, &scene_depth_);
+  scene_color_fbo_ = scene_color_ = scene_depth_ = 0;
+  scene_color_taken_ = scene_depth_taken_ = scene_ended_ = false;
   // Id textures of the program's framebuffer objects: made again at the new size when next drawn.
   for (auto& [name, f] : program_fbos_) g.DeleteTextures(1, &f.ids);
   program_fbos_.clear();
@@ -110,8 +111,8 @@ void FrameTarget::applyReadBuffer() {
   gl().ReadBuffer(program_read_buffer == GL_NONE ? GL_NONE : GL_COLOR_ATTACHMENT0);
 }
 
-void FrameTarget::snapshotSceneColor() {
-  if (scene_color_taken_ || !fbo_) return;
+void FrameTarget::snapshotScene(bool with_depth) {
+  if (!fbo_ || (scene_color_taken_ && (!with_depth || scene_depth_taken_))) return;
   const RealGl& g = gl();
   if (!scene_color_fbo_) {
     const GLint prev_tex = glInt(GL_TEXTURE_BINDING_2D);
@@ -121,12 +122,18 @@ void FrameTarget::snapshotSceneColor() {
     g.BindTexture(GL_TEXTURE_2D, scene_color_);
     g.TexImage2D(GL_TEXTURE_2D, 0, color_format_, width_, height_, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
     g.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    if (depth_format_) {  // same format as ours, so that a blit copies it
+      g.GenTextures(1, &scene_depth_);
+      g.BindTexture(GL_TEXTURE_2D, scene_depth_);
+      g.TexStorage2D(GL_TEXTURE_2D, 1, depth_format_, width_, height_);
+    }
     g.BindTexture(GL_TEXTURE_2D, static_cast<GLuint>(prev_tex));
     g.BindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(prev_unpack));
     const GLint prev_draw = glInt(GL_DRAW_FRAMEBUFFER_BINDING);
     g.GenFramebuffers(1, &scene_color_fbo_);
     g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_color_fbo_);
     g.FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, scene_color_, 0);
+    if (scene_depth_) g.FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, depth_attachment_, GL_TEXTURE_2D, scene_depth_, 0);
     g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(prev_draw));
   }
   const GLint prev_draw = glInt(GL_DRAW_FRAMEBUFFER_BINDING), prev_read = glInt(GL_READ_FRAMEBUFFER_BINDING);
@@ -138,7 +145,9 @@ void FrameTarget::snapshotSceneColor() {
   g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   g.ReadBuffer(GL_COLOR_ATTACHMENT0);
   g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_color_fbo_);
-  g.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  GLbitfield mask = scene_color_taken_ ? 0 : GL_COLOR_BUFFER_BIT;
+  if (with_depth && scene_depth_) mask |= GL_DEPTH_BUFFER_BIT;
+  if (mask) g.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, mask, GL_NEAREST);
   g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   g.ReadBuffer(static_cast<GLenum>(prev_read_buffer));
   g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(prev_draw));
@@ -146,6 +155,7 @@ void FrameTarget::snapshotSceneColor() {
   if (scissor) g.Enable(GL_SCISSOR_TEST);
   if (srgb) g.Enable(GL_FRAMEBUFFER_SRGB);
   scene_color_taken_ = true;
+  if (with_depth && scene_depth_) scene_depth_taken_ = true;
 }
 
 void FrameTarget::present(RawImages& out, bool to_surface, bool read_back) {
@@ -207,13 +217,18 @@ void FrameTarget::present(RawImages& out, bool to_surface, bool read_back) {
     out.ids.resize(n * 2);
     g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, out.ids.data());
     g.ReadBuffer(static_cast<GLenum>(program_read_buffer));
-  } else if (depth_format_ == GL_DEPTH24_STENCIL8) {
-    // Packed read-back is a plain copy; the conversion to float happens on the writer thread.
-    out.depth_24_8.resize(n);
-    g.ReadPixels(0, 0, width_, height_, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, out.depth_24_8.data());
-  } else if (depth_) {
-    out.depth.resize(n);
-    g.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, out.depth.data());
+  } else {
+    // The scene's depth as it was when the scene ended (endScene), or as it is now.
+    if (scene_depth_taken_) g.BindFramebuffer(GL_READ_FRAMEBUFFER, scene_color_fbo_);
+    if (depth_format_ == GL_DEPTH24_STENCIL8) {
+      // Packed read-back is a plain copy; the conversion to float happens on the writer thread.
+      out.depth_24_8.resize(n);
+      g.ReadPixels(0, 0, width_, height_, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, out.depth_24_8.data());
+    } else if (depth_) {
+      out.depth.resize(n);
+      g.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, out.depth.data());
+    }
+    g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   }
   if (!scene) {
     g.ReadBuffer(GL_COLOR_ATTACHMENT1);

@@ -82,7 +82,15 @@ class FrameTarget {
 
   /// Keeps a copy of the program's image as it is now (before its first 2D overlay draw of the
   /// frame); present() then reads the frame's color from that copy. Once a frame.
-  void snapshotSceneColor();
+  void snapshotSceneColor() { snapshotScene(false); }
+  /// The scene of this frame ends now (the program clears depth after drawing it, to draw a
+  /// first-person hand or 3D HUD items over it): color and depth are kept as they are, and later
+  /// draws of the frame are neither recorded nor given ids (sceneEnded()).
+  void endScene() {
+    snapshotScene(true);
+    scene_ended_ = true;
+  }
+  bool sceneEnded() const { return scene_ended_; }
 
   /// Copies the program's image to the real default framebuffer (unless `to_surface` is false:
   /// pbuffers, whose content the program can only read through GL, which reads ours) and reads
@@ -101,8 +109,9 @@ class FrameTarget {
   void endFrame();
 
   std::unordered_map<GLuint, ProgramFbo> program_fbos_;
-  GLuint scene_color_fbo_ = 0, scene_color_ = 0;  // snapshotSceneColor()
-  bool scene_color_taken_ = false;
+  void snapshotScene(bool with_depth);
+  GLuint scene_color_fbo_ = 0, scene_color_ = 0, scene_depth_ = 0;  // snapshotScene()
+  bool scene_color_taken_ = false, scene_depth_taken_ = false, scene_ended_ = false;
   uint64_t frame_serial_ = 0;
 
   GLuint fbo_ = 0;

@@ -4,6 +4,26 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+// The fixed-function (compatibility profile) entry points and enums the core header lacks.
+typedef void (*PFNVIPERMATRIXMODEPROC)(GLenum mode);
+typedef void (*PFNVIPERVOIDPROC)(void);
+typedef void (*PFNVIPERMATRIXFPROC)(const GLfloat* m);
+typedef void (*PFNVIPERMATRIXDPROC)(const GLdouble* m);
+typedef void (*PFNVIPERXYZFPROC)(GLfloat x, GLfloat y, GLfloat z);
+typedef void (*PFNVIPERXYZDPROC)(GLdouble x, GLdouble y, GLdouble z);
+typedef void (*PFNVIPERROTATEFPROC)(GLfloat angle, GLfloat x, GLfloat y, GLfloat z);
+typedef void (*PFNVIPERROTATEDPROC)(GLdouble angle, GLdouble x, GLdouble y, GLdouble z);
+#define VIPER_GL_MODELVIEW 0x1700
+#define VIPER_GL_PROJECTION 0x1701
+#define VIPER_GL_MODELVIEW_MATRIX 0x0BA6
+#define VIPER_GL_PROJECTION_MATRIX 0x0BA7
+#define VIPER_GL_VERTEX_ARRAY 0x8074
+#define VIPER_GL_VERTEX_ARRAY_SIZE 0x807A
+#define VIPER_GL_VERTEX_ARRAY_TYPE 0x807B
+#define VIPER_GL_VERTEX_ARRAY_STRIDE 0x807C
+#define VIPER_GL_VERTEX_ARRAY_POINTER 0x808E
+#define VIPER_GL_VERTEX_ARRAY_BUFFER_BINDING 0x8896
+
 namespace viper {
 namespace capture {
 
@@ -116,7 +136,23 @@ namespace capture {
   X(PFNGLGETINTEGER64I_VPROC, GetInteger64i_v)                                            \
   X(PFNGLPROGRAMBINARYPROC, ProgramBinary)                                                \
   X(PFNGLCOMPRESSEDTEXIMAGE2DPROC, CompressedTexImage2D)                                  \
-  X(PFNGLCOMPRESSEDTEXSUBIMAGE2DPROC, CompressedTexSubImage2D)
+  X(PFNGLCOMPRESSEDTEXSUBIMAGE2DPROC, CompressedTexSubImage2D)                            \
+  X(PFNGLGETFLOATVPROC, GetFloatv)                                                        \
+  X(PFNGLGETPOINTERVPROC, GetPointerv)                                                    \
+  X(PFNVIPERMATRIXMODEPROC, MatrixMode)                                                   \
+  X(PFNVIPERVOIDPROC, LoadIdentity)                                                       \
+  X(PFNVIPERMATRIXFPROC, LoadMatrixf)                                                     \
+  X(PFNVIPERMATRIXDPROC, LoadMatrixd)                                                     \
+  X(PFNVIPERMATRIXFPROC, MultMatrixf)                                                     \
+  X(PFNVIPERMATRIXDPROC, MultMatrixd)                                                     \
+  X(PFNVIPERVOIDPROC, PushMatrix)                                                         \
+  X(PFNVIPERVOIDPROC, PopMatrix)                                                          \
+  X(PFNVIPERXYZFPROC, Translatef)                                                         \
+  X(PFNVIPERXYZDPROC, Translated)                                                         \
+  X(PFNVIPERXYZFPROC, Scalef)                                                             \
+  X(PFNVIPERXYZDPROC, Scaled)                                                             \
+  X(PFNVIPERROTATEFPROC, Rotatef)                                                         \
+  X(PFNVIPERROTATEDPROC, Rotated)
 
 /// Pointers to the real GL functions (libglvnd dispatch stubs, valid for EGL and GLX contexts).
 struct RealGl {

@@ -398,15 +398,12 @@ namespace viper {
 namespace capture {
 
 void* wrapperForWinsys(const char* name);
+void* wrapperForLegacy(const char* name);
 
 void* wrapperFor(const char* name) {
   if (!name) return nullptr;
-  struct Entry {
-    const char* name;
-    void* fn;
-  };
-#define VIPER_ENTRY(f) {#f, reinterpret_cast<void*>(&::f)}
-  static const Entry kEntries[] = {
+#define VIPER_ENTRY(f) VIPER_HOOK_ENTRY(f)
+  static const HookEntry kEntries[] = {
       VIPER_ENTRY(glShaderSource), VIPER_ENTRY(glCompileShader), VIPER_ENTRY(glLinkProgram),
       VIPER_ENTRY(glUseProgram), VIPER_ENTRY(glTransformFeedbackVaryings), VIPER_ENTRY(glBindFramebuffer),
       VIPER_ENTRY(glDrawBuffer), VIPER_ENTRY(glDrawBuffers), VIPER_ENTRY(glReadBuffer), VIPER_ENTRY(glClear),
@@ -432,9 +429,8 @@ void* wrapperFor(const char* name) {
   };
 #undef VIPER_ENTRY
   if (name[0] == 'g' && name[1] == 'l' && name[2] != 'X') {
-    for (const Entry& e : kEntries)
-      if (std::strcmp(e.name, name) == 0) return e.fn;
-    return nullptr;
+    if (void* fn = findHook(kEntries, name)) return fn;
+    return wrapperForLegacy(name);
   }
   return wrapperForWinsys(name);
 }

@@ -214,20 +214,14 @@ namespace viper {
 namespace capture {
 
 void* wrapperForWinsys(const char* name) {
-  struct Entry {
-    const char* name;
-    void* fn;
-  };
-#define VIPER_ENTRY(f) {#f, reinterpret_cast<void*>(&::f)}
-  static const Entry kEntries[] = {
+#define VIPER_ENTRY(f) VIPER_HOOK_ENTRY(f)
+  static const HookEntry kEntries[] = {
       VIPER_ENTRY(eglCreatePbufferSurface), VIPER_ENTRY(eglDestroySurface), VIPER_ENTRY(eglMakeCurrent),        VIPER_ENTRY(eglSwapBuffers),   VIPER_ENTRY(eglGetProcAddress),
       VIPER_ENTRY(glXMakeCurrent),        VIPER_ENTRY(glXMakeContextCurrent), VIPER_ENTRY(glXSwapBuffers),
       VIPER_ENTRY(glXGetProcAddress),     VIPER_ENTRY(glXGetProcAddressARB),
   };
 #undef VIPER_ENTRY
-  for (const Entry& e : kEntries)
-    if (std::strcmp(e.name, name) == 0) return e.fn;
-  return nullptr;
+  return findHook(kEntries, name);
 }
 
 }  // namespace capture

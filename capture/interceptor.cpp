@@ -99,6 +99,7 @@ void Interceptor::onMakeCurrent(void* context, int width, int height) {
 void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   FrameTarget* t = target();
   if (!enabled_ || !t || !t->ready()) return;
+  oneStackView();
   // Frames before the scene (menus, loading screens) are shown but not written: skipped by count,
   // or until a recorded draw has the camera's matrices.
   bool write = frame_number_ >= skip_frames_;
@@ -190,6 +191,10 @@ void Interceptor::clear(GLbitfield mask) {
       if (FrameTarget::ProgramFbo* f = t->sceneFbo(/*clear_stale=*/false)) t->clearFboIds(*f);
     return;
   }
+  // A depth-only clear after the scene's draws, for a hand or HUD items drawn over it.
+  if (t && t->ready() && profile_.depth_clear_ends_scene && (mask & GL_DEPTH_BUFFER_BIT) &&
+      !(mask & GL_COLOR_BUFFER_BIT) && !frame_.draws.empty() && !t->sceneEnded())
+    t->endScene();
   gl().Clear(mask);
   // A new image in the default framebuffer: ids start at 0 (no draw).
   if (t && t->ready() && (mask & GL_COLOR_BUFFER_BIT)) clearDefaultIds(*t);

@@ -5,6 +5,7 @@
 #include "frame_sink.h"
 #include "frame_target.h"
 #include "gl_real.h"
+#include "matrix_stack.h"
 #include "mesh_extract.h"
 #include "viper/core/capture_profile.h"
 #include "viper/core/shader_rewrite.h"
@@ -59,7 +60,9 @@ struct ProgramInfo {
   GLint loc_draw_id = -1, loc_alpha_test = -1;
   MatrixSource world, view, projection;
   InstanceTransform instance;
+  bool matrix_stack = false;           ///< matrices from the fixed-function stack (matrix_stack.h)
   GLint position_attrib = 0;
+  bool vertex_array_position = false;  ///< positions from the conventional array (glVertexPointer)
   std::vector<GLint> sampler_locations;
   std::vector<GLenum> sampler_targets;
   float alpha_test_value = -1.0f;  ///< last value set, to skip redundant glUniform calls
@@ -139,6 +142,9 @@ class Interceptor {
                           const void* data, bool sub, GLint x, GLint y);
   void deleteTextures(GLsizei n, const GLuint* names);
 
+  /// The fixed-function model-view stack as the program builds it (hooks_legacy.cpp).
+  ModelViewTracker& modelView() { return modelview_; }
+
   /// Called around every draw: `before` returns true if the draw is recorded.
   bool beforeDraw(const DrawCall& call);
   void afterDraw(const DrawCall& call);
@@ -170,6 +176,17 @@ class Interceptor {
   GLuint boundBuffer(GLenum target);
   uint64_t bufferKey(GLuint name);
   void recordMesh(const DrawCall& call, const ProgramInfo& program, DrawRecord& record);
+  /// A mesh whose vertices or indices are in the program's memory (client-side arrays): extracted
+  /// at every draw (the memory may change between draws), kept in client_mesh_.
+  void recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo, const uint8_t* client_vertices,
+                        GLuint ibo, DrawRecord& record);
+  /// World, view and projection from the fixed-function stack; world and view only where the
+  /// driver's model-view equals view x world (else logged once).
+  void readMatrixStack(DrawRecord& record);
+  /// At the end of a frame: draws from the matrix stack whose loaded matrix is not the frame's view
+  /// (the one most of them loaded) get their world re-expressed against it, W = V^-1 V_d W_d:
+  /// Irrlicht loads view x world as one matrix for the first draw after 2D drawing.
+  void oneStackView();
   void captureDeformed(const DrawCall& call);
   void readDeformed();
   uint64_t textureKey(GLenum target, GLuint unit);
@@ -232,6 +249,9 @@ class Interceptor {
   std::vector<GLuint> feedback_buffers_;
   GLuint feedback_object_ = 0;
   ExtractedMesh* last_mesh_ = nullptr;  // mesh of the draw in flight
+  ExtractedMesh client_mesh_;           // last mesh from client-side arrays
+  ModelViewTracker modelview_;
+  std::vector<uint32_t> stack_draws_;   // this frame's draws with world and view from the stack
   bool last_recorded_ = false;
   struct {
     uint64_t frames = 0;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <map>
 
 namespace viper {
 namespace capture {
@@ -191,7 +192,16 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   FrameTarget::ProgramFbo* scene_fbo = nullptr;
   if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return false;
   ProgramInfo* p = currentProgram();
-  if (!p) return false;
+  if (!p || (!scene_fbo && t->sceneEnded())) {
+    // Fixed-function draws (no program) write their color to every draw buffer, ours included;
+    // after the scene ended (endScene) nothing is recorded: ids off for both.
+    if (scene_fbo) {
+      if (scene_fbo->ids_wanted) t->applyFboDrawBuffers(*scene_fbo, false);
+    } else if (t->ids_enabled) {
+      t->applyDrawBuffers(false);
+    }
+    return false;
+  }
   const RealGl& g = gl();
   if (scene_fbo) {
     if (p->rewritten != scene_fbo->ids_wanted) t->applyFboDrawBuffers(*scene_fbo, p->rewritten);
@@ -244,7 +254,9 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   r.program_key = p->key;
   r.primitive_mode = call.mode;
   r.primitive_count = primitiveCount(call.mode, static_cast<size_t>(call.count)) * static_cast<uint32_t>(call.instances);
-  if (p->instance.any()) {
+  if (p->matrix_stack) {
+    readMatrixStack(r);
+  } else if (p->instance.any()) {
     if (readInstanceWorld(p->instance, call, r.world)) r.matrix_flags |= kHasWorld;
   } else if (p->world.found() && readMatrix(p->world, r.world)) {
     r.matrix_flags |= kHasWorld;
@@ -267,22 +279,81 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   return true;
 }
 
+void Interceptor::readMatrixStack(DrawRecord& r) {
+  const RealGl& g = gl();
+  GlMatrix modelview;
+  g.GetFloatv(VIPER_GL_PROJECTION_MATRIX, r.projection.data());
+  g.GetFloatv(VIPER_GL_MODELVIEW_MATRIX, modelview.data());
+  r.matrix_flags |= kHasProjection;
+  const GlMatrix product = modelview_.view() * modelview_.world();
+  const float scale = std::max(1.0f, modelview.cwiseAbs().maxCoeff());
+  if ((product - modelview).cwiseAbs().maxCoeff() > 1e-4f * scale) {
+    logOnce("the model-view matrix is not the loaded view times the multiplied world (matrix_stack: "
+            "load_view_mult_world): draws so made are recorded without world and view");
+    return;
+  }
+  r.world = modelview_.world();
+  r.view = modelview_.view();
+  r.matrix_flags |= kHasWorld | kHasView;
+  stack_draws_.push_back(r.index);
+}
+
+void Interceptor::oneStackView() {
+  if (stack_draws_.size() < 2) {
+    stack_draws_.clear();
+    return;
+  }
+  std::map<std::vector<float>, size_t> counts;
+  for (uint32_t i : stack_draws_) {
+    const GlMatrix& v = frame_.draws[i].view;
+    ++counts[std::vector<float>(v.data(), v.data() + 16)];
+  }
+  auto best = counts.begin();
+  for (auto it = counts.begin(); it != counts.end(); ++it)
+    if (it->second > best->second) best = it;
+  const GlMatrix view = Eigen::Map<const GlMatrix>(best->first.data());
+  const GlMatrix inverse = view.inverse();
+  for (uint32_t i : stack_draws_) {
+    DrawRecord& d = frame_.draws[i];
+    if (d.view == view) continue;
+    d.world = inverse * d.view * d.world;
+    d.view = view;
+  }
+  stack_draws_.clear();
+}
+
 void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRecord& r) {
-  if (p.position_attrib < 0) return;
-  const GLuint attrib = static_cast<GLuint>(p.position_attrib);
-  if (!vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_ENABLED)) return;
-  const GLuint vbo = static_cast<GLuint>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING));
-  if (!vbo) return;
+  const RealGl& g = gl();
   PositionLayout layout;
-  layout.size = vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_SIZE);
-  layout.type = static_cast<unsigned>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_TYPE));
-  layout.stride = static_cast<size_t>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_STRIDE));
   void* pointer = nullptr;
-  gl().GetVertexAttribPointerv(attrib, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
-  layout.offset = reinterpret_cast<size_t>(pointer);
+  GLuint vbo = 0;
+  if (p.vertex_array_position) {  // gl_Vertex: the conventional array, in a buffer or client memory
+    if (!g.IsEnabled(VIPER_GL_VERTEX_ARRAY)) return;
+    layout.size = glInt(VIPER_GL_VERTEX_ARRAY_SIZE);
+    layout.type = static_cast<unsigned>(glInt(VIPER_GL_VERTEX_ARRAY_TYPE));
+    layout.stride = static_cast<size_t>(glInt(VIPER_GL_VERTEX_ARRAY_STRIDE));
+    g.GetPointerv(VIPER_GL_VERTEX_ARRAY_POINTER, &pointer);
+    vbo = static_cast<GLuint>(glInt(VIPER_GL_VERTEX_ARRAY_BUFFER_BINDING));
+  } else {
+    if (p.position_attrib < 0) return;
+    const GLuint attrib = static_cast<GLuint>(p.position_attrib);
+    if (!vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_ENABLED)) return;
+    vbo = static_cast<GLuint>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING));
+    layout.size = vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_SIZE);
+    layout.type = static_cast<unsigned>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_TYPE));
+    layout.stride = static_cast<size_t>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_STRIDE));
+    g.GetVertexAttribPointerv(attrib, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
+  }
   GLint ibo = 0;
-  if (call.indexed) gl().GetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &ibo);
-  if (call.indexed && !ibo) return;  // client-side indices are not supported in core profiles
+  if (call.indexed) g.GetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &ibo);
+  if (vbo) layout.offset = reinterpret_cast<size_t>(pointer);
+  // Client-side arrays (compatibility contexts only): vertices or indices in the program's memory.
+  if (!vbo || (call.indexed && !ibo)) {
+    if (!vbo && !pointer) return;
+    recordClientMesh(call, layout, vbo, vbo ? nullptr : static_cast<const uint8_t*>(pointer),
+                     static_cast<GLuint>(ibo), r);
+    return;
+  }
 
   std::lock_guard<std::mutex> lock(mutex_);
   auto vb = buffers_.find(vbo);
@@ -337,6 +408,50 @@ void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRec
     m.mesh.indices = std::vector<uint32_t>();
   }
   if (m.mesh.key) last_mesh_ = &m;
+}
+
+void Interceptor::recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo,
+                                   const uint8_t* client_vertices, GLuint ibo, DrawRecord& r) {
+  DrawRange range;
+  range.mode = call.mode;
+  range.count = static_cast<size_t>(call.count);
+  range.first = call.first;
+  range.base_vertex = call.base_vertex;
+  std::lock_guard<std::mutex> lock(mutex_);
+  const uint8_t* vertices = client_vertices;
+  size_t vertex_bytes = SIZE_MAX;  // the program's memory: the draw itself reads this range
+  if (vbo) {
+    auto vb = buffers_.find(vbo);
+    if (vb == buffers_.end()) return;
+    vertices = vb->second.data.data();
+    vertex_bytes = vb->second.data.size();
+    r.vertex_buffer_key = bufferKey(vbo);
+  }
+  if (call.indexed) {
+    const size_t width = call.index_type == GL_UNSIGNED_BYTE ? 1 : call.index_type == GL_UNSIGNED_SHORT ? 2 : 4;
+    if (ibo) {
+      auto ib = buffers_.find(ibo);
+      if (ib == buffers_.end()) return;
+      range.index_data = ib->second.data.data();
+      range.index_bytes = ib->second.data.size();
+      range.index_offset = call.index_offset;
+      r.index_buffer_key = bufferKey(ibo);
+    } else {
+      range.index_data = reinterpret_cast<const uint8_t*>(call.index_offset);  // a pointer, not an offset
+      range.index_bytes = static_cast<size_t>(call.count) * width;
+      range.index_offset = 0;
+    }
+    range.index_type = call.index_type;
+    if (!range.index_data) return;
+  }
+  ExtractedMesh mesh;
+  if (!extractMesh(vertices, vertex_bytes, layout, range, mesh)) return;
+  if (profile_.left_handed)
+    for (size_t i = 2; i < mesh.mesh.positions_xyz.size(); i += 3) mesh.mesh.positions_xyz[i] = -mesh.mesh.positions_xyz[i];
+  r.mesh_key = mesh.mesh.key;
+  if (emitted_meshes_.insert(mesh.mesh.key).second) frame_.new_meshes.push_back(mesh.mesh);
+  client_mesh_ = std::move(mesh);
+  last_mesh_ = &client_mesh_;
 }
 
 void Interceptor::afterDraw(const DrawCall& call) {

@@ -217,7 +217,11 @@ void Interceptor::linkProgram(GLuint program) {
     info.world = matrixSource(program, profile.world);
     info.view = matrixSource(program, profile.view);
     info.projection = matrixSource(program, profile.projection);
-    info.position_attrib = profile.position.empty() ? 0 : g.GetAttribLocation(program, profile.position.c_str());
+    info.matrix_stack = !profile.matrix_stack.empty();
+    info.vertex_array_position = profile.position == "gl_Vertex";
+    info.position_attrib = profile.position.empty()       ? 0
+                           : info.vertex_array_position ? -1
+                                                        : g.GetAttribLocation(program, profile.position.c_str());
     auto attribute = [&](const std::string& name) {
       return name.empty() ? -1 : g.GetAttribLocation(program, name.c_str());
     };

@@ -42,6 +42,11 @@ bool readIndex(const DrawRange& r, size_t i, long& out) {
 
 bool extractMesh(const std::vector<uint8_t>& vb, const PositionLayout& layout, const DrawRange& range,
                  ExtractedMesh& out) {
+  return extractMesh(vb.data(), vb.size(), layout, range, out);
+}
+
+bool extractMesh(const uint8_t* vb, size_t vb_size, const PositionLayout& layout, const DrawRange& range,
+                 ExtractedMesh& out) {
   if (range.mode != GL_TRIANGLES || layout.type != GL_FLOAT || layout.size < 2 || layout.size > 4) return false;
   const size_t triangles = range.count / 3;
   if (triangles == 0) return false;
@@ -63,14 +68,14 @@ bool extractMesh(const std::vector<uint8_t>& vb, const PositionLayout& layout, c
   const long hi = *std::max_element(vertex.begin(), vertex.end());
   const size_t stride = layout.stride ? layout.stride : layout.size * sizeof(float);
   const size_t last_end = layout.offset + static_cast<size_t>(hi) * stride + layout.size * sizeof(float);
-  if (last_end > vb.size() || hi - lo >= static_cast<long>(std::numeric_limits<uint32_t>::max())) return false;
+  if (!vb || last_end > vb_size || hi - lo >= static_cast<long>(std::numeric_limits<uint32_t>::max())) return false;
 
   const size_t count = static_cast<size_t>(hi - lo + 1);
   out.first_vertex = static_cast<uint32_t>(lo);
   out.vertex_count = static_cast<uint32_t>(count);
   out.mesh.positions_xyz.assign(count * 3, 0.0f);
   for (size_t v = 0; v < count; ++v) {
-    const uint8_t* p = vb.data() + layout.offset + (static_cast<size_t>(lo) + v) * stride;
+    const uint8_t* p = vb + layout.offset + (static_cast<size_t>(lo) + v) * stride;
     std::memcpy(&out.mesh.positions_xyz[v * 3], p, std::min(layout.size, 3) * sizeof(float));
   }
   out.mesh.indices.resize(n);

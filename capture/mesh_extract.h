@@ -46,6 +46,10 @@ uint32_t primitiveCount(unsigned mode, size_t count);
 /// that reach outside the given buffers.
 bool extractMesh(const std::vector<uint8_t>& vertex_buffer, const PositionLayout& layout, const DrawRange& range,
                  ExtractedMesh& out);
+/// The same from `vertex_bytes` bytes at `vertices` (a program's own memory, for client-side
+/// vertex arrays: SIZE_MAX when only the draw itself bounds what may be read).
+bool extractMesh(const uint8_t* vertices, size_t vertex_bytes, const PositionLayout& layout, const DrawRange& range,
+                 ExtractedMesh& out);
 
 }  // namespace capture
 }  // namespace viper

@@ -128,7 +128,7 @@ GLuint FrameTarget::sceneSource() const {
 
 void FrameTarget::endFrame() {
   ++frame_serial_;
-  scene_color_taken_ = false;
+  scene_color_taken_ = scene_depth_taken_ = scene_ended_ = false;
   for (auto& [name, f] : program_fbos_) f.draws = 0, f.ids_cleared = false;
 }
 

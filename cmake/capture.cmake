@@ -13,6 +13,8 @@ set(VIPER_INTERCEPT_SOURCES
   capture/interceptor_resources.cpp
   capture/interceptor_draw.cpp
   capture/hooks_gl.cpp
+  capture/hooks_legacy.cpp
+  capture/matrix_stack.cpp
   capture/hooks_winsys.cpp)
 add_library(viper_intercept SHARED ${VIPER_INTERCEPT_SOURCES})
 # Only the hooked GL/EGL/GLX entry points and dlsym are exported; GL and EGL are not linked
@@ -46,6 +48,21 @@ if(CATKIN_ENABLE_TESTING)
   add_executable(viper_gl_engine_program test/capture/gl_engine_program.cpp)
   target_include_directories(viper_gl_engine_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
   target_link_libraries(viper_gl_engine_program PRIVATE PkgConfig::EGL PkgConfig::GL)
+
+  # GL 3.0 compatibility test program that draws as Minetest does (matrix stack, client arrays).
+  add_executable(viper_gl_legacy_program test/capture/gl_legacy_program.cpp)
+  target_include_directories(viper_gl_legacy_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
+  target_link_libraries(viper_gl_legacy_program PRIVATE PkgConfig::EGL PkgConfig::GL)
+
+  catkin_add_gtest(test_capture_legacy test/capture/test_capture_legacy.cpp capture/matrix_stack.cpp
+    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_compile_definitions(test_capture_legacy PRIVATE
+    VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
+    VIPER_GL_LEGACY_PROGRAM="$<TARGET_FILE:viper_gl_legacy_program>"
+    VIPER_LEGACY_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/legacy_profile.yaml")
+  target_include_directories(test_capture_legacy PRIVATE ${PROJECT_SOURCE_DIR}/capture)
+  target_link_libraries(test_capture_legacy viper_core gtest_main)
+  add_dependencies(test_capture_legacy viper_capture viper_intercept viper_gl_legacy_program)
 
   catkin_add_gtest(test_capture_engine test/capture/test_capture_engine.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   target_compile_definitions(test_capture_engine PRIVATE
@@ -84,6 +101,15 @@ endif()
 if(CATKIN_ENABLE_TESTING)
   # SuperTuxKart traced once and replayed plainly and under capture (needs supertuxkart, apitrace
   # and xvfb-run: scripts/setup.sh --test-programs, which scripts/test.sh runs).
+  # Minetest captured live (needs minetest and xvfb: scripts/setup.sh --test-programs).
+  catkin_add_gtest(test_minetest test/capture/test_minetest.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  if(TARGET test_minetest)
+    target_compile_definitions(test_minetest PRIVATE
+      VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
+      VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles")
+    target_link_libraries(test_minetest viper_core gtest_main)
+    add_dependencies(test_minetest viper_capture viper_intercept)
+  endif()
   catkin_add_gtest(test_supertuxkart test/capture/test_supertuxkart.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   if(TARGET test_supertuxkart)
     target_include_directories(test_supertuxkart SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})

@@ -70,17 +70,23 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
     else if (key == "instance_scale") p.instance_scale = scalar(source, value, key);
     else if (key == "instance_rotation_conjugate") p.instance_rotation_conjugate = parseBool(source, value, key);
     else if (key == "overlay") p.overlay = parseBool(source, value, key);
-    else
+    else if (key == "matrix_stack") {
+      p.matrix_stack = scalar(source, value, key);
+      if (p.matrix_stack != "load_view_mult_world")
+        throw profileError(source, value, "'matrix_stack' must be load_view_mult_world, got '" + p.matrix_stack + "'");
+    } else
       throw profileError(source, kv.first,
                          "unknown key '" + key +
                              "' (known: vertex_contains, program_key, world, view, projection, position, deforming, "
                              "instance_world, instance_translation, instance_rotation, instance_scale, "
-                             "instance_rotation_conjugate, overlay)");
+                             "instance_rotation_conjugate, overlay, matrix_stack)");
   }
   if (!p.instance_world.empty() &&
       (!p.instance_translation.empty() || !p.instance_rotation.empty() || !p.instance_scale.empty()))
     throw profileError(source, node,
                        "'instance_world' (a mat4 attribute) and instance_translation/rotation/scale exclude each other");
+  if (!p.matrix_stack.empty() && (!p.world.empty() || !p.view.empty() || !p.projection.empty()))
+    throw profileError(source, node, "'matrix_stack' and world/view/projection exclude each other");
   return p;
 }
 
@@ -117,8 +123,12 @@ CaptureProfile parseCaptureProfile(const std::string& yaml_text, const std::stri
       profile.left_handed = h == "left";
       continue;
     }
+    if (key == "depth_clear_ends_scene") {
+      profile.depth_clear_ends_scene = parseBool(source_name, kv.second, key);
+      continue;
+    }
     if (key != "programs")
-      throw profileError(source_name, kv.first, "unknown top-level key '" + key + "' (known: programs, handedness)");
+      throw profileError(source_name, kv.first, "unknown top-level key '" + key + "' (known: programs, handedness, depth_clear_ends_scene)");
     if (kv.second.IsNull()) continue;
     if (!kv.second.IsSequence()) throw profileError(source_name, kv.second, "'programs' must be a list");
     for (const auto& entry : kv.second) profile.programs.push_back(parseEntry(source_name, entry));

@@ -17,6 +17,8 @@
 #include <EGL/eglext.h>
 #include <GL/glcorearb.h>
 
+#include "egl_pbuffer.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -28,24 +30,8 @@ namespace es = viper::engine_scene;
 
 namespace {
 
-[[noreturn]] void die(const std::string& what) {
-  std::fprintf(stderr, "gl_engine_program: %s\n", what.c_str());
-  std::exit(1);
-}
-
-GLuint compile(GLenum type, const char* src) {
-  GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &src, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    glGetShaderInfoLog(s, sizeof(log), nullptr, log);
-    die(std::string("shader: ") + log);
-  }
-  return s;
-}
+[[noreturn]] void die(const std::string& what) { viper::test_program::die("gl_engine_program", what); }
+GLuint compile(GLenum type, const char* src) { return viper::test_program::compile("gl_engine_program", type, src); }
 
 // As engines with a shader cache do: try a stored binary first, link from source if refused.
 GLuint program(const char* vs, const char* fs) {
@@ -144,21 +130,12 @@ int main(int argc, char** argv) {
     else die("unknown option " + a);
   }
 
-  EGLDisplay dpy = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (dpy == EGL_NO_DISPLAY || !eglInitialize(dpy, nullptr, nullptr)) die("no EGL display");
-  const EGLint cfg_attrs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_RED_SIZE, 8,
-                              EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8, EGL_DEPTH_SIZE, 24, EGL_NONE};
-  EGLConfig cfg;
-  EGLint n = 0;
-  if (!eglChooseConfig(dpy, cfg_attrs, &cfg, 1, &n) || n == 0) die("no EGL config");
-  eglBindAPI(EGL_OPENGL_API);
-  const EGLint surf_attrs[] = {EGL_WIDTH, width, EGL_HEIGHT, height, EGL_NONE};
-  EGLSurface surface = eglCreatePbufferSurface(dpy, cfg, surf_attrs);
   const EGLint ctx_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
                               EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-  EGLContext ctx = eglCreateContext(dpy, cfg, EGL_NO_CONTEXT, ctx_attrs);
-  if (surface == EGL_NO_SURFACE || ctx == EGL_NO_CONTEXT) die("no EGL surface or GL 4.5 context");
-  if (!eglMakeCurrent(dpy, surface, surface, ctx)) die("eglMakeCurrent failed");
+  const viper::test_program::EglPbuffer pbuffer =
+      viper::test_program::makeCurrentPbuffer("gl_engine_program", width, height, ctx_attrs, "GL 4.5 context");
+  EGLDisplay dpy = pbuffer.display;
+  EGLSurface surface = pbuffer.surface;
 
   GLint binary_formats = -1;
   glGetIntegerv(GL_NUM_PROGRAM_BINARY_FORMATS, &binary_formats);

@@ -5,6 +5,7 @@
 // the 2D overlay neither recorded nor in the capture's color, glProgramBinary refused, and the
 // program's own output unchanged.
 #include "engine_scene.h"
+#include "capture_checks.h"
 #include "../common/process_util.h"
 #include "viper/core/capture_invariants.h"
 #include "viper/core/capture_stream.h"
@@ -53,12 +54,7 @@ const EngineRun& runEngine(int offscreen, int indirect = 0) {
   r.plain_stdout = readFile(d + "_plain.txt");
   r.captured_stdout = readFile(d + "_captured.txt");
   if (r.capture_rc == 0) {
-    viper::CaptureReader reader(d + ".vcap");
-    CaptureFrame f;
-    while (reader.next(f) == viper::CaptureReader::Status::kFrame) {
-      r.meshes.add(f.new_meshes);
-      r.frames.push_back(f);
-    }
+    viper::test::readCapture(d + ".vcap", r.frames, r.meshes);
   }
   return r;
 }

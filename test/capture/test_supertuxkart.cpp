@@ -4,11 +4,8 @@
 // game's own image can be compared frame by frame, and the capture checked against itself:
 // reprojection of every id pixel, flow forward-backward and photometric consistency, instances.
 // Both of the game's pipelines: forward (config/profiles/supertuxkart.yaml) and deferred.
+#include "capture_checks.h"
 #include "../common/process_util.h"
-#include "viper/core/camera_model.h"
-#include "viper/core/capture_invariants.h"
-#include "viper/core/capture_stream.h"
-#include "viper/core/flow.h"
 #include "viper/core/instance_pipeline.h"
 
 #include <gtest/gtest.h>
@@ -84,12 +81,7 @@ const PipelineRun& runPipeline(const std::string& pipeline) {
     for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().string());
     list->assign(names.begin(), names.end());
   }
-  viper::CaptureReader reader(d + "/race.vcap");
-  CaptureFrame f;
-  while (reader.next(f) == viper::CaptureReader::Status::kFrame) {
-    r.meshes.add(f.new_meshes);
-    r.frames.push_back(f);
-  }
+  viper::test::readCapture(d + "/race.vcap", r.frames, r.meshes);
   r.ok = true;
   return r;
 }
@@ -177,31 +169,14 @@ TEST(SuperTuxKart, ForwardPipelineGroundTruthHoldsAgainstItself) {
   checkCapture(r);
   if (HasFatalFailure()) return;
   // Flow of consecutive frames, both ways: back where it came from, and b's colors where it lands.
-  viper::FlowConsistencyCheck flow;
-  for (size_t i = 0; i + 1 < r.frames.size(); ++i) {
-    const CaptureFrame& a = r.frames[i];
-    const CaptureFrame& b = r.frames[i + 1];
-    const std::vector<int32_t> none_a(a.draws.size(), 0), none_b(b.draws.size(), 0);
-    const auto ca = viper::chooseFrameCamera(a), cb = viper::chooseFrameCamera(b);
-    ASSERT_TRUE(ca && cb) << "frame " << a.number << ": no camera";
-    const viper::FlowField fwd = viper::computeFlow(a, b, viper::associateDraws(a, none_a, b, none_b),
-                                                    viper::depthMetres(b, &*cb), r.meshes);
-    const viper::FlowField bwd = viper::computeFlow(b, a, viper::associateDraws(b, none_b, a, none_a),
-                                                    viper::depthMetres(a, &*ca), r.meshes);
-    flow.add(viper::checkFlowPair(a, b, fwd, bwd));
-  }
-  const double within = std::count_if(flow.forward_backward_px.begin(), flow.forward_backward_px.end(),
-                                      [](float d) { return d <= 0.5f; }) /
-                        static_cast<double>(std::max<size_t>(flow.forward_backward_px.size(), 1));
-  std::printf("flow: defined on %.1f%% of id pixels, forward-backward median %.2e p99 %.2e px (<= 0.5 px: %.2f%%), "
-              "photometric %.2f vs %.2f without motion\n",
-              100.0 * flow.flow_pixels / flow.id_pixels, viper::quantile(flow.forward_backward_px, 0.5),
-              viper::quantile(flow.forward_backward_px, 0.99), 100.0 * within, flow.photometricFlow(),
-              flow.photometricZero());
+  const viper::test::FlowSequenceCheck flow_check = viper::test::checkFlowSequence(r.frames, r.meshes);
+  ASSERT_EQ(flow_check.problem, "");
+  flow_check.print();
+  const viper::FlowConsistencyCheck& flow = flow_check.flow;
   EXPECT_GE(flow.flow_pixels, 0.85 * flow.id_pixels);
   EXPECT_GE(flow.forward_backward_px.size(), 100000u);
   EXPECT_LE(viper::quantile(flow.forward_backward_px, 0.5), 0.01f);
-  EXPECT_GE(within, 0.99);
+  EXPECT_GE(flow_check.withinHalfPixel(), 0.99);
   EXPECT_LT(flow.photometricFlow(), 0.5 * flow.photometricZero());
 
   // The shipped label table (made from another, longer capture at another size) labels this one:

@@ -113,6 +113,25 @@ programs:
             std::string::npos);
 }
 
+TEST(CaptureProfile, MatrixStackKey) {
+  const CaptureProfile p = parseCaptureProfile("programs:\n  - matrix_stack: load_view_mult_world\n    position: gl_Vertex\n",
+                                               "stack.yaml");
+  EXPECT_EQ(p.programs[0].matrix_stack, "load_view_mult_world");
+  EXPECT_EQ(p.programs[0].position, "gl_Vertex");
+  EXPECT_NE(message("programs:\n  - matrix_stack: yes\n").find("must be load_view_mult_world, got 'yes'"),
+            std::string::npos);
+  EXPECT_NE(message("programs:\n  - matrix_stack: load_view_mult_world\n    view: v\n").find("exclude each other"),
+            std::string::npos);
+}
+
+TEST(CaptureProfile, MinetestProfile) {
+  const CaptureProfile p = loadCaptureProfile("config/profiles/minetest.yaml");
+  EXPECT_TRUE(p.left_handed);
+  const ProgramProfile* nodes = p.match("#define mWorldViewProj gl_ModelViewProjectionMatrix\nuniform mat4 mWorld;", 0);
+  EXPECT_EQ(nodes->matrix_stack, "load_view_mult_world");
+  EXPECT_EQ(nodes->position, "gl_Vertex");
+}
+
 TEST(CaptureProfile, MissingFileIsNamed) {
   try {
     loadCaptureProfile("/nonexistent/profile.yaml");

@@ -27,8 +27,14 @@ struct ProgramProfile {
   std::string world;
   std::string view;
   std::string projection;
-  /// Name of the position attribute (empty: generic attribute location 0).
+  /// Name of the position attribute (empty: generic attribute location 0). `gl_Vertex`: the
+  /// conventional vertex array (glVertexPointer, in a buffer or in the program's memory).
   std::string position;
+  /// The matrices live in the fixed-function stack (compatibility contexts): `load_view_mult_world`
+  /// says the engine loads the view into GL_MODELVIEW (glLoadMatrix, glLoadIdentity) and multiplies
+  /// the world onto it (glMultMatrix, glTranslate, glRotate, glScale), as Irrlicht's OpenGL driver
+  /// does; the projection is GL_PROJECTION's. Replaces world/view/projection. Empty: not used.
+  std::string matrix_stack;
   Deforming deforming = Deforming::kAuto;
   /// Per-instance world matrices of instanced draws, from instanced vertex attributes (names;
   /// empty: absent). Either a mat4 attribute (`instance_world`), or translation (vec3), rotation
@@ -61,6 +67,11 @@ struct CaptureProfile {
   /// F = diag(1, 1, -1, 1), world F W F, view F V F, projection P F and mesh positions F x, so that
   /// clip positions, and so every pixel, stay what the program drew (P V W x = P F F V F F W F F x).
   bool left_handed = false;
+  /// `depth_clear_ends_scene: true`: a depth-only clear of the default framebuffer after recorded
+  /// draws ends the frame's scene (engines that then draw a first-person hand or 3D HUD items, as
+  /// Minetest does): color and depth are kept as they were, and the frame's later draws are
+  /// neither recorded nor given ids.
+  bool depth_clear_ends_scene = false;
 
   /// The first entry matching a program, or the built-in fallback (no matrices, position at
   /// location 0, deforming auto) when none does. Never null.

@@ -1,0 +1,127 @@
+// Exported compatibility-profile entry points: the fixed-function matrix stack (tracked for
+// profiles with `matrix_stack`) and the ARB_vertex_buffer_object names of the buffer functions,
+// which older engines (Irrlicht) call instead of the core names.
+#include "hooks.h"
+#include "interceptor.h"
+
+#include <cstring>
+
+using viper::GlMatrix;
+using viper::capture::gl;
+using viper::capture::Interceptor;
+using viper::capture::ModelViewTracker;
+
+#define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
+
+extern "C" {
+void glBufferData(GLenum target, GLsizeiptr size, const void* data, GLenum usage);
+void glBufferSubData(GLenum target, GLintptr offset, GLsizeiptr size, const void* data);
+void* glMapBuffer(GLenum target, GLenum access);
+GLboolean glUnmapBuffer(GLenum target);
+void glDeleteBuffers(GLsizei n, const GLuint* buffers);
+}
+
+namespace {
+
+inline ModelViewTracker* tracker() {
+  Interceptor& i = Interceptor::instance();
+  return i.enabled() ? &i.modelView() : nullptr;
+}
+
+template <typename T>
+GlMatrix matrixOf(const T* m) {
+  GlMatrix out;
+  for (int k = 0; k < 16; ++k) out.data()[k] = static_cast<float>(m[k]);  // column-major, as GL's
+  return out;
+}
+
+}  // namespace
+
+VIPER_EXPORT void glMatrixMode(GLenum mode) {
+  gl().MatrixMode(mode);
+  if (ModelViewTracker* t = tracker()) t->matrixMode(mode);
+}
+VIPER_EXPORT void glLoadIdentity(void) {
+  gl().LoadIdentity();
+  if (ModelViewTracker* t = tracker()) t->load(GlMatrix::Identity());
+}
+VIPER_EXPORT void glLoadMatrixf(const GLfloat* m) {
+  gl().LoadMatrixf(m);
+  if (ModelViewTracker* t = tracker()) t->load(matrixOf(m));
+}
+VIPER_EXPORT void glLoadMatrixd(const GLdouble* m) {
+  gl().LoadMatrixd(m);
+  if (ModelViewTracker* t = tracker()) t->load(matrixOf(m));
+}
+VIPER_EXPORT void glMultMatrixf(const GLfloat* m) {
+  gl().MultMatrixf(m);
+  if (ModelViewTracker* t = tracker()) t->multiply(matrixOf(m));
+}
+VIPER_EXPORT void glMultMatrixd(const GLdouble* m) {
+  gl().MultMatrixd(m);
+  if (ModelViewTracker* t = tracker()) t->multiply(matrixOf(m));
+}
+VIPER_EXPORT void glPushMatrix(void) {
+  gl().PushMatrix();
+  if (ModelViewTracker* t = tracker()) t->push();
+}
+VIPER_EXPORT void glPopMatrix(void) {
+  gl().PopMatrix();
+  if (ModelViewTracker* t = tracker()) t->pop();
+}
+VIPER_EXPORT void glTranslatef(GLfloat x, GLfloat y, GLfloat z) {
+  gl().Translatef(x, y, z);
+  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::translation(x, y, z));
+}
+VIPER_EXPORT void glTranslated(GLdouble x, GLdouble y, GLdouble z) {
+  gl().Translated(x, y, z);
+  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::translation(x, y, z));
+}
+VIPER_EXPORT void glScalef(GLfloat x, GLfloat y, GLfloat z) {
+  gl().Scalef(x, y, z);
+  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::scaling(x, y, z));
+}
+VIPER_EXPORT void glScaled(GLdouble x, GLdouble y, GLdouble z) {
+  gl().Scaled(x, y, z);
+  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::scaling(x, y, z));
+}
+VIPER_EXPORT void glRotatef(GLfloat angle, GLfloat x, GLfloat y, GLfloat z) {
+  gl().Rotatef(angle, x, y, z);
+  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::rotation(angle, x, y, z));
+}
+VIPER_EXPORT void glRotated(GLdouble angle, GLdouble x, GLdouble y, GLdouble z) {
+  gl().Rotated(angle, x, y, z);
+  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::rotation(angle, x, y, z));
+}
+
+// ARB_vertex_buffer_object: the same functions under their extension names.
+VIPER_EXPORT void glBufferDataARB(GLenum target, GLsizeiptr size, const void* data, GLenum usage) {
+  glBufferData(target, size, data, usage);
+}
+VIPER_EXPORT void glBufferSubDataARB(GLenum target, GLintptr offset, GLsizeiptr size, const void* data) {
+  glBufferSubData(target, offset, size, data);
+}
+VIPER_EXPORT void* glMapBufferARB(GLenum target, GLenum access) { return glMapBuffer(target, access); }
+VIPER_EXPORT GLboolean glUnmapBufferARB(GLenum target) { return glUnmapBuffer(target); }
+VIPER_EXPORT void glDeleteBuffersARB(GLsizei n, const GLuint* buffers) { glDeleteBuffers(n, buffers); }
+
+namespace viper {
+namespace capture {
+
+void* wrapperForLegacy(const char* name) {
+#define VIPER_ENTRY(f) VIPER_HOOK_ENTRY(f)
+  static const HookEntry kEntries[] = {
+      VIPER_ENTRY(glMatrixMode),   VIPER_ENTRY(glLoadIdentity),     VIPER_ENTRY(glLoadMatrixf),
+      VIPER_ENTRY(glLoadMatrixd),  VIPER_ENTRY(glMultMatrixf),      VIPER_ENTRY(glMultMatrixd),
+      VIPER_ENTRY(glPushMatrix),   VIPER_ENTRY(glPopMatrix),        VIPER_ENTRY(glTranslatef),
+      VIPER_ENTRY(glTranslated),   VIPER_ENTRY(glScalef),           VIPER_ENTRY(glScaled),
+      VIPER_ENTRY(glRotatef),      VIPER_ENTRY(glRotated),          VIPER_ENTRY(glBufferDataARB),
+      VIPER_ENTRY(glBufferSubDataARB), VIPER_ENTRY(glMapBufferARB), VIPER_ENTRY(glUnmapBufferARB),
+      VIPER_ENTRY(glDeleteBuffersARB),
+  };
+#undef VIPER_ENTRY
+  return findHook(kEntries, name);
+}
+
+}  // namespace capture
+}  // namespace viper

@@ -1,0 +1,68 @@
+// Helpers of the capture tests: a capture read whole, and the flow of its consecutive frames
+// checked both ways (viper::checkFlowPair) with the printed summary the tests share.
+#pragma once
+
+#include "viper/core/camera_model.h"
+#include "viper/core/capture_invariants.h"
+#include "viper/core/capture_stream.h"
+#include "viper/core/flow.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace viper {
+namespace test {
+
+/// Every intact frame of a capture, and the meshes they name.
+inline void readCapture(const std::string& path, std::vector<CaptureFrame>& frames, MeshRegistry& meshes) {
+  CaptureReader reader(path);
+  CaptureFrame f;
+  while (reader.next(f) == CaptureReader::Status::kFrame) {
+    meshes.add(f.new_meshes);
+    frames.push_back(f);
+  }
+}
+
+/// Forward and backward flow of each pair of consecutive frames (draws associated by draw order
+/// and content, no tracking), checked against each other and against the next frame's colors.
+/// Frames without a camera are reported in `problem`.
+struct FlowSequenceCheck {
+  FlowConsistencyCheck flow;
+  std::string problem;
+  /// Share of checked pixels whose forward-backward distance is at most 0.5 px.
+  double withinHalfPixel() const {
+    const auto& d = flow.forward_backward_px;
+    return std::count_if(d.begin(), d.end(), [](float v) { return v <= 0.5f; }) /
+           static_cast<double>(std::max<size_t>(d.size(), 1));
+  }
+  void print() const {
+    std::printf("flow: defined on %.1f%% of id pixels, forward-backward median %.2e p99 %.2e px (<= 0.5 px: %.2f%%), "
+                "photometric %.2f vs %.2f without motion\n",
+                100.0 * flow.flow_pixels / std::max<uint64_t>(flow.id_pixels, 1), quantile(flow.forward_backward_px, 0.5),
+                quantile(flow.forward_backward_px, 0.99), 100.0 * withinHalfPixel(), flow.photometricFlow(),
+                flow.photometricZero());
+  }
+};
+
+inline FlowSequenceCheck checkFlowSequence(const std::vector<CaptureFrame>& frames, const MeshRegistry& meshes) {
+  FlowSequenceCheck c;
+  for (size_t i = 0; i + 1 < frames.size(); ++i) {
+    const CaptureFrame& a = frames[i];
+    const CaptureFrame& b = frames[i + 1];
+    const std::vector<int32_t> none_a(a.draws.size(), 0), none_b(b.draws.size(), 0);
+    const auto ca = chooseFrameCamera(a), cb = chooseFrameCamera(b);
+    if (!ca || !cb) {
+      c.problem = "frame " + std::to_string(a.number) + " or the next: no camera";
+      return c;
+    }
+    const FlowField fwd = computeFlow(a, b, associateDraws(a, none_a, b, none_b), depthMetres(b, &*cb), meshes);
+    const FlowField bwd = computeFlow(b, a, associateDraws(b, none_b, a, none_a), depthMetres(a, &*ca), meshes);
+    c.flow.add(checkFlowPair(a, b, fwd, bwd));
+  }
+  return c;
+}
+
+}  // namespace test
+}  // namespace viper

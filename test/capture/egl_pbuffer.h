@@ -1,0 +1,62 @@
+// What the EGL test programs (gl_engine_program.cpp, gl_legacy_program.cpp) share: a message and
+// exit on failure, a shader compiled or the program ended, and a pbuffer made current with an
+// OpenGL context. Include after the program's GL header (core or compatibility).
+#pragma once
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace viper {
+namespace test_program {
+
+[[noreturn]] inline void die(const char* program, const std::string& what) {
+  std::fprintf(stderr, "%s: %s\n", program, what.c_str());
+  std::exit(1);
+}
+
+inline GLuint compile(const char* program, GLenum type, const char* src) {
+  GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    glGetShaderInfoLog(s, sizeof(log), nullptr, log);
+    die(program, std::string("shader: ") + log);
+  }
+  return s;
+}
+
+struct EglPbuffer {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLSurface surface = EGL_NO_SURFACE;
+};
+
+/// A surfaceless-platform RGBA8 + depth 24 pbuffer of width x height, current with an OpenGL
+/// context made with `context_attributes` (`what` names that context in the error).
+inline EglPbuffer makeCurrentPbuffer(const char* program, int width, int height, const EGLint* context_attributes,
+                                     const char* what) {
+  EglPbuffer p;
+  p.display = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  if (p.display == EGL_NO_DISPLAY || !eglInitialize(p.display, nullptr, nullptr)) die(program, "no EGL display");
+  const EGLint cfg_attrs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_RED_SIZE, 8,
+                              EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8, EGL_DEPTH_SIZE, 24, EGL_NONE};
+  EGLConfig cfg;
+  EGLint n = 0;
+  if (!eglChooseConfig(p.display, cfg_attrs, &cfg, 1, &n) || n == 0) die(program, "no EGL config");
+  eglBindAPI(EGL_OPENGL_API);
+  const EGLint surf_attrs[] = {EGL_WIDTH, width, EGL_HEIGHT, height, EGL_NONE};
+  p.surface = eglCreatePbufferSurface(p.display, cfg, surf_attrs);
+  EGLContext ctx = eglCreateContext(p.display, cfg, EGL_NO_CONTEXT, context_attributes);
+  if (p.surface == EGL_NO_SURFACE || ctx == EGL_NO_CONTEXT) die(program, std::string("no EGL surface or ") + what);
+  if (!eglMakeCurrent(p.display, p.surface, p.surface, ctx)) die(program, "eglMakeCurrent failed");
+  return p;
+}
+
+}  // namespace test_program
+}  // namespace viper

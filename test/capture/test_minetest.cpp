@@ -1,0 +1,120 @@
+// Minetest (Debian's minetest 5.6.1: a second engine whose source and assets are not ours, with a
+// renderer unlike SuperTuxKart's: a 3.0 compatibility context, GLSL 1.20, the fixed-function
+// matrix stack, client-side vertex arrays) under the capture layer with
+// config/profiles/minetest.yaml, checked without an oracle: reprojection of every id pixel with the
+// matrices taken from the matrix stack and the meshes from the vertex arrays, one camera per frame,
+// and flow forward-backward and photometric consistency. The player walks with --random-input.
+#include "capture_checks.h"
+#include "../common/process_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using viper::CaptureFrame;
+
+namespace {
+
+constexpr int kWidth = 320, kHeight = 240, kFrames = 30, kSkip = 60;
+const char* kGame = "/usr/games/minetest";
+
+struct MinetestRun {
+  int rc = -1;
+  std::string log;
+  std::vector<CaptureFrame> frames;
+  viper::MeshRegistry meshes;
+};
+
+const MinetestRun& runMinetest() {
+  static MinetestRun r;
+  static bool done = false;
+  if (done) return r;
+  done = true;
+  const std::string d = viper::test::tempDir("viper_minetest_");
+  // A fresh HOME and configuration, and a new world of Minetest Game with a fixed map seed. Clouds
+  // off: they are drawn without shaders (fixed function), so they would hold depth but no ids.
+  fs::create_directories(d + "/home");
+  fs::create_directories(d + "/world");
+  std::ofstream(d + "/world/world.mt") << "gameid = minetest_game\n";
+  std::ofstream(d + "/minetest.conf") << "screen_w = " << kWidth << "\nscreen_h = " << kHeight
+                                      << "\nenable_sound = false\nenable_clouds = false\nfixed_map_seed = 42\n";
+  r.log = d + "/capture.log";
+  r.rc = viper::test::run("HOME=" + d + "/home xvfb-run -a -s '-screen 0 " + std::to_string(kWidth + 64) + "x" +
+                          std::to_string(kHeight + 64) + "x24' " + VIPER_CAPTURE_EXE + " --output " + d +
+                          "/mt.vcap --profile " VIPER_PROFILE_DIR "/minetest.yaml --frames " + std::to_string(kFrames) +
+                          " --skip-frames " + std::to_string(kSkip) + " -- " + kGame + " --go --world " + d +
+                          "/world --name viper --password x --config " + d + "/minetest.conf --random-input > " +
+                          r.log + " 2>&1");
+  if (r.rc == 0) {
+    viper::test::readCapture(d + "/mt.vcap", r.frames, r.meshes);
+    fs::remove_all(d);
+  }
+  return r;
+}
+
+void requireTools() {
+  for (const char* tool : {kGame, "/usr/bin/xvfb-run"})
+    ASSERT_TRUE(fs::exists(tool)) << tool << " is missing: run 'bash scripts/setup.sh --test-programs'";
+}
+
+}  // namespace
+
+TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
+  requireTools();
+  const MinetestRun& r = runMinetest();
+  ASSERT_EQ(r.rc, 0) << "the game under capture failed: " << r.log;
+  ASSERT_EQ(r.frames.size(), size_t(kFrames));
+  viper::ReprojectionCheck all;
+  size_t draws_with_pixels = 0;
+  for (const CaptureFrame& f : r.frames) {
+    SCOPED_TRACE("frame " + std::to_string(f.number));
+    EXPECT_EQ(viper::validateFrame(f), "");
+    std::set<std::vector<float>> views;
+    for (const viper::DrawRecord& d : f.draws) {
+      if (d.visible_pixels == 0) continue;
+      ++draws_with_pixels;
+      EXPECT_EQ(d.matrix_flags, viper::kHasWorld | viper::kHasView | viper::kHasProjection) << "draw " << d.index;
+      EXPECT_FLOAT_EQ(d.projection(3, 2), -1.0f) << "recorded in OpenGL's conventions (handedness: left)";
+      views.insert(std::vector<float>(d.view.data(), d.view.data() + 16));
+    }
+    EXPECT_EQ(views.size(), 1u) << "one camera: every draw's world split from the same view";
+    all.add(viper::checkReprojection(f, r.meshes));
+  }
+  std::printf("reprojection: %zu draws with pixels; id %.2f%% of scene pixels, placed %.2f%%, checked %llu, "
+              "distance <= 0.5 px %.4f%%, depth rel. median %.2e p99 %.2e\n",
+              draws_with_pixels, 100.0 * all.id_pixels / all.scene_pixels, 100.0 * all.placed_pixels / all.scene_pixels,
+              static_cast<unsigned long long>(all.checked_pixels),
+              100.0 * std::count_if(all.distance_px.begin(), all.distance_px.end(), [](float d) { return d <= 0.5f; }) /
+                  all.distance_px.size(),
+              viper::quantile(all.depth_relative, 0.5), viper::quantile(all.depth_relative, 0.99));
+  EXPECT_GE(draws_with_pixels, size_t(kFrames) * 5);
+  EXPECT_GE(all.id_pixels, 0.97 * all.scene_pixels) << "scene pixels with a draw id";
+  EXPECT_GE(all.placed_pixels, 0.9 * all.scene_pixels) << "scene pixels whose draw has a mesh and its matrices";
+  EXPECT_LE(viper::quantile(all.distance_px, 0.999), 0.5f) << "id pixels off their projected triangle";
+  // The game's near plane is a tenth of a node and its depth buffer 24 bits: a window depth step is
+  // about z / (near 2^24) relative, 6e-5 at 100 nodes.
+  EXPECT_LE(viper::quantile(all.depth_relative, 0.99), 3e-4f) << "depth of the projected triangle vs the depth image";
+}
+
+TEST(Minetest, FlowIsConsistentBothWaysAndWithTheNextImage) {
+  requireTools();
+  const MinetestRun& r = runMinetest();
+  ASSERT_EQ(r.rc, 0) << "the game under capture failed: " << r.log;
+  const viper::test::FlowSequenceCheck c = viper::test::checkFlowSequence(r.frames, r.meshes);
+  ASSERT_EQ(c.problem, "");
+  c.print();
+  const viper::FlowConsistencyCheck& flow = c.flow;
+  EXPECT_GE(flow.flow_pixels, 0.7 * flow.id_pixels);
+  EXPECT_GE(flow.forward_backward_px.size(), 100000u);
+  EXPECT_LE(viper::quantile(flow.forward_backward_px, 0.5), 0.01f);
+  // The random walk turns the camera fast: more pixels than in SuperTuxKart land next to an edge,
+  // where the backward flow is sampled from the neighbouring surface.
+  EXPECT_GE(c.withinHalfPixel(), 0.97);  // 98.3-100 % over seven runs
+  EXPECT_LT(flow.photometricFlow(), 0.5 * flow.photometricZero());
+}

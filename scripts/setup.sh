@@ -2,8 +2,8 @@
 # Installs every dependency of viper from Debian's packages (idempotent, as root) and builds the
 # package into build/ (a catkin devel space under build/devel).
 # Usage: scripts/setup.sh [--no-build] [--test-programs]
-#   --test-programs: also what only the tests need: the third-party program they capture
-#                    (SuperTuxKart), apitrace (records it once, replays it the same every time),
+#   --test-programs: also what only the tests need: the third-party programs they capture
+#                    (SuperTuxKart, Minetest), apitrace (records it once, replays it the same every time),
 #                    Chromium and Playwright (npm) for the labelling page's browser test.
 #                    scripts/test.sh asks for them; a user who only captures their own program does not.
 set -euo pipefail
@@ -30,7 +30,7 @@ test_programs=0
 for arg in "$@"; do
   case "$arg" in
     --no-build) build=0 ;;
-    --test-programs) PKGS+=(supertuxkart apitrace chromium nodejs); test_programs=1 ;;
+    --test-programs) PKGS+=(supertuxkart minetest apitrace chromium nodejs); test_programs=1 ;;
     *) echo "setup: unknown option '$arg' (known: --no-build, --test-programs)" >&2; exit 2 ;;
   esac
 done

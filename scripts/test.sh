@@ -7,7 +7,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 build="$here/build"
 fuzz_seconds="${1:-20}"
 
-# What only the tests need (SuperTuxKart, apitrace, Chromium, Playwright; about 780 MB to download
+# What only the tests need (SuperTuxKart, Minetest, apitrace, Chromium, Playwright; about 790 MB to download
 # on a fresh machine): installed here, not for every user.
 bash "$here/scripts/setup.sh" --test-programs --no-build || { echo "0 passed, 1 failed"; exit 1; }
 if [ ! -f "$build/Makefile" ]; then

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Minetest (Debian's minetest 5.6.1, a second engine whose source and assets are not ours) under
+# the capture layer: a new world of Minetest Game, the player walking with --random-input, captured
+# after the world has loaded, then checked against its own depth and flow (capture_check) and
+# turned into a raw bag.
+#
+# Usage: scripts/capture_minetest.sh [--frames 60] [--width 640] [--height 480] [--seed 42]
+#          [--skip 60] [--out DIR (build/minetest)] [--no-bag] [--no-check]
+#          [--bin DIR (the build's devel/lib/viper)]
+# Writes DIR/minetest.vcap and DIR/minetest_raw.bag. Needs `minetest` and `Xvfb` (installed by
+# scripts/setup.sh --test-programs); runs the game in its own Xvfb display. The game's clouds are
+# off (they are drawn without shaders and would hold depth but no ids); --seed is the map seed.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+frames=60; width=640; height=480; seed=42; skip=60
+out="$here/build/minetest"; bag=1; check=1; bin="$here/build/devel/lib/viper"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --frames) frames="$2"; shift 2 ;;
+    --width) width="$2"; shift 2 ;;
+    --height) height="$2"; shift 2 ;;
+    --seed) seed="$2"; shift 2 ;;
+    --skip) skip="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    --bin) bin="$2"; shift 2 ;;
+    --no-bag) bag=0; shift ;;
+    --no-check) check=0; shift ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    *) echo "capture_minetest: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+game=/usr/games/minetest
+[ -x "$game" ] || { echo "capture_minetest: $game not found: run 'bash scripts/setup.sh --test-programs'" >&2; exit 2; }
+[ -x "$bin/capture" ] || { echo "capture_minetest: no capture in $bin: run scripts/setup.sh first" >&2; exit 2; }
+command -v xvfb-run > /dev/null || { echo "capture_minetest: xvfb-run not found (package xvfb)" >&2; exit 2; }
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
+capture="$out/minetest.vcap"
+
+# A fresh HOME, configuration and world per run: nothing a user set changes what is rendered.
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$work/home" "$work/world"
+echo "gameid = minetest_game" > "$work/world/world.mt"
+printf 'screen_w = %s\nscreen_h = %s\nenable_sound = false\nenable_clouds = false\nfixed_map_seed = %s\n' \
+  "$width" "$height" "$seed" > "$work/minetest.conf"
+
+echo "== capturing $frames frames of Minetest (${width}x${height}, map seed $seed) -> $capture"
+rm -f "$capture"
+status=0
+HOME="$work/home" xvfb-run -a -s "-screen 0 $((width + 64))x$((height + 64))x24" "$bin/capture" \
+  --output "$capture" --profile "$here/config/profiles/minetest.yaml" --condition day --frames "$frames" \
+  --skip-frames "$skip" -- "$game" --go --world "$work/world" --name viper --password viper \
+  --config "$work/minetest.conf" --random-input > "$out/minetest.game.log" 2>&1 || status=$?
+grep '\[viper capture\]' "$out/minetest.game.log" || true
+[ "$status" -eq 0 ] || { echo "capture_minetest: the game exited with $status (log: $out/minetest.game.log)" >&2; exit 1; }
+
+if [ "$check" -eq 1 ]; then
+  echo "== checking ids, matrices, meshes and flow against the capture itself"
+  "$bin/capture_check" "$capture" --flow
+fi
+if [ "$bag" -eq 1 ]; then
+  echo "== raw bag -> $out/minetest_raw.bag"
+  "$bin/capture_to_bag" "$capture" --output "$out/minetest_raw.bag"
+fi

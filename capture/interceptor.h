@@ -61,6 +61,7 @@ struct ProgramInfo {
   MatrixSource world, view, projection;
   InstanceTransform instance;
   bool matrix_stack = false;           ///< matrices from the fixed-function stack (matrix_stack.h)
+  uint8_t expected_matrices = 0;       ///< MatrixFlags the profile names for this program
   GLint position_attrib = 0;
   bool vertex_array_position = false;  ///< positions from the conventional array (glVertexPointer)
   std::vector<GLint> sampler_locations;

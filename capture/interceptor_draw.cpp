@@ -164,6 +164,8 @@ void Interceptor::beforeUndecomposedDraw(const char* what) {
   FrameTarget* t = target();
   if (!enabled_ || !t || !t->ready()) return;
   ProgramInfo* p = currentProgram();
+  const bool into_scene = t->program_draw_fb == 0 ? !t->sceneEnded() : t->sceneFbo() != nullptr;
+  if (into_scene && !(p && p->overlay)) ++frame_.unrecorded_draws;
   if (recordable() && p && p->rewritten) {
     char key[32];
     std::snprintf(key, sizeof(key), "%016llx", static_cast<unsigned long long>(p->key));
@@ -192,7 +194,9 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   FrameTarget::ProgramFbo* scene_fbo = nullptr;
   if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return false;
   ProgramInfo* p = currentProgram();
-  if (!p || (!scene_fbo && t->sceneEnded())) {
+  const bool scene_ended = !scene_fbo && t->sceneEnded();
+  if (!p && !scene_ended) ++frame_.unrecorded_draws;  // fixed function: nothing to rewrite or read
+  if (!p || scene_ended) {
     // Fixed-function draws (no program) write their color to every draw buffer, ours included;
     // after the scene ended (endScene) nothing is recorded: ids off for both.
     if (scene_fbo) {
@@ -269,12 +273,15 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
     if (r.matrix_flags & kHasView) r.view = f.asDiagonal() * r.view * f.asDiagonal();
     if (r.matrix_flags & kHasProjection) r.projection = r.projection * f.asDiagonal();
   }
+  if (p->expected_matrices & ~r.matrix_flags) r.gaps |= kGapMatrixMissing;
+  if (!p->rewritten) r.gaps |= kGapNoIds;
   for (size_t i = 0; i < p->sampler_locations.size(); ++i) {
     GLint unit = 0;
     g.GetUniformiv(current_program_, p->sampler_locations[i], &unit);
     r.texture_keys.push_back(textureKey(p->sampler_targets[i], static_cast<GLuint>(unit)));
   }
   recordMesh(call, *p, r);
+  if (!r.mesh_key) r.gaps |= kGapNoMesh;
   last_recorded_ = true;
   return true;
 }

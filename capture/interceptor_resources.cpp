@@ -218,6 +218,9 @@ void Interceptor::linkProgram(GLuint program) {
     info.view = matrixSource(program, profile.view);
     info.projection = matrixSource(program, profile.projection);
     info.matrix_stack = !profile.matrix_stack.empty();
+    if (info.matrix_stack || !profile.world.empty() || profile.hasInstanceTransform()) info.expected_matrices |= kHasWorld;
+    if (info.matrix_stack || !profile.view.empty()) info.expected_matrices |= kHasView;
+    if (info.matrix_stack || !profile.projection.empty()) info.expected_matrices |= kHasProjection;
     info.vertex_array_position = profile.position == "gl_Vertex";
     info.position_attrib = profile.position.empty()       ? 0
                            : info.vertex_array_position ? -1

@@ -22,7 +22,9 @@ int usage() {
                "  For every pixel with a draw id: projects the triangle its draw and primitive id name with\n"
                "  the recorded matrices (or post-vertex-shader positions) and prints how far the pixel lies\n"
                "  from it (px) and how far its depth is from the triangle's (relative), with the fractions\n"
-               "  of scene pixels that have an id and a placed mesh. --from N skips frames numbered below N.\n"
+               "  of scene pixels that have an id and a placed mesh, and what the layer reported it could not\n"
+               "  record (draws without ids, matrices or mesh; draws not recorded). --from N skips frames\n"
+               "  numbered below N.\n"
                "  --flow: also the flow of each pair of consecutive frames both ways (viper::computeFlow, draws\n"
                "  associated by mesh and placement): forward-backward endpoint error and the photometric error\n"
                "  of warping the next frame by the flow, against no motion.\n"
@@ -43,6 +45,16 @@ void print(const char* label, const viper::ReprojectionCheck& c) {
               viper::quantile(c.distance_px, 0.5), viper::quantile(c.distance_px, 0.99),
               c.distance_px.empty() ? 0.0 : 100.0 * within_half / c.distance_px.size(),
               viper::quantile(c.depth_relative, 0.5), viper::quantile(c.depth_relative, 0.99));
+}
+
+void printGaps(const viper::CaptureGaps& g) {
+  std::printf("gaps the layer reported: of %llu recorded draws, %llu without ids (shader not rewritten), %llu missing "
+              "a matrix the profile names (%llu px), %llu without mesh (%llu px); %llu draws into the scene not "
+              "recorded (no program, or a multi-draw reading gl_DrawID)\n",
+              static_cast<unsigned long long>(g.draws), static_cast<unsigned long long>(g.no_ids),
+              static_cast<unsigned long long>(g.matrix_missing), static_cast<unsigned long long>(g.matrix_missing_pixels),
+              static_cast<unsigned long long>(g.no_mesh), static_cast<unsigned long long>(g.no_mesh_pixels),
+              static_cast<unsigned long long>(g.unrecorded_draws));
 }
 
 void printFlow(const viper::FlowConsistencyCheck& c, uint64_t pairs) {
@@ -129,6 +141,7 @@ int main(int argc, char** argv) {
   }
   viper::MeshRegistry meshes;
   viper::ReprojectionCheck all;
+  viper::CaptureGaps gaps;
   viper::FlowConsistencyCheck flow_all;
   uint64_t pairs = 0;
   std::unique_ptr<FlowInput> previous;
@@ -159,6 +172,7 @@ int main(int argc, char** argv) {
       const viper::ReprojectionCheck c = viper::checkReprojection(frame, meshes);
       if (per_frame) print(("frame " + std::to_string(frame.number) + ":").c_str(), c);
       all.add(c);
+      gaps.add(frame);
       if (flow) {
         auto current = std::make_unique<FlowInput>(flowInput(frame));
         if (previous && previous->frame.number + 1 == frame.number) {
@@ -183,6 +197,7 @@ int main(int argc, char** argv) {
     status = 1;
   }
   print(("all " + std::to_string(checked_frames) + " frames:").c_str(), all);
+  printGaps(gaps);
   if (flow) printFlow(flow_all, pairs);
   if (pipeline) tracks.print(checked_frames);
   return status;

@@ -28,6 +28,8 @@ std::string validateFrame(const CaptureFrame& f) {
     if (d.index != i)
       return at + "draw " + std::to_string(i) + " has index " + std::to_string(d.index) +
              " (draw indices must be 0..n-1 in order)";
+    if (d.gaps & ~(kGapNoIds | kGapMatrixMissing | kGapNoMesh))
+      return at + "draw " + std::to_string(i) + " has unknown gap bits " + std::to_string(d.gaps);
     if (d.deformed_clip_xyzw.size() % 4 != 0)
       return at + "draw " + std::to_string(i) + " deformed_clip_xyzw has " +
              std::to_string(d.deformed_clip_xyzw.size()) + " floats, not a multiple of 4";

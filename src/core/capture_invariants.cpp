@@ -246,4 +246,14 @@ float quantile(std::vector<float> values, double q) {
   return values[k];
 }
 
+void CaptureGaps::add(const CaptureFrame& f) {
+  draws += f.draws.size();
+  unrecorded_draws += f.unrecorded_draws;
+  for (const DrawRecord& d : f.draws) {
+    no_ids += (d.gaps & kGapNoIds) != 0;
+    if (d.gaps & kGapMatrixMissing) ++matrix_missing, matrix_missing_pixels += d.visible_pixels;
+    if (d.gaps & kGapNoMesh) ++no_mesh, no_mesh_pixels += d.visible_pixels;
+  }
+}
+
 }  // namespace viper

@@ -13,7 +13,8 @@ namespace {
 using capture_format::kMaxImageSide;
 
 // Fixed bytes of one encoded DrawRecord, excluding its two variable-length arrays' contents.
-constexpr size_t kDrawFixedSize = 4 + 8 * 4 + 4 + 1 + 3 * 64 + 3 * 4 + 8;
+constexpr size_t kDrawFixedSize = 4 + 8 * 4 + 4 + 1 + 3 * 64 + 3 * 4 + 8 + 1;
+constexpr size_t kDrawFixedSizeV1 = kDrawFixedSize - 1;  // without gaps
 constexpr size_t kMeshFixedSize = 8 + 8 + 8;
 
 template <typename T>
@@ -28,6 +29,7 @@ size_t encodedSize(const CaptureFrame& f) {
   n += 4;
   for (const DrawRecord& d : f.draws)
     n += kDrawFixedSize + d.texture_keys.size() * 8 + d.deformed_clip_xyzw.size() * 4;
+  n += 4;  // unrecorded_draws
   n += 4;
   for (const MeshRecord& m : f.new_meshes)
     n += kMeshFixedSize + m.positions_xyz.size() * 4 + m.indices.size() * 4;
@@ -137,7 +139,7 @@ class Decoder {
   const char* end_;
 };
 
-void decodeDraw(Decoder& in, DrawRecord& d) {
+void decodeDraw(Decoder& in, DrawRecord& d, uint32_t version) {
   d.index = in.u32("draw index");
   d.mesh_key = in.u64("draw mesh_key");
   d.vertex_buffer_key = in.u64("draw vertex_buffer_key");
@@ -153,6 +155,7 @@ void decodeDraw(Decoder& in, DrawRecord& d) {
   d.primitive_mode = in.u32("draw primitive_mode");
   d.primitive_count = in.u32("draw primitive_count");
   d.visible_pixels = in.u32("draw visible_pixels");
+  d.gaps = version >= 2 ? in.u8("draw gaps") : 0;
   in.vec(d.deformed_clip_xyzw, "draw deformed_clip_xyzw");
 }
 
@@ -186,8 +189,10 @@ void encodeFramePayload(const CaptureFrame& f, std::string& out) {
     e.u32(d.primitive_mode);
     e.u32(d.primitive_count);
     e.u32(d.visible_pixels);
+    e.u8(d.gaps);
     e.vec(d.deformed_clip_xyzw);
   }
+  e.u32(f.unrecorded_draws);
   e.u32(static_cast<uint32_t>(f.new_meshes.size()));
   for (const MeshRecord& m : f.new_meshes) {
     e.u64(m.key);
@@ -204,7 +209,7 @@ std::string encodeFramePayload(const CaptureFrame& frame) {
   return out;
 }
 
-void decodeFramePayload(const char* data, size_t size, CaptureFrame& f) {
+void decodeFramePayload(const char* data, size_t size, CaptureFrame& f, uint32_t version) {
   Decoder in(data, size);
   f.number = in.u64("frame number");
   f.time_s = in.f64("time_s");
@@ -218,9 +223,10 @@ void decodeFramePayload(const char* data, size_t size, CaptureFrame& f) {
   in.vec(f.depth_window, "depth_window");
   in.vec(f.draw_ids, "draw_ids");
   in.vec(f.primitive_ids, "primitive_ids");
-  const uint32_t draws = in.count("draw count", kDrawFixedSize);
+  const uint32_t draws = in.count("draw count", version >= 2 ? kDrawFixedSize : kDrawFixedSizeV1);
   f.draws.resize(draws);
-  for (DrawRecord& d : f.draws) decodeDraw(in, d);
+  for (DrawRecord& d : f.draws) decodeDraw(in, d, version);
+  f.unrecorded_draws = version >= 2 ? in.u32("unrecorded_draws") : 0;
   const uint32_t meshes = in.count("mesh count", kMeshFixedSize);
   f.new_meshes.resize(meshes);
   for (MeshRecord& m : f.new_meshes) {

@@ -66,9 +66,9 @@ void CaptureReader::Impl::readHeader() {
                 std::to_string(kFileHeaderFixedSize + 8) + " header bytes");
   header.version = getU32(fixed + 8);
   // The version comes before the checksum: a newer writer may lay out the rest differently.
-  if (header.version != kCaptureFormatVersion)
-    fail(0, "unsupported capture format version " + std::to_string(header.version) + " (this reader reads version " +
-                std::to_string(kCaptureFormatVersion) + ")");
+  if (header.version < kOldestReadableCaptureFormatVersion || header.version > kCaptureFormatVersion)
+    fail(0, "unsupported capture format version " + std::to_string(header.version) + " (this reader reads versions " +
+                std::to_string(kOldestReadableCaptureFormatVersion) + " to " + std::to_string(kCaptureFormatVersion) + ")");
   const uint32_t fields_size = getU32(fixed + 12);
   if (fields_size > kMaxHeaderFieldsSize || fields_size < 8)
     fail(0, "header fields size " + std::to_string(fields_size) + " is out of range");
@@ -153,7 +153,7 @@ CaptureReader::Status CaptureReader::Impl::readChunk(CaptureFrame& frame, bool f
   if (got != rsize)
     fail(start, which + "decompressed to " + std::to_string(got) + " bytes, expected " + std::to_string(rsize));
   try {
-    decodeFramePayload(raw.data(), rsize, frame);
+    decodeFramePayload(raw.data(), rsize, frame, header.version);
   } catch (const std::runtime_error& e) {
     fail(start, which + e.what());
   }

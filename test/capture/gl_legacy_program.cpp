@@ -10,6 +10,11 @@
 //           non-indexed glDrawArrays from client memory.
 // Then a depth-only clear and a "hand" quad near the camera (with the same program), and a 2D HUD
 // quad without any program (fixed function), as Minetest draws its wielded item and HUD.
+// And what the layer cannot record, which its capture must report (DrawRecord::gaps): before the
+// world, a "sky" quad without any program (top right; not recorded at all); after the quads, a
+// line loop with the same program (below them; no mesh) and a quad whose GLSL 1.30 fragment shader
+// declares its own output (top left; not rewritten, so no ids; its profile entry names a world
+// matrix the program does not have).
 //   gl_legacy_program [--size WxH] [--frames N] [--out FILE]
 // --out writes the program's own read-back of its last frame (RGBA, bottom row first).
 #include "engine_scene.h"
@@ -45,6 +50,14 @@ const char* kFs = R"(#version 120
 uniform vec4 u_color;
 void main() { gl_FragColor = u_color; }
 )";
+const char* kRefusedVs = R"(#version 130
+#define VIPER_TEST_NOT_REWRITTEN 1
+void main() { gl_Position = vec4(gl_Vertex.xy * 0.08 + vec2(-0.85, 0.8), 0.0, 1.0); }
+)";
+const char* kRefusedFs = R"(#version 130
+out vec4 frag;
+void main() { frag = vec4(0.2, 0.9, 0.3, 1.0); }
+)";
 
 }  // namespace
 
@@ -71,6 +84,10 @@ int main(int argc, char** argv) {
   glAttachShader(program, compile(GL_FRAGMENT_SHADER, kFs));
   glLinkProgram(program);
   const GLint color = glGetUniformLocation(program, "u_color");
+  const GLuint refused = glCreateProgram();
+  glAttachShader(refused, compile(GL_VERTEX_SHADER, kRefusedVs));
+  glAttachShader(refused, compile(GL_FRAGMENT_SHADER, kRefusedFs));
+  glLinkProgram(refused);
 
   // 36-byte records as Irrlicht's S3DVertex (position, normal, color, texture coordinates).
   struct Vertex {
@@ -100,6 +117,17 @@ int main(int argc, char** argv) {
     glClearColor(0.1f, 0.1f, 0.2f, 1.0f);
     glEnable(GL_DEPTH_TEST);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    // The sky: fixed function, identity matrices, top right.
+    glUseProgram(0);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glTranslatef(0.85f, 0.8f, 0.0f);
+    glScalef(0.08f, 0.08f, 1.0f);
+    glColor4f(0.5f, 0.7f, 1.0f, 1.0f);
+    glVertexPointer(3, GL_FLOAT, sizeof(Vertex), quad[0].pos);
+    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices);
     glMatrixMode(GL_PROJECTION);
     glLoadMatrixf(proj.data());
     glMatrixMode(GL_MODELVIEW);
@@ -131,6 +159,17 @@ int main(int argc, char** argv) {
         glPopMatrix();
       }
     }
+    // A line loop below the quads: recorded, without a mesh.
+    glUniform4f(color, 1.0f, 1.0f, 1.0f, 1.0f);
+    glLoadMatrixf(view.data());
+    glTranslatef(0.0f, -1.3f, -1.0f);
+    glScalef(0.3f, 0.3f, 0.3f);
+    glVertexPointer(3, GL_FLOAT, sizeof(Vertex), quad[0].pos);
+    glDrawArrays(GL_LINE_LOOP, 0, 4);
+    // The quad whose shader the layer does not rewrite.
+    glUseProgram(refused);
+    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices);
+    glUseProgram(program);
     // The wielded item: depth cleared, a quad right in front of the camera (lower right).
     glClear(GL_DEPTH_BUFFER_BIT);
     glLoadIdentity();

@@ -93,10 +93,12 @@ TEST(CaptureLegacy, MatrixStackAndClientArraysGiveEveryDrawItsMatricesAndMesh) {
   EXPECT_TRUE(r.plain_pixels == r.captured_pixels) << "the program's own output changed under capture";
   ASSERT_EQ(r.frames.size(), size_t(kFrames));
   viper::ReprojectionCheck all;
+  uint64_t lines_pixels = 0;
   for (const CaptureFrame& f : r.frames) {
     SCOPED_TRACE("frame " + std::to_string(f.number));
     EXPECT_EQ(viper::validateFrame(f), "");
-    ASSERT_EQ(f.draws.size(), size_t(es::kInstances)) << "the hand (after the depth clear) and the HUD are not recorded";
+    ASSERT_EQ(f.draws.size(), size_t(es::kInstances) + 2)
+        << "the quads, the line loop and the refused quad; not the sky, the hand (after the depth clear) or the HUD";
     for (int k = 0; k < es::kInstances; ++k) {
       const viper::DrawRecord& d = f.draws[k];
       ASSERT_EQ(d.matrix_flags, viper::kHasWorld | viper::kHasView | viper::kHasProjection) << "quad " << k;
@@ -111,6 +113,23 @@ TEST(CaptureLegacy, MatrixStackAndClientArraysGiveEveryDrawItsMatricesAndMesh) {
     }
     EXPECT_EQ(f.draws[0].mesh_key, f.draws[1].mesh_key) << "the same quad from client memory and from a buffer";
     all.add(viper::checkReprojection(f, r.meshes));
+    lines_pixels += f.draws[3].visible_pixels;
+
+    // What the layer could not record, reported: the sky not recorded at all, the line loop without
+    // a mesh (with matrices and ids), the refused quad without ids and without its world.
+    for (int k = 0; k < es::kInstances; ++k) EXPECT_EQ(f.draws[k].gaps, 0u) << "quad " << k;
+    EXPECT_EQ(f.unrecorded_draws, 1u) << "the sky (fixed function)";
+    EXPECT_EQ(f.draws[3].gaps, viper::kGapNoMesh);
+    EXPECT_EQ(f.draws[3].primitive_mode, 2u) << "GL_LINE_LOOP";
+    EXPECT_GT(f.draws[3].visible_pixels, 0u);
+    EXPECT_EQ(f.draws[4].gaps, viper::kGapNoIds | viper::kGapMatrixMissing);
+    EXPECT_EQ(f.draws[4].visible_pixels, 0u) << "it wrote no ids";
+    for (const auto& [x, y] : {std::make_pair(int(0.925 * kWidth), int(0.1 * kHeight)),    // sky
+                               std::make_pair(int(0.075 * kWidth), int(0.1 * kHeight))}) {  // refused quad
+      const size_t i = size_t(y) * kWidth + x;
+      EXPECT_EQ(f.draw_ids[i], 0u) << "at " << x << "," << y;
+      EXPECT_LT(f.depth_window[i], 1.0f) << "drawn there, with depth";
+    }
 
     // The hand's and the HUD's pixels: no id of theirs; the capture's color and depth are the
     // scene's (the background there), while the program's own image shows them.
@@ -127,7 +146,7 @@ TEST(CaptureLegacy, MatrixStackAndClientArraysGiveEveryDrawItsMatricesAndMesh) {
       }
     }
   }
-  EXPECT_EQ(all.id_pixels, all.placed_pixels);
+  EXPECT_EQ(all.id_pixels, all.placed_pixels + lines_pixels) << "every id pixel placed but the line loop's";
   EXPECT_GT(all.checked_pixels, 3000u);
   EXPECT_LE(viper::quantile(all.distance_px, 1.0), 0.5f);
   EXPECT_LE(viper::quantile(all.depth_relative, 1.0), 1e-4f);

@@ -84,6 +84,24 @@ TEST(CaptureStream, PayloadCodecRoundTripsAndRejectsTrailingBytes) {
   }
 }
 
+TEST(CaptureStream, PayloadDecoderReadsVersion1) {
+  // Version 1 had no per-draw gaps and no unrecorded_draws: the same frame without those 5 bytes.
+  CaptureFrame f = makeFrame(4);
+  f.draws.resize(1);
+  f.draws[0].gaps = 0;
+  f.new_meshes.clear();
+  f.unrecorded_draws = 0;
+  const std::string v2 = encodeFramePayload(f);
+  // ... u8 gaps, u64 deformed count (0), u32 unrecorded_draws, u32 mesh count (0).
+  std::string v1 = v2;
+  v1.erase(v1.size() - 8, 4);
+  v1.erase(v1.size() - 1 - 8 - 4, 1);
+  CaptureFrame read;
+  decodeFramePayload(v1.data(), v1.size(), read, 1);
+  expectFrameEq(read, f);
+  EXPECT_THROW(decodeFramePayload(v1.data(), v1.size(), read, 2), std::runtime_error) << "not a version 2 payload";
+}
+
 TEST(CaptureStream, PayloadDecoderRejectsEveryTruncation) {
   const std::string payload = encodeFramePayload(makeFrame(2, 8, 4));
   for (size_t cut = 0; cut < payload.size(); ++cut)
@@ -126,9 +144,9 @@ TEST(CaptureStream, RejectsNewerVersionBadMagicAndDamagedHeader) {
   const std::string good = test::readBytes(tmp.path);
 
   std::string newer = good;
-  newer[8] = 2;  // version field, little-endian u32 at byte 8
+  newer[8] = 3;  // version field, little-endian u32 at byte 8
   test::writeBytes(tmp.path, newer);
-  expectHeaderError(tmp.path, "version 2");
+  expectHeaderError(tmp.path, "version 3 (this reader reads versions 1 to 2)");
 
   std::string magic = good;
   magic[0] = 'X';
@@ -220,6 +238,12 @@ TEST(ValidateFrame, RejectsWrongImageSizes) {
   f = makeFrame(1);
   f.height = 47;
   expectInvalid(f, "expected");
+}
+
+TEST(ValidateFrame, RejectsUnknownGapBits) {
+  CaptureFrame f = makeFrame(2);
+  f.draws[1].gaps = 0x80;
+  EXPECT_NE(validateFrame(f).find("draw 1 has unknown gap bits 128"), std::string::npos) << validateFrame(f);
 }
 
 TEST(ValidateFrame, RejectsNonSequentialDrawIndices) {

@@ -61,11 +61,13 @@ inline CaptureFrame makeFrame(uint64_t number, uint32_t w = 64, uint32_t h = 48)
     d.primitive_count = 12 * (i + 1);
     d.visible_pixels = uint32_t(i * 100 + number);
     if (i == 2) {
+      d.gaps = number % 2 ? kGapNoMesh | kGapMatrixMissing : kGapNoIds;
       for (int v = 0; v < 8; ++v) d.deformed_clip_xyzw.insert(d.deformed_clip_xyzw.end(),
                                                              {0.1f * v, -0.2f * v + number, 0.5f, 1.0f + v});
     }
     f.draws.push_back(d);
   }
+  f.unrecorded_draws = uint32_t(number % 3);
   if (number % 2 == 0) {
     MeshRecord m;
     m.key = 0x1000 + number;
@@ -90,6 +92,7 @@ inline void expectDrawEq(const DrawRecord& a, const DrawRecord& b) {
   EXPECT_EQ(a.primitive_mode, b.primitive_mode);
   EXPECT_EQ(a.primitive_count, b.primitive_count);
   EXPECT_EQ(a.visible_pixels, b.visible_pixels);
+  EXPECT_EQ(a.gaps, b.gaps);
   EXPECT_EQ(a.deformed_clip_xyzw, b.deformed_clip_xyzw);
 }
 
@@ -106,6 +109,7 @@ inline void expectFrameEq(const CaptureFrame& a, const CaptureFrame& b) {
   EXPECT_TRUE(a.primitive_ids == b.primitive_ids) << "primitive_ids differs, frame " << a.number;
   ASSERT_EQ(a.draws.size(), b.draws.size());
   for (size_t i = 0; i < a.draws.size(); ++i) expectDrawEq(a.draws[i], b.draws[i]);
+  EXPECT_EQ(a.unrecorded_draws, b.unrecorded_draws);
   ASSERT_EQ(a.new_meshes.size(), b.new_meshes.size());
   for (size_t i = 0; i < a.new_meshes.size(); ++i) {
     EXPECT_EQ(a.new_meshes[i].key, b.new_meshes[i].key);

@@ -20,6 +20,17 @@ enum MatrixFlags : uint8_t {
   kHasProjection = 1u << 2,
 };
 
+/// What the capture layer could not record of a draw (DrawRecord::gaps); 0: nothing missing.
+enum DrawGaps : uint8_t {
+  /// The program's fragment shader was not rewritten (refused, or the rewrite did not compile):
+  /// the draw wrote no ids, so its pixels keep the id of what was drawn there before.
+  kGapNoIds = 1u << 0,
+  /// A matrix the capture profile names for the program could not be read at this draw.
+  kGapMatrixMissing = 1u << 1,
+  /// No mesh: positions not extracted (not GL_TRIANGLES, not float, or not readable).
+  kGapNoMesh = 1u << 2,
+};
+
 /// One draw call of a frame, as the interceptor recorded it.
 struct DrawRecord {
   /// Index of the draw call within its frame (0-based). The id image stores index + 1.
@@ -43,6 +54,8 @@ struct DrawRecord {
   uint32_t primitive_count = 0;
   /// Number of pixels of the final id image that this draw owns (0 = left no visible pixel).
   uint32_t visible_pixels = 0;
+  /// DrawGaps bits: what the layer could not record of this draw (format version 2; 0 in 1).
+  uint8_t gaps = 0;
   /// For draws whose vertex shader deforms vertices: clip-space position (x, y, z, w) of every
   /// vertex of the mesh after the vertex shader, indexed like the mesh's vertices. Empty if rigid.
   std::vector<float> deformed_clip_xyzw;
@@ -76,6 +89,11 @@ struct CaptureFrame {
   /// Per pixel: primitive (triangle) index within that draw; meaningless where draw_ids is 0.
   std::vector<uint32_t> primitive_ids;
   std::vector<DrawRecord> draws;
+  /// Draws into the scene that the layer could not record at all (no program: fixed-function;
+  /// a multi or indirect draw whose shaders read gl_DrawID). Not counted: the profile's overlay
+  /// draws and draws after the scene ended (depth_clear_ends_scene), which are left out by design.
+  /// Format version 2; 0 when read from version 1.
+  uint32_t unrecorded_draws = 0;
   /// Meshes first seen in this frame (the mesh store is the union over all earlier frames).
   std::vector<MeshRecord> new_meshes;
 

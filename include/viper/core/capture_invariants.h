@@ -66,4 +66,13 @@ FlowConsistencyCheck checkFlowPair(const CaptureFrame& a, const CaptureFrame& b,
 /// The q-quantile (0..1) of `values` without its NaNs (a copy is partially sorted); NaN when none is left.
 float quantile(std::vector<float> values, double q);
 
+/// What the capture layer reported it could not record, summed over frames: draws with each
+/// DrawGaps bit (and the pixels they own), and CaptureFrame::unrecorded_draws.
+struct CaptureGaps {
+  uint64_t draws = 0, unrecorded_draws = 0;
+  uint64_t no_ids = 0, matrix_missing = 0, no_mesh = 0;
+  uint64_t matrix_missing_pixels = 0, no_mesh_pixels = 0;
+  void add(const CaptureFrame& frame);
+};
+
 }  // namespace viper

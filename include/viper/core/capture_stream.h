@@ -13,7 +13,9 @@
 namespace viper {
 
 /// Current stream format version written by CaptureWriter.
-constexpr uint32_t kCaptureFormatVersion = 1;
+constexpr uint32_t kCaptureFormatVersion = 2;
+/// Oldest format version CaptureReader still reads (version 1 frames have no gaps).
+constexpr uint32_t kOldestReadableCaptureFormatVersion = 1;
 
 /// Thrown for any unreadable part of a stream. what() names the file, the frame number (if known)
 /// and the byte offset of the damaged chunk: "<file>: offset <offset>: <what>".
@@ -48,7 +50,8 @@ CaptureFrame decodeFramePayload(const std::string& payload);
 /// Same, from `size` bytes at `data` into `frame` (reusing the capacity of its vectors).
 /// Bounds-checked: never reads outside [data, data + size) and never allocates more than the
 /// payload can hold. Throws std::runtime_error naming the field and byte position on bad input.
-void decodeFramePayload(const char* data, size_t size, CaptureFrame& frame);
+void decodeFramePayload(const char* data, size_t size, CaptureFrame& frame,
+                        uint32_t version = kCaptureFormatVersion);
 
 /// Writes a stream. Each frame is flushed as one whole chunk so a follower never sees a frame
 /// without its checksum. Not thread-safe.

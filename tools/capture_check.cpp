@@ -27,7 +27,8 @@ int usage() {
                "  numbered below N.\n"
                "  --flow: also the flow of each pair of consecutive frames both ways (viper::computeFlow, draws\n"
                "  associated by mesh and placement): forward-backward endpoint error and the photometric error\n"
-               "  of warping the next frame by the flow, against no motion.\n"
+               "  of warping the next frame by the flow, against no motion; and static surfaces (same mesh,\n"
+               "  same world) against the flow the camera's own motion gives from depth (viper::checkStaticFlow).\n"
                "  --labels: also the instances pipeline with that label table: share of id pixels with a class,\n"
                "  and per thing class its tracks (how many, frames each: ids stable over time); --resume-tracks:\n"
                "  the tracker's resume_by_resources (an object back after a long gap takes up its own id).\n";
@@ -143,6 +144,7 @@ int main(int argc, char** argv) {
   viper::ReprojectionCheck all;
   viper::CaptureGaps gaps;
   viper::FlowConsistencyCheck flow_all;
+  viper::StaticFlowCheck static_all;
   uint64_t pairs = 0;
   std::unique_ptr<FlowInput> previous;
   std::unique_ptr<viper::InstancePipeline> pipeline;
@@ -178,13 +180,14 @@ int main(int argc, char** argv) {
         if (previous && previous->frame.number + 1 == frame.number) {
           const viper::CaptureFrame& a = previous->frame;
           const viper::CaptureFrame& b = current->frame;
-          const viper::FlowField fwd = viper::computeFlow(
-              a, b, viper::associateDraws(a, previous->object_ids, b, current->object_ids), current->depth_m, meshes);
+          const std::vector<int32_t> a_to_b = viper::associateDraws(a, previous->object_ids, b, current->object_ids);
+          const viper::FlowField fwd = viper::computeFlow(a, b, a_to_b, current->depth_m, meshes);
           const viper::FlowField bwd = viper::computeFlow(
               b, a, viper::associateDraws(b, current->object_ids, a, previous->object_ids), previous->depth_m, meshes);
           const viper::FlowConsistencyCheck fc = viper::checkFlowPair(a, b, fwd, bwd);
           if (per_frame) printFlow(fc, 1);
           flow_all.add(fc);
+          static_all.add(viper::checkStaticFlow(a, b, a_to_b, fwd));
           ++pairs;
         }
         previous = std::move(current);
@@ -198,7 +201,12 @@ int main(int argc, char** argv) {
   }
   print(("all " + std::to_string(checked_frames) + " frames:").c_str(), all);
   printGaps(gaps);
-  if (flow) printFlow(flow_all, pairs);
+  if (flow) {
+    printFlow(flow_all, pairs);
+    std::printf("static surfaces (%.1f%% of id pixels) against the camera's own motion: median %.2e p99 %.2e px\n",
+                100.0 * static_all.static_pixels / (flow_all.id_pixels ? flow_all.id_pixels : 1),
+                viper::quantile(static_all.error_px, 0.5), viper::quantile(static_all.error_px, 0.99));
+  }
   if (pipeline) tracks.print(checked_frames);
   return status;
 }

@@ -246,6 +246,59 @@ float quantile(std::vector<float> values, double q) {
   return values[k];
 }
 
+void StaticFlowCheck::add(const StaticFlowCheck& o) {
+  error_px.insert(error_px.end(), o.error_px.begin(), o.error_px.end());
+  static_pixels += o.static_pixels;
+}
+
+StaticFlowCheck checkStaticFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
+                                const FlowField& forward) {
+  StaticFlowCheck c;
+  const uint32_t W = a.width, H = a.height;
+  const size_t n = static_cast<size_t>(W) * H;
+  if (forward.width != W || forward.height != H || forward.uv.size() != 2 * n || a.draw_ids.size() != n ||
+      a.depth_window.size() != n || a_to_b.size() != a.draws.size())
+    return c;
+  // Per draw of a: a's inverse view-projection and b's view-projection, when the draw is static.
+  constexpr uint8_t kCamera = kHasView | kHasProjection;
+  std::vector<Eigen::Matrix4d> unproject(a.draws.size()), project(a.draws.size());
+  std::vector<bool> is_static(a.draws.size(), false);
+  for (size_t i = 0; i < a.draws.size(); ++i) {
+    const DrawRecord& da = a.draws[i];
+    const int32_t j = a_to_b[i];
+    if (j < 0 || static_cast<size_t>(j) >= b.draws.size()) continue;
+    const DrawRecord& db = b.draws[static_cast<size_t>(j)];
+    if (!da.deformed_clip_xyzw.empty() || !db.deformed_clip_xyzw.empty() || da.mesh_key != db.mesh_key ||
+        !(da.matrix_flags & kHasWorld) || !(db.matrix_flags & kHasWorld) || da.world != db.world ||
+        (da.matrix_flags & kCamera) != kCamera || (db.matrix_flags & kCamera) != kCamera)
+      continue;
+    const Eigen::Matrix4d va = (da.projection.cast<double>() * da.view.cast<double>());
+    if (std::abs(va.determinant()) < 1e-300) continue;
+    unproject[i] = va.inverse();
+    project[i] = db.projection.cast<double>() * db.view.cast<double>();
+    is_static[i] = true;
+  }
+  for (uint32_t row = 0; row < H; ++row)
+    for (uint32_t col = 0; col < W; ++col) {
+      const size_t px = static_cast<size_t>(row) * W + col;
+      const uint32_t id = a.draw_ids[px];
+      if (id == 0 || id > a.draws.size() || !is_static[id - 1]) continue;
+      ++c.static_pixels;
+      const float u = forward.uv[2 * px], v = forward.uv[2 * px + 1];
+      if (std::isnan(u) || std::isnan(v)) continue;
+      // Pixel centre in normalised device coordinates (rows are top first, NDC y up).
+      const Eigen::Vector4d ndc((col + 0.5) / W * 2.0 - 1.0, 1.0 - (row + 0.5) / H * 2.0,
+                                2.0 * a.depth_window[px] - 1.0, 1.0);
+      const Eigen::Vector4d world = unproject[id - 1] * ndc;
+      const Eigen::Vector4d clip = project[id - 1] * (world / world.w());
+      if (clip.w() <= 0.0) continue;
+      const double xb = (clip.x() / clip.w() + 1.0) / 2.0 * W, yb = (1.0 - clip.y() / clip.w()) / 2.0 * H;
+      const double eu = xb - (col + 0.5), ev = yb - (row + 0.5);
+      c.error_px.push_back(static_cast<float>(std::hypot(u - eu, v - ev)));
+    }
+  return c;
+}
+
 void CaptureGaps::add(const CaptureFrame& f) {
   draws += f.draws.size();
   unrecorded_draws += f.unrecorded_draws;

@@ -26,10 +26,12 @@ inline void readCapture(const std::string& path, std::vector<CaptureFrame>& fram
 }
 
 /// Forward and backward flow of each pair of consecutive frames (draws associated by draw order
-/// and content, no tracking), checked against each other and against the next frame's colors.
+/// and content, no tracking), checked against each other, against the next frame's colors, and
+/// (static surfaces) against the camera's own motion.
 /// Frames without a camera are reported in `problem`.
 struct FlowSequenceCheck {
   FlowConsistencyCheck flow;
+  StaticFlowCheck statics;  ///< forward flow of static surfaces against the camera's own motion
   std::string problem;
   /// Share of checked pixels whose forward-backward distance is at most 0.5 px.
   double withinHalfPixel() const {
@@ -43,6 +45,9 @@ struct FlowSequenceCheck {
                 100.0 * flow.flow_pixels / std::max<uint64_t>(flow.id_pixels, 1), quantile(flow.forward_backward_px, 0.5),
                 quantile(flow.forward_backward_px, 0.99), 100.0 * withinHalfPixel(), flow.photometricFlow(),
                 flow.photometricZero());
+    std::printf("static surfaces (%.1f%% of id pixels) against the ego flow: median %.2e p99 %.2e px\n",
+                100.0 * statics.static_pixels / std::max<uint64_t>(flow.id_pixels, 1), quantile(statics.error_px, 0.5),
+                quantile(statics.error_px, 0.99));
   }
 };
 
@@ -57,9 +62,11 @@ inline FlowSequenceCheck checkFlowSequence(const std::vector<CaptureFrame>& fram
       c.problem = "frame " + std::to_string(a.number) + " or the next: no camera";
       return c;
     }
-    const FlowField fwd = computeFlow(a, b, associateDraws(a, none_a, b, none_b), depthMetres(b, &*cb), meshes);
+    const std::vector<int32_t> a_to_b = associateDraws(a, none_a, b, none_b);
+    const FlowField fwd = computeFlow(a, b, a_to_b, depthMetres(b, &*cb), meshes);
     const FlowField bwd = computeFlow(b, a, associateDraws(b, none_b, a, none_a), depthMetres(a, &*ca), meshes);
     c.flow.add(checkFlowPair(a, b, fwd, bwd));
+    c.statics.add(checkStaticFlow(a, b, a_to_b, fwd));
   }
   return c;
 }

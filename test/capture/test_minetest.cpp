@@ -117,4 +117,8 @@ TEST(Minetest, FlowIsConsistentBothWaysAndWithTheNextImage) {
   // where the backward flow is sampled from the neighbouring surface.
   EXPECT_GE(c.withinHalfPixel(), 0.97);  // 98.3-100 % over seven runs
   EXPECT_LT(flow.photometricFlow(), 0.5 * flow.photometricZero());
+  // Static surfaces (the same mesh at the same place in both frames) move as the camera does.
+  EXPECT_GE(c.statics.static_pixels, flow.id_pixels / 2);
+  EXPECT_LE(viper::quantile(c.statics.error_px, 0.5), 1e-3f);
+  EXPECT_LE(viper::quantile(c.statics.error_px, 0.99), 1e-2f);
 }

@@ -178,6 +178,10 @@ TEST(SuperTuxKart, ForwardPipelineGroundTruthHoldsAgainstItself) {
   EXPECT_LE(viper::quantile(flow.forward_backward_px, 0.5), 0.01f);
   EXPECT_GE(flow_check.withinHalfPixel(), 0.99);
   EXPECT_LT(flow.photometricFlow(), 0.5 * flow.photometricZero());
+  // Static surfaces (the same mesh at the same place in both frames) move as the camera does.
+  EXPECT_GE(flow_check.statics.static_pixels, flow.id_pixels / 2);
+  EXPECT_LE(viper::quantile(flow_check.statics.error_px, 0.5), 1e-3f);
+  EXPECT_LE(viper::quantile(flow_check.statics.error_px, 0.99), 1e-2f);
 
   // The shipped label table (made from another, longer capture at another size) labels this one:
   // resource keys are the game's content, whatever the run. The followed kart keeps one track.

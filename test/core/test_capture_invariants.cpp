@@ -170,3 +170,30 @@ TEST(CaptureInvariants, InconsistentFlowShows) {
   EXPECT_GT(c.photometricFlow(), 5.0);
   EXPECT_NEAR(viper::quantile(c.forward_backward_px, 0.5), 1.0f, 1e-5f);
 }
+
+TEST(CaptureInvariants, StaticSurfacesMoveAsTheCameraDoes) {
+  // The quad stays; the camera moves 0.2 to the right between a and b, so every pixel of the quad
+  // moves left by P00 * 0.2 / kDistance in NDC. A flow that says so agrees with the ego flow.
+  QuadScene sa, sb;
+  sb.frame.draws[0].view(0, 3) = -0.2f;
+  const float shift_px = -sa.frame.draws[0].projection(0, 0) * 0.2f / kDistance * kW / 2;
+  viper::FlowField fwd;
+  fwd.width = kW, fwd.height = kH;
+  fwd.uv.assign(kW * kH * 2, NAN);
+  fwd.visible.assign(kW * kH, 255);
+  for (size_t i = 0; i < kW * kH; ++i)
+    if (sa.frame.draw_ids[i]) fwd.uv[2 * i] = shift_px, fwd.uv[2 * i + 1] = 0.0f;
+  viper::StaticFlowCheck c = viper::checkStaticFlow(sa.frame, sb.frame, {0}, fwd);
+  ASSERT_GT(c.static_pixels, 100u);
+  EXPECT_EQ(c.error_px.size(), c.static_pixels);
+  EXPECT_LT(viper::quantile(c.error_px, 1.0), 1e-3f);
+  // A flow half a pixel off shows; so does a draw that moved (not static: not checked).
+  for (size_t i = 0; i < kW * kH; ++i)
+    if (sa.frame.draw_ids[i]) fwd.uv[2 * i] += 0.5f;
+  c = viper::checkStaticFlow(sa.frame, sb.frame, {0}, fwd);
+  EXPECT_NEAR(viper::quantile(c.error_px, 0.5), 0.5f, 1e-3f);
+  sb.frame.draws[0].world(1, 3) = 0.1f;
+  c = viper::checkStaticFlow(sa.frame, sb.frame, {0}, fwd);
+  EXPECT_EQ(c.static_pixels, 0u);
+  EXPECT_TRUE(viper::checkStaticFlow(sa.frame, sb.frame, {-1}, fwd).error_px.empty()) << "no association";
+}

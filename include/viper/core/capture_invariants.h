@@ -63,6 +63,24 @@ struct FlowConsistencyCheck {
 FlowConsistencyCheck checkFlowPair(const CaptureFrame& a, const CaptureFrame& b, const FlowField& forward,
                                    const FlowField& backward);
 
+/// What checkStaticFlow() found for one pair of frames (or, added up, for several).
+struct StaticFlowCheck {
+  /// Per pixel of a static surface with forward flow: |flow - ego flow| in pixels.
+  std::vector<float> error_px;
+  uint64_t static_pixels = 0;  ///< pixels of a whose draw is static (with or without flow)
+  void add(const StaticFlowCheck& other);
+};
+
+/// Checks the flow a -> b of static surfaces against the camera's own motion. A draw of a is static
+/// when it is rigid (no deformed vertices) and `a_to_b` associates it with a draw of b that has
+/// the same mesh and the same world matrix; both must carry view and projection. For each of its
+/// pixels with forward flow, the point at the pixel's centre and depth (a's depth image,
+/// unprojected with the draw's projection and view in a) is projected with the b draw's view and
+/// projection: that displacement (the ego flow) is what the flow must be. Independent of the
+/// meshes the flow was computed from; it checks them against the depth image.
+StaticFlowCheck checkStaticFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
+                                const FlowField& forward);
+
 /// The q-quantile (0..1) of `values` without its NaNs (a copy is partially sorted); NaN when none is left.
 float quantile(std::vector<float> values, double q);
 

@@ -30,7 +30,8 @@ int usage() {
                "  of warping the next frame by the flow, against no motion; and static surfaces (same mesh,\n"
                "  same world) against the flow the camera's own motion gives from depth (viper::checkStaticFlow).\n"
                "  --labels: also the instances pipeline with that label table: share of id pixels with a class,\n"
-               "  and per thing class its tracks (how many, frames each: ids stable over time); --resume-tracks:\n"
+               "  per thing class its tracks (how many, frames each: ids stable over time), and every object's\n"
+               "  pixels (their depth) against its 3D box (viper::checkBoxes); --resume-tracks:\n"
                "  the tracker's resume_by_resources (an object back after a long gap takes up its own id).\n";
   return 2;
 }
@@ -143,6 +144,7 @@ int main(int argc, char** argv) {
   viper::MeshRegistry meshes;
   viper::ReprojectionCheck all;
   viper::CaptureGaps gaps;
+  viper::BoxCheck boxes;
   viper::FlowConsistencyCheck flow_all;
   viper::StaticFlowCheck static_all;
   uint64_t pairs = 0;
@@ -170,6 +172,9 @@ int main(int argc, char** argv) {
       if (pipeline) {
         pipeline->process(frame, truth);
         tracks.add(frame, truth);
+        std::vector<viper::FrameObject> objects;
+        for (const viper::TrackedObject& o : truth.objects) objects.push_back(o.object);
+        boxes.add(viper::checkBoxes(frame, objects, meshes));
       }
       const viper::ReprojectionCheck c = viper::checkReprojection(frame, meshes);
       if (per_frame) print(("frame " + std::to_string(frame.number) + ":").c_str(), c);
@@ -207,6 +212,13 @@ int main(int argc, char** argv) {
                 100.0 * static_all.static_pixels / (flow_all.id_pixels ? flow_all.id_pixels : 1),
                 viper::quantile(static_all.error_px, 0.5), viper::quantile(static_all.error_px, 0.99));
   }
-  if (pipeline) tracks.print(checked_frames);
+  if (pipeline) {
+    tracks.print(checked_frames);
+    std::printf("boxes: %llu object-frames; of their %llu pixels' points (depth), outside their box by (relative to "
+                "distance) p99 %.2e p99.9 %.2e max %.2e\n",
+                static_cast<unsigned long long>(boxes.objects), static_cast<unsigned long long>(boxes.pixels),
+                viper::quantile(boxes.outside_relative, 0.99), viper::quantile(boxes.outside_relative, 0.999),
+                viper::quantile(boxes.outside_relative, 1.0));
+  }
   return status;
 }

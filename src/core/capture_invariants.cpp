@@ -299,6 +299,67 @@ StaticFlowCheck checkStaticFlow(const CaptureFrame& a, const CaptureFrame& b, co
   return c;
 }
 
+void BoxCheck::add(const BoxCheck& o) {
+  objects += o.objects;
+  pixels += o.pixels;
+  outside_relative.insert(outside_relative.end(), o.outside_relative.begin(), o.outside_relative.end());
+}
+
+BoxCheck checkBoxes(const CaptureFrame& frame, const std::vector<FrameObject>& objects, const MeshRegistry& meshes) {
+  BoxCheck c;
+  const uint32_t W = frame.width, H = frame.height;
+  const size_t n = static_cast<size_t>(W) * H;
+  if (frame.draw_ids.size() != n || frame.depth_window.size() != n) return c;
+  // Per draw: its object's box (index into boxes), and its inverse projection * view.
+  std::vector<int32_t> box_of(frame.draws.size(), -1);
+  std::vector<OrientedBox> boxes;
+  for (const FrameObject& o : objects) {
+    if (o.pixel_count == 0) continue;
+    BoxStatus status = BoxStatus::kOk;
+    const OrientedBox box = objectBox(frame, o, meshes, &status);
+    if (status != BoxStatus::kOk) continue;
+    for (uint32_t d : o.draws)
+      if (d < frame.draws.size()) box_of[d] = static_cast<int32_t>(boxes.size());
+    boxes.push_back(box);
+    ++c.objects;
+  }
+  constexpr uint8_t kCamera = kHasView | kHasProjection;
+  std::vector<Eigen::Matrix4d> unproject(frame.draws.size());
+  std::vector<Eigen::Matrix4d> view(frame.draws.size());
+  for (size_t i = 0; i < frame.draws.size(); ++i) {
+    const DrawRecord& d = frame.draws[i];
+    if (box_of[i] < 0 || (d.matrix_flags & kCamera) != kCamera) {
+      box_of[i] = -1;
+      continue;
+    }
+    const Eigen::Matrix4d pv = d.projection.cast<double>() * d.view.cast<double>();
+    if (std::abs(pv.determinant()) < 1e-300) {
+      box_of[i] = -1;
+      continue;
+    }
+    unproject[i] = pv.inverse();
+    view[i] = d.view.cast<double>();
+  }
+  for (uint32_t row = 0; row < H; ++row)
+    for (uint32_t col = 0; col < W; ++col) {
+      const size_t px = static_cast<size_t>(row) * W + col;
+      const uint32_t id = frame.draw_ids[px];
+      if (id == 0 || id > frame.draws.size() || box_of[id - 1] < 0 || frame.depth_window[px] >= 1.0f) continue;
+      const Eigen::Vector4d ndc((col + 0.5) / W * 2.0 - 1.0, 1.0 - (row + 0.5) / H * 2.0,
+                                2.0 * frame.depth_window[px] - 1.0, 1.0);
+      Eigen::Vector4d world = unproject[id - 1] * ndc;
+      if (world.w() == 0.0) continue;
+      world /= world.w();
+      const double distance = (view[id - 1] * world).head<3>().norm();
+      const OrientedBox& box = boxes[static_cast<size_t>(box_of[id - 1])];
+      const Eigen::Vector3d local = box.orientation.conjugate() * (world.head<3>() - box.center);
+      const Eigen::Vector3d outside = (local.cwiseAbs() - box.size / 2).cwiseMax(0.0);
+      ++c.pixels;
+      c.outside_relative.push_back(distance > 0.0 ? static_cast<float>(outside.norm() / distance) : 0.0f);
+    }
+  return c;
+}
+
 void CaptureGaps::add(const CaptureFrame& f) {
   draws += f.draws.size();
   unrecorded_draws += f.unrecorded_draws;

@@ -6,6 +6,7 @@
 // and flow forward-backward and photometric consistency. The player walks with --random-input.
 #include "capture_checks.h"
 #include "../common/process_util.h"
+#include "viper/core/instance_pipeline.h"
 
 #include <gtest/gtest.h>
 
@@ -71,6 +72,8 @@ TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
   ASSERT_EQ(r.rc, 0) << "the game under capture failed: " << r.log;
   ASSERT_EQ(r.frames.size(), size_t(kFrames));
   viper::ReprojectionCheck all;
+  viper::BoxCheck boxes;
+  viper::InstancePipeline pipeline{viper::LabelTable()};  // no labels: every object of class 0
   size_t draws_with_pixels = 0;
   for (const CaptureFrame& f : r.frames) {
     SCOPED_TRACE("frame " + std::to_string(f.number));
@@ -85,6 +88,9 @@ TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
     }
     EXPECT_EQ(views.size(), 1u) << "one camera: every draw's world split from the same view";
     all.add(viper::checkReprojection(f, r.meshes));
+    std::vector<viper::FrameObject> objects;
+    for (const viper::TrackedObject& o : pipeline.process(f).objects) objects.push_back(o.object);
+    boxes.add(viper::checkBoxes(f, objects, r.meshes));
   }
   std::printf("reprojection: %zu draws with pixels; id %.2f%% of scene pixels, placed %.2f%%, checked %llu, "
               "distance <= 0.5 px %.4f%%, depth rel. median %.2e p99 %.2e\n",
@@ -93,7 +99,15 @@ TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
               100.0 * std::count_if(all.distance_px.begin(), all.distance_px.end(), [](float d) { return d <= 0.5f; }) /
                   all.distance_px.size(),
               viper::quantile(all.depth_relative, 0.5), viper::quantile(all.depth_relative, 0.99));
+  std::printf("boxes: %llu objects, %llu pixels, outside their box by (relative to distance) median %.2e p99 %.2e "
+              "p99.9 %.2e max %.2e\n",
+              static_cast<unsigned long long>(boxes.objects), static_cast<unsigned long long>(boxes.pixels),
+              viper::quantile(boxes.outside_relative, 0.5), viper::quantile(boxes.outside_relative, 0.99),
+              viper::quantile(boxes.outside_relative, 0.999), viper::quantile(boxes.outside_relative, 1.0));
   EXPECT_GE(draws_with_pixels, size_t(kFrames) * 5);
+  // Every object's pixels (their depth) lie in its box (from its meshes): up to depth precision.
+  EXPECT_GE(boxes.pixels, all.placed_pixels * 9 / 10);
+  EXPECT_LE(viper::quantile(boxes.outside_relative, 0.999), 1e-4f);
   EXPECT_GE(all.id_pixels, 0.97 * all.scene_pixels) << "scene pixels with a draw id";
   EXPECT_GE(all.placed_pixels, 0.9 * all.scene_pixels) << "scene pixels whose draw has a mesh and its matrices";
   EXPECT_LE(viper::quantile(all.distance_px, 0.999), 0.5f) << "id pixels off their projected triangle";

@@ -188,8 +188,12 @@ TEST(SuperTuxKart, ForwardPipelineGroundTruthHoldsAgainstItself) {
   viper::InstancePipeline pipeline(viper::LabelTable::load(VIPER_STK_LABELS));
   uint64_t id_pixels = 0, labelled = 0;
   std::map<int32_t, size_t> car_frames;
+  viper::BoxCheck boxes;
   for (const CaptureFrame& f : r.frames) {
     const viper::InstanceFrame g = pipeline.process(f);
+    std::vector<viper::FrameObject> objects;
+    for (const viper::TrackedObject& o : g.objects) objects.push_back(o.object);
+    boxes.add(viper::checkBoxes(f, objects, r.meshes));
     for (size_t i = 0; i < f.draw_ids.size(); ++i)
       if (f.draw_ids[i]) ++id_pixels, labelled += g.semantic[i] != 0;
     for (const viper::TrackedObject& o : g.objects)
@@ -201,6 +205,14 @@ TEST(SuperTuxKart, ForwardPipelineGroundTruthHoldsAgainstItself) {
               100.0 * labelled / id_pixels, car_frames.size(), longest, r.frames.size());
   EXPECT_GE(labelled, 0.99 * id_pixels);
   EXPECT_EQ(longest, r.frames.size()) << "the kart the camera follows keeps its id in every frame";
+  // Every object's pixels (their depth) lie in its box (from its meshes, parts attached).
+  std::printf("boxes: %llu objects, %llu pixels, outside their box by (relative to distance) median %.2e p99 %.2e "
+              "p99.9 %.2e max %.2e\n",
+              static_cast<unsigned long long>(boxes.objects), static_cast<unsigned long long>(boxes.pixels),
+              viper::quantile(boxes.outside_relative, 0.5), viper::quantile(boxes.outside_relative, 0.99),
+              viper::quantile(boxes.outside_relative, 0.999), viper::quantile(boxes.outside_relative, 1.0));
+  EXPECT_GE(boxes.pixels, id_pixels / 2);
+  EXPECT_LE(viper::quantile(boxes.outside_relative, 0.999), 1e-4f);
 
   // The capture's color is the scene without the HUD: mostly the game's image, but not all of it.
   const cv::Mat last = cv::imread(r.captured.back());

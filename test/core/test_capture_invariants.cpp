@@ -197,3 +197,23 @@ TEST(CaptureInvariants, StaticSurfacesMoveAsTheCameraDoes) {
   EXPECT_EQ(c.static_pixels, 0u);
   EXPECT_TRUE(viper::checkStaticFlow(sa.frame, sb.frame, {-1}, fwd).error_px.empty()) << "no association";
 }
+
+TEST(CaptureInvariants, PixelsOfAnObjectLieInItsBox) {
+  QuadScene s;
+  viper::FrameObject o;
+  o.draws = {0};
+  o.world = s.frame.draws[0].world;
+  o.pixel_count = 1;
+  const viper::BoxCheck c = viper::checkBoxes(s.frame, {o}, s.meshes);
+  EXPECT_EQ(c.objects, 1u);
+  ASSERT_GT(c.pixels, 100u);
+  EXPECT_LT(viper::quantile(c.outside_relative, 1.0), 1e-5f) << "the quad's points on its (flat) box";
+  // A box made from half the mesh leaves most of the quad's points outside it.
+  viper::MeshRecord half = *s.meshes.find(42);
+  for (float& v : half.positions_xyz) v *= 0.5f;
+  s.meshes.add(half);
+  const viper::BoxCheck d = viper::checkBoxes(s.frame, {o}, s.meshes);
+  EXPECT_GT(viper::quantile(d.outside_relative, 0.5), 0.01f);
+  o.pixel_count = 0;
+  EXPECT_EQ(viper::checkBoxes(s.frame, {o}, s.meshes).objects, 0u) << "objects without pixels are not checked";
+}

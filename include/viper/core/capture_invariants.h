@@ -9,6 +9,7 @@
 #include "viper/core/boxes.h"
 #include "viper/core/capture_frame.h"
 #include "viper/core/flow.h"
+#include "viper/core/objects.h"
 
 #include <cstdint>
 #include <vector>
@@ -80,6 +81,23 @@ struct StaticFlowCheck {
 /// meshes the flow was computed from; it checks them against the depth image.
 StaticFlowCheck checkStaticFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
                                 const FlowField& forward);
+
+/// What checkBoxes() found in one frame (or, added up, in several).
+struct BoxCheck {
+  uint64_t objects = 0;  ///< objects with a box and pixels
+  uint64_t pixels = 0;   ///< their pixels with depth and their draw's view and projection
+  /// Per such pixel: how far its point lies outside its object's box, relative to the point's
+  /// distance from the camera (0 inside).
+  std::vector<float> outside_relative;
+  void add(const BoxCheck& other);
+};
+
+/// Checks the objects' oriented boxes (objectBox: from the meshes and matrices) against the image:
+/// the point of every pixel of an object (its depth, unprojected with the projection and view of
+/// the draw that drew it) must lie inside the object's box. The depth image comes from the
+/// program's rasteriser, not from the meshes, so parts missing from a box, a wrong world matrix or
+/// wrongly attached parts show as points outside.
+BoxCheck checkBoxes(const CaptureFrame& frame, const std::vector<FrameObject>& objects, const MeshRegistry& meshes);
 
 /// The q-quantile (0..1) of `values` without its NaNs (a copy is partially sorted); NaN when none is left.
 float quantile(std::vector<float> values, double q);

@@ -1,6 +1,6 @@
 // Cost of writing and reading one 1920x1080 capture frame (color 6 MB, depth 8 MB, draw and
 // primitive ids 16 MB) next to a memcpy of the same bytes. Run: rosrun viper bench_capture_stream
-#include "viper/core/capture_stream.h"
+#include "viper/capture/capture_stream.h"
 
 #include <benchmark/benchmark.h>
 

@@ -3,7 +3,7 @@
 // instance AP with 30 predictions covering ~32 % of the frame, as box masks and as full-frame masks.
 // Synthetic, deterministic frames; shapes only.
 // Run: rosrun viper bench_evaluate --benchmark_repetitions=5
-#include "viper/core/evaluation.h"
+#include "viper/evaluation/evaluation.h"
 
 #include <benchmark/benchmark.h>
 

@@ -4,10 +4,10 @@
 // Run: rosrun viper bench_ground_truth
 #include "synthetic_frames.h"
 
-#include "viper/core/camera_model.h"
-#include "viper/core/capture_stream.h"
-#include "viper/core/flow.h"
-#include "viper/core/instance_pipeline.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/flow.h"
+#include "viper/ground_truth/instance_pipeline.h"
 
 #include <benchmark/benchmark.h>
 

@@ -5,7 +5,7 @@
 #include "viper/dataset/viper_flow.h"
 #include "viper/dataset/viper_layout.h"
 #include "viper/dataset/viper_sequence.h"
-#include "viper/ros/viper_bag_conversion.h"
+#include "viper/ros/dataset/viper_bag_conversion.h"
 
 #include <benchmark/benchmark.h>
 #include <rosbag/bag.h>

@@ -2,8 +2,8 @@
 // smooth depth, rigid motion between two frames. Shapes only; values are not ground truth.
 #pragma once
 
-#include "viper/core/capture_frame.h"
-#include "viper/core/label_table.h"
+#include "viper/capture/capture_frame.h"
+#include "viper/ground_truth/label_table.h"
 
 #include <Eigen/Geometry>
 

@@ -8,9 +8,9 @@ foreach(module opencv_video opencv_calib3d)
 endforeach()
 
 add_library(viper_baselines_ros
-  src/ros/flow_baseline.cpp
-  src/ros/vo_baseline.cpp
-  src/ros/baselines_nodelets.cpp
+  src/ros/baselines/flow_baseline.cpp
+  src/ros/baselines/vo_baseline.cpp
+  src/ros/baselines/baselines_nodelets.cpp
 )
 target_include_directories(viper_baselines_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_baselines_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})

@@ -3,19 +3,19 @@
 find_package(Threads REQUIRED)
 
 set(VIPER_INTERCEPT_SOURCES
-  capture/gl_real.cpp
-  capture/frame_target.cpp
-  capture/scene_fbo.cpp
-  capture/frame_sink.cpp
-  capture/finish_frame.cpp
-  capture/mesh_extract.cpp
-  capture/interceptor.cpp
-  capture/interceptor_resources.cpp
-  capture/interceptor_draw.cpp
-  capture/hooks_gl.cpp
-  capture/hooks_legacy.cpp
-  capture/matrix_stack.cpp
-  capture/hooks_winsys.cpp)
+  src/capture/layer/gl_real.cpp
+  src/capture/layer/frame_target.cpp
+  src/capture/layer/scene_fbo.cpp
+  src/capture/layer/frame_sink.cpp
+  src/capture/layer/finish_frame.cpp
+  src/capture/layer/mesh_extract.cpp
+  src/capture/layer/interceptor.cpp
+  src/capture/layer/interceptor_resources.cpp
+  src/capture/layer/interceptor_draw.cpp
+  src/capture/layer/hooks_gl.cpp
+  src/capture/layer/hooks_legacy.cpp
+  src/capture/layer/matrix_stack.cpp
+  src/capture/layer/hooks_winsys.cpp)
 add_library(viper_intercept SHARED ${VIPER_INTERCEPT_SOURCES})
 # Only the hooked GL/EGL/GLX entry points and dlsym are exported; GL and EGL are not linked
 # (the real functions are looked up at run time, past the interceptor's own symbols).
@@ -25,7 +25,7 @@ set_target_properties(viper_intercept PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 target_link_libraries(viper_intercept PRIVATE viper_core Threads::Threads ${CMAKE_DL_LIBS})
 
-add_executable(viper_capture capture/capture_main.cpp)
+add_executable(viper_capture src/capture/layer/capture_main.cpp)
 set_target_properties(viper_capture PROPERTIES
   OUTPUT_NAME capture
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
@@ -54,13 +54,13 @@ if(CATKIN_ENABLE_TESTING)
   target_include_directories(viper_gl_legacy_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
   target_link_libraries(viper_gl_legacy_program PRIVATE PkgConfig::EGL PkgConfig::GL)
 
-  catkin_add_gtest(test_capture_legacy test/capture/test_capture_legacy.cpp capture/matrix_stack.cpp
+  catkin_add_gtest(test_capture_legacy test/capture/test_capture_legacy.cpp src/capture/layer/matrix_stack.cpp
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   target_compile_definitions(test_capture_legacy PRIVATE
     VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
     VIPER_GL_LEGACY_PROGRAM="$<TARGET_FILE:viper_gl_legacy_program>"
     VIPER_LEGACY_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/legacy_profile.yaml")
-  target_include_directories(test_capture_legacy PRIVATE ${PROJECT_SOURCE_DIR}/capture)
+  target_include_directories(test_capture_legacy PRIVATE ${PROJECT_SOURCE_DIR}/src/capture/layer)
   target_link_libraries(test_capture_legacy viper_core gtest_main)
   add_dependencies(test_capture_legacy viper_capture viper_intercept viper_gl_legacy_program)
 
@@ -77,14 +77,14 @@ if(CATKIN_ENABLE_TESTING)
     target_link_libraries(test_shader_rewrite PkgConfig::EGL PkgConfig::GL)
   endif()
 
-  catkin_add_gtest(test_capture_mesh test/capture/test_capture_mesh.cpp capture/mesh_extract.cpp
-    capture/frame_sink.cpp capture/finish_frame.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_include_directories(test_capture_mesh PRIVATE ${PROJECT_SOURCE_DIR}/capture)
+  catkin_add_gtest(test_capture_mesh test/capture/test_capture_mesh.cpp src/capture/layer/mesh_extract.cpp
+    src/capture/layer/frame_sink.cpp src/capture/layer/finish_frame.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_include_directories(test_capture_mesh PRIVATE ${PROJECT_SOURCE_DIR}/src/capture/layer)
   target_link_libraries(test_capture_mesh viper_core Threads::Threads ${CMAKE_DL_LIBS})
 
-  catkin_add_gtest(test_finish_frame test/capture/test_finish_frame.cpp capture/finish_frame.cpp
+  catkin_add_gtest(test_finish_frame test/capture/test_finish_frame.cpp src/capture/layer/finish_frame.cpp
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_include_directories(test_finish_frame PRIVATE ${PROJECT_SOURCE_DIR}/capture)
+  target_include_directories(test_finish_frame PRIVATE ${PROJECT_SOURCE_DIR}/src/capture/layer)
   target_link_libraries(test_finish_frame viper_core)
 
   catkin_add_gtest(test_capture_run test/capture/test_capture_run.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

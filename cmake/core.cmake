@@ -1,5 +1,11 @@
-# viper_core: the ROS-free library (capture format, geometry, later ground truth and metrics).
-file(GLOB VIPER_CORE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/core/*.cpp)
+# viper_core: the ROS-free library, by stage: capture (format, shader rewrite, profile), ground truth
+# (objects, tracking, boxes, flow, camera, checks), evaluation (metrics, report; the plots, which
+# need OpenCV, are viper_report: evaluate.cmake).
+file(GLOB VIPER_CORE_SOURCES CONFIGURE_DEPENDS
+  ${PROJECT_SOURCE_DIR}/src/capture/*.cpp
+  ${PROJECT_SOURCE_DIR}/src/ground_truth/*.cpp
+  ${PROJECT_SOURCE_DIR}/src/evaluation/*.cpp)
+list(FILTER VIPER_CORE_SOURCES EXCLUDE REGEX "/src/evaluation/plots\\.cpp$")
 add_library(viper_core ${VIPER_CORE_SOURCES})
 target_include_directories(viper_core PUBLIC ${PROJECT_SOURCE_DIR}/include)
 # The per-pixel kernels rely on loop vectorisation, which GCC 12 does fully only at -O3.
@@ -13,10 +19,19 @@ install(TARGETS viper_core
 install(DIRECTORY include/viper/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  file(GLOB VIPER_CORE_TESTS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/test/core/test_*.cpp)
+  # Unit tests of the core, by stage (the stages' folders also hold tests that run programs:
+  # capture.cmake, flow_truth.cmake).
+  set(VIPER_CORE_TESTS
+    capture/test_capture_profile capture/test_capture_stream capture/test_capture_stream_damage
+    capture/test_resource_census capture/test_shader_rewrite
+    ground_truth/test_capture_invariants ground_truth/test_boxes ground_truth/test_camera_model
+    ground_truth/test_ego_motion ground_truth/test_flow ground_truth/test_instance_pipeline
+    ground_truth/test_objects_tracking ground_truth/test_oracle ground_truth/test_semantic_overlay
+    evaluation/test_eval_report evaluation/test_metrics_equivalence evaluation/test_metrics_instance_odometry
+    evaluation/test_metrics_semantic_flow)
   foreach(t ${VIPER_CORE_TESTS})
-    get_filename_component(name ${t} NAME_WE)
-    catkin_add_gtest(${name} ${t} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+    get_filename_component(name ${t} NAME)
+    catkin_add_gtest(${name} ${PROJECT_SOURCE_DIR}/test/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(${name} viper_core gtest_main)
   endforeach()
 endif()

@@ -1,10 +1,10 @@
 # The evaluate node + nodelet (scores perception topics against the ground truth) and its report.
-# Core: src/core/evaluation.cpp, src/core/eval_report.cpp (viper_core). docs/evaluate.md.
+# Core: src/evaluation/evaluation.cpp, src/evaluation/eval_report.cpp (viper_core). docs/evaluate.md.
 find_package(std_srvs REQUIRED)
 find_package(opencv_apps REQUIRED)  # opencv_apps/FlowArrayStamped (Debian: libopencv-apps-dev)
 
 # viper_report: the report's PNG figures (OpenCV), kept out of the core.
-add_library(viper_report src/report/plots.cpp)
+add_library(viper_report src/evaluation/plots.cpp)
 target_include_directories(viper_report PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_report SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
 target_link_libraries(viper_report PUBLIC viper_core opencv_core opencv_imgproc opencv_imgcodecs)
@@ -12,9 +12,9 @@ set_target_properties(viper_report PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 
 add_library(viper_evaluate_ros
-  src/ros/evaluate_inputs.cpp
-  src/ros/evaluate.cpp
-  src/ros/evaluate_nodelet.cpp
+  src/ros/evaluation/evaluate_inputs.cpp
+  src/ros/evaluation/evaluate.cpp
+  src/ros/evaluation/evaluate_nodelet.cpp
 )
 target_include_directories(viper_evaluate_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_evaluate_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}

@@ -1,8 +1,8 @@
 # viper_flow_ros: the flow node (dense optical flow, occlusion masks, correspondences service) and
-# its nodelet. Core: src/core/flow.cpp (viper_core).
+# its nodelet. Core: src/ground_truth/flow.cpp (viper_core).
 add_library(viper_flow_ros
-  src/ros/flow.cpp
-  src/ros/flow_nodelet.cpp
+  src/ros/ground_truth/flow.cpp
+  src/ros/ground_truth/flow_nodelet.cpp
 )
 target_include_directories(viper_flow_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_flow_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})

@@ -1,10 +1,10 @@
 # viper_ground_truth_ros: the ground-truth nodes (instances, boxes, odometry) and their nodelets.
 add_library(viper_ground_truth_ros
-  src/ros/ground_truth_conversions.cpp
-  src/ros/instances.cpp
-  src/ros/boxes.cpp
-  src/ros/odometry.cpp
-  src/ros/ground_truth_nodelets.cpp
+  src/ros/ground_truth/ground_truth_conversions.cpp
+  src/ros/ground_truth/instances.cpp
+  src/ros/ground_truth/boxes.cpp
+  src/ros/ground_truth/odometry.cpp
+  src/ros/ground_truth/ground_truth_nodelets.cpp
 )
 target_include_directories(viper_ground_truth_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_ground_truth_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})

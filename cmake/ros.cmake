@@ -3,15 +3,15 @@
 find_package(pluginlib REQUIRED)
 find_package(class_loader REQUIRED)
 add_library(viper_ros
-  src/ros/capture_conversions.cpp
-  src/ros/replay_timing.cpp
-  src/ros/capture_bridge_options.cpp
-  src/ros/capture_bridge.cpp
-  src/ros/capture_bridge_nodelet.cpp
-  src/ros/frame_counter_nodelet.cpp
-  src/ros/output_counter_nodelet.cpp
-  src/ros/bag_player.cpp
-  src/ros/bag_player_nodelet.cpp
+  src/ros/bridge/capture_conversions.cpp
+  src/ros/bridge/replay_timing.cpp
+  src/ros/bridge/capture_bridge_options.cpp
+  src/ros/bridge/capture_bridge.cpp
+  src/ros/bridge/capture_bridge_nodelet.cpp
+  src/ros/bridge/frame_counter_nodelet.cpp
+  src/ros/bridge/output_counter_nodelet.cpp
+  src/ros/bridge/bag_player.cpp
+  src/ros/bridge/bag_player_nodelet.cpp
 )
 target_include_directories(viper_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
@@ -46,6 +46,12 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_capture_conversions viper_ros)
   catkin_add_gtest(test_replay_timing test/ros/test_replay_timing.cpp)
   target_link_libraries(test_replay_timing viper_ros)
+  # Every `rosrun viper X` of README.md runs as written (needs the devel space sourced).
+  catkin_add_gtest(test_readme_commands test/ros/test_readme_commands.cpp)
+  target_compile_definitions(test_readme_commands PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  target_link_libraries(test_readme_commands gtest_main)
+  add_dependencies(test_readme_commands viper_capture world test_scene capture_check capture_info capture_sheet
+    label_resources capture_to_bag make_label_table export_flow viper_to_bag export_viper)
 
   # Test captures written by our own generator (CaptureWriter): intact, one flipped byte, truncated.
   add_executable(make_test_capture test/ros/make_test_capture.cpp)

@@ -1,4 +1,4 @@
-# VIPER's release layout beyond flow (issue 6): the player node + nodelet, the viper_to_bag and
+# VIPER's release layout (docs/viper_layout.md): the player node + nodelet, the viper_to_bag and
 # export_viper commands, their tests and benchmark. The ROS-free readers and writers (images, camera
 # and box CSV, sequences) are part of viper_dataset (cmake/dataset.cmake globs src/dataset).
 
@@ -10,11 +10,11 @@ endif()
 
 # viper_layout_ros: layout <-> messages, the exporter, the player (node + nodelet).
 add_library(viper_layout_ros
-  src/ros/viper_layout_conversions.cpp
-  src/ros/viper_exporter.cpp
-  src/ros/viper_bag_conversion.cpp
-  src/ros/player.cpp
-  src/ros/player_nodelet.cpp
+  src/ros/dataset/viper_layout_conversions.cpp
+  src/ros/dataset/viper_exporter.cpp
+  src/ros/dataset/viper_bag_conversion.cpp
+  src/ros/dataset/player.cpp
+  src/ros/dataset/player_nodelet.cpp
 )
 # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
 find_package(pluginlib REQUIRED)

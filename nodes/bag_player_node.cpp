@@ -1,5 +1,5 @@
 // bag_player node: plays a raw bag paced by its times (see docs/capture_bridge.md#bag_player).
-#include "viper/ros/bag_player.h"
+#include "viper/ros/bridge/bag_player.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "bag_player");

@@ -1,5 +1,5 @@
 // boxes node (see docs/ground_truth_nodes.md).
-#include "viper/ros/boxes.h"
+#include "viper/ros/ground_truth/boxes.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "boxes");

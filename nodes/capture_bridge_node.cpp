@@ -1,5 +1,5 @@
 // capture_bridge node: publishes a capture stream as raw topics (see docs/capture_bridge.md).
-#include "viper/ros/capture_bridge.h"
+#include "viper/ros/bridge/capture_bridge.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "capture_bridge");

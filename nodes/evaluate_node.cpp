@@ -1,5 +1,5 @@
 // evaluate node (see docs/evaluate.md): the report is written when the node shuts down.
-#include "viper/ros/evaluate.h"
+#include "viper/ros/evaluation/evaluate.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "evaluate");

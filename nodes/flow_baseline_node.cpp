@@ -1,5 +1,5 @@
 // flow_baseline node (see docs/baselines.md).
-#include "viper/ros/flow_baseline.h"
+#include "viper/ros/baselines/flow_baseline.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "flow_baseline");

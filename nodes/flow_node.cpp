@@ -1,5 +1,5 @@
 // flow node (see docs/flow_node.md).
-#include "viper/ros/flow.h"
+#include "viper/ros/ground_truth/flow.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "flow");

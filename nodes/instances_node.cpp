@@ -1,5 +1,5 @@
 // instances node (see docs/ground_truth_nodes.md).
-#include "viper/ros/instances.h"
+#include "viper/ros/ground_truth/instances.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "instances");

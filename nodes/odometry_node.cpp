@@ -1,5 +1,5 @@
 // odometry node (see docs/ground_truth_nodes.md).
-#include "viper/ros/odometry.h"
+#include "viper/ros/ground_truth/odometry.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "odometry");

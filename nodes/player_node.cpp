@@ -1,5 +1,5 @@
 // player node: publishes a folder in VIPER's release layout as ground-truth topics (docs/viper_layout.md).
-#include "viper/ros/player.h"
+#include "viper/ros/dataset/player.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "player");

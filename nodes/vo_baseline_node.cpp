@@ -1,5 +1,5 @@
 // vo_baseline node (see docs/baselines.md).
-#include "viper/ros/vo_baseline.h"
+#include "viper/ros/baselines/vo_baseline.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "vo_baseline");

@@ -8,7 +8,7 @@
 #include "renderer.h"
 #include "world.h"
 
-#include "viper/core/oracle.h"
+#include "viper/ground_truth/oracle.h"
 
 #include <chrono>
 #include <cstdio>

@@ -6,14 +6,14 @@
 #
 # Usage: scripts/capture_minetest.sh [--frames 60] [--width 640] [--height 480] [--seed 42]
 #          [--skip 60] [--out DIR (build/minetest)] [--no-bag] [--no-check]
-#          [--bin DIR (the build's devel/lib/viper)]
+#          [--bin DIR (devel/lib/viper)]
 # Writes DIR/minetest.vcap and DIR/minetest_raw.bag. Needs `minetest` and `Xvfb` (installed by
 # scripts/setup.sh --test-programs); runs the game in its own Xvfb display. The game's clouds are
 # off (they are drawn without shaders and would hold depth but no ids); --seed is the map seed.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=60; width=640; height=480; seed=42; skip=60
-out="$here/build/minetest"; bag=1; check=1; bin="$here/build/devel/lib/viper"
+out="$here/build/minetest"; bag=1; check=1; bin="$here/devel/lib/viper"
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;

@@ -4,7 +4,7 @@
 #
 # Usage: scripts/make_test_bag.sh [--frames N (20)] [--output BAG (bags/test_scene_raw.bag)]
 #                                 [--capture FILE.vcap (use this capture instead of capturing)]
-# Needs a built workspace sourced first: source build/devel/setup.bash
+# Needs a built workspace sourced first: source devel/setup.bash
 # Runs its own roscore on a free port, so it neither needs nor disturbs a running one.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)

@@ -19,11 +19,11 @@ while [ $# -gt 0 ]; do
   esac
   shift 2 || { echo "measure_baselines: $1 needs a value" >&2; exit 2; }
 done
-[ -x "$here/build/devel/lib/viper/world" ] || { echo "measure_baselines: build first (scripts/setup.sh)" >&2; exit 2; }
+[ -x "$here/devel/lib/viper/world" ] || { echo "measure_baselines: build first (scripts/setup.sh)" >&2; exit 2; }
 export PATH="/usr/bin:$PATH" ROS_HOME="${ROS_HOME:-$here/build/ros_home}"
 set +u
 # shellcheck disable=SC1091
-source "$here/build/devel/setup.bash"
+source "$here/devel/setup.bash"
 set -u
 mkdir -p "$out"
 echo "machine: $(nproc) cores, $(free -g | awk '/Mem/ {print $2}') GiB; world ${width}x${height}, $frames frames at 15 fps, replay rate $rate"

@@ -13,7 +13,7 @@
 # Usage: scripts/measure_evaluate.sh [--frames N (45)] [--width W (1920)] [--height H (1080)]
 #                                    [--rate R (1.0: the player's factor)] [--queue-size Q (10)]
 #                                    [--source manager|rosbag (manager)]
-# Needs a built workspace sourced first: source build/devel/setup.bash
+# Needs a built workspace sourced first: source devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=45 width=1920 height=1080 rate=1.0 queue=10 source=manager

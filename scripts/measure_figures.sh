@@ -3,7 +3,7 @@
 # Usage: scripts/measure_figures.sh [OUT_DIR (build/figures)]
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-bin="$here/build/devel/lib/viper"
+bin="$here/devel/lib/viper"
 out="${1:-$here/build/figures}"
 mkdir -p "$out"
 [ -x "$bin/capture" ] || { echo "measure_figures: build first (scripts/setup.sh)" >&2; exit 2; }

@@ -12,7 +12,7 @@
 # Usage: scripts/measure_pipeline.sh [--frames N (45)] [--width W (1920)] [--height H (1080)] [--no-flow]
 #                                    [--source bag|rosbag|capture (bag)] [--rate R (1.0: replay speed factor)]
 #                                    [--queue-size Q (30: the nodelets' input queues, replay.launch's queue_size)]
-# Needs a built workspace sourced first: source build/devel/setup.bash
+# Needs a built workspace sourced first: source devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0

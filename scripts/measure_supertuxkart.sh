@@ -25,7 +25,7 @@ case "$pipeline" in
   deferred) lights=--enable-dynamic-lights ;;
   *) echo "measure_supertuxkart: --pipeline must be forward or deferred" >&2; exit 2 ;;
 esac
-bin="$here/build/devel/lib/viper"
+bin="$here/devel/lib/viper"
 for tool in /usr/games/supertuxkart apitrace glretrace xvfb-run "$bin/capture"; do
   command -v "$tool" > /dev/null || { echo "measure_supertuxkart: $tool missing (scripts/setup.sh --test-programs)" >&2; exit 2; }
 done

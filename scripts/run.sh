@@ -18,11 +18,11 @@ while [ $# -gt 0 ]; do
     *) echo "run.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
-bin="$here/build/devel/lib/viper"
+bin="$here/devel/lib/viper"
 [ -x "$bin/capture" ] || { echo "run.sh: nothing built in $here/build: run scripts/setup.sh first" >&2; exit 2; }
 # shellcheck disable=SC1091
 set +u  # ROS env hooks read unset variables
-source "$here/build/devel/setup.bash"
+source "$here/devel/setup.bash"
 set -u
 mkdir -p "$out"
 case "$program" in

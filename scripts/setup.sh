@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every dependency of viper from Debian's packages (idempotent, as root) and builds the
-# package into build/ (a catkin devel space under build/devel).
+# package: CMake's build tree in build/, the catkin devel space in devel/ (outside build/, where
+# rosrun would not look for the commands).
 # Usage: scripts/setup.sh [--no-build] [--test-programs]
 #   --test-programs: also what only the tests need: the third-party programs they capture
 #                    (SuperTuxKart, Minetest), apitrace (records it once, replays it the same every time),
@@ -57,6 +58,6 @@ fi
 mkdir -p "$here/build"
 cd "$here/build"
 cmake "$here" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
-  -DCATKIN_DEVEL_PREFIX="$here/build/devel" >/dev/null
+  -DCATKIN_DEVEL_PREFIX="$here/devel" >/dev/null
 make -j"$(nproc)"
-echo "setup: built; run 'source $here/build/devel/setup.bash' to use rosrun/roslaunch"
+echo "setup: built; run 'source $here/devel/setup.bash' to use rosrun/roslaunch"

@@ -19,7 +19,7 @@ export ROS_HOME="$build/ros_home" ROS_LOG_DIR="$build/ros_home/log"
 export PATH="/usr/bin:$PATH"
 # shellcheck disable=SC1091
 set +u  # ROS env hooks read unset variables
-source "$build/devel/setup.bash"
+source "$here/devel/setup.bash"
 set -u
 cd "$build"
 make -j"$(nproc)" all tests || { echo "build failed"; echo "0 passed, 1 failed"; exit 1; }

@@ -1,10 +1,10 @@
 // capture_check: how much of a capture's scene has ids, matrices and meshes, and how well they agree
 // with its depth image (viper::checkReprojection), for captures of programs without an oracle.
 // Exit code 0 = read to the end, 1 = damaged (figures up to the damage printed), 2 = usage/open error.
-#include "viper/core/camera_model.h"
-#include "viper/core/capture_invariants.h"
-#include "viper/core/capture_stream.h"
-#include "viper/core/instance_pipeline.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/ground_truth/capture_invariants.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/instance_pipeline.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -16,7 +16,7 @@
 
 namespace {
 
-int usage() {
+int usage(int code = 2) {
   std::cerr << "usage: capture_check FILE.vcap [--from N] [--frames N] [--per-frame] [--flow] [--labels L.yaml]\n"
                "                     [--resume-tracks]\n"
                "  For every pixel with a draw id: projects the triangle its draw and primitive id name with\n"
@@ -33,7 +33,7 @@ int usage() {
                "  per thing class its tracks (how many, frames each: ids stable over time), and every object's\n"
                "  pixels (their depth) against its 3D box (viper::checkBoxes); --resume-tracks:\n"
                "  the tracker's resume_by_resources (an object back after a long gap takes up its own id).\n";
-  return 2;
+  return code;
 }
 
 void print(const char* label, const viper::ReprojectionCheck& c) {
@@ -124,6 +124,7 @@ int main(int argc, char** argv) {
   std::string labels;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--help" || a == "-h") return usage(0);
     if (a == "--from" && i + 1 < argc) from = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--frames" && i + 1 < argc) max_frames = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--per-frame") per_frame = true;

@@ -1,6 +1,6 @@
 // capture_info: prints what a capture stream holds (frames, sizes, draws, meshes, conditions), and
 // reports the first damaged chunk if any. Exit code 0 = intact, 1 = damaged, 2 = usage/open error.
-#include "viper/core/capture_stream.h"
+#include "viper/capture/capture_stream.h"
 
 #include <cstdio>
 #include <iostream>
@@ -63,10 +63,11 @@ struct Summary {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+  const bool help = argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h");
+  if (argc != 2 || help) {
     std::cerr << "usage: capture_info FILE.vcap\n  Prints a summary of a viper capture stream and "
                  "checks every chunk's checksum.\n";
-    return 2;
+    return help ? 0 : 2;
   }
   std::unique_ptr<viper::CaptureReader> reader;
   try {

@@ -4,13 +4,13 @@
 // green within 0.5 px, red beyond, grey: no placement recorded, black: no id). With --labels, the
 // ground truth instead: color, semantic classes, instances (a color per track), depth, flow.
 // Exit code 0 = written, 1 = a frame was not found, 2 = usage/read/write error.
-#include "viper/core/camera_model.h"
-#include "viper/core/capture_invariants.h"
-#include "viper/core/capture_stream.h"
-#include "viper/core/class_table.h"
-#include "viper/core/flow.h"
-#include "viper/core/instance_pipeline.h"
-#include "viper/core/semantic_overlay.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/ground_truth/capture_invariants.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/class_table.h"
+#include "viper/ground_truth/flow.h"
+#include "viper/ground_truth/instance_pipeline.h"
+#include "viper/ground_truth/semantic_overlay.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -27,12 +27,12 @@
 
 namespace {
 
-int usage() {
+int usage(int code = 2) {
   std::cerr << "usage: capture_sheet FILE.vcap --frames N[,N...] --out SHEET.png [--tile-width 320]\n"
                "                     [--labels LABELS.yaml [--class-table CSV]]\n"
                "  One row per frame: color, draw ids, depth, flow to the next frame, reprojection check;\n"
                "  with --labels: color, semantic classes, instances, depth, flow.\n";
-  return 2;
+  return code;
 }
 
 cv::Mat colorImage(const viper::CaptureFrame& f) {
@@ -133,6 +133,7 @@ int main(int argc, char** argv) {
   std::string labels_path, class_table_path = VIPER_CLASS_TABLE;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--help" || a == "-h") return usage(0);
     if (a == "--frames" && i + 1 < argc) {
       std::stringstream list(argv[++i]);
       for (std::string item; std::getline(list, item, ',');) wanted.insert(std::stoull(item));

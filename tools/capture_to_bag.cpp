@@ -4,9 +4,9 @@
 // written, 1 = problems reported (a damaged stream: the intact frames before it are written; frames
 // the bridge would drop), 2 = usage error, the capture cannot be opened or the bag cannot be written.
 // docs/capture_bridge.md has the details.
-#include "viper/core/capture_stream.h"
-#include "viper/ros/capture_conversions.h"
-#include "viper/ros/replay_timing.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/bridge/replay_timing.h"
 
 #include <rosbag/bag.h>
 #include <ros/message_traits.h>

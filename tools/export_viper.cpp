@@ -4,9 +4,9 @@
 // are reported (topic, stamp, what is wrong) and skipped; the rest is exported. Exit code: 0 =
 // everything exported, 1 = some messages skipped, 2 = usage error, unreadable bag, or a file that
 // cannot be written. docs/viper_layout.md has the details.
-#include "viper/core/class_table.h"
+#include "viper/ground_truth/class_table.h"
 #include "viper/dataset/viper_layout.h"
-#include "viper/ros/viper_exporter.h"
+#include "viper/ros/dataset/viper_exporter.h"
 #include "viper_progress.h"
 
 #include <ros/package.h>

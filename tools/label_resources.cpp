@@ -3,9 +3,9 @@
 // of where it shows, and a proposed class; written as a static web page (DIR/index.html, no server
 // needed) where a person picks a VIPER class per resource and saves the label table YAML.
 // Exit code 0 = written, 2 = usage/read/write error.
-#include "viper/core/capture_stream.h"
-#include "viper/core/class_table.h"
-#include "viper/core/resource_census.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/class_table.h"
+#include "viper/capture/resource_census.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -23,14 +23,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-int usage() {
+int usage(int code = 2) {
   std::cerr << "usage: label_resources FILE.vcap --out DIR [--labels PREVIOUS.yaml] [--class-table CSV]\n"
                "                       [--top N (200)] [--crops N (3)] [--from N]\n"
                "  Writes DIR/index.html: every resource (mesh, else texture, else program key) the capture's\n"
                "  visible pixels come from, most pixels first, with crops, a proposed class, and a class to\n"
                "  pick; 'Save label table' downloads the YAML that the instances node reads (~label_table).\n"
                "  --labels: a previous table, whose classes are proposed first. --from N: skip frames below N.\n";
-  return 2;
+  return code;
 }
 
 std::string jsonString(const std::string& s) {
@@ -90,6 +90,7 @@ int main(int argc, char** argv) {
   uint64_t from = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--help" || a == "-h") return usage(0);
     if (a == "--out" && i + 1 < argc) out_dir = argv[++i];
     else if (a == "--labels" && i + 1 < argc) previous_path = argv[++i];
     else if (a == "--class-table" && i + 1 < argc) class_table_path = argv[++i];

@@ -2,17 +2,19 @@
 // program's oracle. This stands in for the once-per-asset human annotation of VIPER: each mesh key
 // gets the class its draws most often had (a wheel shared by cars and buses gets one label, as an
 // annotator would give it). Ground-truth nodes then use only the table, never the oracle.
-#include "viper/core/capture_stream.h"
-#include "viper/core/oracle_labels.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/oracle_labels.h"
 
 #include <iostream>
 #include <map>
+#include <string>
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
+  const bool help = argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h");
+  if (argc != 4 || help) {
     std::cerr << "usage: make_label_table CAPTURE.vcap ORACLE.txt OUT_LABELS.yaml\n"
                  "  Labels every mesh key of the capture with the majority class of its draws in the oracle.\n";
-    return 2;
+    return help ? 0 : 2;
   }
   try {
     const viper::Oracle oracle = viper::readOracle(argv[2]);

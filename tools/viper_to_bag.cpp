@@ -3,8 +3,8 @@
 // and left out; the rest is converted. Exit code: 0 = everything converted, 1 = problems reported,
 // the rest converted, 2 = usage error, missing root/split/sequence, or the bag cannot be written.
 // docs/viper_layout.md has the details.
-#include "viper/core/class_table.h"
-#include "viper/ros/viper_bag_conversion.h"
+#include "viper/ground_truth/class_table.h"
+#include "viper/ros/dataset/viper_bag_conversion.h"
 #include "viper_progress.h"
 
 #include <ros/package.h>

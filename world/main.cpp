@@ -6,7 +6,7 @@
 #include "renderer.h"
 #include "world_scene.h"
 
-#include "viper/core/oracle.h"
+#include "viper/ground_truth/oracle.h"
 
 #include <chrono>
 #include <cstdio>

@@ -4,7 +4,7 @@
 
 #include "mesh_library.h"
 
-#include "viper/core/oracle.h"
+#include "viper/ground_truth/oracle.h"
 
 namespace viper {
 namespace world {

@@ -7,7 +7,7 @@
 #include "mesh_library.h"
 #include "shaders.h"
 
-#include "viper/core/oracle.h"
+#include "viper/ground_truth/oracle.h"
 
 #include <array>
 #include <cstdint>

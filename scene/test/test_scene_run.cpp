@@ -1,8 +1,8 @@
 // Runs the real test_scene binary and checks what its oracle promises (the scene's structure and
 // conventions) and what its pictures show: determinism, both GL loaders, and the documented camera
 // convention against the core's ego-motion code.
-#include "viper/core/ego_motion.h"
-#include "viper/core/oracle.h"
+#include "viper/ground_truth/ego_motion.h"
+#include "viper/ground_truth/oracle.h"
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 // checked both ways (viper::checkFlowPair) with the printed summary the tests share.
 #pragma once
 
-#include "viper/core/camera_model.h"
-#include "viper/core/capture_invariants.h"
-#include "viper/core/capture_stream.h"
-#include "viper/core/flow.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/ground_truth/capture_invariants.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/flow.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -6,8 +6,8 @@
 #include "matrix_stack.h"
 #include "capture_checks.h"
 #include "../common/process_util.h"
-#include "viper/core/capture_invariants.h"
-#include "viper/core/capture_stream.h"
+#include "viper/ground_truth/capture_invariants.h"
+#include "viper/capture/capture_stream.h"
 
 #include <gtest/gtest.h>
 

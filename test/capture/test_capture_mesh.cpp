@@ -1,6 +1,6 @@
 // Mesh extraction from shadow buffers.
 #include "mesh_extract.h"
-#include "viper/core/content_key.h"
+#include "viper/capture/content_key.h"
 
 #include <GL/glcorearb.h>
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // matrices, meshes, deformed vertices, depth, and that the program's own output is unchanged.
 #include "test_scene_layout.h"
 #include "../common/process_util.h"
-#include "viper/core/capture_stream.h"
+#include "viper/capture/capture_stream.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -6,7 +6,7 @@
 // and flow forward-backward and photometric consistency. The player walks with --random-input.
 #include "capture_checks.h"
 #include "../common/process_util.h"
-#include "viper/core/instance_pipeline.h"
+#include "viper/ground_truth/instance_pipeline.h"
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 // Both of the game's pipelines: forward (config/profiles/supertuxkart.yaml) and deferred.
 #include "capture_checks.h"
 #include "../common/process_util.h"
-#include "viper/core/instance_pipeline.h"
+#include "viper/ground_truth/instance_pipeline.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>

@@ -2,7 +2,7 @@
 // and a Z-up look-at view (gluLookAt).
 #pragma once
 
-#include "viper/core/capture_frame.h"
+#include "viper/capture/capture_frame.h"
 
 #include <Eigen/Geometry>
 

@@ -1,6 +1,6 @@
 // libFuzzer target: arbitrary bytes as a capture stream and as a bare frame payload.
 // Nothing may crash, leak or read out of bounds; malformed input must end in an exception.
-#include "viper/core/capture_stream.h"
+#include "viper/capture/capture_stream.h"
 
 #include <cstdio>
 #include <stdexcept>

@@ -1,5 +1,5 @@
 // Writes a seed corpus for capture_reader_fuzzer: a valid two-frame stream and a bare payload.
-#include "viper/core/capture_stream.h"
+#include "viper/capture/capture_stream.h"
 
 #include <cstdio>
 #include <fstream>

@@ -14,7 +14,7 @@ if ! command -v "$cxx" > /dev/null; then
   echo "fuzz: FAILED ($cxx not found; install the Debian package clang)"
   exit 2
 fi
-sources=("$repo"/src/core/capture_stream*.cpp "$repo/src/core/capture_frame.cpp" "$repo/src/core/content_key.cpp")
+sources=("$repo"/src/capture/capture_stream*.cpp "$repo/src/capture/capture_frame.cpp" "$repo/src/capture/content_key.cpp")
 flags=(-std=c++17 -O1 -g -I "$repo/include" -I /usr/include/eigen3)
 libs=(-lzstd -lxxhash)
 

@@ -1,6 +1,6 @@
 #include "oracle_truth.h"
 
-#include "viper/core/capture_stream.h"
+#include "viper/capture/capture_stream.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>

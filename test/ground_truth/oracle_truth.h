@@ -3,8 +3,8 @@
 // with (made at build time by cmake/flow_truth.cmake).
 #pragma once
 
-#include "viper/core/capture_frame.h"
-#include "viper/core/oracle.h"
+#include "viper/capture/capture_frame.h"
+#include "viper/ground_truth/oracle.h"
 
 #include <Eigen/Core>
 

@@ -1,12 +1,12 @@
 // Ground truth derived from a real capture, checked against the captured program's oracle: semantic
 // classes, instance ids and their stability, and the camera pose. Built twice (cmake/ground_truth.cmake):
 // on the test scene and on the world, each captured at build time under the capture layer.
-#include "viper/core/camera_model.h"
-#include "viper/core/capture_stream.h"
-#include "viper/core/ego_motion.h"
-#include "viper/core/instance_pipeline.h"
-#include "viper/core/oracle.h"
-#include "viper/core/oracle_labels.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/ego_motion.h"
+#include "viper/ground_truth/instance_pipeline.h"
+#include "viper/ground_truth/oracle.h"
+#include "viper/ground_truth/oracle_labels.h"
 
 #include <gtest/gtest.h>
 

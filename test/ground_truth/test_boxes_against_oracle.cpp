@@ -4,9 +4,9 @@
 // own axes (the rotation of the world matrix, its polar factor). Issue 4: corners within 1 cm.
 #include "oracle_truth.h"
 
-#include "viper/core/class_table.h"
-#include "viper/core/instance_pipeline.h"
-#include "viper/core/label_table.h"
+#include "viper/ground_truth/class_table.h"
+#include "viper/ground_truth/instance_pipeline.h"
+#include "viper/ground_truth/label_table.h"
 
 #include <Eigen/SVD>
 #include <gtest/gtest.h>

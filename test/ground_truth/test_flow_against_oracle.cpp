@@ -5,11 +5,11 @@
 // Also forward-backward consistency and a photometric check. Prints the tables quoted in README.
 #include "oracle_truth.h"
 
-#include "viper/core/camera_model.h"
-#include "viper/core/class_table.h"
-#include "viper/core/flow.h"
-#include "viper/core/instance_pipeline.h"
-#include "viper/core/label_table.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/ground_truth/class_table.h"
+#include "viper/ground_truth/flow.h"
+#include "viper/ground_truth/instance_pipeline.h"
+#include "viper/ground_truth/label_table.h"
 
 #include <gtest/gtest.h>
 

@@ -3,8 +3,8 @@
 // as a person would and saves; the saved table must hold exactly what was picked, load as a label
 // table, and label the capture's draws with it. Then the same with "Take the proposals".
 #include "../common/process_util.h"
-#include "viper/core/capture_stream.h"
-#include "viper/core/label_table.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/label_table.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -8,9 +8,9 @@
 // and checks that ~bridge_node is still alive afterwards), follow (false; true: the capture is still
 // being written, read it to its end marker), subscribe_after_s (0: subscribe only after this many
 // seconds, like a node that starts late).
-#include "viper/core/capture_stream.h"
-#include "viper/core/content_key.h"
-#include "viper/ros/capture_conversions.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/capture/content_key.h"
+#include "viper/ros/bridge/capture_conversions.h"
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>

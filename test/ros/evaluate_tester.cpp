@@ -15,8 +15,8 @@
 // timeout_s (180).
 #include "bag_publishers.h"
 
-#include "viper/core/class_table.h"
-#include "viper/core/ego_motion.h"
+#include "viper/ground_truth/class_table.h"
+#include "viper/ground_truth/ego_motion.h"
 
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>

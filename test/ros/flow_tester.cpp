@@ -8,10 +8,10 @@
 // Private parameters: bag (path, required), wide_baseline (k of the flow node, 2), timeout_s (120).
 #include "bag_publishers.h"
 
-#include "viper/core/camera_model.h"
-#include "viper/core/capture_frame.h"
-#include "viper/core/ego_motion.h"
-#include "viper/ros/capture_conversions.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/capture/capture_frame.h"
+#include "viper/ground_truth/ego_motion.h"
+#include "viper/ros/bridge/capture_conversions.h"
 
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>

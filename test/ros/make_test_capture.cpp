@@ -8,8 +8,8 @@
 //   --frame-delay-ms:   pause between frames, to exercise readers that follow a file being written
 //   --damage flip:     flips one byte inside the chunk of frame N/2 (frames before it stay intact)
 //   --damage truncate: cuts the file in the middle of the last frame's chunk
-#include "viper/core/capture_stream.h"
-#include "viper/core/content_key.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/capture/content_key.h"
 
 #include "../common/gl_matrices.h"
 

@@ -1,7 +1,7 @@
 // Converter round trips (core -> msg -> core) and the image/camera-info messages of a frame.
-#include "viper/ros/capture_conversions.h"
+#include "viper/ros/bridge/capture_conversions.h"
 
-#include "../core/test_capture_stream_frames.h"
+#include "../capture/test_capture_stream_frames.h"
 
 #include <gtest/gtest.h>
 #include <sensor_msgs/image_encodings.h>

@@ -3,9 +3,9 @@
 // order, each written at its header stamp, the mesh store latched; a truncated capture keeps its
 // intact frames, is named with the byte offset of the damage and ends with exit status 1; bad usage
 // prints the usage and exits 2. capture_to_bag.test compares the bag with the running bridge.
-#include "viper/core/capture_stream.h"
-#include "viper/ros/capture_conversions.h"
-#include "viper/ros/replay_timing.h"
+#include "viper/capture/capture_stream.h"
+#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/bridge/replay_timing.h"
 
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>

@@ -1,7 +1,7 @@
 // The report's figures: lines land where their values say, and the report writes both PNGs
 // (readable back) only when there is something to show.
-#include "viper/core/eval_report.h"
-#include "viper/report/plots.h"
+#include "viper/evaluation/eval_report.h"
+#include "viper/evaluation/plots.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -1,5 +1,5 @@
 // The evaluate node's input checks and conversions (no roscore).
-#include "viper/ros/evaluate_inputs.h"
+#include "viper/ros/evaluation/evaluate_inputs.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "viper/ros/ground_truth_conversions.h"
+#include "viper/ros/ground_truth/ground_truth_conversions.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Replay stamps and pacing: positive, increasing, continued across loops.
-#include "viper/ros/replay_timing.h"
+#include "viper/ros/bridge/replay_timing.h"
 
 #include <gtest/gtest.h>
 

@@ -4,10 +4,10 @@
 // sources.
 #include "viper/dataset/viper_layout.h"
 #include "viper/dataset/viper_sequence.h"
-#include "viper/ros/capture_conversions.h"
-#include "viper/ros/ground_truth_conversions.h"
-#include "viper/ros/viper_exporter.h"
-#include "viper/ros/viper_layout_conversions.h"
+#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/dataset/viper_exporter.h"
+#include "viper/ros/dataset/viper_layout_conversions.h"
 
 #include <gtest/gtest.h>
 

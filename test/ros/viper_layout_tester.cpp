@@ -13,10 +13,10 @@
 #include "bag_publishers.h"
 #include "viper_test_layout.h"
 
-#include "viper/core/ego_motion.h"
+#include "viper/ground_truth/ego_motion.h"
 #include "viper/dataset/float16.h"
-#include "viper/ros/ground_truth_conversions.h"
-#include "viper/ros/player.h"
+#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/dataset/player.h"
 
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>

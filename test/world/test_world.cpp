@@ -2,7 +2,7 @@
 // oracle file, the five conditions, and its command line. They run the built binary.
 #include "world_run.h"
 
-#include "viper/core/oracle.h"
+#include "viper/ground_truth/oracle.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,121 @@
+// The capture stream (.vcap): a versioned sequence of checksummed, zstd-compressed frame chunks.
+// The byte layout is documented in docs/capture_format.md.
+#pragma once
+
+#include "viper/capture/capture_frame.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace viper {
+
+/// Current stream format version written by CaptureWriter.
+constexpr uint32_t kCaptureFormatVersion = 2;
+/// Oldest format version CaptureReader still reads (version 1 frames have no gaps).
+constexpr uint32_t kOldestReadableCaptureFormatVersion = 1;
+
+/// Thrown for any unreadable part of a stream. what() names the file, the frame number (if known)
+/// and the byte offset of the damaged chunk: "<file>: offset <offset>: <what>".
+class CaptureFormatError : public std::runtime_error {
+ public:
+  CaptureFormatError(const std::string& file, uint64_t offset, const std::string& what);
+  /// Path (or name) of the stream.
+  const std::string& file() const { return file_; }
+  /// Byte offset of the damaged chunk (0 for the file header).
+  uint64_t offset() const { return offset_; }
+
+ private:
+  std::string file_;
+  uint64_t offset_;
+};
+
+/// The stream header: format version and free-form metadata about who wrote it.
+struct CaptureHeader {
+  /// Format version read from the file; the writer ignores it and always writes kCaptureFormatVersion.
+  uint32_t version = kCaptureFormatVersion;
+  /// Name of the captured program and the capture profile used (informational).
+  std::string program;
+  std::string profile;
+};
+
+/// Serialises one frame to the uncompressed chunk payload bytes, and back.
+std::string encodeFramePayload(const CaptureFrame& frame);
+/// Same, into `out` (replacing its contents; reusing its capacity between frames).
+void encodeFramePayload(const CaptureFrame& frame, std::string& out);
+/// Throws std::runtime_error with a description if the payload is malformed.
+CaptureFrame decodeFramePayload(const std::string& payload);
+/// Same, from `size` bytes at `data` into `frame` (reusing the capacity of its vectors).
+/// Bounds-checked: never reads outside [data, data + size) and never allocates more than the
+/// payload can hold. Throws std::runtime_error naming the field and byte position on bad input.
+void decodeFramePayload(const char* data, size_t size, CaptureFrame& frame,
+                        uint32_t version = kCaptureFormatVersion);
+
+/// Writes a stream. Each frame is flushed as one whole chunk so a follower never sees a frame
+/// without its checksum. Not thread-safe.
+class CaptureWriter {
+ public:
+  /// Opens (truncates) `path`. Throws std::runtime_error if it cannot be opened.
+  /// `zstd_level` 1 is fast; higher compresses more.
+  CaptureWriter(const std::string& path, const CaptureHeader& header, int zstd_level = 1);
+  ~CaptureWriter();  ///< Writes the end marker if close() was not called.
+  CaptureWriter(const CaptureWriter&) = delete;
+  CaptureWriter& operator=(const CaptureWriter&) = delete;
+
+  /// Appends `frame` as one chunk (one fwrite of header and payload, then fflush).
+  /// Throws std::runtime_error if the stream is closed, the frame is too large (payload over
+  /// 1 GiB), compression fails or the file cannot be written.
+  void write(const CaptureFrame& frame);
+  /// Writes the end-of-stream marker and closes the file. Idempotent.
+  void close();
+  /// Bytes written so far, file header included.
+  uint64_t bytesWritten() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Reads a stream, optionally following it while another process still writes it.
+class CaptureReader {
+ public:
+  /// Opens `path` and reads its header. Throws CaptureFormatError (bad magic, unknown version,
+  /// truncated header) or std::runtime_error (cannot open).
+  explicit CaptureReader(const std::string& path);
+  /// Reads from an already open stdio stream (e.g. from fmemopen), which the reader takes over
+  /// and closes. `name` stands for the file in error messages. Throws like the path constructor.
+  CaptureReader(std::FILE* file, const std::string& name);
+  ~CaptureReader();
+  CaptureReader(const CaptureReader&) = delete;
+  CaptureReader& operator=(const CaptureReader&) = delete;
+
+  /// The stream's header as read by the constructor.
+  const CaptureHeader& header() const;
+
+  /// Result of one read attempt.
+  enum class Status {
+    kFrame,    ///< `frame` holds the next frame
+    kEnd,      ///< clean end-of-stream marker reached
+    kPending,  ///< (follow mode) no complete chunk yet and no end marker: try again later
+  };
+
+  /// Reads the next frame. Without `follow`, hitting the end of the file without the end marker
+  /// throws CaptureFormatError ("truncated"). With `follow`, an incomplete tail returns kPending
+  /// and the reader stays where it was, so a later call sees the bytes written since.
+  /// A corrupted chunk (bad checksum, bad payload) throws CaptureFormatError naming the frame and
+  /// offset; every frame before it was already returned intact.
+  Status next(CaptureFrame& frame, bool follow = false);
+
+  /// Byte offset of the next chunk to read.
+  uint64_t offset() const;
+  /// The path (or name) given to the constructor.
+  const std::string& path() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace viper

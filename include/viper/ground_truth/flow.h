@@ -1,0 +1,77 @@
+// Dense optical flow and correspondences between two captured frames (docs/flow_node.md): rigid
+// surfaces by lifting depth through the inverse of projection * view * world; non-rigid surfaces
+// by inverting the rasterizer's perspective-correct interpolation over the triangle's
+// post-vertex-shader positions. No image is resampled.
+#pragma once
+
+#include "viper/ground_truth/boxes.h"
+#include "viper/capture/capture_frame.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace viper {
+
+/// For each draw of frame `a`, the index of the draw of frame `b` that shows the same surface, or
+/// -1. `a_object_ids[i]` is a stable identity of draw i's object (its track id), 0 if it has none.
+/// Draws of tracked objects associate by (object id, mesh key); other draws by (mesh key, world
+/// matrix), and failing that by a mesh key that occurs once in each frame.
+std::vector<int32_t> associateDraws(const CaptureFrame& a, const std::vector<int32_t>& a_object_ids,
+                                    const CaptureFrame& b, const std::vector<int32_t>& b_object_ids);
+
+/// Flow from frame a to frame b.
+struct FlowField {
+  uint32_t width = 0, height = 0;
+  /// Interleaved (u, v) in pixels (u right, v down); NaN where undefined (no surface, no
+  /// association, missing geometry).
+  std::vector<float> uv;
+  /// 255 where the corresponding point is visible in frame b (inside it and not behind b's depth),
+  /// 0 where it is occluded, out of view or undefined.
+  std::vector<uint8_t> visible;
+};
+
+/// Counts of what happened to the pixels of one flow computation.
+struct FlowStats {
+  size_t rigid = 0, non_rigid = 0;   ///< pixels with flow, by kind
+  size_t no_surface = 0;             ///< no draw, or no depth
+  size_t no_association = 0;         ///< the draw has no counterpart in frame b
+  size_t missing_geometry = 0;       ///< deformed draw without positions / mesh, or singular matrices
+};
+
+/// The instructions that compute a row's pixels in blocks. Every path gives the same flow: AVX-512
+/// and AVX2 bit for bit; one pixel at a time (kScalar, also used at the end of each row) differs
+/// from them by float rounding, as it fuses no multiply-adds.
+enum class FlowInstructions {
+  kWidest,  ///< the widest this CPU has
+  kAvx512,  ///< 16 pixels a step (AVX-512 F, BW, VL, DQ)
+  kAvx2,    ///< 8 pixels a step (AVX2, FMA)
+  kScalar,  ///< one pixel at a time
+};
+
+/// The path computeFlow takes on this CPU when asked for `requested`: a path the CPU lacks falls
+/// back to the widest it has below it.
+FlowInstructions flowInstructionsUsed(FlowInstructions requested);
+
+/// Options of computeFlow.
+struct FlowOptions {
+  /// A point is visible in b when b's depth there is at least the point's depth minus
+  /// (relative * depth + absolute).
+  double occlusion_relative = 0.005;
+  double occlusion_absolute_m = 0.02;
+  /// Which instructions compute the pixels (for comparing the paths; the default is fastest).
+  FlowInstructions instructions = FlowInstructions::kWidest;
+};
+
+/// Computes flow a -> b. `a_to_b` comes from associateDraws; `b_depth_m` is b's depth in metres
+/// along the optical axis (NaN = no surface), width*height values; `meshes` holds the triangles
+/// of deformed draws. Throws std::invalid_argument if the frames' sizes differ, or a vector size
+/// does not match its frame.
+FlowField computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
+                      const std::vector<float>& b_depth_m, const MeshRegistry& meshes,
+                      const FlowOptions& options = FlowOptions(), FlowStats* stats = nullptr);
+/// The same, writing into `out` (its buffers are reused when the size is unchanged).
+void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
+                 const std::vector<float>& b_depth_m, const MeshRegistry& meshes, FlowField& out,
+                 const FlowOptions& options = FlowOptions(), FlowStats* stats = nullptr);
+
+}  // namespace viper

@@ -1,0 +1,79 @@
+// Per-frame instance ground truth: objects, semantic ids, instance (track) ids, boundaries,
+// boxes. The `instances` and `boxes` nodes are thin shells around this class.
+#pragma once
+
+#include "viper/ground_truth/boxes.h"
+#include "viper/ground_truth/label_table.h"
+#include "viper/ground_truth/objects.h"
+#include "viper/ground_truth/tracking.h"
+
+#include <string>
+#include <vector>
+
+namespace viper {
+
+/// Options of InstancePipeline.
+struct InstancePipelineOptions {
+  /// Per class id: thing classes (get instance ids and tracks). Default: VIPER's instance classes.
+  std::vector<bool> thing_classes = defaultThingClasses();
+  /// Weight each part's vote by its mesh's surface area (else one vote per part).
+  bool area_weighted_vote = true;
+  /// Compute each thing's oriented box (TrackedObject::box); a caller that does not use them (the
+  /// instances node: the boxes node makes them) saves the work.
+  bool compute_boxes = true;
+  TrackerOptions tracker;
+
+  /// VIPER's instance_eval classes: trafficlight, firehydrant, chair, trashcan, person,
+  /// motorcycle, car, van, bus, truck.
+  static std::vector<bool> defaultThingClasses();
+};
+
+/// One object of a frame, as published.
+struct TrackedObject {
+  int32_t track_id = 0;  ///< 0 for stuff
+  FrameObject object;
+  OrientedBox box;       ///< world (map) frame
+  BoxStatus box_status = BoxStatus::kEmpty;
+};
+
+/// Everything derived for one frame.
+struct InstanceFrame {
+  std::vector<uint8_t> semantic;      ///< class id per pixel
+  std::vector<int32_t> instance_ids;  ///< track id per pixel, 0 = none
+  std::vector<uint8_t> boundaries;    ///< 255 on instance boundaries
+  std::vector<TrackedObject> objects;
+  /// Problems met (each a sentence naming the draw or object), for the node to log.
+  std::vector<std::string> problems;
+  bool tracker_reset = false;
+};
+
+/// Keeps the mesh store and the tracker across frames.
+class InstancePipeline {
+ public:
+  InstancePipeline(LabelTable labels, InstancePipelineOptions options = InstancePipelineOptions());
+
+  /// Processes one frame (adds its new meshes to the store first). Uses only the frame's draws,
+  /// draw id image, size, number and time. Throws std::invalid_argument naming the frame if the
+  /// draw id image does not match the size or the draw indices are not 0..n-1; nothing changes then.
+  /// Objects whose world matrix is not finite are dropped and reported in `problems`.
+  InstanceFrame process(const CaptureFrame& frame);
+  /// The same, writing into `out`: its image buffers are reused when the frame size is unchanged.
+  void process(const CaptureFrame& frame, InstanceFrame& out);
+
+  /// Adds meshes that arrive outside frames (e.g. a latched mesh store topic).
+  void addMeshes(const std::vector<MeshRecord>& meshes) { meshes_.add(meshes); }
+  const MeshRegistry& meshes() const { return meshes_; }
+  void reset() { tracker_.reset(); }
+
+ private:
+  LabelTable labels_;
+  InstancePipelineOptions options_;
+  MeshRegistry meshes_;
+  Tracker tracker_;
+  DrawRuns runs_;  // of the current frame; kept for its storage
+};
+
+/// VIPER's instance encoding: R = class id, G = id / 256, B = id % 256 (ids above 65535 wrap).
+void encodeViperInstances(const uint8_t* class_ids, const int32_t* instance_ids, size_t n, uint8_t* rgb);
+
+}  // namespace viper

@@ -1,0 +1,19 @@
+// Pictures of class id images for people: class colors, and class colors over the camera image.
+#pragma once
+
+#include "viper/ground_truth/class_table.h"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace viper {
+
+/// rgb8 image of the classes' colors; ids outside the table are black.
+void colorizeClasses(const uint8_t* class_ids, size_t n, const ClassTable& classes, uint8_t* rgb);
+
+/// The camera image with class colors blended over it: out = (1 - alpha) * color + alpha * class
+/// color, alpha in [0, 1]; pixels of class 0 (unlabeled) keep the camera color.
+void overlayClasses(const uint8_t* color_rgb, const uint8_t* class_ids, size_t n, const ClassTable& classes,
+                    float alpha, uint8_t* rgb);
+
+}  // namespace viper

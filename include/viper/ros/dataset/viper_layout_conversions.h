@@ -1,0 +1,162 @@
+// The converter between VIPER's release layout (viper_dataset types) and the package's ground-truth
+// messages, shared by the player node, viper_to_bag and export_viper. Frames: the layout's camera is
+// OpenGL's (X right, Y up, looking down -Z); messages use REP 103/105 (`map`, camera body x forward /
+// y left / z up, optical frame x right / y down / z forward). docs/viper_layout.md.
+#pragma once
+
+#include "viper/ground_truth/boxes.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/ground_truth/class_table.h"
+#include "viper/ground_truth/ego_motion.h"
+#include "viper/dataset/flow_image.h"
+#include "viper/dataset/viper_boxes.h"
+#include "viper/dataset/viper_camera.h"
+#include "viper/dataset/viper_images.h"
+#include "viper/dataset/viper_sequence.h"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <viper/Box3DArray.h>
+#include <viper/ObjectArray.h>
+
+#include <Eigen/Geometry>
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace viper {
+
+/// Topics of the layout's messages, relative to the player's namespace (a bag holds them under
+/// "/"): the same names as the capture bridge's and the ground-truth nodes' in replay.launch.
+namespace viper_topics {
+constexpr const char* kColor = "capture/color/image_raw";
+constexpr const char* kCameraInfo = "capture/color/camera_info";
+constexpr const char* kSemantic = "ground_truth/semantic";
+constexpr const char* kSemanticColor = "ground_truth/semantic_color";
+constexpr const char* kInstanceIds = "ground_truth/instance_ids";
+constexpr const char* kInstancesViper = "ground_truth/instances_viper";
+constexpr const char* kFlowForward = "ground_truth/flow/forward";
+constexpr const char* kFlowBackward = "ground_truth/flow/backward";
+constexpr const char* kOdom = "ground_truth/odom";
+constexpr const char* kPath = "ground_truth/path";
+constexpr const char* kBoxes = "ground_truth/boxes";
+constexpr const char* kBoxesOptical = "ground_truth/boxes_optical";
+constexpr const char* kBoxMarkers = "ground_truth/box_markers";
+}  // namespace viper_topics
+
+/// Row-major 4x4 (the layout's) <-> Eigen.
+Eigen::Matrix4d toEigen(const dataset::RowMajor4& m);
+dataset::RowMajor4 toRowMajor(const Eigen::Matrix4d& m);
+dataset::RowMajor4 toRowMajor(const GlMatrix& m);
+GlMatrix toGlMatrix(const dataset::RowMajor4& m);
+
+/// Pose of the camera body (x forward, y left, z up) in the world of an OpenGL view matrix (world
+/// -> OpenGL camera). Throws std::invalid_argument if the matrix is not finite or not rigid (its
+/// rotation part orthonormal within 1e-4, last row 0 0 0 1 within 1e-6).
+Eigen::Isometry3d worldFromBody(const dataset::RowMajor4& view);
+
+/// `view` relative to `origin`: view * origin^-1, the view matrix in a world whose origin and axes
+/// are `origin`'s camera (VIPER's "poses relative to the first frame": the origin's relative view
+/// is the identity). Throws std::invalid_argument if `origin` is not rigid.
+dataset::RowMajor4 relativeView(const dataset::RowMajor4& view, const dataset::RowMajor4& origin);
+
+/// OpenGL view matrix (world -> OpenGL camera) of a camera body pose in the world; the inverse of
+/// worldFromBody.
+dataset::RowMajor4 viewFromBodyPose(const Eigen::Isometry3d& world_from_body);
+
+/// An OpenGL perspective projection with the intrinsics of camera_info's K for a `width` x
+/// `height` image (the inverse of intrinsicsFromGlProjection) and depth range [near_m, far_m].
+/// Throws std::invalid_argument if K is not a pinhole matrix (fx, fy > 0, K(2,:) = 0 0 1) or the
+/// range is not 0 < near < far.
+dataset::RowMajor4 glProjectionFromK(const boost::array<double, 9>& K, uint32_t width, uint32_t height,
+                                     double near_m, double far_m);
+
+/// The box of a layout row in OpenGL camera coordinates: the model box's centre and extent moved by
+/// `model_to_camera`, whose rotation is taken from its polar decomposition and whose column norms
+/// scale the extent. Throws std::invalid_argument if the matrix is singular or not affine.
+OrientedBox boxInGlCamera(const dataset::ViperBoxRow& row);
+
+/// A layout row for a box given in the camera optical frame: the model frame is the box's own
+/// (centred, axes along the box), so box_3d = -size/2 .. size/2 and model_to_camera is rigid.
+/// `box_2d` as in ViperBoxRow (x_min, y_min, x_max, y_max; -1s for no visible pixels).
+dataset::ViperBoxRow viperBoxRow(const OrientedBox& box_in_optical, int class_id, int64_t instance_id,
+                                 const std::array<double, 4>& box_2d);
+
+/// Tight 2D boxes (x_min, y_min, x_max, y_max, inclusive pixels) of every instance id > 0 in a
+/// 32SC1 instance id image of `width` x `height` pixels.
+std::map<int32_t, std::array<double, 4>> instanceBoxes(const int32_t* ids, uint32_t width, uint32_t height);
+
+/// Copies an image message into an Image8 of `channels` channels if its encoding is `encoding`
+/// (rgb8: 3, mono8: 1; bgr8 is accepted for rgb8 and swapped), removing row padding. Returns "" or
+/// what is wrong (encoding, size, step, data size).
+std::string imageFromMsg(const sensor_msgs::Image& msg, const std::string& encoding, dataset::Image8& out);
+/// Same for a 32SC1 image (instance ids), either byte order.
+std::string int32FromMsg(const sensor_msgs::Image& msg, std::vector<int32_t>& out);
+/// Same for a 32FC2 flow image, either byte order.
+std::string flowFromMsg(const sensor_msgs::Image& msg, dataset::FlowImage& out);
+
+/// Names of the frames of the messages built from the layout.
+struct ViperTfFrames {
+  std::string map = "map";
+  std::string body = "camera";
+  std::string optical = "camera_optical";
+};
+
+/// Which messages ViperMessageBuilder::build makes.
+struct ViperTopicSelection {
+  bool color = true, camera_info = true, semantic = true, semantic_color = false, instance_ids = true,
+       instances_viper = true, flow_forward = true, flow_backward = true, odom = true, boxes = true,
+       boxes_optical = true;
+};
+
+/// The messages of one frame of the layout, each null / empty where its input is absent. Every
+/// header has the frame's stamp; images are in the optical frame.
+struct ViperFrameMessages {
+  sensor_msgs::ImagePtr color;            ///< rgb8, from img
+  sensor_msgs::CameraInfoPtr camera_info; ///< from the camera row's projection and the frame's size
+  sensor_msgs::ImagePtr semantic;         ///< mono8 class ids, from cls (else inst's R channel)
+  sensor_msgs::ImagePtr semantic_color;   ///< rgb8 class colors (needs a class table)
+  sensor_msgs::ImagePtr instance_ids;     ///< 32SC1, 256 * G + B of inst
+  sensor_msgs::ImagePtr instances_viper;  ///< rgb8, inst as it is
+  sensor_msgs::ImagePtr flow_forward;     ///< 32FC2, flow (frame -> frame + 1)
+  sensor_msgs::ImagePtr flow_backward;    ///< 32FC2, flowbw (frame -> frame - 1)
+  nav_msgs::OdometryPtr odom;             ///< map -> body pose, twist from the previous frame
+  std::optional<geometry_msgs::TransformStamped> map_to_body;  ///< the same pose as tf
+  Box3DArray::Ptr boxes;          ///< in map (needs the camera row)
+  Box3DArray::Ptr boxes_optical;  ///< in the optical frame
+  std::vector<std::string> problems;  ///< inputs that could not be converted (camera row, boxes)
+};
+
+/// Turns frames of one or more sequences into messages. The map frame of a sequence is its first
+/// camera row's body frame (VIPER's poses are relative to the first frame; the first pose is the
+/// identity whether the file holds relative or absolute views). Box velocities and odometry
+/// twists are finite differences over consecutive frames of one sequence.
+class ViperMessageBuilder {
+ public:
+  /// `classes` (may be null) names the classes of boxes and colors semantic_color.
+  ViperMessageBuilder(const ViperTfFrames& frames, const ClassTable* classes);
+  /// Forgets the previous sequence's origin, pose and boxes.
+  void startSequence();
+  /// The messages of `frame`, stamped `stamp`.
+  ViperFrameMessages build(const dataset::ViperFrame& frame, const ros::Time& stamp,
+                           const ViperTopicSelection& selection);
+  /// The fixed transform body -> optical frame.
+  geometry_msgs::TransformStamped bodyToOptical(const ros::Time& stamp) const;
+
+ private:
+  ViperTfFrames frames_;
+  const ClassTable* classes_;
+  std::optional<Eigen::Isometry3d> origin_inverse_;  // world_from_body of the first row, inverted
+  std::optional<EgoPose> last_pose_;
+  struct Seen {
+    Eigen::Vector3d center_map;
+    double time_s;
+  };
+  std::map<int32_t, Seen> last_boxes_;
+};
+
+}  // namespace viper

@@ -1,0 +1,105 @@
+// flow: dense forward/backward optical flow, occlusion masks and wide-baseline correspondences from
+// the raw capture topics and the instances node's objects. Topics, parameters, stamps and the
+// service: docs/flow_node.md.
+#pragma once
+
+#include "viper/ground_truth/boxes.h"
+#include "viper/capture/capture_frame.h"
+#include "viper/ground_truth/flow.h"
+
+#include <Eigen/Geometry>
+#include <image_transport/image_transport.h>
+#include <image_transport/subscriber_filter.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Image.h>
+#include <viper/Correspondences.h>
+#include <viper/DrawList.h>
+#include <viper/MeshStore.h>
+#include <viper/ObjectArray.h>
+
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace viper {
+
+/// Converts depth in metres along the optical axis (REP 118) back to OpenGL window depth in [0, 1],
+/// the inverse of depthMetres(): each pixel with the projection of the draw that owns it (draws
+/// without kHasProjection use `fallback_projection`, pixels become 1 = no surface when that is
+/// null too). Pixels without a draw, and pixels whose depth is not finite or not positive, become 1.
+/// `frame` supplies draws and draw ids; `depth_m` holds frame.pixelCount() values.
+/// Returns the window depths and, in `bad_depth_pixels`, how many pixels of a draw had no usable
+/// depth, counting only draws that have usable depth elsewhere (a draw with none at all is a
+/// background at the far plane, such as a sky, and not an error). Throws std::invalid_argument when a size does not match the frame.
+std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,
+                                         const GlMatrix* fallback_projection, size_t* bad_depth_pixels = nullptr);
+
+/// The flow node's class, shared by the node and the nodelet.
+class Flow {
+ public:
+  Flow(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh);
+  /// Reads and validates the parameters, subscribes, advertises and offers the service. Returns
+  /// false after a ROS_FATAL saying how to fix an impossible configuration.
+  bool start();
+  uint64_t framesProcessed() const { return frames_; }
+
+ private:
+  /// One frame kept for later flow computations.
+  struct HeldFrame {
+    std_msgs::Header header;
+    CaptureFrame frame;  ///< draws, draw ids, primitive ids, window depth (from the depth image)
+    std::vector<float> depth_m;
+    std::vector<int32_t> object_ids;  ///< per draw: track id of its object, 0 for none / stuff
+    std::vector<bool> excluded;       ///< per draw: visible, placed (kHasWorld), but in no object
+    std::optional<Eigen::Isometry3d> optical_from_world;  ///< nullopt: no usable camera
+  };
+  using HeldPtr = std::shared_ptr<const HeldFrame>;
+  using ImageConstPtr = sensor_msgs::Image::ConstPtr;
+  using SyncPolicy = message_filters::sync_policies::ExactTime<DrawList, sensor_msgs::Image, sensor_msgs::Image,
+                                                               sensor_msgs::Image, ObjectArray>;
+
+  void onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, const ImageConstPtr& draw_ids,
+               const ImageConstPtr& primitive_ids, const ObjectArray::ConstPtr& objects);
+  void onDrop(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, const ImageConstPtr& draw_ids,
+              const ImageConstPtr& primitive_ids, const ObjectArray::ConstPtr& objects);
+  void onMeshStore(const MeshStore::ConstPtr& store);
+  bool onCorrespondences(Correspondences::Request& req, Correspondences::Response& res);
+
+  /// Builds a held frame from one synchronised set of messages; nullptr after a throttled error.
+  HeldPtr makeHeldFrame(const DrawList& draws, const sensor_msgs::Image& depth, const sensor_msgs::Image& draw_ids,
+                        const sensor_msgs::Image& primitive_ids, const ObjectArray& objects);
+  /// Flow a -> b into `out`, after dropping associations of excluded draws; logs deformed draws
+  /// whose vertex positions are missing. Caller holds mutex_.
+  void flowBetween(const HeldFrame& a, const HeldFrame& b, FlowField& out);
+  void publish(const image_transport::Publisher& flow_pub, const image_transport::Publisher& visible_pub,
+               const std_msgs::Header& header, const FlowField& field);
+
+  ros::NodeHandle nh_, private_nh_;
+  image_transport::ImageTransport it_;
+  FlowOptions options_;
+  int wide_baseline_ = 0;
+  size_t window_size_ = 5;
+
+  message_filters::Subscriber<DrawList> draws_sub_;
+  image_transport::SubscriberFilter depth_sub_, draw_ids_sub_, primitive_ids_sub_;
+  message_filters::Subscriber<ObjectArray> objects_sub_;
+  std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
+  ros::Subscriber mesh_store_sub_;
+  image_transport::Publisher forward_pub_, forward_visible_pub_, backward_pub_, backward_visible_pub_, wide_pub_,
+      wide_visible_pub_;
+  ros::ServiceServer correspondences_srv_;
+
+  std::mutex mutex_;                // guards everything below
+  MeshRegistry meshes_;
+  std::deque<HeldPtr> window_;      // oldest first; consecutive capture frames
+  FlowField scratch_;               // reused between frames
+  uint64_t frames_ = 0;
+};
+
+}  // namespace viper

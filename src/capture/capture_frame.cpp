@@ -1,0 +1,57 @@
+#include "viper/capture/capture_frame.h"
+
+#include <string>
+
+namespace viper {
+namespace {
+
+std::string sizeProblem(const char* name, size_t actual, size_t expected, const CaptureFrame& f, int channels) {
+  if (actual == expected) return {};
+  return std::string(name) + " has " + std::to_string(actual) + " elements, expected " + std::to_string(expected) +
+         " (" + std::to_string(f.width) + "x" + std::to_string(f.height) + "x" + std::to_string(channels) + ")";
+}
+
+}  // namespace
+
+std::string validateFrame(const CaptureFrame& f) {
+  const std::string at = "frame " + std::to_string(f.number) + ": ";
+  const size_t pixels = f.pixelCount();
+  for (const std::string& problem :
+       {sizeProblem("color_rgb", f.color_rgb.size(), pixels * 3, f, 3),
+        sizeProblem("depth_window", f.depth_window.size(), pixels, f, 1),
+        sizeProblem("draw_ids", f.draw_ids.size(), pixels, f, 1),
+        sizeProblem("primitive_ids", f.primitive_ids.size(), pixels, f, 1)}) {
+    if (!problem.empty()) return at + problem;
+  }
+  for (size_t i = 0; i < f.draws.size(); ++i) {
+    const DrawRecord& d = f.draws[i];
+    if (d.index != i)
+      return at + "draw " + std::to_string(i) + " has index " + std::to_string(d.index) +
+             " (draw indices must be 0..n-1 in order)";
+    if (d.gaps & ~(kGapNoIds | kGapMatrixMissing | kGapNoMesh))
+      return at + "draw " + std::to_string(i) + " has unknown gap bits " + std::to_string(d.gaps);
+    if (d.deformed_clip_xyzw.size() % 4 != 0)
+      return at + "draw " + std::to_string(i) + " deformed_clip_xyzw has " +
+             std::to_string(d.deformed_clip_xyzw.size()) + " floats, not a multiple of 4";
+  }
+  for (const MeshRecord& m : f.new_meshes) {
+    if (m.positions_xyz.size() % 3 != 0 || m.indices.size() % 3 != 0)
+      return at + "mesh " + std::to_string(m.key) + " has " + std::to_string(m.positions_xyz.size()) +
+             " position floats and " + std::to_string(m.indices.size()) + " indices (both must be multiples of 3)";
+    const size_t vertices = m.positions_xyz.size() / 3;
+    for (uint32_t index : m.indices) {
+      if (index >= vertices)
+        return at + "mesh " + std::to_string(m.key) + " index " + std::to_string(index) + " is past its " +
+               std::to_string(vertices) + " vertices";
+    }
+  }
+  const size_t draws = f.draws.size();
+  for (size_t p = 0; p < f.draw_ids.size(); ++p) {
+    if (f.draw_ids[p] > draws)
+      return at + "pixel (" + std::to_string(p % f.width) + ", " + std::to_string(p / f.width) + ") has draw id " +
+             std::to_string(f.draw_ids[p]) + " but the draw list has only " + std::to_string(draws) + " draws";
+  }
+  return {};
+}
+
+}  // namespace viper

@@ -1,0 +1,147 @@
+#include "viper/capture/capture_profile.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace viper {
+
+namespace {
+
+std::runtime_error profileError(const std::string& source, const YAML::Node& node, const std::string& what) {
+  std::ostringstream s;
+  s << "capture profile " << source;
+  if (node.Mark().line >= 0) s << ":" << node.Mark().line + 1;
+  s << ": " << what;
+  return std::runtime_error(s.str());
+}
+
+std::string scalar(const std::string& source, const YAML::Node& node, const std::string& key) {
+  if (!node.IsScalar()) throw profileError(source, node, "'" + key + "' must be a string");
+  return node.as<std::string>();
+}
+
+uint64_t parseKey(const std::string& source, const YAML::Node& node) {
+  const std::string text = scalar(source, node, "program_key");
+  try {
+    size_t used = 0;
+    const uint64_t key = std::stoull(text, &used, 0);
+    if (used != text.size()) throw std::invalid_argument(text);
+    return key;
+  } catch (const std::exception&) {
+    throw profileError(source, node, "'program_key' must be an integer (e.g. 0x1f2e...), got '" + text + "'");
+  }
+}
+
+Deforming parseDeforming(const std::string& source, const YAML::Node& node) {
+  const std::string text = scalar(source, node, "deforming");
+  if (text == "auto") return Deforming::kAuto;
+  if (text == "true" || text == "yes") return Deforming::kYes;
+  if (text == "false" || text == "no") return Deforming::kNo;
+  throw profileError(source, node, "'deforming' must be auto, true or false, got '" + text + "'");
+}
+
+bool parseBool(const std::string& source, const YAML::Node& node, const std::string& key) {
+  const std::string text = scalar(source, node, key);
+  if (text == "true" || text == "yes") return true;
+  if (text == "false" || text == "no") return false;
+  throw profileError(source, node, "'" + key + "' must be true or false, got '" + text + "'");
+}
+
+ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
+  if (!node.IsMap()) throw profileError(source, node, "each entry of 'programs' must be a map");
+  ProgramProfile p;
+  for (const auto& kv : node) {
+    const std::string key = kv.first.as<std::string>();
+    const YAML::Node& value = kv.second;
+    if (key == "vertex_contains") p.vertex_contains = scalar(source, value, key);
+    else if (key == "program_key") p.program_key = parseKey(source, value);
+    else if (key == "world") p.world = scalar(source, value, key);
+    else if (key == "view") p.view = scalar(source, value, key);
+    else if (key == "projection") p.projection = scalar(source, value, key);
+    else if (key == "position") p.position = scalar(source, value, key);
+    else if (key == "deforming") p.deforming = parseDeforming(source, value);
+    else if (key == "instance_world") p.instance_world = scalar(source, value, key);
+    else if (key == "instance_translation") p.instance_translation = scalar(source, value, key);
+    else if (key == "instance_rotation") p.instance_rotation = scalar(source, value, key);
+    else if (key == "instance_scale") p.instance_scale = scalar(source, value, key);
+    else if (key == "instance_rotation_conjugate") p.instance_rotation_conjugate = parseBool(source, value, key);
+    else if (key == "overlay") p.overlay = parseBool(source, value, key);
+    else if (key == "matrix_stack") {
+      p.matrix_stack = scalar(source, value, key);
+      if (p.matrix_stack != "load_view_mult_world")
+        throw profileError(source, value, "'matrix_stack' must be load_view_mult_world, got '" + p.matrix_stack + "'");
+    } else
+      throw profileError(source, kv.first,
+                         "unknown key '" + key +
+                             "' (known: vertex_contains, program_key, world, view, projection, position, deforming, "
+                             "instance_world, instance_translation, instance_rotation, instance_scale, "
+                             "instance_rotation_conjugate, overlay, matrix_stack)");
+  }
+  if (!p.instance_world.empty() &&
+      (!p.instance_translation.empty() || !p.instance_rotation.empty() || !p.instance_scale.empty()))
+    throw profileError(source, node,
+                       "'instance_world' (a mat4 attribute) and instance_translation/rotation/scale exclude each other");
+  if (!p.matrix_stack.empty() && (!p.world.empty() || !p.view.empty() || !p.projection.empty()))
+    throw profileError(source, node, "'matrix_stack' and world/view/projection exclude each other");
+  return p;
+}
+
+}  // namespace
+
+const ProgramProfile* CaptureProfile::match(const std::string& vertex_source, uint64_t program_key) const {
+  static const ProgramProfile kFallback;
+  for (const ProgramProfile& p : programs) {
+    if (p.program_key != 0 && p.program_key != program_key) continue;
+    if (!p.vertex_contains.empty() && vertex_source.find(p.vertex_contains) == std::string::npos) continue;
+    return &p;
+  }
+  return &kFallback;
+}
+
+CaptureProfile parseCaptureProfile(const std::string& yaml_text, const std::string& source_name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error("capture profile " + source_name + ":" + std::to_string(e.mark.line + 1) +
+                             ": not valid YAML: " + e.msg);
+  }
+  CaptureProfile profile;
+  profile.source = source_name;
+  if (root.IsNull()) return profile;
+  if (!root.IsMap()) throw profileError(source_name, root, "top level must be a map with key 'programs'");
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    if (key == "handedness") {
+      const std::string h = scalar(source_name, kv.second, key);
+      if (h != "left" && h != "right")
+        throw profileError(source_name, kv.second, "'handedness' must be left or right, got '" + h + "'");
+      profile.left_handed = h == "left";
+      continue;
+    }
+    if (key == "depth_clear_ends_scene") {
+      profile.depth_clear_ends_scene = parseBool(source_name, kv.second, key);
+      continue;
+    }
+    if (key != "programs")
+      throw profileError(source_name, kv.first, "unknown top-level key '" + key + "' (known: programs, handedness, depth_clear_ends_scene)");
+    if (kv.second.IsNull()) continue;
+    if (!kv.second.IsSequence()) throw profileError(source_name, kv.second, "'programs' must be a list");
+    for (const auto& entry : kv.second) profile.programs.push_back(parseEntry(source_name, entry));
+  }
+  return profile;
+}
+
+CaptureProfile loadCaptureProfile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("capture profile " + path + ": cannot open file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parseCaptureProfile(text.str(), path);
+}
+
+}  // namespace viper

@@ -1,0 +1,129 @@
+// CaptureFormatError and CaptureWriter: the writing side of the .vcap stream.
+#include "viper/capture/capture_stream.h"
+
+#include "capture_stream_format.h"
+
+#include <xxhash.h>
+#include <zstd.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace viper {
+
+using namespace capture_format;
+
+CaptureFormatError::CaptureFormatError(const std::string& file, uint64_t offset, const std::string& what)
+    : std::runtime_error(file + ": offset " + std::to_string(offset) + ": " + what),
+      file_(file),
+      offset_(offset) {}
+
+struct CaptureWriter::Impl {
+  std::string path;
+  std::FILE* file = nullptr;
+  int level = 1;
+  ZSTD_CCtx* cctx = nullptr;
+  uint64_t bytes = 0;
+  uint64_t frames = 0;
+  std::string payload;  // scratch, reused between frames
+  ByteBuffer chunk;     // chunk header + compressed payload, reused between frames
+
+  void writeAll(const char* data, size_t size) {
+    if (std::fwrite(data, 1, size, file) != size || std::fflush(file) != 0)
+      throw std::runtime_error("writing capture stream " + path + ": " + std::strerror(errno));
+    bytes += size;
+  }
+
+  // Fills the chunk header in front of `compressed` bytes already placed at chunk.data() + 48.
+  void writeChunk(uint32_t type, uint64_t frame_number, size_t compressed, uint64_t raw) {
+    char* h = chunk.data();
+    std::memcpy(h, kChunkMagic, 4);
+    putU32(h + 4, type);
+    putU64(h + 8, frame_number);
+    putU64(h + 16, compressed);
+    putU64(h + 24, raw);
+    putU64(h + 32, XXH3_64bits(h + kChunkHeaderSize, compressed));
+    putU64(h + 40, XXH3_64bits(h, kChunkHeaderCheckedSize));
+    writeAll(h, kChunkHeaderSize + compressed);
+  }
+
+  ~Impl() {
+    if (file) std::fclose(file);
+    ZSTD_freeCCtx(cctx);
+  }
+};
+
+CaptureWriter::CaptureWriter(const std::string& path, const CaptureHeader& header, int zstd_level)
+    : impl_(new Impl) {
+  impl_->path = path;
+  impl_->level = zstd_level;
+  impl_->cctx = ZSTD_createCCtx();
+  if (!impl_->cctx) throw std::runtime_error("capture stream " + path + ": cannot create zstd context");
+  impl_->file = std::fopen(path.c_str(), "wb");
+  if (!impl_->file)
+    throw std::runtime_error("cannot open capture stream " + path + " for writing: " + std::strerror(errno));
+
+  const uint32_t fields_size = static_cast<uint32_t>(8 + header.program.size() + header.profile.size());
+  if (fields_size > kMaxHeaderFieldsSize)
+    throw std::runtime_error("capture stream " + path + ": program/profile names are too long");
+  std::string bytes(kFileHeaderFixedSize + fields_size + 8, '\0');
+  char* p = &bytes[0];
+  std::memcpy(p, kFileMagic, 8);
+  putU32(p + 8, kCaptureFormatVersion);
+  putU32(p + 12, fields_size);
+  char* q = p + kFileHeaderFixedSize;
+  for (const std::string* s : {&header.program, &header.profile}) {
+    putU32(q, static_cast<uint32_t>(s->size()));
+    std::memcpy(q + 4, s->data(), s->size());
+    q += 4 + s->size();
+  }
+  putU64(q, XXH3_64bits(p, kFileHeaderFixedSize + fields_size));
+  impl_->writeAll(bytes.data(), bytes.size());
+}
+
+CaptureWriter::~CaptureWriter() {
+  try {
+    close();
+  } catch (const std::exception&) {
+    // A destructor must not throw; the stream simply lacks its end marker (readers say "truncated").
+  }
+}
+
+void CaptureWriter::write(const CaptureFrame& frame) {
+  Impl& w = *impl_;
+  if (!w.file) throw std::runtime_error("capture stream " + w.path + ": write() after close()");
+  encodeFramePayload(frame, w.payload);
+  if (w.payload.size() > kMaxRawPayloadBytes)
+    throw std::runtime_error("capture stream " + w.path + ": frame " + std::to_string(frame.number) +
+                             " payload of " + std::to_string(w.payload.size()) + " bytes exceeds the 1 GiB limit");
+  const size_t bound = ZSTD_compressBound(w.payload.size());
+  w.chunk.reserveDiscard(kChunkHeaderSize + bound);
+  const size_t compressed = ZSTD_compressCCtx(w.cctx, w.chunk.data() + kChunkHeaderSize, bound,
+                                              w.payload.data(), w.payload.size(), w.level);
+  if (ZSTD_isError(compressed))
+    throw std::runtime_error("capture stream " + w.path + ": zstd compression of frame " +
+                             std::to_string(frame.number) + " failed: " + ZSTD_getErrorName(compressed));
+  w.writeChunk(kChunkFrame, frame.number, compressed, w.payload.size());
+  ++w.frames;
+}
+
+void CaptureWriter::close() {
+  Impl& w = *impl_;
+  if (!w.file) return;
+  w.chunk.reserveDiscard(kChunkHeaderSize);
+  // The end chunk's frame field holds the number of frames written.
+  try {
+    w.writeChunk(kChunkEnd, w.frames, 0, 0);
+  } catch (...) {
+    std::fclose(w.file);
+    w.file = nullptr;
+    throw;
+  }
+  const int rc = std::fclose(w.file);
+  w.file = nullptr;
+  if (rc != 0) throw std::runtime_error("closing capture stream " + w.path + ": " + std::strerror(errno));
+}
+
+uint64_t CaptureWriter::bytesWritten() const { return impl_->bytes; }
+
+}  // namespace viper

@@ -1,0 +1,197 @@
+// CaptureReader: reads and verifies a .vcap stream, optionally following a file still being written.
+#include "viper/capture/capture_stream.h"
+
+#include "capture_stream_format.h"
+
+#include <xxhash.h>
+#include <zstd.h>
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace viper {
+
+using namespace capture_format;
+
+struct CaptureReader::Impl {
+  std::string path;
+  std::FILE* file = nullptr;
+  CaptureHeader header;
+  uint64_t offset = 0;
+  bool ended = false;
+  ZSTD_DCtx* dctx = nullptr;
+  ByteBuffer compressed;  // reused between frames
+  ByteBuffer raw;
+
+  ~Impl() {
+    if (file) std::fclose(file);
+    ZSTD_freeDCtx(dctx);
+  }
+
+  [[noreturn]] void fail(uint64_t at, const std::string& what) const { throw CaptureFormatError(path, at, what); }
+
+  // Current size of the file: it may grow between calls while a writer appends.
+  uint64_t fileSize() {
+    const int fd = fileno(file);
+    struct stat st;
+    if (fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) return static_cast<uint64_t>(st.st_size);
+    if (fseeko(file, 0, SEEK_END) != 0) fail(offset, std::string("cannot seek: ") + std::strerror(errno));
+    const off_t end = ftello(file);
+    if (end < 0) fail(offset, std::string("cannot tell size: ") + std::strerror(errno));
+    return static_cast<uint64_t>(end);
+  }
+
+  // Positions the stream at `at`, dropping stdio's EOF flag and buffer so newly appended bytes show.
+  void seekTo(uint64_t at) {
+    std::clearerr(file);
+    if (fseeko(file, static_cast<off_t>(at), SEEK_SET) != 0)
+      fail(at, std::string("cannot seek: ") + std::strerror(errno));
+  }
+
+  bool readExact(char* dst, size_t n) { return std::fread(dst, 1, n, file) == n; }
+
+  void readHeader();
+  Status readChunk(CaptureFrame& frame, bool follow);
+};
+
+void CaptureReader::Impl::readHeader() {
+  char fixed[kFileHeaderFixedSize];
+  const size_t got = std::fread(fixed, 1, sizeof(fixed), file);
+  if (got >= 8 && std::memcmp(fixed, kFileMagic, 8) != 0)
+    fail(0, "bad magic: not a viper capture stream (expected \"VIPERCAP\")");
+  if (got < sizeof(fixed))
+    fail(0, "truncated header: file has " + std::to_string(got) + " of at least " +
+                std::to_string(kFileHeaderFixedSize + 8) + " header bytes");
+  header.version = getU32(fixed + 8);
+  // The version comes before the checksum: a newer writer may lay out the rest differently.
+  if (header.version < kOldestReadableCaptureFormatVersion || header.version > kCaptureFormatVersion)
+    fail(0, "unsupported capture format version " + std::to_string(header.version) + " (this reader reads versions " +
+                std::to_string(kOldestReadableCaptureFormatVersion) + " to " + std::to_string(kCaptureFormatVersion) + ")");
+  const uint32_t fields_size = getU32(fixed + 12);
+  if (fields_size > kMaxHeaderFieldsSize || fields_size < 8)
+    fail(0, "header fields size " + std::to_string(fields_size) + " is out of range");
+  std::string bytes(kFileHeaderFixedSize + fields_size + 8, '\0');
+  std::memcpy(&bytes[0], fixed, sizeof(fixed));
+  if (!readExact(&bytes[kFileHeaderFixedSize], fields_size + 8))
+    fail(0, "truncated header: " + std::to_string(bytes.size()) + " header bytes expected");
+  const char* p = bytes.data();
+  if (XXH3_64bits(p, kFileHeaderFixedSize + fields_size) != getU64(p + kFileHeaderFixedSize + fields_size))
+    fail(0, "header checksum mismatch");
+  // Fields: program, profile (u32 length + bytes each); later versions may append more.
+  const char* q = p + kFileHeaderFixedSize;
+  const char* end = q + fields_size;
+  for (std::string* s : {&header.program, &header.profile}) {
+    if (end - q < 4) fail(0, "header fields end early");
+    const uint32_t n = getU32(q);
+    q += 4;
+    if (static_cast<uint64_t>(end - q) < n) fail(0, "header string of " + std::to_string(n) + " bytes overruns the fields");
+    s->assign(q, n);
+    q += n;
+  }
+  offset = bytes.size();
+}
+
+CaptureReader::Status CaptureReader::Impl::readChunk(CaptureFrame& frame, bool follow) {
+  const uint64_t start = offset;
+  const uint64_t size = fileSize();
+  const uint64_t avail = size > start ? size - start : 0;
+  seekTo(start);
+  char h[kChunkHeaderSize];
+  if (avail < kChunkHeaderSize || !readExact(h, kChunkHeaderSize)) {
+    if (follow) {
+      seekTo(start);
+      return Status::kPending;
+    }
+    if (avail == 0) fail(start, "truncated: end of file without end-of-stream marker");
+    fail(start, "truncated: chunk header incomplete (" + std::to_string(avail) + " of " +
+                    std::to_string(kChunkHeaderSize) + " bytes)");
+  }
+  if (std::memcmp(h, kChunkMagic, 4) != 0) fail(start, "bad chunk magic (expected \"VCHK\")");
+  if (XXH3_64bits(h, kChunkHeaderCheckedSize) != getU64(h + 40)) fail(start, "chunk header checksum mismatch");
+  const uint32_t type = getU32(h + 4);
+  const uint64_t number = getU64(h + 8);
+  const uint64_t csize = getU64(h + 16);
+  const uint64_t rsize = getU64(h + 24);
+  const std::string which = "frame " + std::to_string(number) + ": ";
+  if (type == kChunkEnd) {
+    if (csize != 0 || rsize != 0) fail(start, "end-of-stream chunk with a payload");
+    ended = true;
+    offset = start + kChunkHeaderSize;
+    return Status::kEnd;
+  }
+  if (type != kChunkFrame) fail(start, "unknown chunk type " + std::to_string(type));
+  if (rsize > kMaxRawPayloadBytes || csize > ZSTD_compressBound(kMaxRawPayloadBytes))
+    fail(start, which + "payload sizes out of range (compressed " + std::to_string(csize) + ", raw " +
+                    std::to_string(rsize) + ")");
+  if (avail - kChunkHeaderSize < csize) {
+    if (follow) {
+      seekTo(start);
+      return Status::kPending;
+    }
+    fail(start, which + "truncated: chunk needs " + std::to_string(csize) + " payload bytes, file has " +
+                    std::to_string(avail - kChunkHeaderSize));
+  }
+  compressed.reserveDiscard(csize);
+  if (!readExact(compressed.data(), csize)) {
+    if (follow) {
+      seekTo(start);
+      return Status::kPending;
+    }
+    fail(start, which + "truncated: short read of the payload");
+  }
+  if (XXH3_64bits(compressed.data(), csize) != getU64(h + 32)) fail(start, which + "payload checksum mismatch");
+  const unsigned long long content = ZSTD_getFrameContentSize(compressed.data(), csize);
+  if (content != rsize)
+    fail(start, which + "zstd frame declares " +
+                    (content >= ZSTD_CONTENTSIZE_ERROR ? std::string("no valid size") : std::to_string(content)) +
+                    ", chunk header says " + std::to_string(rsize) + " bytes");
+  raw.reserveDiscard(rsize);
+  const size_t got = ZSTD_decompressDCtx(dctx, raw.data(), rsize, compressed.data(), csize);
+  if (ZSTD_isError(got)) fail(start, which + "zstd decompression failed: " + ZSTD_getErrorName(got));
+  if (got != rsize)
+    fail(start, which + "decompressed to " + std::to_string(got) + " bytes, expected " + std::to_string(rsize));
+  try {
+    decodeFramePayload(raw.data(), rsize, frame, header.version);
+  } catch (const std::runtime_error& e) {
+    fail(start, which + e.what());
+  }
+  if (frame.number != number)
+    fail(start, which + "payload holds frame number " + std::to_string(frame.number));
+  offset = start + kChunkHeaderSize + csize;
+  return Status::kFrame;
+}
+
+CaptureReader::CaptureReader(const std::string& path) : impl_(new Impl) {
+  impl_->path = path;
+  impl_->file = std::fopen(path.c_str(), "rb");
+  if (!impl_->file) throw std::runtime_error("cannot open capture stream " + path + ": " + std::strerror(errno));
+  impl_->dctx = ZSTD_createDCtx();
+  if (!impl_->dctx) throw std::runtime_error("capture stream " + path + ": cannot create zstd context");
+  impl_->readHeader();
+}
+
+CaptureReader::CaptureReader(std::FILE* file, const std::string& name) : impl_(new Impl) {
+  impl_->path = name;
+  impl_->file = file;
+  if (!impl_->file) throw std::runtime_error("capture stream " + name + ": no file given");
+  impl_->dctx = ZSTD_createDCtx();
+  if (!impl_->dctx) throw std::runtime_error("capture stream " + name + ": cannot create zstd context");
+  impl_->readHeader();
+}
+
+CaptureReader::~CaptureReader() = default;
+
+const CaptureHeader& CaptureReader::header() const { return impl_->header; }
+
+CaptureReader::Status CaptureReader::next(CaptureFrame& frame, bool follow) {
+  if (impl_->ended) return Status::kEnd;
+  return impl_->readChunk(frame, follow);
+}
+
+uint64_t CaptureReader::offset() const { return impl_->offset; }
+
+const std::string& CaptureReader::path() const { return impl_->path; }
+
+}  // namespace viper

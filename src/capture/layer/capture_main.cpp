@@ -1,0 +1,162 @@
+// `capture [options] -- PROGRAM ARGS...`: runs an OpenGL program with the viper interceptor
+// preloaded and writes a capture stream. Exit status: the program's (128 + signal if killed).
+#include "viper/capture/capture_profile.h"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+pid_t g_child = 0;
+
+void forwardSignal(int sig) {
+  if (g_child > 0) kill(g_child, sig);
+}
+
+int usage(const char* argv0, const char* problem) {
+  if (problem) std::fprintf(stderr, "capture: %s\n", problem);
+  std::fprintf(stderr,
+               "usage: %s --output FILE.vcap [--profile PROFILE.yaml] [--condition TAG] [--frames N]\n"
+               "       [--fps F] [--skip-frames N] [--start-on-scene] [--library libviper_intercept.so]\n"
+               "       -- PROGRAM [ARGS...]\n"
+               "  --frames N: write N frames, then stop the program\n"
+               "  --fps F: stamp frame n at n / F seconds, for programs that advance a fixed time step\n"
+               "           per frame (default: the monotonic clock at each buffer swap)\n"
+               "  --skip-frames N: show but do not write the first N frames (menus, loading screens)\n"
+               "  --start-on-scene: write from the first frame in which a recorded draw has the\n"
+               "           camera's view and projection matrices (the profile's scene programs)\n",
+               argv0);
+  return 2;
+}
+
+std::string executableDir() {
+  char buf[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
+  if (n <= 0) return ".";
+  std::string path(buf, static_cast<size_t>(n));
+  return path.substr(0, path.rfind('/'));
+}
+
+std::string findLibrary(const std::string& given) {
+  if (!given.empty()) return given;
+  if (const char* env = std::getenv("VIPER_INTERCEPT_LIBRARY")) return env;
+  const std::string dir = executableDir();
+  for (const std::string& candidate :
+       {dir + "/libviper_intercept.so", dir + "/../libviper_intercept.so", std::string(VIPER_INTERCEPT_BUILD_PATH)}) {
+    if (access(candidate.c_str(), R_OK) == 0) return candidate;
+  }
+  return std::string(VIPER_INTERCEPT_BUILD_PATH);
+}
+
+std::string absolute(const std::string& path) {
+  if (path.empty() || path[0] == '/') return path;
+  char cwd[PATH_MAX];
+  return getcwd(cwd, sizeof(cwd)) ? std::string(cwd) + "/" + path : path;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string output, profile, condition, frames, library, fps, skip;
+  bool start_on_scene = false;
+  int i = 1;
+  for (; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--") {
+      ++i;
+      break;
+    }
+    if (a == "-h" || a == "--help") return usage(argv[0], nullptr), 0;
+    if (a == "--start-on-scene") {
+      start_on_scene = true;
+      continue;
+    }
+    if (i + 1 >= argc) return usage(argv[0], ("option " + a + " needs a value").c_str());
+    const std::string v = argv[++i];
+    if (a == "--output" || a == "-o") output = v;
+    else if (a == "--profile") profile = v;
+    else if (a == "--condition") condition = v;
+    else if (a == "--frames") frames = v;
+    else if (a == "--fps") fps = v;
+    else if (a == "--skip-frames") skip = v;
+    else if (a == "--library") library = v;
+    else return usage(argv[0], ("unknown option " + a).c_str());
+  }
+  if (i >= argc) return usage(argv[0], "no program given after --");
+  if (output.empty()) return usage(argv[0], "--output is required");
+  if (!frames.empty()) {
+    char* end = nullptr;
+    const long long n = std::strtoll(frames.c_str(), &end, 10);
+    if (*end || n <= 0) return usage(argv[0], "--frames must be a positive integer");
+  }
+  if (!skip.empty()) {
+    char* end = nullptr;
+    const long long n = std::strtoll(skip.c_str(), &end, 10);
+    if (*end || n < 0) return usage(argv[0], "--skip-frames must be a non-negative integer");
+  }
+  if (!fps.empty()) {
+    char* end = nullptr;
+    const double f = std::strtod(fps.c_str(), &end);
+    if (*end || !(f > 0.0) || f > 1e6) return usage(argv[0], "--fps must be a positive number");
+  }
+  if (!profile.empty()) {
+    try {
+      viper::loadCaptureProfile(profile);  // fail here, clearly, rather than inside the program
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "capture: %s\n", e.what());
+      return 2;
+    }
+  }
+  const std::string lib = absolute(findLibrary(library));
+  if (access(lib.c_str(), R_OK) != 0) {
+    std::fprintf(stderr, "capture: interceptor library %s not found (use --library)\n", lib.c_str());
+    return 2;
+  }
+
+  std::string preload = lib;
+  if (const char* old = std::getenv("LD_PRELOAD")) preload += std::string(":") + old;
+  setenv("LD_PRELOAD", preload.c_str(), 1);
+  setenv("VIPER_CAPTURE_OUTPUT", absolute(output).c_str(), 1);
+  setenv("VIPER_CAPTURE_PROGRAM", argv[i], 1);
+  if (!profile.empty()) setenv("VIPER_CAPTURE_PROFILE", absolute(profile).c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_PROFILE");
+  setenv("VIPER_CAPTURE_CONDITION", condition.c_str(), 1);
+  if (!frames.empty()) setenv("VIPER_CAPTURE_FRAMES", frames.c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_FRAMES");
+  if (!fps.empty()) setenv("VIPER_CAPTURE_FPS", fps.c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_FPS");
+  if (!skip.empty()) setenv("VIPER_CAPTURE_SKIP", skip.c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_SKIP");
+  setenv("VIPER_CAPTURE_START_ON_SCENE", start_on_scene ? "1" : "0", 1);
+
+  g_child = fork();
+  if (g_child < 0) {
+    std::perror("capture: fork");
+    return 1;
+  }
+  if (g_child == 0) {
+    execvp(argv[i], argv + i);
+    std::fprintf(stderr, "capture: cannot run %s: %s\n", argv[i], std::strerror(errno));
+    _exit(127);
+  }
+  signal(SIGINT, forwardSignal);
+  signal(SIGTERM, forwardSignal);
+  int status = 0;
+  while (waitpid(g_child, &status, 0) < 0) {
+    if (errno != EINTR) {
+      std::perror("capture: waitpid");
+      return 1;
+    }
+  }
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return 1;
+}

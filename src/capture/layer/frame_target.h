@@ -1,0 +1,127 @@
+// The interceptor's stand-in for a context's default framebuffer: color (the program's image),
+// draw/primitive ids, and depth(-stencil) in the formats of the real default framebuffer.
+#pragma once
+
+#include "gl_real.h"
+#include "viper/capture/shader_rewrite.h"
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace viper {
+namespace capture {
+
+/// Pixels read back at a swap, bottom row first as glReadPixels gives them.
+struct RawImages {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgba;   ///< 4 bytes per pixel
+  std::vector<float> depth;    ///< window depth as floats (formats other than depth24/stencil8)
+  std::vector<uint32_t> depth_24_8;  ///< packed depth24/stencil8 (depth in the high 24 bits)
+  std::vector<float> ids;      ///< 2 floats per pixel: draw id (index + 1), primitive id
+};
+
+/// Draw buffer index of our id attachment (the fragment location of the rewritten shaders' id
+/// output), on our framebuffer and on the program's scene framebuffer objects alike.
+constexpr GLuint kIdDrawBuffer = static_cast<GLuint>(kIdOutputLocation);
+
+/// One per GL context. Methods must be called with that context current.
+class FrameTarget {
+ public:
+  /// Creates or resizes the substitute framebuffer to `width` x `height`, matching the formats
+  /// of the real default framebuffer (queried the first time).
+  void ensureSize(int width, int height);
+  bool ready() const { return fbo_ != 0; }
+  GLuint fbo() const { return fbo_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+  /// Program-visible framebuffer bindings (0 = the default framebuffer, i.e. ours).
+  GLuint program_draw_fb = 0;
+  GLuint program_read_fb = 0;
+  /// Draw buffer the program selected for "its" default framebuffer (GL_BACK or GL_NONE).
+  GLenum program_draw_buffer = GL_BACK;
+  /// Read buffer the program selected for it (GL_BACK or GL_NONE).
+  GLenum program_read_buffer = GL_BACK;
+  /// Whether our id attachment is currently a draw buffer.
+  bool ids_enabled = true;
+
+  /// Sets the draw buffers of our framebuffer from program_draw_buffer and `ids` (ours at kIdDrawBuffer).
+  void applyDrawBuffers(bool ids);
+  /// Sets the read buffer of our framebuffer from program_read_buffer.
+  void applyReadBuffer();
+
+  /// A framebuffer object of the program's that may hold its scene (rendered off screen, then
+  /// composited into the default framebuffer): complete, single-sampled, with a depth attachment,
+  /// the size of the default framebuffer. Draws into it write ids into a texture of ours attached
+  /// at kIdAttachment (draw buffer kIdDrawBuffer), and the one that took the most draws in a frame gives that frame's depth
+  /// and ids (the color stays the program's final image).
+  struct ProgramFbo {
+    uint64_t checked_frame = ~0ull;  ///< frame serial of the last check
+    bool scene = false;              ///< passed the check
+    GLuint ids = 0;                  ///< our id texture (RG32F)
+    std::vector<GLenum> program_draw_buffers{GL_COLOR_ATTACHMENT0};
+    bool ids_wanted = false;         ///< last asked for: the drawing program writes ids
+    bool ids_enabled = false;        ///< our attachment is a draw buffer now (wanted, and color drawn)
+    bool ids_cleared = false;        ///< our attachment was cleared this frame
+    uint32_t draws = 0;              ///< draws recorded into it this frame
+  };
+  static constexpr GLenum kIdAttachment = GL_COLOR_ATTACHMENT7;
+  /// The program's bound draw framebuffer object if it may hold the scene (checked once a frame;
+  /// our id attachment added, and cleared for the frame unless `clear_stale` is false), else nullptr.
+  ProgramFbo* sceneFbo(bool clear_stale = true);
+  /// The program's glDrawBuffer(s) on its bound framebuffer object: kept, and applied with our id
+  /// attachment as draw buffer kIdDrawBuffer where it has one enabled.
+  void programFboDrawBuffers(GLsizei n, const GLenum* bufs);
+  /// Sets the draw buffers of the bound program framebuffer f: the program's, with ours at
+  /// kIdDrawBuffer if `ids`.
+  void applyFboDrawBuffers(ProgramFbo& f, bool ids);
+  /// After the program cleared color or depth of its bound framebuffer f: our ids back to 0.
+  void clearFboIds(ProgramFbo& f);
+
+  /// Keeps a copy of the program's image as it is now (before its first 2D overlay draw of the
+  /// frame); present() then reads the frame's color from that copy. Once a frame.
+  void snapshotSceneColor() { snapshotScene(false); }
+  /// The scene of this frame ends now (the program clears depth after drawing it, to draw a
+  /// first-person hand or 3D HUD items over it): color and depth are kept as they are, and later
+  /// draws of the frame are neither recorded nor given ids (sceneEnded()).
+  void endScene() {
+    snapshotScene(true);
+    scene_ended_ = true;
+  }
+  bool sceneEnded() const { return scene_ended_; }
+
+  /// Copies the program's image to the real default framebuffer (unless `to_surface` is false:
+  /// pbuffers, whose content the program can only read through GL, which reads ours) and reads
+  /// color, and depth and ids from the default framebuffer or the scene's framebuffer object.
+  /// Restores every binding and state it touches. Without `read_back` (frames not captured) only
+  /// the copy to the surface happens.
+  void present(RawImages& out, bool to_surface, bool read_back = true);
+
+ private:
+  void queryDefaultFormats();
+  void destroy();
+  bool isSceneCandidate() const;  // the bound draw framebuffer object
+  // The scene's framebuffer object of this frame (most recorded draws), 0 for ours.
+  GLuint sceneSource() const;
+  void readDepthAndIds(GLuint fb, GLenum id_buffer, RawImages& out);
+  void endFrame();
+
+  std::unordered_map<GLuint, ProgramFbo> program_fbos_;
+  void snapshotScene(bool with_depth);
+  GLuint scene_color_fbo_ = 0, scene_color_ = 0, scene_depth_ = 0;  // snapshotScene()
+  bool scene_color_taken_ = false, scene_depth_taken_ = false, scene_ended_ = false;
+  uint64_t frame_serial_ = 0;
+
+  GLuint fbo_ = 0;
+  GLuint color_ = 0, ids_ = 0, depth_ = 0;
+  int width_ = 0, height_ = 0;
+  bool formats_known_ = false;
+  GLenum color_format_ = GL_RGBA8;
+  GLenum depth_format_ = GL_DEPTH24_STENCIL8;  // 0 = no depth attachment
+  GLenum depth_attachment_ = GL_DEPTH_STENCIL_ATTACHMENT;
+};
+
+}  // namespace capture
+}  // namespace viper

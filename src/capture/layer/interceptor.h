@@ -1,0 +1,264 @@
+// State and behaviour of the capture layer; the exported GL/EGL/GLX functions (hooks_*.cpp)
+// forward to the real driver through this class.
+#pragma once
+
+#include "frame_sink.h"
+#include "frame_target.h"
+#include "gl_real.h"
+#include "matrix_stack.h"
+#include "mesh_extract.h"
+#include "viper/capture/capture_profile.h"
+#include "viper/capture/shader_rewrite.h"
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+namespace viper {
+namespace capture {
+
+/// What the interceptor knows about one shader object.
+struct ShaderInfo {
+  GLenum type = 0;
+  std::string original;
+  FragmentRewrite rewrite;  ///< rewrite.ok: the driver holds the rewritten source
+};
+
+/// Where a matrix the profile names lives: a default-block uniform, or a member of a uniform block
+/// (read from the buffer bound to the block's binding point at each draw).
+struct MatrixSource {
+  GLint location = -1;               ///< default-block uniform
+  GLuint block = GL_INVALID_INDEX;   ///< uniform block index
+  GLint offset = 0;                  ///< bytes into the block
+  GLint matrix_stride = 16;          ///< bytes between columns (rows if row_major)
+  bool row_major = false;
+  bool found() const { return location >= 0 || block != GL_INVALID_INDEX; }
+};
+
+/// Instanced vertex attributes (locations, -1 = absent) that place each instance of a draw.
+struct InstanceTransform {
+  GLint world = -1;  ///< mat4: four consecutive locations, one column each
+  GLint translation = -1, rotation = -1, scale = -1;
+  bool rotation_conjugate = false;
+  bool any() const { return world >= 0 || translation >= 0 || rotation >= 0 || scale >= 0; }
+};
+
+/// What the interceptor knows about one linked program.
+struct ProgramInfo {
+  uint64_t key = 0;
+  bool rewritten = false;   ///< fragment shader writes viper_id_out
+  bool deforming = false;   ///< gl_Position is captured with transform feedback
+  bool own_feedback = false;  ///< the program set its own transform feedback varyings
+  bool has_geometry_stage = false;
+  bool overlay = false;     ///< the profile says: 2D overlay (HUD, menus), never recorded
+  /// A shader reads gl_InstanceID, gl_BaseInstance or gl_DrawID: instanced and multi draws are
+  /// issued as the program made them (one record for all instances).
+  bool reads_draw_parameters = false;
+  GLint loc_draw_id = -1, loc_alpha_test = -1;
+  MatrixSource world, view, projection;
+  InstanceTransform instance;
+  bool matrix_stack = false;           ///< matrices from the fixed-function stack (matrix_stack.h)
+  uint8_t expected_matrices = 0;       ///< MatrixFlags the profile names for this program
+  GLint position_attrib = 0;
+  bool vertex_array_position = false;  ///< positions from the conventional array (glVertexPointer)
+  std::vector<GLint> sampler_locations;
+  std::vector<GLenum> sampler_targets;
+  float alpha_test_value = -1.0f;  ///< last value set, to skip redundant glUniform calls
+};
+
+/// Shadow copy of a buffer object's contents.
+struct BufferShadow {
+  std::vector<uint8_t> data;
+  uint64_t version = 0;
+  uint64_t key = 0;
+  uint64_t key_version = ~0ull;
+  // Active write mapping (glMapBuffer*), copied into `data` at unmap.
+  void* map_pointer = nullptr;
+  size_t map_offset = 0, map_length = 0;
+  /// The mapping is persistent (glBufferStorage + GL_MAP_PERSISTENT_BIT): it stays while the
+  /// program draws, and its memory, not `data`, holds what the GPU reads.
+  bool map_persistent = false;
+};
+
+/// Draw call arguments, normalised.
+struct DrawCall {
+  GLenum mode = GL_TRIANGLES;
+  GLsizei count = 0;
+  GLint first = 0;             ///< non-indexed draws
+  bool indexed = false;
+  GLenum index_type = 0;
+  size_t index_offset = 0;     ///< bytes into the element buffer
+  GLint base_vertex = 0;
+  GLsizei instances = 1;
+  GLuint base_instance = 0;
+};
+
+/// The capture layer (one per process).
+class Interceptor {
+ public:
+  static Interceptor& instance();
+  /// Writes what is queued and closes the stream; capture stops.
+  void shutdown();
+  bool enabled() const { return enabled_; }
+
+  // Window system.
+  void onMakeCurrent(void* context, int width, int height);
+  /// At a buffer swap of a surface of `width` x `height`; `offscreen` for pbuffers.
+  void beforeSwap(int width, int height, bool offscreen);
+
+  // Shaders and programs.
+  void shaderSource(GLuint shader, GLsizei count, const GLchar* const* strings, const GLint* lengths);
+  void compileShader(GLuint shader);
+  void linkProgram(GLuint program);
+  void useProgram(GLuint program);
+  void transformFeedbackVaryings(GLuint program);
+
+  // Framebuffers.
+  void bindFramebuffer(GLenum target, GLuint fb);
+  void drawBuffer(GLenum buf);
+  void drawBuffers(GLsizei n, const GLenum* bufs);
+  void readBuffer(GLenum buf);
+  void clear(GLbitfield mask);
+  /// Rewrites framebuffer binding queries so the program sees 0 for its default framebuffer.
+  void fixIntegerQuery(GLenum pname, GLint* data);
+  void blendStateChanged(bool blend_enabled_known, bool blend_enabled);
+
+  // Buffers and textures.
+  void bufferData(GLenum target, GLuint name, GLsizeiptr size, const void* data);
+  void bufferSubData(GLenum target, GLuint name, GLintptr offset, GLsizeiptr size, const void* data);
+  void mapped(GLenum target, void* pointer, GLintptr offset, GLsizeiptr length, GLbitfield access);
+  void beforeUnmap(GLenum target);
+  void copyBufferSubData(GLenum read_target, GLenum write_target, GLintptr read_offset, GLintptr write_offset,
+                         GLsizeiptr size);
+  void deleteBuffers(GLsizei n, const GLuint* names);
+  void activeTexture(GLenum unit) { active_unit_ = unit - GL_TEXTURE0; }
+  void bindTexture(GLenum target, GLuint name);
+  void texImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLenum type, const void* pixels,
+                bool sub, GLint x, GLint y);
+  /// glCompressedTex(Sub)Image2D: `bytes` of compressed data (keyed as they are).
+  void compressedTexImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLsizei bytes,
+                          const void* data, bool sub, GLint x, GLint y);
+  void deleteTextures(GLsizei n, const GLuint* names);
+
+  /// The fixed-function model-view stack as the program builds it (hooks_legacy.cpp).
+  ModelViewTracker& modelView() { return modelview_; }
+
+  /// Called around every draw: `before` returns true if the draw is recorded.
+  bool beforeDraw(const DrawCall& call);
+  void afterDraw(const DrawCall& call);
+  /// True if an instanced draw is to be issued one instance at a time (instance k as base
+  /// instance + k), so that every instance gets its own draw id and record. Only when that cannot
+  /// change what is drawn: no shader reads gl_InstanceID/gl_BaseInstance/gl_DrawID, every
+  /// instanced attribute advances once per instance, and the context has base-instance draws.
+  bool splitsInstances(const DrawCall& call);
+  /// Multi and indirect draws are issued as the single draws they stand for (each recorded) unless
+  /// a shader of the current program reads gl_DrawID (or no draw would be recorded anyway).
+  bool decomposesMultiDraw();
+  /// Before a multi or indirect draw passed through whole: ids off for it (logged once).
+  void beforeUndecomposedDraw(const char* what);
+  /// `size` bytes of the bound draw indirect buffer at `offset` (false if unknown).
+  bool readIndirect(size_t offset, void* out, size_t size);
+  void bufferStorage(GLenum target, GLuint name, GLsizeiptr size, const void* data);
+  /// After the program cleared buffers with glClearBuffer*: ids follow its depth and color clears.
+  void clearBuffer(GLenum buffer, GLint drawbuffer);
+  /// Our id attachment of the default framebuffer back to 0 (no draw), draw buffers as they were.
+  void clearDefaultIds(FrameTarget& t);
+  /// glProgramBinary: refused (logged once), so that the program links from source, which we rewrite.
+  void programBinary(GLuint program);
+
+ private:
+  Interceptor();
+  ~Interceptor();
+  FrameTarget* target();
+  ProgramInfo* currentProgram();
+  GLuint boundBuffer(GLenum target);
+  uint64_t bufferKey(GLuint name);
+  void recordMesh(const DrawCall& call, const ProgramInfo& program, DrawRecord& record);
+  /// A mesh whose vertices or indices are in the program's memory (client-side arrays): extracted
+  /// at every draw (the memory may change between draws), kept in client_mesh_.
+  void recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo, const uint8_t* client_vertices,
+                        GLuint ibo, DrawRecord& record);
+  /// World, view and projection from the fixed-function stack; world and view only where the
+  /// driver's model-view equals view x world (else logged once).
+  void readMatrixStack(DrawRecord& record);
+  /// At the end of a frame: draws from the matrix stack whose loaded matrix is not the frame's view
+  /// (the one most of them loaded) get their world re-expressed against it, W = V^-1 V_d W_d:
+  /// Irrlicht loads view x world as one matrix for the first draw after 2D drawing.
+  void oneStackView();
+  void captureDeformed(const DrawCall& call);
+  void readDeformed();
+  uint64_t textureKey(GLenum target, GLuint unit);
+  /// The content key of an upload into the texture bound to `target` on the active unit: the
+  /// texture's key (level 0), or combined with it (sub-image updates).
+  void storeTextureKey(GLenum target, GLint level, bool sub, uint64_t key);
+  /// Whether the draw about to be made goes into the frame's scene (default framebuffer or a scene
+  /// framebuffer object) with a program that is recorded.
+  bool recordable();
+  /// Copies bytes of a buffer as the GPU will read them now (a persistent mapping's memory, else
+  /// our shadow copy); false if the range is not known.
+  bool readBufferBytes(GLuint name, size_t offset, size_t size, void* out);
+  bool readMatrix(const MatrixSource& source, GlMatrix& out);
+  /// The world matrix of instance `call.base_instance` from the program's instanced attributes.
+  bool readInstanceWorld(const InstanceTransform& t, const DrawCall& call, GlMatrix& out);
+  bool readAttribute(GLint location, const DrawCall& call, float out[4]);
+  /// Once per distinct message: to stderr, prefixed.
+  void logOnce(const std::string& message);
+
+  bool enabled_ = false;
+  std::string output_path_, condition_;
+  uint64_t frame_limit_ = 0;    ///< frames to write (0: until the program ends)
+  uint64_t skip_frames_ = 0;    ///< VIPER_CAPTURE_SKIP: swaps before the first written frame
+  bool start_on_scene_ = false; ///< VIPER_CAPTURE_START_ON_SCENE: first written frame has a camera
+  uint64_t frames_written_ = 0;
+  CaptureProfile profile_;
+  std::unique_ptr<FrameSink> sink_;
+  double start_s_ = 0.0;
+
+  std::mutex mutex_;  // guards the resource maps (programs may upload from loader threads)
+  std::unordered_map<GLuint, ShaderInfo> shaders_;
+  std::unordered_map<GLuint, ProgramInfo> programs_;
+  std::unordered_set<GLuint> programs_with_own_feedback_;
+  std::unordered_map<GLuint, BufferShadow> buffers_;
+  std::unordered_map<GLuint, uint64_t> texture_keys_;
+  std::unordered_map<void*, std::unique_ptr<FrameTarget>> targets_;
+  std::unordered_map<uint64_t, ExtractedMesh> mesh_cache_;
+  std::unordered_set<uint64_t> emitted_meshes_;
+
+  GLuint current_program_ = 0;
+  ProgramInfo* current_program_info_ = nullptr;
+  GLuint active_unit_ = 0;
+  std::unordered_map<uint64_t, GLuint> unit_bindings_;  // (unit << 32 | target) -> texture
+  bool blend_dirty_ = true;
+  bool ids_write_ = true;  ///< write mask last set on the id attachment
+  double fixed_fps_ = 0.0; ///< VIPER_CAPTURE_FPS: frame time = number / fps (0: monotonic clock)
+  bool blend0_enabled_ = false;
+  bool base_instance_draws_ = false;  ///< current context is GL >= 4.2 (glDraw*BaseInstance)
+  std::unordered_set<std::string> logged_;
+
+  // Frame being recorded.
+  uint64_t frame_number_ = 0;
+  CaptureFrame frame_;
+  struct PendingDeform {
+    uint32_t draw_index;
+    GLuint buffer;
+    uint32_t vertices;
+  };
+  std::vector<PendingDeform> pending_deform_;
+  std::vector<GLuint> feedback_buffers_;
+  GLuint feedback_object_ = 0;
+  ExtractedMesh* last_mesh_ = nullptr;  // mesh of the draw in flight
+  ExtractedMesh client_mesh_;           // last mesh from client-side arrays
+  ModelViewTracker modelview_;
+  std::vector<uint32_t> stack_draws_;   // this frame's draws with world and view from the stack
+  bool last_recorded_ = false;
+  struct {
+    uint64_t frames = 0;
+    double present_s = 0, push_wait_s = 0;
+  } stats_;  // printed at exit when VIPER_CAPTURE_STATS is set
+};
+
+}  // namespace capture
+}  // namespace viper

@@ -1,0 +1,516 @@
+// Per-draw work: draw ids, matrices, content keys, meshes and deformed vertices.
+#include "interceptor.h"
+
+#include "viper/capture/content_key.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+
+namespace viper {
+namespace capture {
+
+namespace {
+
+GLint vertexAttrib(GLuint index, GLenum pname) {
+  GLint v = 0;
+  gl().GetVertexAttribiv(index, pname, &v);
+  return v;
+}
+
+// Everything a mesh extraction depends on, hashed as one cache key.
+struct MeshCacheKey {
+  uint64_t vbo, vbo_version, ibo, ibo_version;
+  uint64_t offset, stride, index_offset;
+  int64_t first, base_vertex, count;
+  uint32_t size, type, mode, index_type;
+};
+
+float halfToFloat(uint16_t h) {
+  const uint32_t sign = (h >> 15) & 1u, exponent = (h >> 10) & 0x1fu, mantissa = h & 0x3ffu;
+  float v;
+  if (exponent == 0) v = std::ldexp(static_cast<float>(mantissa), -24);
+  else if (exponent == 31) v = mantissa ? NAN : INFINITY;
+  else v = std::ldexp(static_cast<float>(mantissa | 0x400u), static_cast<int>(exponent) - 25);
+  return sign ? -v : v;
+}
+
+// Components of one attribute element of GL type `type` (float and half float; others: false).
+bool decodeAttribute(const uint8_t* bytes, GLenum type, int size, float out[4]) {
+  for (int i = 0; i < size; ++i) {
+    if (type == GL_FLOAT) {
+      std::memcpy(&out[i], bytes + 4 * i, 4);
+    } else if (type == GL_HALF_FLOAT) {
+      uint16_t h;
+      std::memcpy(&h, bytes + 2 * i, 2);
+      out[i] = halfToFloat(h);
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool Interceptor::readMatrix(const MatrixSource& m, GlMatrix& out) {
+  const RealGl& g = gl();
+  if (m.location >= 0) {
+    g.GetUniformfv(current_program_, m.location, out.data());  // whatever glUniform* the program used
+    return true;
+  }
+  if (m.block == GL_INVALID_INDEX) return false;
+  GLint binding = 0, buffer = 0;
+  GLint64 start = 0;
+  g.GetActiveUniformBlockiv(current_program_, m.block, GL_UNIFORM_BLOCK_BINDING, &binding);
+  g.GetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, static_cast<GLuint>(binding), &buffer);
+  g.GetInteger64i_v(GL_UNIFORM_BUFFER_START, static_cast<GLuint>(binding), &start);
+  if (buffer == 0 || m.matrix_stride < 16 || m.matrix_stride > 64) return false;
+  // Four columns (rows if row-major) of 16 bytes, matrix_stride apart: one read of the span.
+  uint8_t bytes[4 * 64];
+  const size_t span = 3 * static_cast<size_t>(m.matrix_stride) + 16;
+  if (!readBufferBytes(static_cast<GLuint>(buffer), static_cast<size_t>(start) + static_cast<size_t>(m.offset), span, bytes))
+    return false;
+  for (int v = 0; v < 4; ++v) {
+    float vec[4];
+    std::memcpy(vec, bytes + v * m.matrix_stride, sizeof(vec));
+    for (int k = 0; k < 4; ++k) (m.row_major ? out(v, k) : out(k, v)) = vec[k];
+  }
+  return true;
+}
+
+bool Interceptor::readAttribute(GLint location, const DrawCall& call, float out[4]) {
+  const GLuint a = static_cast<GLuint>(location);
+  if (!vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_ENABLED)) return false;
+  const GLint divisor = vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_DIVISOR);
+  const GLuint buffer = static_cast<GLuint>(vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING));
+  if (divisor <= 0 || !buffer) return false;  // not an instanced attribute in a buffer object
+  const int size = vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_SIZE);
+  const GLenum type = static_cast<GLenum>(vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_TYPE));
+  const size_t component = type == GL_HALF_FLOAT ? 2 : 4;
+  size_t stride = static_cast<size_t>(vertexAttrib(a, GL_VERTEX_ATTRIB_ARRAY_STRIDE));
+  if (stride == 0) stride = component * static_cast<size_t>(size);
+  void* pointer = nullptr;
+  gl().GetVertexAttribPointerv(a, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
+  const size_t element = call.base_instance;  // instance 0 of the draw (split draws: one instance)
+  uint8_t bytes[16];
+  if (size < 1 || size > 4 ||
+      !readBufferBytes(buffer, reinterpret_cast<size_t>(pointer) + element * stride, component * size, bytes))
+    return false;
+  out[0] = out[1] = out[2] = 0.0f;
+  out[3] = 1.0f;
+  return decodeAttribute(bytes, type, size, out);
+}
+
+bool Interceptor::readInstanceWorld(const InstanceTransform& t, const DrawCall& call, GlMatrix& out) {
+  float v[4];
+  if (t.world >= 0) {
+    for (int c = 0; c < 4; ++c) {
+      if (!readAttribute(t.world + c, call, v)) return false;
+      out.col(c) = Eigen::Vector4f(v[0], v[1], v[2], v[3]);
+    }
+    return true;
+  }
+  Eigen::Affine3f m = Eigen::Affine3f::Identity();
+  if (t.translation >= 0) {
+    if (!readAttribute(t.translation, call, v)) return false;
+    m.translate(Eigen::Vector3f(v[0], v[1], v[2]));
+  }
+  if (t.rotation >= 0) {
+    if (!readAttribute(t.rotation, call, v)) return false;
+    Eigen::Quaternionf q(v[3], v[0], v[1], v[2]);
+    if (q.norm() < 1e-6f) return false;
+    q.normalize();
+    m.rotate(t.rotation_conjugate ? q.conjugate() : q);
+  }
+  if (t.scale >= 0) {
+    if (!readAttribute(t.scale, call, v)) return false;
+    m.scale(Eigen::Vector3f(v[0], v[1], v[2]));
+  }
+  out = m.matrix();
+  return true;
+}
+
+bool Interceptor::recordable() {
+  FrameTarget* t = target();
+  if (!enabled_ || !t || !t->ready()) return false;
+  if (t->program_draw_fb != 0 && !t->sceneFbo()) return false;
+  ProgramInfo* p = currentProgram();
+  return p && !p->overlay;
+}
+
+bool Interceptor::splitsInstances(const DrawCall& call) {
+  if (call.instances <= 1 || !base_instance_draws_ || !recordable()) return false;
+  const ProgramInfo* p = currentProgram();
+  if (!p->rewritten || p->reads_draw_parameters) return false;
+  const GLint attributes = glInt(GL_MAX_VERTEX_ATTRIBS);
+  for (GLint a = 0; a < attributes; ++a) {
+    if (!vertexAttrib(static_cast<GLuint>(a), GL_VERTEX_ATTRIB_ARRAY_ENABLED)) continue;
+    if (vertexAttrib(static_cast<GLuint>(a), GL_VERTEX_ATTRIB_ARRAY_DIVISOR) > 1) return false;
+  }
+  return true;
+}
+
+bool Interceptor::decomposesMultiDraw() {
+  if (!recordable()) return false;
+  const ProgramInfo* p = currentProgram();
+  return p->rewritten && !p->reads_draw_parameters;
+}
+
+void Interceptor::beforeUndecomposedDraw(const char* what) {
+  FrameTarget* t = target();
+  if (!enabled_ || !t || !t->ready()) return;
+  ProgramInfo* p = currentProgram();
+  const bool into_scene = t->program_draw_fb == 0 ? !t->sceneEnded() : t->sceneFbo() != nullptr;
+  if (into_scene && !(p && p->overlay)) ++frame_.unrecorded_draws;
+  if (recordable() && p && p->rewritten) {
+    char key[32];
+    std::snprintf(key, sizeof(key), "%016llx", static_cast<unsigned long long>(p->key));
+    logOnce(std::string(what) + " of program " + key + ", whose shaders read gl_DrawID: drawn whole, not recorded");
+  }
+  // Whatever the uniform holds would name another draw: no ids from this one.
+  if (t->program_draw_fb == 0) {
+    if (t->ids_enabled) t->applyDrawBuffers(false);
+  } else if (FrameTarget::ProgramFbo* f = t->sceneFbo()) {
+    if (f->ids_wanted) t->applyFboDrawBuffers(*f, false);
+  }
+}
+
+bool Interceptor::readIndirect(size_t offset, void* out, size_t size) {
+  const GLuint buffer = static_cast<GLuint>(glInt(GL_DRAW_INDIRECT_BUFFER_BINDING));
+  return buffer && readBufferBytes(buffer, offset, size, out);
+}
+
+bool Interceptor::beforeDraw(const DrawCall& call) {
+  last_recorded_ = false;
+  last_mesh_ = nullptr;
+  FrameTarget* t = target();
+  if (!enabled_ || !t || !t->ready()) return false;
+  // Recorded: draws into the default framebuffer, and into a framebuffer object that may hold the
+  // scene (frame_target.h, ProgramFbo).
+  FrameTarget::ProgramFbo* scene_fbo = nullptr;
+  if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return false;
+  ProgramInfo* p = currentProgram();
+  const bool scene_ended = !scene_fbo && t->sceneEnded();
+  if (!p && !scene_ended) ++frame_.unrecorded_draws;  // fixed function: nothing to rewrite or read
+  if (!p || scene_ended) {
+    // Fixed-function draws (no program) write their color to every draw buffer, ours included;
+    // after the scene ended (endScene) nothing is recorded: ids off for both.
+    if (scene_fbo) {
+      if (scene_fbo->ids_wanted) t->applyFboDrawBuffers(*scene_fbo, false);
+    } else if (t->ids_enabled) {
+      t->applyDrawBuffers(false);
+    }
+    return false;
+  }
+  const RealGl& g = gl();
+  if (scene_fbo) {
+    if (p->rewritten != scene_fbo->ids_wanted) t->applyFboDrawBuffers(*scene_fbo, p->rewritten);
+    ++scene_fbo->draws;
+  } else if (p->rewritten != t->ids_enabled) {
+    t->applyDrawBuffers(p->rewritten);
+  }
+  if (p->overlay) {  // the 2D overlay: ids off (above), not recorded, not in the frame's color
+    if (!scene_fbo) t->snapshotSceneColor();
+    return false;
+  }
+  if (blend_dirty_) {
+    // For blended draws our id buffer keeps what is behind fragments whose coverage (alpha) is
+    // 0; opaque draws write ids unblended (blending float targets is slow on software drivers).
+    if (blend0_enabled_) {
+      g.Enablei(GL_BLEND, kIdDrawBuffer);
+      g.BlendFuncSeparatei(kIdDrawBuffer, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ZERO);
+      g.BlendEquationi(kIdDrawBuffer, GL_FUNC_ADD);
+    } else {
+      g.Disablei(GL_BLEND, kIdDrawBuffer);
+    }
+    blend_dirty_ = false;
+  }
+  const uint32_t index = static_cast<uint32_t>(frame_.draws.size());
+  if (p->rewritten) {
+    // A blended draw that writes no depth is an effect (rain, glare, smoke): it never takes a
+    // pixel's id whatever its alpha, so an id always names the surface the depth image holds.
+    bool write_ids = true;
+    if (blend0_enabled_) {
+      GLboolean depth_write = GL_TRUE;
+      g.GetBooleanv(GL_DEPTH_WRITEMASK, &depth_write);
+      write_ids = depth_write == GL_TRUE;
+    }
+    if (write_ids != ids_write_) {
+      const GLboolean m = write_ids ? GL_TRUE : GL_FALSE;
+      g.ColorMaski(kIdDrawBuffer, m, m, m, m);
+      ids_write_ = write_ids;
+    }
+    g.Uniform1f(p->loc_draw_id, static_cast<float>(index + 1));
+    const float alpha_test = blend0_enabled_ ? 1.0f : 0.0f;
+    if (alpha_test != p->alpha_test_value) {
+      g.Uniform1f(p->loc_alpha_test, alpha_test);
+      p->alpha_test_value = alpha_test;
+    }
+  }
+
+  frame_.draws.emplace_back();
+  DrawRecord& r = frame_.draws.back();
+  r.index = index;
+  r.program_key = p->key;
+  r.primitive_mode = call.mode;
+  r.primitive_count = primitiveCount(call.mode, static_cast<size_t>(call.count)) * static_cast<uint32_t>(call.instances);
+  if (p->matrix_stack) {
+    readMatrixStack(r);
+  } else if (p->instance.any()) {
+    if (readInstanceWorld(p->instance, call, r.world)) r.matrix_flags |= kHasWorld;
+  } else if (p->world.found() && readMatrix(p->world, r.world)) {
+    r.matrix_flags |= kHasWorld;
+  }
+  if (p->view.found() && readMatrix(p->view, r.view)) r.matrix_flags |= kHasView;
+  if (p->projection.found() && readMatrix(p->projection, r.projection)) r.matrix_flags |= kHasProjection;
+  if (profile_.left_handed) {  // the mirror image in z, in OpenGL's conventions (capture_profile.h)
+    const Eigen::Vector4f f(1.0f, 1.0f, -1.0f, 1.0f);
+    if (r.matrix_flags & kHasWorld) r.world = f.asDiagonal() * r.world * f.asDiagonal();
+    if (r.matrix_flags & kHasView) r.view = f.asDiagonal() * r.view * f.asDiagonal();
+    if (r.matrix_flags & kHasProjection) r.projection = r.projection * f.asDiagonal();
+  }
+  if (p->expected_matrices & ~r.matrix_flags) r.gaps |= kGapMatrixMissing;
+  if (!p->rewritten) r.gaps |= kGapNoIds;
+  for (size_t i = 0; i < p->sampler_locations.size(); ++i) {
+    GLint unit = 0;
+    g.GetUniformiv(current_program_, p->sampler_locations[i], &unit);
+    r.texture_keys.push_back(textureKey(p->sampler_targets[i], static_cast<GLuint>(unit)));
+  }
+  recordMesh(call, *p, r);
+  if (!r.mesh_key) r.gaps |= kGapNoMesh;
+  last_recorded_ = true;
+  return true;
+}
+
+void Interceptor::readMatrixStack(DrawRecord& r) {
+  const RealGl& g = gl();
+  GlMatrix modelview;
+  g.GetFloatv(VIPER_GL_PROJECTION_MATRIX, r.projection.data());
+  g.GetFloatv(VIPER_GL_MODELVIEW_MATRIX, modelview.data());
+  r.matrix_flags |= kHasProjection;
+  const GlMatrix product = modelview_.view() * modelview_.world();
+  const float scale = std::max(1.0f, modelview.cwiseAbs().maxCoeff());
+  if ((product - modelview).cwiseAbs().maxCoeff() > 1e-4f * scale) {
+    logOnce("the model-view matrix is not the loaded view times the multiplied world (matrix_stack: "
+            "load_view_mult_world): draws so made are recorded without world and view");
+    return;
+  }
+  r.world = modelview_.world();
+  r.view = modelview_.view();
+  r.matrix_flags |= kHasWorld | kHasView;
+  stack_draws_.push_back(r.index);
+}
+
+void Interceptor::oneStackView() {
+  if (stack_draws_.size() < 2) {
+    stack_draws_.clear();
+    return;
+  }
+  std::map<std::vector<float>, size_t> counts;
+  for (uint32_t i : stack_draws_) {
+    const GlMatrix& v = frame_.draws[i].view;
+    ++counts[std::vector<float>(v.data(), v.data() + 16)];
+  }
+  auto best = counts.begin();
+  for (auto it = counts.begin(); it != counts.end(); ++it)
+    if (it->second > best->second) best = it;
+  const GlMatrix view = Eigen::Map<const GlMatrix>(best->first.data());
+  const GlMatrix inverse = view.inverse();
+  for (uint32_t i : stack_draws_) {
+    DrawRecord& d = frame_.draws[i];
+    if (d.view == view) continue;
+    d.world = inverse * d.view * d.world;
+    d.view = view;
+  }
+  stack_draws_.clear();
+}
+
+void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRecord& r) {
+  const RealGl& g = gl();
+  PositionLayout layout;
+  void* pointer = nullptr;
+  GLuint vbo = 0;
+  if (p.vertex_array_position) {  // gl_Vertex: the conventional array, in a buffer or client memory
+    if (!g.IsEnabled(VIPER_GL_VERTEX_ARRAY)) return;
+    layout.size = glInt(VIPER_GL_VERTEX_ARRAY_SIZE);
+    layout.type = static_cast<unsigned>(glInt(VIPER_GL_VERTEX_ARRAY_TYPE));
+    layout.stride = static_cast<size_t>(glInt(VIPER_GL_VERTEX_ARRAY_STRIDE));
+    g.GetPointerv(VIPER_GL_VERTEX_ARRAY_POINTER, &pointer);
+    vbo = static_cast<GLuint>(glInt(VIPER_GL_VERTEX_ARRAY_BUFFER_BINDING));
+  } else {
+    if (p.position_attrib < 0) return;
+    const GLuint attrib = static_cast<GLuint>(p.position_attrib);
+    if (!vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_ENABLED)) return;
+    vbo = static_cast<GLuint>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_BUFFER_BINDING));
+    layout.size = vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_SIZE);
+    layout.type = static_cast<unsigned>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_TYPE));
+    layout.stride = static_cast<size_t>(vertexAttrib(attrib, GL_VERTEX_ATTRIB_ARRAY_STRIDE));
+    g.GetVertexAttribPointerv(attrib, GL_VERTEX_ATTRIB_ARRAY_POINTER, &pointer);
+  }
+  GLint ibo = 0;
+  if (call.indexed) g.GetIntegerv(GL_ELEMENT_ARRAY_BUFFER_BINDING, &ibo);
+  if (vbo) layout.offset = reinterpret_cast<size_t>(pointer);
+  // Client-side arrays (compatibility contexts only): vertices or indices in the program's memory.
+  if (!vbo || (call.indexed && !ibo)) {
+    if (!vbo && !pointer) return;
+    recordClientMesh(call, layout, vbo, vbo ? nullptr : static_cast<const uint8_t*>(pointer),
+                     static_cast<GLuint>(ibo), r);
+    return;
+  }
+
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto vb = buffers_.find(vbo);
+  if (vb == buffers_.end()) return;
+  auto ib = buffers_.find(static_cast<GLuint>(ibo));
+  if (call.indexed && ib == buffers_.end()) return;
+  r.vertex_buffer_key = bufferKey(vbo);
+  r.index_buffer_key = call.indexed ? bufferKey(static_cast<GLuint>(ibo)) : 0;
+
+  MeshCacheKey k;
+  std::memset(&k, 0, sizeof(k));
+  k.vbo = vbo;
+  k.vbo_version = vb->second.version;
+  k.ibo = static_cast<uint64_t>(ibo);
+  k.ibo_version = call.indexed ? ib->second.version : 0;
+  k.offset = layout.offset;
+  k.stride = layout.stride;
+  k.index_offset = call.index_offset;
+  k.first = call.first;
+  k.base_vertex = call.base_vertex;
+  k.count = call.count;
+  k.size = static_cast<uint32_t>(layout.size);
+  k.type = layout.type;
+  k.mode = call.mode;
+  k.index_type = call.index_type;
+  const uint64_t cache_key = contentKey(&k, sizeof(k));
+  auto cached = mesh_cache_.find(cache_key);
+  if (cached == mesh_cache_.end()) {
+    ExtractedMesh mesh;
+    DrawRange range;
+    range.mode = call.mode;
+    range.count = static_cast<size_t>(call.count);
+    range.first = call.first;
+    range.base_vertex = call.base_vertex;
+    if (call.indexed) {
+      range.index_data = ib->second.data.data();
+      range.index_bytes = ib->second.data.size();
+      range.index_type = call.index_type;
+      range.index_offset = call.index_offset;
+    }
+    if (!extractMesh(vb->second.data, layout, range, mesh)) mesh = ExtractedMesh();  // key 0: no mesh
+    if (profile_.left_handed)
+      for (size_t i = 2; i < mesh.mesh.positions_xyz.size(); i += 3) mesh.mesh.positions_xyz[i] = -mesh.mesh.positions_xyz[i];
+    cached = mesh_cache_.emplace(cache_key, std::move(mesh)).first;
+  }
+  ExtractedMesh& m = cached->second;
+  r.mesh_key = m.mesh.key;
+  if (m.mesh.key && emitted_meshes_.insert(m.mesh.key).second) {
+    frame_.new_meshes.push_back(m.mesh);
+    // Sent once: the cache keeps only what later frames need.
+    m.mesh.positions_xyz = std::vector<float>();
+    m.mesh.indices = std::vector<uint32_t>();
+  }
+  if (m.mesh.key) last_mesh_ = &m;
+}
+
+void Interceptor::recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo,
+                                   const uint8_t* client_vertices, GLuint ibo, DrawRecord& r) {
+  DrawRange range;
+  range.mode = call.mode;
+  range.count = static_cast<size_t>(call.count);
+  range.first = call.first;
+  range.base_vertex = call.base_vertex;
+  std::lock_guard<std::mutex> lock(mutex_);
+  const uint8_t* vertices = client_vertices;
+  size_t vertex_bytes = SIZE_MAX;  // the program's memory: the draw itself reads this range
+  if (vbo) {
+    auto vb = buffers_.find(vbo);
+    if (vb == buffers_.end()) return;
+    vertices = vb->second.data.data();
+    vertex_bytes = vb->second.data.size();
+    r.vertex_buffer_key = bufferKey(vbo);
+  }
+  if (call.indexed) {
+    const size_t width = call.index_type == GL_UNSIGNED_BYTE ? 1 : call.index_type == GL_UNSIGNED_SHORT ? 2 : 4;
+    if (ibo) {
+      auto ib = buffers_.find(ibo);
+      if (ib == buffers_.end()) return;
+      range.index_data = ib->second.data.data();
+      range.index_bytes = ib->second.data.size();
+      range.index_offset = call.index_offset;
+      r.index_buffer_key = bufferKey(ibo);
+    } else {
+      range.index_data = reinterpret_cast<const uint8_t*>(call.index_offset);  // a pointer, not an offset
+      range.index_bytes = static_cast<size_t>(call.count) * width;
+      range.index_offset = 0;
+    }
+    range.index_type = call.index_type;
+    if (!range.index_data) return;
+  }
+  ExtractedMesh mesh;
+  if (!extractMesh(vertices, vertex_bytes, layout, range, mesh)) return;
+  if (profile_.left_handed)
+    for (size_t i = 2; i < mesh.mesh.positions_xyz.size(); i += 3) mesh.mesh.positions_xyz[i] = -mesh.mesh.positions_xyz[i];
+  r.mesh_key = mesh.mesh.key;
+  if (emitted_meshes_.insert(mesh.mesh.key).second) frame_.new_meshes.push_back(mesh.mesh);
+  client_mesh_ = std::move(mesh);
+  last_mesh_ = &client_mesh_;
+}
+
+void Interceptor::afterDraw(const DrawCall& call) {
+  if (!last_recorded_ || !last_mesh_ || !current_program_info_ || !current_program_info_->deforming) return;
+  const RealGl& g = gl();
+  const uint32_t n = last_mesh_->vertex_count;
+  GLint prev_feedback = 0, prev_buffer = 0;
+  g.GetIntegerv(GL_TRANSFORM_FEEDBACK_BINDING, &prev_feedback);
+  g.GetIntegerv(GL_TRANSFORM_FEEDBACK_BUFFER_BINDING, &prev_buffer);
+  if (!feedback_object_) g.GenTransformFeedbacks(1, &feedback_object_);
+  const size_t slot = pending_deform_.size();
+  if (slot >= feedback_buffers_.size()) {
+    GLuint b = 0;
+    g.GenBuffers(1, &b);
+    feedback_buffers_.push_back(b);
+  }
+  const GLuint buffer = feedback_buffers_[slot];
+  // A second pass over the mesh's vertex range, same VAO and uniforms, rasterizer off:
+  // transform feedback returns gl_Position of every vertex in mesh order.
+  g.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, feedback_object_);
+  g.BindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffer);
+  g.BufferData(GL_TRANSFORM_FEEDBACK_BUFFER, static_cast<GLsizeiptr>(n) * 16, nullptr, GL_STREAM_READ);
+  const GLboolean discard = g.IsEnabled(GL_RASTERIZER_DISCARD);
+  if (!discard) g.Enable(GL_RASTERIZER_DISCARD);
+  g.BeginTransformFeedback(GL_POINTS);
+  // The draw's first instance (one instance: split instanced draws are recorded one by one).
+  if (call.base_instance != 0)
+    g.DrawArraysInstancedBaseInstance(GL_POINTS, static_cast<GLint>(last_mesh_->first_vertex), static_cast<GLsizei>(n),
+                                      1, call.base_instance);
+  else
+    g.DrawArrays(GL_POINTS, static_cast<GLint>(last_mesh_->first_vertex), static_cast<GLsizei>(n));
+  g.EndTransformFeedback();
+  if (!discard) g.Disable(GL_RASTERIZER_DISCARD);
+  g.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, static_cast<GLuint>(prev_feedback));
+  g.BindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, static_cast<GLuint>(prev_buffer));
+  pending_deform_.push_back(PendingDeform{static_cast<uint32_t>(frame_.draws.size() - 1), buffer, n});
+}
+
+void Interceptor::readDeformed() {
+  if (pending_deform_.empty()) return;
+  const RealGl& g = gl();
+  GLint prev = 0;
+  g.GetIntegerv(GL_COPY_READ_BUFFER_BINDING, &prev);
+  for (const PendingDeform& d : pending_deform_) {
+    std::vector<float>& out = frame_.draws[d.draw_index].deformed_clip_xyzw;
+    out.resize(static_cast<size_t>(d.vertices) * 4);
+    g.BindBuffer(GL_COPY_READ_BUFFER, d.buffer);
+    g.GetBufferSubData(GL_COPY_READ_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * sizeof(float)), out.data());
+  }
+  g.BindBuffer(GL_COPY_READ_BUFFER, static_cast<GLuint>(prev));
+  pending_deform_.clear();
+}
+
+}  // namespace capture
+}  // namespace viper

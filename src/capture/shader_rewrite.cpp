@@ -1,0 +1,200 @@
+#include "viper/capture/shader_rewrite.h"
+
+#include <regex>
+#include <vector>
+
+namespace viper {
+
+std::string stripGlslComments(const std::string& source) {
+  std::string out = source;
+  size_t i = 0;
+  while (i < out.size()) {
+    if (out[i] == '/' && i + 1 < out.size() && out[i + 1] == '/') {
+      while (i < out.size() && out[i] != '\n') out[i++] = ' ';
+    } else if (out[i] == '/' && i + 1 < out.size() && out[i + 1] == '*') {
+      out[i++] = ' ';
+      out[i++] = ' ';
+      while (i < out.size() && !(out[i] == '*' && i + 1 < out.size() && out[i + 1] == '/')) {
+        if (out[i] != '\n') out[i] = ' ';
+        ++i;
+      }
+      for (int k = 0; k < 2 && i < out.size(); ++k) out[i++] = ' ';
+    } else {
+      ++i;
+    }
+  }
+  return out;
+}
+
+namespace {
+
+struct OutputDecl {
+  std::string name;
+  int components = 4;
+  int location = -1;  // -1: no explicit location
+  bool second_source = false;  // layout(index = 1): dual-source blending
+};
+
+int componentsOf(const std::string& type) {
+  if (type == "float") return 1;
+  return type.back() - '0';
+}
+
+std::vector<OutputDecl> findOutputs(const std::string& code) {
+  static const std::regex kOut(
+      R"((?:layout\s*\(([^)]*)\)\s*)?(?:(?:flat|smooth|noperspective|invariant|highp|mediump|lowp)\s+)*)"
+      R"(\bout\s+(?:(?:highp|mediump|lowp)\s+)?(vec4|vec3|vec2|float)\s+(\w+)\s*;)");
+  static const std::regex kLocation(R"(location\s*=\s*(\d+))");
+  static const std::regex kIndex(R"(\bindex\s*=\s*1\b)");
+  std::vector<OutputDecl> outputs;
+  for (auto it = std::sregex_iterator(code.begin(), code.end(), kOut); it != std::sregex_iterator(); ++it) {
+    OutputDecl d;
+    d.components = componentsOf((*it)[2].str());
+    d.name = (*it)[3].str();
+    std::smatch loc;
+    const std::string layout = (*it)[1].str();
+    if (std::regex_search(layout, loc, kLocation)) d.location = std::stoi(loc[1].str());
+    d.second_source = std::regex_search(layout, kIndex);
+    outputs.push_back(d);
+  }
+  return outputs;
+}
+
+}  // namespace
+
+namespace {
+
+const std::regex& mainRegex() {
+  static const std::regex kMain(R"(\bvoid\s+main\s*\(\s*(?:void\s*)?\))");
+  return kMain;
+}
+
+// GLSL before 1.50: gl_FragColor / gl_FragData[i] become gl_FragData[0] / [i]; the ids go to
+// gl_FragData[kIdOutputLocation]; gl_PrimitiveID comes from GL_EXT_gpu_shader4.
+FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version) {
+  FragmentRewrite result;
+  static const std::regex kFragColor(R"(\bgl_FragColor\b)"), kFragData(R"(\bgl_FragData\b)");
+  static const std::regex kOutDecl(R"(\bout\s+(?:(?:highp|mediump|lowp)\s+)?(?:vec[234]|float)\s+\w+\s*;)");
+  const bool color = std::regex_search(code, kFragColor), data = std::regex_search(code, kFragData);
+  if (!color && !data) {
+    result.reason = "GLSL before 1.50 writing neither gl_FragColor nor gl_FragData";
+    return result;
+  }
+  if (std::regex_search(code, kOutDecl)) {
+    result.reason = "GLSL before 1.50 with user-declared outputs";
+    return result;
+  }
+  if (!std::regex_search(code, mainRegex())) {
+    result.reason = "no `void main()` found";
+    return result;
+  }
+  code = std::regex_replace(code, kFragColor, "gl_FragData[0]");
+  code = std::regex_replace(code, mainRegex(), "void viper_original_main()");
+  // The extension directive goes right after #version (or first, without one), before any code.
+  const std::string extension = "#extension GL_EXT_gpu_shader4 : require\n";
+  if (version) {
+    // version[1] is the number: the directive's line ends after it (the match may begin with blank lines).
+    const size_t end = code.find('\n', static_cast<size_t>(version->position(1)));
+    code.insert(end == std::string::npos ? code.size() : end + 1, extension);
+  } else {
+    code.insert(0, extension);
+  }
+  if (!code.empty() && code.back() != '\n') code += '\n';
+  code += "uniform float " + std::string(kDrawIdUniform) + ";\n";
+  code += "uniform float " + std::string(kAlphaTestUniform) + ";\n";
+  code += "void main() {\n  viper_original_main();\n  gl_FragData[" + std::to_string(kIdOutputLocation) +
+          "] = vec4(" + kDrawIdUniform + ", float(gl_PrimitiveID), 0.0, (" + kAlphaTestUniform +
+          " > 0.5 && gl_FragData[0].a < 0.5) ? 0.0 : 1.0);\n}\n";
+  result.ok = true;
+  result.legacy = true;
+  result.source = code;
+  result.color_output = "gl_FragData[0]";
+  result.explicit_location = true;  // nothing to bind
+  return result;
+}
+
+}  // namespace
+
+FragmentRewrite rewriteFragmentShader(const std::string& source) {
+  FragmentRewrite result;
+  std::string code = stripGlslComments(source);
+
+  static const std::regex kVersion(R"(^\s*#\s*version\s+(\d+)\s*(es)?)", std::regex::multiline);
+  std::smatch version;
+  const bool has_version = std::regex_search(code, version, kVersion);
+  if (has_version && version[2].matched) {
+    result.reason = "GLSL ES (no gl_PrimitiveID)";
+    return result;
+  }
+  if (!has_version || std::stoi(version[1].str()) < 150) return rewriteLegacy(code, has_version ? &version : nullptr);
+
+  const std::vector<OutputDecl> outputs = findOutputs(code);
+  const OutputDecl* color = nullptr;
+  if (outputs.size() == 1) {
+    color = &outputs[0];
+  } else if (outputs.empty()) {
+    result.reason = "no fragment color output declared";
+    return result;
+  } else {
+    // Several outputs (multiple render targets): placed only when all have explicit locations,
+    // ours (kIdOutputLocation) free.
+    for (const OutputDecl& d : outputs) {
+      if (d.location < 0) {
+        result.reason = "several outputs, '" + d.name + "' without an explicit location";
+        return result;
+      }
+      if (d.location == kIdOutputLocation) {
+        result.reason = "output '" + d.name + "' at location " + std::to_string(kIdOutputLocation) +
+                        ", which the id output needs";
+        return result;
+      }
+      if (d.location == 0 && !d.second_source) color = &d;
+    }
+    if (!color) {
+      result.reason = "several outputs and none at location 0";
+      return result;
+    }
+  }
+  if (color->location > 0) {
+    result.reason = "color output is not at location 0";
+    return result;
+  }
+  for (const OutputDecl& d : outputs) {
+    if (d.second_source) {
+      result.reason = "dual-source blending (output '" + d.name + "' has index = 1)";
+      return result;
+    }
+  }
+
+  if (!std::regex_search(code, mainRegex())) {
+    result.reason = "no `void main()` found";
+    return result;
+  }
+  code = std::regex_replace(code, mainRegex(), "void viper_original_main()");
+
+  const std::string coverage =
+      color->components == 4
+          ? "(" + std::string(kAlphaTestUniform) + " > 0.5 && " + color->name + ".a < 0.5) ? 0.0 : 1.0"
+          : std::string("1.0");
+  if (!code.empty() && code.back() != '\n') code += '\n';
+  code += "uniform float " + std::string(kDrawIdUniform) + ";\n";
+  code += "uniform float " + std::string(kAlphaTestUniform) + ";\n";
+  code += "out vec4 " + std::string(kIdOutputName) + ";\n";
+  code += "void main() {\n  viper_original_main();\n  " + std::string(kIdOutputName) + " = vec4(" +
+          kDrawIdUniform + ", float(gl_PrimitiveID), 0.0, " + coverage + ");\n}\n";
+
+  result.ok = true;
+  result.source = code;
+  result.color_output = color->name;
+  result.explicit_location = color->location >= 0;
+  result.color_components = color->components;
+  return result;
+}
+
+bool declaresMat4ArrayUniform(const std::string& source) {
+  static const std::regex kArray(R"(\buniform\s+(?:(?:highp|mediump|lowp)\s+)?mat4\s+\w+\s*\[)");
+  const std::string code = stripGlslComments(source);
+  return std::regex_search(code, kArray);
+}
+
+}  // namespace viper

@@ -1,0 +1,181 @@
+#include "viper/ground_truth/camera_model.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace viper {
+
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+bool hasCameraMatrices(const DrawRecord& draw) {
+  return (draw.matrix_flags & kHasView) && (draw.matrix_flags & kHasProjection);
+}
+
+}  // namespace
+
+Eigen::Matrix3d PinholeIntrinsics::K() const {
+  Eigen::Matrix3d k;
+  k << fx, skew, cx, 0.0, fy, cy, 0.0, 0.0, 1.0;
+  return k;
+}
+
+Eigen::Vector2d PinholeIntrinsics::project(const Eigen::Vector3d& p_optical) const {
+  const Eigen::Vector3d h = K() * p_optical;
+  return h.head<2>() / h.z();
+}
+
+PinholeIntrinsics intrinsicsFromGlProjection(const GlMatrix& projection, uint32_t width, uint32_t height) {
+  if (width == 0 || height == 0) {
+    throw std::invalid_argument("intrinsicsFromGlProjection: image size is zero");
+  }
+  const Eigen::Matrix4d p_raw = projection.cast<double>();
+  if (!p_raw.allFinite() || !(p_raw(3, 2) < 0.0)) {
+    std::ostringstream msg;
+    msg << "intrinsicsFromGlProjection: not an OpenGL perspective projection (P(3,2) = " << p_raw(3, 2)
+        << ", must be negative)";
+    throw std::invalid_argument(msg.str());
+  }
+  // Scaling P does not change the picture; normalise so w_clip = -z_eye.
+  const Eigen::Matrix4d p = p_raw / -p_raw(3, 2);
+  const double tol = 1e-6 * p.cwiseAbs().maxCoeff();
+  const double must_be_zero[] = {p(3, 0), p(3, 1), p(3, 3), p(1, 0), p(0, 3), p(1, 3)};
+  for (double v : must_be_zero) {
+    if (std::abs(v) > tol) {
+      throw std::invalid_argument(
+          "intrinsicsFromGlProjection: projection is not a pinhole perspective (non-zero entry in row 3 "
+          "or a depth-dependent image shift)");
+    }
+  }
+  // x_ndc = (P00 x + P01 y + P02 z) / -z with optical X = x, Y = -y, Z = -z, then
+  // u = W (x_ndc + 1) / 2 - 0.5 and v = H (1 - y_ndc) / 2 - 0.5 (rows top-down, centers at integers).
+  PinholeIntrinsics k;
+  k.width = width;
+  k.height = height;
+  k.fx = width * p(0, 0) / 2.0;
+  k.skew = -static_cast<double>(width) * p(0, 1) / 2.0;
+  k.fy = height * p(1, 1) / 2.0;
+  k.cx = width * (1.0 - p(0, 2)) / 2.0 - 0.5;
+  k.cy = height * (1.0 + p(1, 2)) / 2.0 - 0.5;
+  return k;
+}
+
+DepthLinearizer::DepthLinearizer(const GlMatrix& projection)
+    : p22_(projection(2, 2)), p23_(projection(2, 3)), p32_(projection(3, 2)), p33_(projection(3, 3)) {}
+
+float DepthLinearizer::toMetres(float depth_window) const {
+  if (!(depth_window >= 0.0f && depth_window < 1.0f)) return kNaN;
+  const double z_ndc = 2.0 * depth_window - 1.0;
+  // z_ndc (P32 z + P33) = P22 z + P23, solved for z; the optical depth is -z.
+  const double denom = p22_ - z_ndc * p32_;
+  if (denom == 0.0) return kNaN;
+  const double depth_m = (p23_ - z_ndc * p33_) / denom;
+  if (!(depth_m > 0.0) || !std::isfinite(depth_m)) return kNaN;
+  return static_cast<float>(depth_m);
+}
+
+std::optional<FrameCamera> chooseFrameCamera(const CaptureFrame& frame) {
+  std::vector<FrameCamera> pairs;
+  for (const DrawRecord& draw : frame.draws) {
+    if (!hasCameraMatrices(draw)) continue;
+    auto it = pairs.begin();
+    for (; it != pairs.end(); ++it) {
+      if (it->view == draw.view && it->projection == draw.projection) break;
+    }
+    if (it == pairs.end()) {
+      pairs.push_back(FrameCamera{draw.view, draw.projection, 0});
+      it = pairs.end() - 1;
+    }
+    it->visible_pixels += draw.visible_pixels;
+  }
+  if (pairs.empty()) return std::nullopt;
+  const FrameCamera* best = &pairs.front();
+  for (const FrameCamera& pair : pairs) {
+    if (pair.visible_pixels > best->visible_pixels) best = &pair;
+  }
+  return *best;
+}
+
+std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* camera) {
+  const size_t n = frame.pixelCount();
+  std::vector<float> out(n, kNaN);
+  if (frame.depth_window.size() != n) return out;
+
+  // One linearizer per draw (index + 1 as in the id image); slot 0 is the frame camera.
+  std::vector<std::optional<DepthLinearizer>> by_id(frame.draws.size() + 1);
+  if (camera) by_id[0].emplace(camera->projection);
+  for (const DrawRecord& draw : frame.draws) {
+    if (draw.index >= frame.draws.size()) continue;
+    if (draw.matrix_flags & kHasProjection) {
+      by_id[draw.index + 1].emplace(draw.projection);
+    } else {
+      by_id[draw.index + 1] = by_id[0];
+    }
+  }
+  const bool have_ids = frame.draw_ids.size() == n;
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t id = have_ids ? frame.draw_ids[i] : 0;
+    if (id >= by_id.size()) id = 0;
+    const auto& lin = by_id[id];
+    if (lin) out[i] = lin->toMetres(frame.depth_window[i]);
+  }
+  return out;
+}
+
+bool decomposeViewProjection(const GlMatrix& view_projection, GlMatrix& view, GlMatrix& projection,
+                             double tolerance) {
+  const Eigen::Matrix4d M = view_projection.cast<double>();
+  if (!M.allFinite()) return false;
+  // Row 3 is P32 * (R2, t2): its direction is the camera's axis, its length |P32|.
+  const Eigen::Vector3d r3 = M.block<1, 3>(3, 0).transpose();
+  const double p32_abs = r3.norm();
+  if (!(p32_abs > 0.0)) return false;  // orthographic: not of this form
+  Eigen::Vector3d axis = r3 / p32_abs;
+  // Rows 0 and 1 without their component along the axis: P00 R0 and P11 R1 (no skew).
+  const Eigen::Vector3d r0 = M.block<1, 3>(0, 0).transpose(), r1 = M.block<1, 3>(1, 0).transpose();
+  const Eigen::Vector3d a0 = r0 - r0.dot(axis) * axis, a1 = r1 - r1.dot(axis) * axis;
+  const double p00 = a0.norm(), p11 = a1.norm();
+  if (!(p00 > 0.0) || !(p11 > 0.0)) return false;
+  Eigen::Matrix3d R;
+  R.row(0) = (a0 / p00).transpose();
+  R.row(1) = (a1 / p11).transpose();
+  // The sign of P32 that makes the view a rotation (not a reflection).
+  double p32 = p32_abs;
+  if (R.row(0).cross(R.row(1)).dot(axis) < 0.0) p32 = -p32_abs, axis = -axis;
+  R.row(2) = axis.transpose();
+  const double t2 = M(3, 3) / p32;
+  const double p02 = r0.dot(axis), p12 = r1.dot(axis), p22 = M.block<1, 3>(2, 0).dot(axis);
+  Eigen::Matrix4d V = Eigen::Matrix4d::Identity(), P = Eigen::Matrix4d::Zero();
+  V.topLeftCorner<3, 3>() = R;
+  V(2, 3) = t2;
+  V(0, 3) = (M(0, 3) - p02 * t2) / p00;
+  V(1, 3) = (M(1, 3) - p12 * t2) / p11;
+  P(0, 0) = p00, P(0, 2) = p02, P(1, 1) = p11, P(1, 2) = p12, P(2, 2) = p22, P(2, 3) = M(2, 3) - p22 * t2;
+  P(3, 2) = p32;
+  // Of that form only if the product gives the matrix back (skew, rows 0-2 leaning on R1/R0, or a
+  // depth-dependent shift would not).
+  const double scale = M.cwiseAbs().maxCoeff();
+  if (!((P * V - M).cwiseAbs().maxCoeff() <= tolerance * scale)) return false;
+  if (!((R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-3)) return false;
+  view = V.cast<float>();
+  projection = P.cast<float>();
+  return true;
+}
+
+Eigen::Matrix3d opticalFromGlCamera() {
+  return Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+}
+
+Eigen::Isometry3d opticalFromWorld(const GlMatrix& view) {
+  Eigen::Isometry3d gl_from_world = Eigen::Isometry3d::Identity();
+  gl_from_world.linear() = view.topLeftCorner<3, 3>().cast<double>();
+  gl_from_world.translation() = view.topRightCorner<3, 1>().cast<double>();
+  Eigen::Isometry3d optical_from_gl = Eigen::Isometry3d::Identity();
+  optical_from_gl.linear() = opticalFromGlCamera();
+  return optical_from_gl * gl_from_world;
+}
+
+}  // namespace viper

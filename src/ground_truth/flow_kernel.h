@@ -1,0 +1,279 @@
+// Internal to viper_core: how the pixels of one flow computation map into the other frame (set up
+// by flow.cpp), and the kernels that compute them: one pixel at a time here, blocks of 8
+// (flow_avx2.cpp) and of 16 (flow_avx512.cpp) on CPUs that have those instructions.
+#pragma once
+
+#include "viper/ground_truth/flow.h"
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define VIPER_FLOW_X86 1
+#endif
+
+namespace viper {
+namespace flow_detail {
+
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// A rigid draw's mapping along one row of a, in float. With e = 1 - window depth and cw, co as in
+// DrawMapping: u cw = u0 + x (u1 + x u2) + e (ue0 + x ue1), v cw = v0 + x vx + e ve,
+// cw = w0 + x wx + e we, co = o0 + x ox + e oe. The flow itself (not b's pixel coordinates) is
+// formed so that float keeps the precision of the flow, not of the pixel position.
+struct RowForms {
+  float u0, u1, u2, ue0, ue1, v0, vx, ve, w0, wx, we, o0, ox, oe;
+};
+
+// How the pixels of one draw of frame a map into frame b.
+struct DrawMapping {
+  enum Kind : uint8_t { kNoDraw, kNone, kRigid, kNonRigid, kMissing } kind = kNone;
+  // Rigid: inverse(pvw_a) maps ndc_a to the object point times 1 / clip_w_a, so pvw_b times it is
+  // clip_b / clip_w_a. Four affine forms of (ndc_y, x, e) give px, py (b's pixel coordinates times
+  // cw), cw (clip_w_b / clip_w_a) and co (1 / clip_w_a / depth scale of b): b's pixel is
+  // (px, py) / cw and the point's depth in b cw / co. Depth enters as e = 1 - window depth, which is
+  // exact for window depths >= 0.5: in e the forms stay well-conditioned for far surfaces, where in
+  // the window depth itself large terms would cancel.
+  enum Form { kPx, kPy, kCw, kCo };
+  double form_c[4] = {}, form_y[4] = {}, form_x[4] = {}, form_e[4] = {};
+  RowForms at_row{};
+  int row = -1;
+  // Non-rigid.
+  const std::vector<uint32_t>* indices = nullptr;
+  const std::vector<float>* clip_a = nullptr;
+  const std::vector<float>* clip_b = nullptr;
+  double depth_scale_b = 1.0;  // clip w -> metres along b's optical axis
+
+  // Sets at_row to row y (at ndc_y); each coefficient is rounded to float once, from double.
+  void toRow(int y, double ndc_y) {
+    if (row == y) return;
+    row = y;
+    double c[4];
+    for (int f = 0; f < 4; ++f) c[f] = form_c[f] + form_y[f] * ndc_y;
+    auto f32 = [](double v) { return static_cast<float>(v); };
+    at_row = {f32(c[kPx]),
+              f32(form_x[kPx] - c[kCw]),
+              f32(-form_x[kCw]),
+              f32(form_e[kPx]),
+              f32(-form_e[kCw]),
+              f32(c[kPy] - y * c[kCw]),
+              f32(form_x[kPy] - y * form_x[kCw]),
+              f32(form_e[kPy] - y * form_e[kCw]),
+              f32(c[kCw]),
+              f32(form_x[kCw]),
+              f32(form_e[kCw]),
+              f32(c[kCo]),
+              f32(form_x[kCo]),
+              f32(form_e[kCo])};
+  }
+};
+
+// The point of a non-rigid pixel in b's clip space: the pixel centre's perspective-correct
+// barycentrics in its triangle of a, applied to b's vertices. With a's vertices (x_i, y_i, w_i) as
+// the columns of M, the point sum(l_i c_i) (sum(l_i) = 1) projects to the centre q when
+// M l = s (q, 1), s its clip w; so by Cramer's rule l_i is proportional to det(M with column i
+// replaced by (q, 1)): one division per pixel for the normalisation instead of one per vertex.
+// Inlined: called once per non-rigid pixel.
+__attribute__((always_inline)) inline std::optional<Eigen::Vector4d> nonRigidClip(const DrawMapping& m, uint32_t primitive,
+                                                                                double ndc_x, double ndc_y) {
+  const size_t t = 3 * static_cast<size_t>(primitive);
+  const auto& idx = *m.indices;
+  const size_t verts = m.clip_a->size() / 4;
+  if (t + 2 >= idx.size() || idx[t] >= verts || idx[t + 1] >= verts || idx[t + 2] >= verts) return std::nullopt;
+  // Plain doubles: GCC leaves Eigen's small cross and dot products out of line here.
+  const float *a0 = m.clip_a->data() + 4 * size_t{idx[t]}, *a1 = m.clip_a->data() + 4 * size_t{idx[t + 1]},
+              *a2 = m.clip_a->data() + 4 * size_t{idx[t + 2]};
+  const double x0 = a0[0], y0 = a0[1], w0 = a0[3], x1 = a1[0], y1 = a1[1], w1 = a1[3], x2 = a2[0], y2 = a2[1], w2 = a2[3];
+  // Rows of adj(M): the cross products p1 x p2, p2 x p0, p0 x p1 of M's columns p_i = (x_i, y_i, w_i).
+  const double n0x = y1 * w2 - w1 * y2, n0y = w1 * x2 - x1 * w2, n0z = x1 * y2 - y1 * x2;
+  const double n1x = y2 * w0 - w2 * y0, n1y = w2 * x0 - x2 * w0, n1z = x2 * y0 - y2 * x0;
+  const double n2x = y0 * w1 - w0 * y1, n2y = w0 * x1 - x0 * w1, n2z = x0 * y1 - y0 * x1;
+  if (x0 * n0x + y0 * n0y + w0 * n0z == 0.0) return std::nullopt;  // det(M) = 0: a line on screen
+  const double l0 = ndc_x * n0x + ndc_y * n0y + n0z, l1 = ndc_x * n1x + ndc_y * n1y + n1z,
+               l2 = ndc_x * n2x + ndc_y * n2y + n2z;
+  const double sum = l0 + l1 + l2;
+  if (sum == 0.0 || !std::isfinite(sum)) return std::nullopt;
+  const double inv_sum = 1.0 / sum, k0 = l0 * inv_sum, k1 = l1 * inv_sum, k2 = l2 * inv_sum;
+  const float *b0 = m.clip_b->data() + 4 * size_t{idx[t]}, *b1 = m.clip_b->data() + 4 * size_t{idx[t + 1]},
+              *b2 = m.clip_b->data() + 4 * size_t{idx[t + 2]};
+  return Eigen::Vector4d(k0 * b0[0] + k1 * b1[0] + k2 * b2[0], k0 * b0[1] + k1 * b1[1] + k2 * b2[1],
+                         k0 * b0[2] + k1 * b1[2] + k2 * b2[2], k0 * b0[3] + k1 * b1[3] + k2 * b2[3]);
+}
+
+struct Counts {
+  size_t rigid = 0, non_rigid = 0, no_surface = 0, no_assoc = 0, missing = 0;
+};
+
+// One flow computation a -> b over plain pointers: stores through the uint8_t mask may alias
+// anything that lives in memory, which would force reloads of state held in vectors.
+struct FlowKernel {
+  const uint32_t* ids;        // a's draw ids
+  const float* depth_a;       // a's window depth
+  const uint32_t* primitives;  // a's primitive ids
+  const float* depth_b;       // b's depth in metres, NaN = no surface
+  int width, height;
+  float occ_rel, occ_abs;  // visible when depth_b >= depth * occ_rel - occ_abs
+  DrawMapping* maps;        // by draw id; maps[0] is kNoDraw
+  uint32_t n_draws;
+  float* uv;
+  uint8_t* visible;
+  // A row's worth each: b's pixel index and depth limit of rigid targets, and pixels to redo.
+  int32_t* row_q;
+  float* row_limit;
+  int32_t* row_pending;
+
+  DrawMapping& mappingOf(uint32_t id) const { return maps[id <= n_draws ? id : 0]; }
+
+  // Row y's pointers, for a block kernel to hold in locals: through the uint8_t mask every store
+  // could change a member of FlowKernel, so the compiler would reload members after each.
+  struct Row {
+    const uint32_t* ids;
+    const float* depth;
+    float* uv;
+    uint8_t* visible;
+    int32_t *q, *pending;
+    float* limit;
+    DrawMapping* maps;
+    uint32_t last_id;
+    DrawMapping& mappingOf(uint32_t id) const { return maps[id <= last_id ? id : 0]; }
+  };
+  Row rowAt(int y) const {
+    const size_t row = static_cast<size_t>(y) * width;
+    return {ids + row, depth_a + row, uv + 2 * row, visible + row, row_q, row_pending, row_limit, maps, n_draws};
+  }
+
+  // Writes pixel p = (x, y) of a rigid draw, which must be at row y; returns whether it has a surface.
+  bool rigidPixel(const DrawMapping& m, int x, int y, size_t p) const {
+    const RowForms& f = m.at_row;
+    const float d = depth_a[p];
+    const float xf = static_cast<float>(x), e = 1.0f - d;
+    const float u_cw = (f.u2 * xf + f.u1) * xf + f.u0 + (f.ue1 * xf + f.ue0) * e;
+    const float v_cw = f.vx * xf + (f.ve * e + f.v0);
+    const float cw = f.wx * xf + (f.we * e + f.w0), co = f.ox * xf + (f.oe * e + f.o0);
+    const float r = 1.0f / (cw * co);
+    const float inv_cw = co * r, depth = cw * (cw * r);
+    const float u = u_cw * inv_cw, v = v_cw * inv_cw;
+    const float xb = u + xf, yb = v + static_cast<float>(y);
+    bool seen = false;
+    if (depth > 0.0f && xb >= -0.5f && yb >= -0.5f && xb < width - 0.5f && yb < height - 0.5f) {
+      const size_t q = static_cast<size_t>(yb + 0.5f) * width + static_cast<size_t>(xb + 0.5f);
+      // NaN in b's depth (no surface) counts as visible: nothing is in front of the point.
+      seen = !(depth_b[q] < depth * occ_rel - occ_abs);
+    }
+    const bool surface = d >= 0.0f && d < 1.0f;
+    uv[2 * p] = surface ? u : kNaN;
+    uv[2 * p + 1] = surface ? v : kNaN;
+    visible[p] = surface && seen ? 255 : 0;
+    return surface;
+  }
+
+  // Whether a point at (xb, yb) in b's pixel coordinates and `depth` metres in front of b's camera
+  // is inside b and not behind b's depth there.
+  uint8_t visibleAt(double xb, double yb, double depth) const {
+    if (!(depth > 0.0 && xb >= -0.5 && yb >= -0.5 && xb < width - 0.5 && yb < height - 0.5)) return 0;
+    const size_t q = static_cast<size_t>(yb + 0.5) * width + static_cast<size_t>(xb + 0.5);
+    return !(depth_b[q] < depth * occ_rel - occ_abs) ? 255 : 0;
+  }
+
+  void undefined(size_t p) const {
+    uv[2 * p] = uv[2 * p + 1] = kNaN;
+    visible[p] = 0;
+  }
+
+  // Pixel (x, y) of any draw but a rigid one.
+  void otherPixel(const DrawMapping& m, int x, int y, double ndc_y, Counts& n) const {
+    const size_t p = static_cast<size_t>(y) * width + x;
+    const float d = depth_a[p];
+    if (m.kind == DrawMapping::kNoDraw || !(d >= 0.0f && d < 1.0f)) {
+      ++n.no_surface;
+      undefined(p);
+    } else if (m.kind != DrawMapping::kNonRigid) {
+      ++(m.kind == DrawMapping::kNone ? n.no_assoc : n.missing);
+      undefined(p);
+    } else if (auto clip_b = nonRigidClip(m, primitives[p], 2.0 * (x + 0.5) / width - 1.0, ndc_y)) {
+      const double inv_w = 1.0 / clip_b->w();
+      const double xb = (clip_b->x() * inv_w + 1.0) * 0.5 * width - 0.5;
+      const double yb = (1.0 - clip_b->y() * inv_w) * 0.5 * height - 0.5;
+      uv[2 * p] = static_cast<float>(xb - x);
+      uv[2 * p + 1] = static_cast<float>(yb - y);
+      visible[p] = visibleAt(xb, yb, clip_b->w() * m.depth_scale_b);
+      ++n.non_rigid;
+    } else {
+      ++n.missing;
+      undefined(p);
+    }
+  }
+
+  // Pixels x0..x1-1 of row y, one at a time.
+  void scalarPixels(int y, double ndc_y, int x0, int x1, Counts& n) const {
+    const size_t row = static_cast<size_t>(y) * width;
+    for (int x = x0; x < x1; ++x) {
+      DrawMapping& m = mappingOf(ids[row + x]);
+      if (m.kind == DrawMapping::kRigid) {
+        m.toRow(y, ndc_y);
+        if (rigidPixel(m, x, y, row + x))
+          ++n.rigid;
+        else
+          ++n.no_surface;
+      } else {
+        otherPixel(m, x, y, ndc_y, n);
+      }
+    }
+  }
+
+  // Counts the lanes `bits` of the block at x whose draw is m (the lanes with a surface in
+  // surface_bits) and queues its non-rigid lanes in `pending`, to be done one at a time after the
+  // row's blocks (finishRow). Rigid lanes the block kernel computes itself.
+  static void countLanes(const DrawMapping& m, unsigned bits, unsigned surface_bits, int x, int32_t* pending,
+                         int& n_pending, Counts& c) {
+    const int with_surface = __builtin_popcount(bits & surface_bits), without = __builtin_popcount(bits & ~surface_bits);
+    switch (m.kind) {
+      case DrawMapping::kRigid:
+        c.rigid += with_surface;
+        c.no_surface += without;
+        break;
+      case DrawMapping::kNonRigid:
+        for (unsigned b = bits; b; b &= b - 1) pending[n_pending++] = x + __builtin_ctz(b);
+        break;
+      case DrawMapping::kNoDraw:
+        c.no_surface += with_surface + without;
+        break;
+      case DrawMapping::kNone:
+        c.no_assoc += with_surface;
+        c.no_surface += without;
+        break;
+      case DrawMapping::kMissing:
+        c.missing += with_surface;
+        c.no_surface += without;
+        break;
+    }
+  }
+
+  // After the blocks of row y: the pixels they queued, one at a time, and the row's counts into n.
+  void finishRow(int y, double ndc_y, int n_pending, const Counts& blocks, Counts& n) const {
+    const uint32_t* const row_ids = ids + static_cast<size_t>(y) * width;
+    Counts others;
+    for (int i = 0; i < n_pending; ++i)
+      otherPixel(mappingOf(row_ids[row_pending[i]]), row_pending[i], y, ndc_y, others);
+    n.rigid += blocks.rigid;
+    n.non_rigid += others.non_rigid;
+    n.no_surface += blocks.no_surface + others.no_surface;
+    n.no_assoc += blocks.no_assoc;
+    n.missing += blocks.missing + others.missing;
+  }
+
+#ifdef VIPER_FLOW_X86
+  // Pixels x0.. of row y in blocks of 8 (AVX2 + FMA) or 16 (AVX-512), as far as whole blocks go;
+  // each returns where the rest of the row begins. Only for CPUs that have the instructions.
+  int avx2Pixels(int y, double ndc_y, int x0, Counts& n) const;
+  int avx512Pixels(int y, double ndc_y, int x0, Counts& n) const;
+#endif
+};
+
+}  // namespace flow_detail
+}  // namespace viper

@@ -1,0 +1,97 @@
+#include "viper/ground_truth/instance_pipeline.h"
+
+#include <stdexcept>
+
+namespace viper {
+
+std::vector<bool> InstancePipelineOptions::defaultThingClasses() {
+  std::vector<bool> v(256, false);
+  for (int c : {13, 16, 17, 19, 20, 23, 24, 25, 26, 27}) v[c] = true;
+  return v;
+}
+
+InstancePipeline::InstancePipeline(LabelTable labels, InstancePipelineOptions options)
+    : labels_(std::move(labels)), options_(std::move(options)), tracker_(options_.tracker) {}
+
+InstanceFrame InstancePipeline::process(const CaptureFrame& frame) {
+  InstanceFrame out;
+  process(frame, out);
+  return out;
+}
+
+void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) {
+  // Only draws and draw ids are used (a node may have nothing else); ids past the draw list are
+  // ignored by every kernel, so they need no pass of their own.
+  const std::string at = "frame " + std::to_string(frame.number) + ": ";
+  if (frame.draw_ids.size() != frame.pixelCount())
+    throw std::invalid_argument(at + "draw id image has " + std::to_string(frame.draw_ids.size()) + " pixels, " +
+                                std::to_string(frame.width) + "x" + std::to_string(frame.height) + " expected");
+  for (size_t i = 0; i < frame.draws.size(); ++i)
+    if (frame.draws[i].index != i)
+      throw std::invalid_argument(at + "draw " + std::to_string(i) + " has index " +
+                                  std::to_string(frame.draws[i].index) + " (must be 0..n-1 in order)");
+  meshes_.add(frame.new_meshes);
+
+  out.objects.clear();
+  out.problems.clear();
+  VoteWeight weight;
+  if (options_.area_weighted_vote) {
+    weight = [this](const DrawRecord& d) {
+      const double a = meshes_.area(d.mesh_key);
+      return a > 0.0 ? a : 1e-6;  // a part of unknown area still votes, below any real one
+    };
+  }
+  std::vector<FrameObject> objects = groupObjects(frame, labels_, options_.thing_classes, weight);
+  std::vector<FrameObject> kept;
+  for (FrameObject& o : objects) {
+    if (o.world.allFinite()) {
+      kept.push_back(std::move(o));
+    } else {
+      out.problems.push_back("frame " + std::to_string(frame.number) + ": object of draw " +
+                             std::to_string(o.draws.front()) + " has a non-finite world matrix; skipped");
+    }
+  }
+  objects.swap(kept);
+  attachParts(objects, frame, meshes_);
+  const DrawAssignment assignment = assignDraws(frame, labels_, objects);
+  findDrawRuns(frame, runs_);
+  measureObjects(runs_, assignment, objects);
+
+  std::vector<Eigen::Vector3d> positions;
+  for (const FrameObject& o : objects) positions.push_back(o.world.block<3, 1>(0, 3).cast<double>());
+  const std::vector<int32_t> ids = tracker_.update(frame.time_s, objects, positions);
+  out.tracker_reset = tracker_.wasReset();
+
+  const size_t n = frame.pixelCount();
+  out.semantic.resize(n);
+  out.instance_ids.resize(n);
+  out.boundaries.resize(n);
+  renderSemantic(runs_, assignment, out.semantic.data());
+  renderInstances(runs_, assignment, ids, out.instance_ids.data());
+  renderBoundaries(out.instance_ids.data(), static_cast<int>(frame.width), static_cast<int>(frame.height),
+                   out.boundaries.data());
+
+  for (size_t k = 0; k < objects.size(); ++k) {
+    TrackedObject t;
+    t.track_id = ids[k];
+    if (objects[k].is_thing && options_.compute_boxes) {
+      t.box = objectBox(frame, objects[k], meshes_, &t.box_status);
+      if (t.box_status == BoxStatus::kMissingMesh)
+        out.problems.push_back("frame " + std::to_string(frame.number) + ": track " + std::to_string(ids[k]) +
+                               ": no mesh of its parts has arrived; no box");
+    }
+    t.object = std::move(objects[k]);
+    out.objects.push_back(std::move(t));
+  }
+}
+
+void encodeViperInstances(const uint8_t* class_ids, const int32_t* instance_ids, size_t n, uint8_t* rgb) {
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t id = static_cast<uint32_t>(instance_ids[i]) & 0xffffu;
+    rgb[3 * i] = class_ids[i];
+    rgb[3 * i + 1] = static_cast<uint8_t>(id >> 8);
+    rgb[3 * i + 2] = static_cast<uint8_t>(id & 0xff);
+  }
+}
+
+}  // namespace viper

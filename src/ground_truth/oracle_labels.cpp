@@ -1,0 +1,29 @@
+#include "viper/ground_truth/oracle_labels.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace viper {
+
+void OracleLabeler::add(const CaptureFrame& frame, const OracleFrame& truth) {
+  if (truth.draws.size() != frame.draws.size())
+    throw std::invalid_argument("frame " + std::to_string(frame.number) + ": capture has " +
+                                std::to_string(frame.draws.size()) + " draws, oracle " +
+                                std::to_string(truth.draws.size()) + ": they must be the same draw calls");
+  for (size_t i = 0; i < frame.draws.size(); ++i) ++votes_[frame.draws[i].mesh_key][truth.draws[i].class_id];
+  ++frames_;
+}
+
+LabelTable OracleLabeler::table() const {
+  LabelTable table;
+  for (const auto& [key, classes] : votes_) {
+    int best = 0;
+    uint64_t most = 0;
+    for (const auto& [c, n] : classes)
+      if (n > most) most = n, best = c;
+    if (best != 0) table.setMesh(key, static_cast<uint8_t>(best));
+  }
+  return table;
+}
+
+}  // namespace viper

@@ -1,0 +1,218 @@
+#include "viper/ros/bridge/bag_player.h"
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <rosgraph_msgs/Clock.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <topic_tools/shape_shifter.h>
+#include <viper/DrawList.h>
+#include <viper/MeshStore.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+namespace viper {
+
+namespace {
+
+const char* const kImage = "sensor_msgs/Image";
+const char* const kCameraInfo = "sensor_msgs/CameraInfo";
+const char* const kDrawList = "viper/DrawList";
+const char* const kMeshStore = "viper/MeshStore";
+
+bool latched(const rosbag::ConnectionInfo& c) {
+  if (!c.header) return false;
+  const auto it = c.header->find("latching");
+  return it != c.header->end() && it->second == "1";
+}
+
+}  // namespace
+
+std::string readBagPlayerOptions(const ros::NodeHandle& pnh, BagPlayerOptions& o) {
+  pnh.param<std::string>("bag", o.bag, "");
+  pnh.param("rate", o.rate, 1.0);
+  pnh.param("start_delay_s", o.start_delay_s, 0.0);
+  pnh.param("publish_clock", o.publish_clock, true);
+  pnh.param("queue_size", o.queue_size, 100);
+  pnh.param("exit_when_done", o.exit_when_done, false);
+  pnh.param("loop", o.loop, false);
+  if (o.bag.empty()) return "~bag is empty: give the raw bag to play";
+  if (!(o.rate >= 0.0)) return "~rate must be >= 0 (0: as fast as possible), got " + std::to_string(o.rate);
+  if (!(o.start_delay_s >= 0.0)) return "~start_delay_s must be >= 0, got " + std::to_string(o.start_delay_s);
+  if (o.queue_size < 1) return "~queue_size must be >= 1, got " + std::to_string(o.queue_size);
+  return {};
+}
+
+BagPlayer::BagPlayer(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
+
+BagPlayer::~BagPlayer() { stop(); }
+
+bool BagPlayer::start(bool is_node) {
+  is_node_ = is_node;
+  const std::string problem = readBagPlayerOptions(pnh_, options_);
+  if (!problem.empty()) {
+    ROS_FATAL("bag_player %s: %s", pnh_.getNamespace().c_str(), problem.c_str());
+    return false;
+  }
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(options_.bag, ec)) {
+    ROS_FATAL("bag_player: no such file '%s' (a relative path is taken from the node's working directory, '%s': "
+              "roslaunch starts nodes in $ROS_HOME; give an absolute path)",
+              options_.bag.c_str(), std::filesystem::current_path(ec).c_str());
+    return false;
+  }
+  try {
+    rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
+    rosbag::View view(bag);
+    for (const rosbag::ConnectionInfo* c : view.getConnections()) {
+      if (pubs_.count(c->topic)) continue;
+      const uint32_t q = static_cast<uint32_t>(options_.queue_size);
+      const bool latch = latched(*c);
+      if (c->datatype == kImage) pubs_[c->topic] = nh_.advertise<sensor_msgs::Image>(c->topic, q, latch);
+      else if (c->datatype == kCameraInfo) pubs_[c->topic] = nh_.advertise<sensor_msgs::CameraInfo>(c->topic, q, latch);
+      else if (c->datatype == kDrawList) pubs_[c->topic] = nh_.advertise<DrawList>(c->topic, q, latch);
+      else if (c->datatype == kMeshStore) pubs_[c->topic] = nh_.advertise<MeshStore>(c->topic, q, latch);
+      else {
+        topic_tools::ShapeShifter shape;
+        shape.morph(c->md5sum, c->datatype, c->msg_def, latch ? "1" : "0");
+        pubs_[c->topic] = shape.advertise(nh_, c->topic, q, latch);
+      }
+    }
+  } catch (const rosbag::BagException& e) {
+    ROS_FATAL("bag_player: cannot read '%s': %s (a truncated bag has no index: 'rosbag reindex' recovers "
+              "the messages before the damage)",
+              options_.bag.c_str(), e.what());
+    return false;
+  }
+  if (pubs_.empty()) {
+    ROS_FATAL("bag_player: '%s' holds no message", options_.bag.c_str());
+    return false;
+  }
+  if (options_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  ROS_INFO("bag_player: playing '%s' (%zu topics) at rate %g%s", options_.bag.c_str(), pubs_.size(), options_.rate,
+           options_.loop ? ", looping" : "");
+  thread_ = std::thread(&BagPlayer::run, this);
+  return true;
+}
+
+void BagPlayer::stop() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+bool BagPlayer::sleepUntil(const ros::WallTime& t) {
+  while (!stop_ && ros::ok()) {
+    const double left = (t - ros::WallTime::now()).toSec();
+    if (left <= 0.0) return true;
+    ros::WallDuration(std::min(left, 0.1)).sleep();
+  }
+  return false;
+}
+
+namespace {
+
+// Publishes the typed message T of m with its header stamp `shift` later; returns the bag's stamp.
+template <typename T>
+ros::Time publishShifted(ros::Publisher& pub, const rosbag::MessageInstance& m, const ros::Duration& shift) {
+  const boost::shared_ptr<T> msg = m.instantiate<T>();
+  if (!msg) throw std::runtime_error("a " + m.getDataType() + " message on " + m.getTopic() + " does not deserialise");
+  const ros::Time stamp = msg->header.stamp;
+  if (!shift.isZero() && !stamp.isZero()) msg->header.stamp += shift;
+  pub.publish(msg);
+  return stamp;
+}
+
+}  // namespace
+
+ros::Time BagPlayer::publish(const rosbag::MessageInstance& m, const ros::Duration& shift) {
+  ros::Publisher& pub = pubs_[m.getTopic()];
+  const std::string& type = m.getDataType();
+  if (type == kImage) return publishShifted<sensor_msgs::Image>(pub, m, shift);
+  if (type == kCameraInfo) return publishShifted<sensor_msgs::CameraInfo>(pub, m, shift);
+  if (type == kDrawList) return publishShifted<DrawList>(pub, m, shift);
+  if (type == kMeshStore) return publishShifted<MeshStore>(pub, m, shift);
+  pub.publish(m.instantiate<topic_tools::ShapeShifter>());
+  return ros::Time();
+}
+
+void BagPlayer::Span::add(const ros::Time& t) {
+  if (t.isZero()) return;
+  if (values == 0) {
+    first = last = t;
+    values = 1;
+  } else if (t > last) {  // counts rises: the messages of one frame share their time
+    last = t;
+    ++values;
+  } else if (t < first) {
+    first = t;
+  }
+}
+
+double BagPlayer::Span::step() const {
+  const double span = (last - first).toSec();
+  return span + (values > 1 && span > 0.0 ? span / static_cast<double>(values - 1) : 0.1);
+}
+
+bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(options_.bag, ec)) {
+    ROS_FATAL("bag_player: no such file '%s' (a relative path is taken from the node's working directory, '%s': "
+              "roslaunch starts nodes in $ROS_HOME; give an absolute path)",
+              options_.bag.c_str(), std::filesystem::current_path(ec).c_str());
+    return false;
+  }
+  try {
+    rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
+    rosbag::View view(bag);
+    for (const rosbag::MessageInstance& m : view) {
+      if (stop_ || !ros::ok()) return false;
+      const ros::Time t = m.getTime() + shift;
+      if (p.count == 0) {
+        p.first = t;
+        p.wall_start = ros::WallTime::now();
+      } else if (options_.rate > 0.0 &&
+                 !sleepUntil(p.wall_start + ros::WallDuration((t - p.first).toSec() / options_.rate))) {
+        return false;
+      }
+      // The clock first, so sim-time subscribers see the message's time when it arrives.
+      if (options_.publish_clock && t > p.last) {
+        rosgraph_msgs::Clock clock;
+        clock.clock = t;
+        clock_pub_.publish(clock);
+      }
+      p.last = t;
+      span.times.add(m.getTime());
+      span.stamps.add(publish(m, shift));
+      published_ = ++p.count;
+    }
+    return true;
+  } catch (const std::exception& e) {
+    ROS_ERROR("bag_player: '%s' is damaged after %lu messages (bag time %.6f): %s; stopping, the messages before "
+              "were published",
+              options_.bag.c_str(), static_cast<unsigned long>(p.count), (p.last - shift).toSec(), e.what());
+    return false;
+  }
+}
+
+void BagPlayer::run() {
+  if (options_.start_delay_s > 0.0 && !sleepUntil(ros::WallTime::now() + ros::WallDuration(options_.start_delay_s)))
+    return;
+  Progress progress;
+  ros::Duration shift(0);
+  for (uint64_t pass = 1;; ++pass) {
+    PassSpan span;
+    if (!playPass(shift, progress, span) || !options_.loop || stop_ || !ros::ok()) break;
+    shift += span.step();
+    ROS_INFO("bag_player: '%s' from the start again (pass %lu), times and header stamps %.3f s later",
+             options_.bag.c_str(), static_cast<unsigned long>(pass + 1), shift.toSec());
+  }
+  ROS_INFO("bag_player: done with '%s': %lu messages published in %.2f s (%.2f s of bag time)", options_.bag.c_str(),
+           static_cast<unsigned long>(progress.count),
+           progress.count ? (ros::WallTime::now() - progress.wall_start).toSec() : 0.0,
+           progress.count ? (progress.last - progress.first).toSec() : 0.0);
+  if (is_node_ && options_.exit_when_done) ros::requestShutdown();
+}
+
+}  // namespace viper

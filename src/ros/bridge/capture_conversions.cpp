@@ -1,0 +1,253 @@
+#include "viper/ros/bridge/capture_conversions.h"
+
+#include <boost/make_shared.hpp>
+#include <sensor_msgs/image_encodings.h>
+
+#include <algorithm>
+#include <cstring>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+namespace viper {
+
+namespace {
+
+template <typename Array>
+void matrixToArray(const GlMatrix& m, Array& out) {
+  std::copy(m.data(), m.data() + 16, out.begin());
+}
+
+template <typename Array>
+GlMatrix arrayToMatrix(const Array& a) {
+  GlMatrix m;
+  std::copy(a.begin(), a.end(), m.data());
+  return m;
+}
+
+void checkSize(const CaptureFrame& frame, size_t have, size_t per_pixel, const char* what) {
+  if (have != frame.pixelCount() * per_pixel) {
+    std::ostringstream msg;
+    msg << "frame " << frame.number << ": " << what << " holds " << have << " values, expected "
+        << frame.pixelCount() * per_pixel << " for " << frame.width << "x" << frame.height;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+// The image's fields, its bytes zeroed for the caller to fill.
+sensor_msgs::Image imageHeader(const CaptureFrame& frame, const std_msgs::Header& header, const std::string& encoding,
+                               uint32_t bytes_per_pixel) {
+  sensor_msgs::Image img;
+  img.header = header;
+  img.width = frame.width;
+  img.height = frame.height;
+  img.encoding = encoding;
+  img.is_bigendian = 0;
+  img.step = frame.width * bytes_per_pixel;
+  img.data.resize(static_cast<size_t>(img.step) * frame.height);
+  return img;
+}
+
+}  // namespace
+
+Draw toDrawMsg(const DrawRecord& draw) {
+  Draw msg;
+  msg.index = draw.index;
+  msg.mesh_key = draw.mesh_key;
+  msg.vertex_buffer_key = draw.vertex_buffer_key;
+  msg.index_buffer_key = draw.index_buffer_key;
+  msg.program_key = draw.program_key;
+  msg.texture_keys = draw.texture_keys;
+  msg.matrix_flags = draw.matrix_flags;
+  matrixToArray(draw.world, msg.world);
+  matrixToArray(draw.view, msg.view);
+  matrixToArray(draw.projection, msg.projection);
+  msg.primitive_mode = draw.primitive_mode;
+  msg.primitive_count = draw.primitive_count;
+  msg.visible_pixels = draw.visible_pixels;
+  msg.deformed_clip_xyzw = draw.deformed_clip_xyzw;
+  return msg;
+}
+
+DrawRecord fromDrawMsg(const Draw& msg) {
+  DrawRecord draw;
+  draw.index = msg.index;
+  draw.mesh_key = msg.mesh_key;
+  draw.vertex_buffer_key = msg.vertex_buffer_key;
+  draw.index_buffer_key = msg.index_buffer_key;
+  draw.program_key = msg.program_key;
+  draw.texture_keys = msg.texture_keys;
+  draw.matrix_flags = msg.matrix_flags;
+  draw.world = arrayToMatrix(msg.world);
+  draw.view = arrayToMatrix(msg.view);
+  draw.projection = arrayToMatrix(msg.projection);
+  draw.primitive_mode = msg.primitive_mode;
+  draw.primitive_count = msg.primitive_count;
+  draw.visible_pixels = msg.visible_pixels;
+  draw.deformed_clip_xyzw = msg.deformed_clip_xyzw;
+  return draw;
+}
+
+DrawList toDrawListMsg(const CaptureFrame& frame, const std_msgs::Header& header) {
+  DrawList msg;
+  msg.header = header;
+  msg.frame_number = frame.number;
+  msg.condition = frame.condition;
+  msg.draws.reserve(frame.draws.size());
+  for (const DrawRecord& d : frame.draws) msg.draws.push_back(toDrawMsg(d));
+  return msg;
+}
+
+void fromDrawListMsg(const DrawList& msg, CaptureFrame& frame) {
+  frame.number = msg.frame_number;
+  frame.condition = msg.condition;
+  frame.draws.clear();
+  frame.draws.reserve(msg.draws.size());
+  for (const Draw& d : msg.draws) frame.draws.push_back(fromDrawMsg(d));
+}
+
+Mesh toMeshMsg(const MeshRecord& mesh) {
+  Mesh msg;
+  msg.key = mesh.key;
+  msg.positions_xyz = mesh.positions_xyz;
+  msg.indices = mesh.indices;
+  return msg;
+}
+
+MeshRecord fromMeshMsg(const Mesh& msg) {
+  MeshRecord mesh;
+  mesh.key = msg.key;
+  mesh.positions_xyz = msg.positions_xyz;
+  mesh.indices = msg.indices;
+  return mesh;
+}
+
+std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::string>& problems) {
+  std::vector<MeshRecord> meshes;
+  meshes.reserve(msg.meshes.size());
+  for (const Mesh& m : msg.meshes) {
+    if (m.positions_xyz.size() % 3 != 0 || m.indices.size() % 3 != 0) {
+      std::ostringstream what;
+      what << "mesh " << std::hex << m.key << std::dec << " has " << m.positions_xyz.size() << " position floats and "
+           << m.indices.size() << " indices (multiples of 3 expected); skipped";
+      problems.push_back(what.str());
+      continue;
+    }
+    meshes.push_back(fromMeshMsg(m));
+  }
+  return meshes;
+}
+
+sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header) {
+  checkSize(frame, frame.color_rgb.size(), 3, "color");
+  return imageMsg(header, frame.width, frame.height, sensor_msgs::image_encodings::RGB8, 3, frame.color_rgb.data());
+}
+
+sensor_msgs::Image depthImage(const CaptureFrame& frame, const std::vector<float>& depth_m,
+                              const std_msgs::Header& header) {
+  checkSize(frame, depth_m.size(), 1, "depth");
+  return imageMsg(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32FC1, 4, depth_m.data());
+}
+
+sensor_msgs::Image drawIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
+  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
+  // Draw ids are index + 1 of at most a few million draws: they fit a signed int unchanged.
+  return imageMsg(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32SC1, 4,
+                  frame.draw_ids.data());
+}
+
+sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
+  checkSize(frame, frame.primitive_ids.size(), 1, "primitive ids");
+  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
+  sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32SC1, 4);
+  auto* out = reinterpret_cast<int32_t*>(img.data.data());
+  for (size_t i = 0; i < frame.pixelCount(); ++i) {
+    out[i] = frame.draw_ids[i] == 0 ? -1 : static_cast<int32_t>(frame.primitive_ids[i]);
+  }
+  return img;
+}
+
+sensor_msgs::CameraInfo cameraInfo(const PinholeIntrinsics* intrinsics, uint32_t width, uint32_t height,
+                                   const std_msgs::Header& header) {
+  sensor_msgs::CameraInfo info;
+  info.header = header;
+  info.width = width;
+  info.height = height;
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  if (intrinsics) {
+    const Eigen::Matrix3d k = intrinsics->K();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        info.K[r * 3 + c] = k(r, c);
+        info.P[r * 4 + c] = k(r, c);
+      }
+    }
+  }
+  return info;
+}
+
+sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                            const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
+  sensor_msgs::Image m;
+  m.header = header;
+  m.width = width;
+  m.height = height;
+  m.encoding = encoding;
+  m.is_bigendian = 0;
+  m.step = width * bytes_per_pixel;
+  // assign, not resize + memcpy: the bytes are written once, not zeroed first.
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  m.data.assign(bytes, bytes + static_cast<size_t>(m.step) * height);
+  return m;
+}
+
+sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                                  const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
+  return boost::make_shared<sensor_msgs::Image>(imageMsg(header, width, height, encoding, bytes_per_pixel, data));
+}
+
+bool MeshStoreAccumulator::add(const std::vector<MeshRecord>& meshes) {
+  bool grew = false;
+  for (const MeshRecord& mesh : meshes) {
+    if (keys_.insert(mesh.key).second) {
+      store_.meshes.push_back(toMeshMsg(mesh));
+      grew = true;
+    }
+  }
+  return grew;
+}
+
+FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes) {
+  FrameMessages out;
+  const std::optional<FrameCamera> camera = chooseFrameCamera(frame);
+  std::optional<PinholeIntrinsics> intrinsics;
+  if (camera) {
+    try {
+      intrinsics = intrinsicsFromGlProjection(camera->projection, frame.width, frame.height);
+    } catch (const std::invalid_argument& e) {
+      out.camera_problem = std::string(e.what()) + "; camera_info left uncalibrated";
+    }
+  } else {
+    out.camera_problem =
+        "no draw with view and projection matrices: depth is NaN where no draw projection applies, camera_info "
+        "uncalibrated (check the capture profile)";
+  }
+
+  out.color = boost::make_shared<sensor_msgs::Image>(colorImage(frame, header));
+  out.depth = boost::make_shared<sensor_msgs::Image>(depthImage(frame, depthMetres(frame, camera ? &*camera : nullptr), header));
+  out.draw_ids = boost::make_shared<sensor_msgs::Image>(drawIdImage(frame, header));
+  out.primitive_ids = boost::make_shared<sensor_msgs::Image>(primitiveIdImage(frame, header));
+  out.camera_info = boost::make_shared<sensor_msgs::CameraInfo>(
+      cameraInfo(intrinsics ? &*intrinsics : nullptr, frame.width, frame.height, header));
+  out.draws = boost::make_shared<DrawList>(toDrawListMsg(frame, header));
+  // Only once every message is built, so a frame that throws leaves the store as it was.
+  if (meshes.add(frame.new_meshes)) {
+    out.mesh_store = boost::make_shared<MeshStore>(meshes.store());
+    out.mesh_store->header = header;
+  }
+  return out;
+}
+
+}  // namespace viper

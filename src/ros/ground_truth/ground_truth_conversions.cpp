@@ -1,0 +1,155 @@
+#include "viper/ros/ground_truth/ground_truth_conversions.h"
+
+#include "viper/ros/bridge/capture_conversions.h"
+
+#include <Eigen/SVD>
+
+#include <cstring>
+
+namespace viper {
+
+geometry_msgs::Pose toPoseMsg(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+  geometry_msgs::Pose m;
+  m.position.x = p.x(), m.position.y = p.y(), m.position.z = p.z();
+  m.orientation.x = q.x(), m.orientation.y = q.y(), m.orientation.z = q.z(), m.orientation.w = q.w();
+  return m;
+}
+
+geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) {
+  return toPoseMsg(pose.translation(), Eigen::Quaterniond(pose.linear()).normalized());
+}
+
+geometry_msgs::TransformStamped toTransformMsg(const Eigen::Isometry3d& t, const ros::Time& stamp,
+                                               const std::string& parent, const std::string& child) {
+  geometry_msgs::TransformStamped m;
+  m.header.stamp = stamp;
+  m.header.frame_id = parent;
+  m.child_frame_id = child;
+  const geometry_msgs::Pose p = toPoseMsg(t);
+  m.transform.translation.x = p.position.x, m.transform.translation.y = p.position.y;
+  m.transform.translation.z = p.position.z;
+  m.transform.rotation = p.orientation;
+  return m;
+}
+
+Eigen::Isometry3d fromPoseMsg(const geometry_msgs::Pose& m) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(m.position.x, m.position.y, m.position.z);
+  t.linear() = Eigen::Quaterniond(m.orientation.w, m.orientation.x, m.orientation.y, m.orientation.z)
+                   .normalized()
+                   .toRotationMatrix();
+  return t;
+}
+
+std::string className(const ClassTable& classes, int class_id) {
+  return class_id >= 0 && static_cast<size_t>(class_id) < classes.size() ? classes.at(class_id).name
+                                                                         : "class_" + std::to_string(class_id);
+}
+
+ObjectArray toObjectArrayMsg(const std::vector<TrackedObject>& objects, const ClassTable& classes,
+                             const std_msgs::Header& header) {
+  ObjectArray msg;
+  msg.header = header;
+  msg.objects.reserve(objects.size());
+  for (const TrackedObject& t : objects) {
+    const FrameObject& o = t.object;
+    Object m;
+    m.track_id = t.track_id;
+    m.class_id = o.class_id;
+    m.class_name = className(classes, o.class_id);
+    m.draws = o.draws;
+    m.pixel_count = o.pixel_count;
+    if (o.pixel_count > 0) {
+      m.box_2d.x_offset = static_cast<uint32_t>(o.x_min);
+      m.box_2d.y_offset = static_cast<uint32_t>(o.y_min);
+      m.box_2d.width = static_cast<uint32_t>(o.x_max - o.x_min + 1);
+      m.box_2d.height = static_cast<uint32_t>(o.y_max - o.y_min + 1);
+    }
+    const Eigen::Matrix3d linear = o.world.topLeftCorner<3, 3>().cast<double>();
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(linear, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d r = svd.matrixU() * svd.matrixV().transpose();
+    if (r.determinant() < 0) r = -r;
+    m.world_pose = toPoseMsg(o.world.block<3, 1>(0, 3).cast<double>(), Eigen::Quaterniond(r).normalized());
+    msg.objects.push_back(std::move(m));
+  }
+  return msg;
+}
+
+Box3D toBox3DMsg(const OrientedBox& box, int32_t id, uint8_t class_id, const ClassTable& classes,
+                 const Eigen::Vector3d& velocity) {
+  Box3D m;
+  m.id = id;
+  m.class_id = class_id;
+  m.class_name = className(classes, class_id);
+  m.pose = toPoseMsg(box.center, box.orientation);
+  m.size.x = box.size.x(), m.size.y = box.size.y(), m.size.z = box.size.z();
+  m.velocity.linear.x = velocity.x(), m.velocity.linear.y = velocity.y(), m.velocity.linear.z = velocity.z();
+  return m;
+}
+
+OrientedBox fromBox3DMsg(const Box3D& m) {
+  OrientedBox b;
+  const Eigen::Isometry3d pose = fromPoseMsg(m.pose);
+  b.center = pose.translation();
+  b.orientation = Eigen::Quaterniond(pose.linear());
+  b.size = Eigen::Vector3d(m.size.x, m.size.y, m.size.z);
+  return b;
+}
+
+visualization_msgs::MarkerArray boxMarkers(const Box3DArray& boxes, const ClassTable& classes) {
+  visualization_msgs::MarkerArray out;
+  visualization_msgs::Marker clear;
+  clear.header = boxes.header;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  out.markers.push_back(clear);
+  int next_id = 0;
+  for (const Box3D& b : boxes.boxes) {
+    std::array<uint8_t, 3> rgb{{255, 255, 255}};
+    if (b.class_id < classes.size()) rgb = classes.at(b.class_id).rgb;
+    visualization_msgs::Marker cube;
+    cube.header = boxes.header;
+    cube.ns = "boxes";
+    cube.id = next_id++;
+    cube.type = visualization_msgs::Marker::CUBE;
+    cube.action = visualization_msgs::Marker::ADD;
+    cube.pose = b.pose;
+    cube.scale = b.size;
+    cube.color.r = rgb[0] / 255.0f, cube.color.g = rgb[1] / 255.0f, cube.color.b = rgb[2] / 255.0f;
+    cube.color.a = 0.45f;
+    out.markers.push_back(cube);
+    visualization_msgs::Marker label = cube;
+    label.ns = "labels";
+    label.id = next_id++;
+    label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+    label.text = b.class_name + " " + std::to_string(b.id);
+    label.scale.x = label.scale.y = 0.0;
+    label.scale.z = 0.5;
+    label.color.r = label.color.g = label.color.b = label.color.a = 1.0f;
+    // Above the box: half its extent along the box's own z, which is up for upright objects.
+    const Eigen::Isometry3d pose = fromPoseMsg(b.pose);
+    const Eigen::Vector3d top = pose * Eigen::Vector3d(0, 0, 0.5 * b.size.z + 0.4);
+    label.pose = toPoseMsg(top, Eigen::Quaterniond::Identity());
+    out.markers.push_back(label);
+  }
+  return out;
+}
+
+std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& ids, CaptureFrame& frame) {
+  if (ids.encoding != "32SC1") return "draw_ids has encoding '" + ids.encoding + "', expected 32SC1";
+  if (ids.is_bigendian) return "draw_ids is big-endian, expected little-endian";
+  if (ids.step != ids.width * 4 || ids.data.size() != static_cast<size_t>(ids.step) * ids.height)
+    return "draw_ids is " + std::to_string(ids.width) + "x" + std::to_string(ids.height) + " with step " +
+           std::to_string(ids.step) + " and " + std::to_string(ids.data.size()) + " bytes: sizes disagree";
+  if (ids.header.stamp != draws.header.stamp) return "draw_ids and draws have different stamps";
+  frame.width = ids.width;
+  frame.height = ids.height;
+  frame.time_s = draws.header.stamp.toSec();
+  fromDrawListMsg(draws, frame);
+  // assign, not resize + memcpy: written once, not zeroed first (message buffers come from new[],
+  // aligned for any scalar type).
+  const auto* id_words = reinterpret_cast<const uint32_t*>(ids.data.data());
+  frame.draw_ids.assign(id_words, id_words + static_cast<size_t>(ids.width) * ids.height);
+  return {};
+}
+
+}  // namespace viper

@@ -1,0 +1,137 @@
+#include "viper/ground_truth/class_table.h"
+#include "viper/evaluation/flow_metrics.h"
+#include "viper/evaluation/semantic_metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace viper {
+namespace {
+
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+TEST(ClassTable, LoadsTheVIPERTable) {
+  const ClassTable t = ClassTable::load("config/viper_classes.csv");
+  ASSERT_EQ(t.size(), 32u);
+  EXPECT_EQ(t.at(24).name, "car");
+  EXPECT_EQ(t.idOf("person"), 20);
+  EXPECT_EQ(t.at(3).rgb, (std::array<uint8_t, 3>{{128, 64, 128}}));
+  EXPECT_TRUE(t.at(24).instance_eval);
+  EXPECT_FALSE(t.at(0).class_eval);
+  int scored = 0, instances = 0;
+  for (bool b : t.semanticEvalMask()) scored += b;
+  for (bool b : t.instanceEvalMask()) instances += b;
+  EXPECT_EQ(scored, 23);
+  EXPECT_EQ(instances, 10);
+}
+
+TEST(ClassTable, BadFileNamesFileAndLine) {
+  try {
+    ClassTable::load("test/evaluation/data/classes_bad_row.csv");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("classes_bad_row.csv:4"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ClassTable::load("test/evaluation/data/no_such_file.csv"), std::runtime_error);
+}
+
+TEST(SemanticConfusion, HandComputedIoU) {
+  // Classes 0 (not scored), 1 and 2 (scored).
+  SemanticConfusion conf({false, true, true});
+  const std::vector<uint8_t> gt = {1, 1, 1, 2, 2, 0, 0};
+  const std::vector<uint8_t> pr = {1, 1, 2, 2, 0, 1, 2};
+  conf.add(gt.data(), pr.data(), gt.size());
+  // class 1: TP 2, FN 1 (predicted 2), FP 0 (gt 0 pixels are ignored) -> 2/3
+  // class 2: TP 1, FN 1 (predicted 0), FP 1 (gt 1 predicted 2) -> 1/3
+  EXPECT_DOUBLE_EQ(conf.iou(1), 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(conf.iou(2), 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(conf.meanIou(), 0.5);
+  EXPECT_EQ(conf.scoredPixels(), 5u);
+  EXPECT_TRUE(std::isnan(conf.iou(0)));
+}
+
+TEST(SemanticConfusion, ClassesAbsentFromGroundTruthDoNotEnterTheMean) {
+  SemanticConfusion conf({false, true, true, true});
+  const std::vector<uint8_t> gt = {1, 1};
+  const std::vector<uint8_t> pr = {1, 3};  // class 3 predicted but never in ground truth
+  conf.add(gt.data(), pr.data(), gt.size());
+  EXPECT_DOUBLE_EQ(conf.iou(3), 0.0);
+  EXPECT_TRUE(std::isnan(conf.iou(2)));
+  EXPECT_DOUBLE_EQ(conf.meanIou(), 0.5);
+}
+
+TEST(SemanticConfusion, EmptyAndMerge) {
+  SemanticConfusion a({false, true}), b({false, true});
+  EXPECT_TRUE(std::isnan(a.meanIou()));
+  const uint8_t one = 1;
+  b.add(&one, &one, 1);
+  a.merge(b);
+  EXPECT_DOUBLE_EQ(a.meanIou(), 1.0);
+  EXPECT_THROW(a.merge(SemanticConfusion({true, true})), std::invalid_argument);
+  EXPECT_THROW(a.add(nullptr, &one, 1), std::invalid_argument);
+}
+
+TEST(FlowErrorAccumulator, HandComputedScores) {
+  // Errors: 0, 1, 2.5, 6 (outlier: > 3 px and > 5% of |gt| = 10 px), and one invalid gt pixel.
+  const std::vector<float> gt = {10, 0, 10, 0, 10, 0, 10, 0, kNaN, 0};
+  const std::vector<float> pr = {10, 0, 11, 0, 10, 2.5f, 4, 0, 3, 3};
+  FlowErrorAccumulator acc;
+  acc.add(gt.data(), pr.data(), nullptr, 5);
+  EXPECT_EQ(acc.scoredPixels(), 4u);
+  EXPECT_DOUBLE_EQ(acc.averageEndpointError(), (0 + 1 + 2.5 + 6) / 4.0);
+  // WAUC: mean of (1 - e/5)^2 with 0 for e >= 5.
+  EXPECT_NEAR(acc.wauc(), 100.0 * (1.0 + 0.64 + 0.25 + 0.0) / 4.0, 1e-9);
+  EXPECT_DOUBLE_EQ(acc.outlierPercent(), 25.0);
+  EXPECT_DOUBLE_EQ(acc.inlierPercent(1.5), 50.0);
+  EXPECT_DOUBLE_EQ(acc.inlierPercent(5.0), 75.0);
+}
+
+TEST(FlowErrorAccumulator, WaucMatchesNumericIntegralOfTheCurve) {
+  std::vector<float> gt, pr;
+  for (int i = 0; i < 200; ++i) {
+    gt.insert(gt.end(), {0.f, 0.f});
+    pr.insert(pr.end(), {0.037f * i, 0.f});  // errors 0 .. 7.4 px
+  }
+  FlowErrorAccumulator acc;
+  acc.add(gt.data(), pr.data(), nullptr, 200);
+  double num = 0.0, den = 0.0;
+  const int steps = 100000;
+  for (int s = 0; s < steps; ++s) {
+    const double x = (s + 0.5) * 5.0 / steps, w = 1.0 - x / 5.0;
+    int inl = 0;
+    for (int i = 0; i < 200; ++i) inl += 0.037f * i <= x;
+    num += w * inl / 200.0;
+    den += w;
+  }
+  EXPECT_NEAR(acc.wauc(), 100.0 * num / den, 1e-3);
+}
+
+TEST(FlowErrorAccumulator, MaskAndInvalidPredictions) {
+  const std::vector<float> gt = {1, 1, 1, 1, 1, 1};
+  const std::vector<float> pr = {1, 1, kNaN, 0, 9, 9};
+  const std::vector<uint8_t> mask = {1, 1, 0};
+  FlowErrorAccumulator acc;
+  acc.add(gt.data(), pr.data(), mask.data(), 3);
+  EXPECT_EQ(acc.scoredPixels(), 2u);
+  EXPECT_EQ(acc.invalidPredictions(), 1u);
+  EXPECT_DOUBLE_EQ(acc.averageEndpointError(), 0.0);
+  EXPECT_DOUBLE_EQ(acc.outlierPercent(), 50.0);  // the invalid prediction is an outlier
+  EXPECT_DOUBLE_EQ(acc.wauc(), 50.0);
+}
+
+TEST(FlowErrorAccumulator, AllInvalidGroundTruthGivesNaN) {
+  const std::vector<float> gt = {kNaN, kNaN};
+  const std::vector<float> pr = {0, 0};
+  FlowErrorAccumulator acc;
+  acc.add(gt.data(), pr.data(), nullptr, 1);
+  EXPECT_EQ(acc.scoredPixels(), 0u);
+  EXPECT_TRUE(std::isnan(acc.wauc()));
+  EXPECT_TRUE(std::isnan(acc.averageEndpointError()));
+  EXPECT_TRUE(std::isnan(acc.outlierPercent()));
+}
+
+}  // namespace
+}  // namespace viper

@@ -1,0 +1,102 @@
+#include "viper/ground_truth/instance_pipeline.h"
+
+#include <gtest/gtest.h>
+
+namespace viper {
+namespace {
+
+// Two cars (body + shared wheel) driving right over a road, 3 frames, 8x2 pixels.
+struct Sequence {
+  LabelTable labels;
+  std::vector<CaptureFrame> frames;
+  Sequence() {
+    labels.setMesh(10, 24);  // car body
+    labels.setMesh(11, 24);  // wheel
+    labels.setMesh(1, 3);    // road
+    for (int f = 0; f < 3; ++f) {
+      CaptureFrame fr;
+      fr.number = f, fr.time_s = f / 15.0, fr.width = 8, fr.height = 2;
+      auto draw = [&](uint64_t mesh, float x) {
+        DrawRecord d;
+        d.index = static_cast<uint32_t>(fr.draws.size());
+        d.mesh_key = mesh;
+        d.matrix_flags = kHasWorld;
+        d.world(0, 3) = x;
+        fr.draws.push_back(d);
+      };
+      draw(1, 0);                  // road, identity
+      draw(10, 5 + 0.5f * f);      // car A
+      draw(11, 5 + 0.5f * f);
+      draw(10, 20 + 0.5f * f);     // car B
+      draw(11, 20 + 0.5f * f);
+      fr.draw_ids = {1, 2, 2, 3, 1, 4, 5, 1, 1, 1, 1, 1, 1, 4, 4, 1};
+      if (f == 0) {
+        MeshRecord m;
+        m.key = 10;
+        m.positions_xyz = {0, 0, 0, 4, 0, 0, 0, 2, 0, 0, 0, 1.5f};
+        m.indices = {0, 1, 2, 0, 1, 3};
+        fr.new_meshes = {m};
+      }
+      frames.push_back(fr);
+    }
+  }
+};
+
+TEST(InstancePipeline, StableIdsClassesImagesAndBoxes) {
+  Sequence s;
+  InstancePipeline pipeline(s.labels);
+  std::vector<int32_t> first_ids;
+  for (const CaptureFrame& f : s.frames) {
+    const InstanceFrame out = pipeline.process(f);
+    ASSERT_EQ(out.objects.size(), 3u);
+    EXPECT_EQ(out.objects[0].track_id, 0) << "road is stuff";
+    const int32_t a = out.objects[1].track_id, b = out.objects[2].track_id;
+    EXPECT_GT(a, 0);
+    EXPECT_GT(b, 0);
+    EXPECT_NE(a, b);
+    if (first_ids.empty()) first_ids = {a, b};
+    EXPECT_EQ(first_ids, (std::vector<int32_t>{a, b})) << "frame " << f.number;
+    EXPECT_EQ(out.semantic, (std::vector<uint8_t>{3, 24, 24, 24, 3, 24, 24, 3, 3, 3, 3, 3, 3, 24, 24, 3}));
+    EXPECT_EQ(out.instance_ids[1], a);
+    EXPECT_EQ(out.instance_ids[5], b);
+    EXPECT_EQ(out.instance_ids[0], 0);
+    EXPECT_EQ(out.objects[2].object.pixel_count, 4u);
+    EXPECT_EQ(out.objects[1].box_status, BoxStatus::kOk);
+    EXPECT_NEAR(out.objects[1].box.center.x(), 7 + 0.5 * f.number, 1e-6);
+    // Car B's body arrived in frame 0, the wheel mesh never did: its box is the body's.
+    EXPECT_TRUE(out.objects[2].box.size.isApprox(Eigen::Vector3d(4, 2, 1.5)));
+  }
+  std::vector<uint8_t> rgb(3 * 2);
+  const uint8_t cls[2] = {24, 3};
+  const int32_t ids[2] = {258, 0};
+  encodeViperInstances(cls, ids, 2, rgb.data());
+  EXPECT_EQ(rgb, (std::vector<uint8_t>{24, 1, 2, 3, 0, 0}));
+}
+
+TEST(InstancePipeline, InconsistentFramesAreRejectedWithoutSideEffects) {
+  Sequence s;
+  InstancePipeline pipeline(s.labels);
+  CaptureFrame bad = s.frames[0];
+  bad.draw_ids.pop_back();
+  try {
+    pipeline.process(bad);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("draw id image has 15 pixels"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(pipeline.meshes().size(), 0u);
+  CaptureFrame shuffled = s.frames[0];
+  std::swap(shuffled.draws[1], shuffled.draws[2]);
+  EXPECT_THROW(pipeline.process(shuffled), std::invalid_argument);
+  CaptureFrame nan_world = s.frames[0];
+  nan_world.draws[3].world(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  nan_world.draws[4].world(0, 0) = std::numeric_limits<float>::quiet_NaN();
+  const InstanceFrame out = pipeline.process(nan_world);
+  EXPECT_EQ(out.objects.size(), 2u);
+  ASSERT_EQ(out.problems.size(), 1u);
+  EXPECT_NE(out.problems[0].find("non-finite world matrix"), std::string::npos);
+  EXPECT_EQ(out.instance_ids[5], 0) << "pixels of a skipped object have no instance";
+}
+
+}  // namespace
+}  // namespace viper

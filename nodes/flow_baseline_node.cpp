@@ -1,10 +1,5 @@
 // flow_baseline node (see docs/baselines.md).
 #include "viper/ros/baselines/flow_baseline.h"
+#include "viper/ros/node_shell.h"
 
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "flow_baseline");
-  viper::FlowBaseline node(ros::NodeHandle(), ros::NodeHandle("~"));
-  if (!node.start()) return 1;
-  ros::spin();
-  return 0;
-}
+int main(int argc, char** argv) { return viper::runNode<viper::FlowBaseline>(argc, argv, "flow_baseline"); }

@@ -1,10 +1,5 @@
 // instances node (see docs/ground_truth_nodes.md).
 #include "viper/ros/ground_truth/instances.h"
+#include "viper/ros/node_shell.h"
 
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "instances");
-  viper::Instances node(ros::NodeHandle(), ros::NodeHandle("~"));
-  if (!node.start()) return 1;
-  ros::spin();
-  return 0;
-}
+int main(int argc, char** argv) { return viper::runNode<viper::Instances>(argc, argv, "instances"); }

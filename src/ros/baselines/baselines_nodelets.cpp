@@ -2,27 +2,14 @@
 #include "viper/ros/baselines/flow_baseline.h"
 #include "viper/ros/baselines/vo_baseline.h"
 
-#include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
+#include "viper/ros/node_shell.h"
 
-#include <memory>
+#include <pluginlib/class_list_macros.hpp>
 
 namespace viper {
 
-/// Nodelet shell around a node class T with T(nh, private_nh) and bool start().
-template <typename T>
-class BaselineNodelet : public nodelet::Nodelet {
- private:
-  void onInit() override {
-    node_ = std::make_unique<T>(getNodeHandle(), getPrivateNodeHandle());
-    // An impossible configuration leaves this nodelet idle instead of ending the whole manager.
-    if (!node_->start()) NODELET_FATAL("nodelet '%s' not started (see the message above)", getName().c_str());
-  }
-  std::unique_ptr<T> node_;
-};
-
-class FlowBaselineNodelet : public BaselineNodelet<FlowBaseline> {};
-class VoBaselineNodelet : public BaselineNodelet<VoBaseline> {};
+class FlowBaselineNodelet : public ShellNodelet<FlowBaseline> {};
+class VoBaselineNodelet : public ShellNodelet<VoBaseline> {};
 
 }  // namespace viper
 

@@ -4,24 +4,11 @@
 #include "viper/ros/ground_truth/instances.h"
 #include "viper/ros/ground_truth/odometry.h"
 
-#include <nodelet/nodelet.h>
+#include "viper/ros/node_shell.h"
+
 #include <pluginlib/class_list_macros.hpp>
 
-#include <memory>
-
 namespace viper {
-
-/// Nodelet shell around a node class T with T(nh, private_nh) and bool start().
-template <typename T>
-class ShellNodelet : public nodelet::Nodelet {
- private:
-  void onInit() override {
-    node_ = std::make_unique<T>(getNodeHandle(), getPrivateNodeHandle());
-    // An impossible configuration leaves this nodelet idle instead of ending the whole manager.
-    if (!node_->start()) NODELET_FATAL("nodelet '%s' not started (see the message above)", getName().c_str());
-  }
-  std::unique_ptr<T> node_;
-};
 
 class InstancesNodelet : public ShellNodelet<Instances> {};
 class BoxesNodelet : public ShellNodelet<Boxes> {};

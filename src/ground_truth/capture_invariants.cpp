@@ -11,6 +11,24 @@ namespace viper {
 
 namespace {
 
+// The inverse of a draw's projection * view, when it has both and they are invertible.
+bool inverseViewProjection(const DrawRecord& d, Eigen::Matrix4d& out) {
+  constexpr uint8_t kCamera = kHasView | kHasProjection;
+  if ((d.matrix_flags & kCamera) != kCamera) return false;
+  const Eigen::Matrix4d pv = d.projection.cast<double>() * d.view.cast<double>();
+  if (std::abs(pv.determinant()) < 1e-300) return false;
+  out = pv.inverse();
+  return true;
+}
+
+// The world point at the centre of pixel (col, row) (rows top first) at window depth z.
+Eigen::Vector4d pixelPoint(const Eigen::Matrix4d& inverse_view_projection, uint32_t col, uint32_t row, uint32_t W,
+                           uint32_t H, float window_z) {
+  const Eigen::Vector4d ndc((col + 0.5) / W * 2.0 - 1.0, 1.0 - (row + 0.5) / H * 2.0, 2.0 * window_z - 1.0, 1.0);
+  const Eigen::Vector4d p = inverse_view_projection * ndc;
+  return p / p.w();
+}
+
 // Distance from p to the segment a-b.
 double segmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
@@ -270,11 +288,8 @@ StaticFlowCheck checkStaticFlow(const CaptureFrame& a, const CaptureFrame& b, co
     const DrawRecord& db = b.draws[static_cast<size_t>(j)];
     if (!da.deformed_clip_xyzw.empty() || !db.deformed_clip_xyzw.empty() || da.mesh_key != db.mesh_key ||
         !(da.matrix_flags & kHasWorld) || !(db.matrix_flags & kHasWorld) || da.world != db.world ||
-        (da.matrix_flags & kCamera) != kCamera || (db.matrix_flags & kCamera) != kCamera)
+        (db.matrix_flags & kCamera) != kCamera || !inverseViewProjection(da, unproject[i]))
       continue;
-    const Eigen::Matrix4d va = (da.projection.cast<double>() * da.view.cast<double>());
-    if (std::abs(va.determinant()) < 1e-300) continue;
-    unproject[i] = va.inverse();
     project[i] = db.projection.cast<double>() * db.view.cast<double>();
     is_static[i] = true;
   }
@@ -286,11 +301,7 @@ StaticFlowCheck checkStaticFlow(const CaptureFrame& a, const CaptureFrame& b, co
       ++c.static_pixels;
       const float u = forward.uv[2 * px], v = forward.uv[2 * px + 1];
       if (std::isnan(u) || std::isnan(v)) continue;
-      // Pixel centre in normalised device coordinates (rows are top first, NDC y up).
-      const Eigen::Vector4d ndc((col + 0.5) / W * 2.0 - 1.0, 1.0 - (row + 0.5) / H * 2.0,
-                                2.0 * a.depth_window[px] - 1.0, 1.0);
-      const Eigen::Vector4d world = unproject[id - 1] * ndc;
-      const Eigen::Vector4d clip = project[id - 1] * (world / world.w());
+      const Eigen::Vector4d clip = project[id - 1] * pixelPoint(unproject[id - 1], col, row, W, H, a.depth_window[px]);
       if (clip.w() <= 0.0) continue;
       const double xb = (clip.x() / clip.w() + 1.0) / 2.0 * W, yb = (1.0 - clip.y() / clip.w()) / 2.0 * H;
       const double eu = xb - (col + 0.5), ev = yb - (row + 0.5);
@@ -323,33 +334,17 @@ BoxCheck checkBoxes(const CaptureFrame& frame, const std::vector<FrameObject>& o
     boxes.push_back(box);
     ++c.objects;
   }
-  constexpr uint8_t kCamera = kHasView | kHasProjection;
-  std::vector<Eigen::Matrix4d> unproject(frame.draws.size());
-  std::vector<Eigen::Matrix4d> view(frame.draws.size());
+  std::vector<Eigen::Matrix4d> unproject(frame.draws.size()), view(frame.draws.size());
   for (size_t i = 0; i < frame.draws.size(); ++i) {
-    const DrawRecord& d = frame.draws[i];
-    if (box_of[i] < 0 || (d.matrix_flags & kCamera) != kCamera) {
-      box_of[i] = -1;
-      continue;
-    }
-    const Eigen::Matrix4d pv = d.projection.cast<double>() * d.view.cast<double>();
-    if (std::abs(pv.determinant()) < 1e-300) {
-      box_of[i] = -1;
-      continue;
-    }
-    unproject[i] = pv.inverse();
-    view[i] = d.view.cast<double>();
+    if (box_of[i] >= 0 && !inverseViewProjection(frame.draws[i], unproject[i])) box_of[i] = -1;
+    view[i] = frame.draws[i].view.cast<double>();
   }
   for (uint32_t row = 0; row < H; ++row)
     for (uint32_t col = 0; col < W; ++col) {
       const size_t px = static_cast<size_t>(row) * W + col;
       const uint32_t id = frame.draw_ids[px];
       if (id == 0 || id > frame.draws.size() || box_of[id - 1] < 0 || frame.depth_window[px] >= 1.0f) continue;
-      const Eigen::Vector4d ndc((col + 0.5) / W * 2.0 - 1.0, 1.0 - (row + 0.5) / H * 2.0,
-                                2.0 * frame.depth_window[px] - 1.0, 1.0);
-      Eigen::Vector4d world = unproject[id - 1] * ndc;
-      if (world.w() == 0.0) continue;
-      world /= world.w();
+      const Eigen::Vector4d world = pixelPoint(unproject[id - 1], col, row, W, H, frame.depth_window[px]);
       const double distance = (view[id - 1] * world).head<3>().norm();
       const OrientedBox& box = boxes[static_cast<size_t>(box_of[id - 1])];
       const Eigen::Vector3d local = box.orientation.conjugate() * (world.head<3>() - box.center);

@@ -77,6 +77,15 @@ class FrameTarget {
   /// Sets the draw buffers of the bound program framebuffer f: the program's, with ours at
   /// kIdDrawBuffer if `ids`.
   void applyFboDrawBuffers(ProgramFbo& f, bool ids);
+  /// Our id attachment on or off as a draw buffer of the scene's framebuffer: the program's
+  /// `scene_fbo`, or ours (the default framebuffer) when null. Applied only when it changes.
+  void wantIds(ProgramFbo* scene_fbo, bool ids) {
+    if (scene_fbo) {
+      if (scene_fbo->ids_wanted != ids) applyFboDrawBuffers(*scene_fbo, ids);
+    } else if (ids_enabled != ids) {
+      applyDrawBuffers(ids);
+    }
+  }
   /// After the program cleared color or depth of its bound framebuffer f: our ids back to 0.
   void clearFboIds(ProgramFbo& f);
 

@@ -177,6 +177,8 @@ class Interceptor {
   GLuint boundBuffer(GLenum target);
   uint64_t bufferKey(GLuint name);
   void recordMesh(const DrawCall& call, const ProgramInfo& program, DrawRecord& record);
+  /// Mesh positions mirrored in z for `handedness: left` (nothing otherwise).
+  void mirrorForProfile(ExtractedMesh& mesh) const;
   /// A mesh whose vertices or indices are in the program's memory (client-side arrays): extracted
   /// at every draw (the memory may change between draws), kept in client_mesh_.
   void recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo, const uint8_t* client_vertices,

@@ -54,7 +54,24 @@ bool decodeAttribute(const uint8_t* bytes, GLenum type, int size, float out[4]) 
   return true;
 }
 
+// The part of a draw's range that does not depend on where its indices are.
+DrawRange drawRange(const DrawCall& call) {
+  DrawRange range;
+  range.mode = call.mode;
+  range.count = static_cast<size_t>(call.count);
+  range.first = call.first;
+  range.base_vertex = call.base_vertex;
+  range.index_type = call.indexed ? call.index_type : 0;
+  return range;
+}
+
 }  // namespace
+
+void Interceptor::mirrorForProfile(ExtractedMesh& mesh) const {
+  if (!profile_.left_handed) return;  // the mirror image in z (capture_profile.h)
+  std::vector<float>& xyz = mesh.mesh.positions_xyz;
+  for (size_t i = 2; i < xyz.size(); i += 3) xyz[i] = -xyz[i];
+}
 
 bool Interceptor::readMatrix(const MatrixSource& m, GlMatrix& out) {
   const RealGl& g = gl();
@@ -172,11 +189,8 @@ void Interceptor::beforeUndecomposedDraw(const char* what) {
     logOnce(std::string(what) + " of program " + key + ", whose shaders read gl_DrawID: drawn whole, not recorded");
   }
   // Whatever the uniform holds would name another draw: no ids from this one.
-  if (t->program_draw_fb == 0) {
-    if (t->ids_enabled) t->applyDrawBuffers(false);
-  } else if (FrameTarget::ProgramFbo* f = t->sceneFbo()) {
-    if (f->ids_wanted) t->applyFboDrawBuffers(*f, false);
-  }
+  if (t->program_draw_fb == 0) t->wantIds(nullptr, false);
+  else if (FrameTarget::ProgramFbo* f = t->sceneFbo()) t->wantIds(f, false);
 }
 
 bool Interceptor::readIndirect(size_t offset, void* out, size_t size) {
@@ -196,23 +210,12 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   ProgramInfo* p = currentProgram();
   const bool scene_ended = !scene_fbo && t->sceneEnded();
   if (!p && !scene_ended) ++frame_.unrecorded_draws;  // fixed function: nothing to rewrite or read
-  if (!p || scene_ended) {
-    // Fixed-function draws (no program) write their color to every draw buffer, ours included;
-    // after the scene ended (endScene) nothing is recorded: ids off for both.
-    if (scene_fbo) {
-      if (scene_fbo->ids_wanted) t->applyFboDrawBuffers(*scene_fbo, false);
-    } else if (t->ids_enabled) {
-      t->applyDrawBuffers(false);
-    }
-    return false;
-  }
+  // Fixed-function draws (no program) write their color to every draw buffer, ours included;
+  // after the scene ended (endScene) nothing is recorded: ids off for both.
+  t->wantIds(scene_fbo, p && !scene_ended && p->rewritten);
+  if (!p || scene_ended) return false;
   const RealGl& g = gl();
-  if (scene_fbo) {
-    if (p->rewritten != scene_fbo->ids_wanted) t->applyFboDrawBuffers(*scene_fbo, p->rewritten);
-    ++scene_fbo->draws;
-  } else if (p->rewritten != t->ids_enabled) {
-    t->applyDrawBuffers(p->rewritten);
-  }
+  if (scene_fbo) ++scene_fbo->draws;
   if (p->overlay) {  // the 2D overlay: ids off (above), not recorded, not in the frame's color
     if (!scene_fbo) t->snapshotSceneColor();
     return false;
@@ -390,20 +393,14 @@ void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRec
   auto cached = mesh_cache_.find(cache_key);
   if (cached == mesh_cache_.end()) {
     ExtractedMesh mesh;
-    DrawRange range;
-    range.mode = call.mode;
-    range.count = static_cast<size_t>(call.count);
-    range.first = call.first;
-    range.base_vertex = call.base_vertex;
+    DrawRange range = drawRange(call);
     if (call.indexed) {
       range.index_data = ib->second.data.data();
       range.index_bytes = ib->second.data.size();
-      range.index_type = call.index_type;
       range.index_offset = call.index_offset;
     }
     if (!extractMesh(vb->second.data, layout, range, mesh)) mesh = ExtractedMesh();  // key 0: no mesh
-    if (profile_.left_handed)
-      for (size_t i = 2; i < mesh.mesh.positions_xyz.size(); i += 3) mesh.mesh.positions_xyz[i] = -mesh.mesh.positions_xyz[i];
+    mirrorForProfile(mesh);
     cached = mesh_cache_.emplace(cache_key, std::move(mesh)).first;
   }
   ExtractedMesh& m = cached->second;
@@ -419,11 +416,7 @@ void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRec
 
 void Interceptor::recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo,
                                    const uint8_t* client_vertices, GLuint ibo, DrawRecord& r) {
-  DrawRange range;
-  range.mode = call.mode;
-  range.count = static_cast<size_t>(call.count);
-  range.first = call.first;
-  range.base_vertex = call.base_vertex;
+  DrawRange range = drawRange(call);
   std::lock_guard<std::mutex> lock(mutex_);
   const uint8_t* vertices = client_vertices;
   size_t vertex_bytes = SIZE_MAX;  // the program's memory: the draw itself reads this range
@@ -448,13 +441,11 @@ void Interceptor::recordClientMesh(const DrawCall& call, const PositionLayout& l
       range.index_bytes = static_cast<size_t>(call.count) * width;
       range.index_offset = 0;
     }
-    range.index_type = call.index_type;
     if (!range.index_data) return;
   }
   ExtractedMesh mesh;
   if (!extractMesh(vertices, vertex_bytes, layout, range, mesh)) return;
-  if (profile_.left_handed)
-    for (size_t i = 2; i < mesh.mesh.positions_xyz.size(); i += 3) mesh.mesh.positions_xyz[i] = -mesh.mesh.positions_xyz[i];
+  mirrorForProfile(mesh);
   r.mesh_key = mesh.mesh.key;
   if (emitted_meshes_.insert(mesh.mesh.key).second) frame_.new_meshes.push_back(mesh.mesh);
   client_mesh_ = std::move(mesh);

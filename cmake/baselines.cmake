@@ -14,7 +14,7 @@ add_library(viper_baselines_ros
 )
 target_include_directories(viper_baselines_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_baselines_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_baselines_ros PUBLIC viper_core ${catkin_LIBRARIES}
+target_link_libraries(viper_baselines_ros PUBLIC viper_conversions viper_core ${catkin_LIBRARIES}
   opencv_core opencv_imgproc opencv_video opencv_calib3d)
 set_target_properties(viper_baselines_ros PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})

@@ -27,7 +27,7 @@ find_package(class_loader REQUIRED)
 add_executable(export_flow tools/export_flow.cpp)
 target_include_directories(export_flow SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
   ${class_loader_INCLUDE_DIRS})
-target_link_libraries(export_flow viper_dataset ${catkin_LIBRARIES})
+target_link_libraries(export_flow viper_dataset viper_conversions ${catkin_LIBRARIES})
 set_target_properties(export_flow PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 install(TARGETS export_flow RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

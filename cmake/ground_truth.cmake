@@ -1,6 +1,5 @@
 # viper_ground_truth_ros: the ground-truth nodes (instances, boxes, odometry) and their nodelets.
 add_library(viper_ground_truth_ros
-  src/ros/ground_truth/ground_truth_conversions.cpp
   src/ros/ground_truth/instances.cpp
   src/ros/ground_truth/boxes.cpp
   src/ros/ground_truth/odometry.cpp
@@ -22,12 +21,6 @@ endforeach()
 install(TARGETS viper_ground_truth_ros
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
-
-if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_ground_truth_conversions test/ros/test_ground_truth_conversions.cpp
-    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_link_libraries(test_ground_truth_conversions viper_ground_truth_ros gtest_main)
-endif()
 
 if(CATKIN_ENABLE_TESTING)
   # Real captures and oracles, made at build time, for the oracle checks: the test scene, and 90

@@ -1,9 +1,8 @@
-# viper_ros: message conversions, the capture bridge and the bag player (nodes + nodelets).
+# viper_ros: the capture bridge and the bag player (nodes + nodelets).
 # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
 find_package(pluginlib REQUIRED)
 find_package(class_loader REQUIRED)
 add_library(viper_ros
-  src/ros/bridge/capture_conversions.cpp
   src/ros/bridge/replay_timing.cpp
   src/ros/bridge/capture_bridge_options.cpp
   src/ros/bridge/capture_bridge.cpp
@@ -15,7 +14,7 @@ add_library(viper_ros
 )
 target_include_directories(viper_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
-target_link_libraries(viper_ros PUBLIC viper_core ${catkin_LIBRARIES})
+target_link_libraries(viper_ros PUBLIC viper_conversions viper_core ${catkin_LIBRARIES})
 add_dependencies(viper_ros viper_generate_messages_cpp)
 set_target_properties(viper_ros PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 
@@ -42,8 +41,6 @@ if(CATKIN_ENABLE_TESTING)
   find_package(roslaunch REQUIRED)
 
   # Plain gtests, no roscore.
-  catkin_add_gtest(test_capture_conversions test/ros/test_capture_conversions.cpp)
-  target_link_libraries(test_capture_conversions viper_ros)
   catkin_add_gtest(test_replay_timing test/ros/test_replay_timing.cpp)
   target_link_libraries(test_replay_timing viper_ros)
   # Every `rosrun viper X` of README.md runs as written (needs the devel space sourced).

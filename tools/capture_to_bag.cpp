@@ -5,7 +5,7 @@
 // the bridge would drop), 2 = usage error, the capture cannot be opened or the bag cannot be written.
 // docs/capture_bridge.md has the details.
 #include "viper/capture/capture_stream.h"
-#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/bridge/replay_timing.h"
 
 #include <rosbag/bag.h>

@@ -8,6 +8,7 @@
 #include "viper/dataset/middlebury_flo.h"
 #include "viper/dataset/viper_flow.h"
 #include "viper/dataset/viper_layout.h"
+#include "viper/ros/conversions/flow_conversions.h"
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -96,28 +97,6 @@ std::string stampText(const ros::Time& t) {
   char s[32];
   std::snprintf(s, sizeof s, "%u.%09u", t.sec, t.nsec);
   return s;
-}
-
-// Checks a flow message and copies it into `flow`; returns what is wrong, or "" if nothing.
-std::string toFlow(const sensor_msgs::Image& m, FlowImage& flow) {
-  if (m.encoding != sensor_msgs::image_encodings::TYPE_32FC2)
-    return "encoding is '" + m.encoding + "', expected 32FC2";
-  if (m.width == 0 || m.height == 0)
-    return "size is " + std::to_string(m.width) + "x" + std::to_string(m.height);
-  const size_t row = static_cast<size_t>(m.width) * 8;
-  if (m.step < row) return "step " + std::to_string(m.step) + " is less than width * 8 = " + std::to_string(row);
-  if (m.data.size() != static_cast<size_t>(m.step) * m.height)
-    return "data has " + std::to_string(m.data.size()) + " bytes, step * height is " +
-           std::to_string(static_cast<size_t>(m.step) * m.height);
-  flow.width = m.width;
-  flow.height = m.height;
-  flow.uv.resize(2 * flow.pixels());
-  auto* dst = reinterpret_cast<uint8_t*>(flow.uv.data());
-  for (uint32_t y = 0; y < m.height; ++y) std::memcpy(dst + y * row, m.data.data() + y * m.step, row);
-  const bool host_big = __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__;
-  if (static_cast<bool>(m.is_bigendian) != host_big)
-    for (size_t i = 0; i < flow.uv.size(); ++i) std::reverse(dst + 4 * i, dst + 4 * i + 4);
-  return "";
 }
 
 // The header stamps of the messages of `topic`, in bag order, each mapped to its index. The
@@ -237,7 +216,7 @@ int run(const Options& o) {
       if (image == nullptr) problem = "not a sensor_msgs/Image";
       else {
         stamp = image->header.stamp;
-        problem = toFlow(*image, flow);
+        problem = viper::flowFromMsg(*image, flow);
       }
     } catch (const std::exception& e) {
       problem = std::string("cannot be read: ") + e.what();

@@ -125,6 +125,54 @@ std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* cam
   return out;
 }
 
+std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,
+                                         const GlMatrix* fallback_projection, size_t* bad_depth_pixels) {
+  const size_t n = frame.pixelCount();
+  if (depth_m.size() != n || frame.draw_ids.size() != n)
+    throw std::invalid_argument("windowDepthFromMetres: depth or draw ids do not hold " + std::to_string(n) +
+                                " pixels");
+  // Rows 2 and 3 of each draw's projection (slot 0: pixels without a draw); valid = false: none.
+  struct Rows {
+    bool valid = false;
+    double p22 = 0, p23 = 0, p32 = 0, p33 = 0;
+  };
+  auto rows = [](const GlMatrix& p) { return Rows{true, p(2, 2), p(2, 3), p(3, 2), p(3, 3)}; };
+  std::vector<Rows> by_id(frame.draws.size() + 1);
+  const Rows fallback = fallback_projection ? rows(*fallback_projection) : Rows{};
+  for (size_t i = 0; i < frame.draws.size(); ++i)
+    by_id[i + 1] = (frame.draws[i].matrix_flags & kHasProjection) ? rows(frame.draws[i].projection) : fallback;
+
+  std::vector<float> out(n, 1.0f);
+  // Per draw: pixels without usable depth, and with it. A draw with none at all is a background at
+  // the far plane (a sky): its pixels have no surface, which is not an error.
+  std::vector<uint32_t> bad(by_id.size(), 0), good(by_id.size(), 0);
+  for (size_t p = 0; p < n; ++p) {
+    const uint32_t id = frame.draw_ids[p];
+    if (id == 0 || id >= by_id.size()) continue;
+    const Rows& r = by_id[id];
+    const float m = depth_m[p];
+    if (!r.valid || !(m > 0.0f) || !std::isfinite(m)) {
+      ++bad[id];
+      continue;
+    }
+    // OpenGL eye z is -depth; window depth = (z_ndc + 1) / 2 with z_ndc = (P22 z + P23) / (P32 z + P33).
+    const double z = -static_cast<double>(m);
+    const double z_ndc = (r.p22 * z + r.p23) / (r.p32 * z + r.p33);
+    const double d = 0.5 * (z_ndc + 1.0);
+    if (d >= 0.0 && d < 1.0) {
+      out[p] = static_cast<float>(d);
+      ++good[id];
+    } else {
+      ++bad[id];
+    }
+  }
+  size_t bad_total = 0;
+  for (size_t id = 1; id < bad.size(); ++id)
+    if (good[id] > 0) bad_total += bad[id];
+  if (bad_depth_pixels) *bad_depth_pixels = bad_total;
+  return out;
+}
+
 bool decomposeViewProjection(const GlMatrix& view_projection, GlMatrix& view, GlMatrix& projection,
                              double tolerance) {
   const Eigen::Matrix4d M = view_projection.cast<double>();

@@ -10,7 +10,7 @@
 // seconds, like a node that starts late).
 #include "viper/capture/capture_stream.h"
 #include "viper/capture/content_key.h"
-#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>

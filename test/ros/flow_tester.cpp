@@ -11,7 +11,7 @@
 #include "viper/ground_truth/camera_model.h"
 #include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/ego_motion.h"
-#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
 
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>

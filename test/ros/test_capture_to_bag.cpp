@@ -4,7 +4,7 @@
 // intact frames, is named with the byte offset of the damage and ends with exit status 1; bad usage
 // prints the usage and exits 2. capture_to_bag.test compares the bag with the running bridge.
 #include "viper/capture/capture_stream.h"
-#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/bridge/replay_timing.h"
 
 #include <gtest/gtest.h>

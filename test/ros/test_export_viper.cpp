@@ -4,7 +4,9 @@
 // type, a missing bag or bad options are errors (exit 2).
 #include "viper/dataset/viper_layout.h"
 #include "viper/dataset/viper_sequence.h"
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/image_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>

@@ -4,8 +4,9 @@
 // sources.
 #include "viper/dataset/viper_layout.h"
 #include "viper/dataset/viper_sequence.h"
-#include "viper/ros/bridge/capture_conversions.h"
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 #include "viper/ros/dataset/viper_exporter.h"
 #include "viper/ros/dataset/viper_layout_conversions.h"
 

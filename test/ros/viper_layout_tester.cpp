@@ -15,7 +15,8 @@
 
 #include "viper/ground_truth/ego_motion.h"
 #include "viper/dataset/float16.h"
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 #include "viper/ros/dataset/player.h"
 
 #include <gtest/gtest.h>

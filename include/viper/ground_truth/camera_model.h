@@ -74,6 +74,17 @@ std::optional<FrameCamera> chooseFrameCamera(const CaptureFrame& frame);
 /// `camera`'s projection, or become NaN when `camera` is null. Returns width*height values.
 std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* camera);
 
+/// Converts depth in metres along the optical axis (REP 118) back to OpenGL window depth in [0, 1],
+/// the inverse of depthMetres(): each pixel with the projection of the draw that owns it (draws
+/// without kHasProjection use `fallback_projection`, pixels become 1 = no surface when that is
+/// null too). Pixels without a draw, and pixels whose depth is not finite or not positive, become 1.
+/// `frame` supplies draws and draw ids; `depth_m` holds frame.pixelCount() values.
+/// Returns the window depths and, in `bad_depth_pixels`, how many pixels of a draw had no usable
+/// depth, counting only draws that have usable depth elsewhere (a draw with none at all is a
+/// background at the far plane, such as a sky, and not an error). Throws std::invalid_argument when a size does not match the frame.
+std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,
+                                         const GlMatrix* fallback_projection, size_t* bad_depth_pixels = nullptr);
+
 /// Rotation from OpenGL camera axes (x right, y up, looking down -z) to the optical frame
 /// (x right, y down, z forward): diag(1, -1, -1). p_optical = opticalFromGlCamera() * p_gl.
 Eigen::Matrix3d opticalFromGlCamera();

@@ -1,5 +1,7 @@
 #include "viper/ros/baselines/flow_baseline.h"
 
+#include "viper/ros/conversions/image_conversions.h"
+
 #include <opencv2/imgproc.hpp>
 #include <sensor_msgs/image_encodings.h>
 
@@ -19,17 +21,9 @@ bool grayFromImage(const sensor_msgs::Image& msg, cv::Mat& gray, std::string& er
     error = "unsupported encoding '" + msg.encoding + "' (want rgb8, bgr8, rgba8, bgra8 or mono8)";
     return false;
   }
-  if (msg.width == 0 || msg.height == 0) {
-    error = "empty image";
-    return false;
-  }
   // Checked here because a Mat over a short buffer would read past its end.
-  if (msg.step < static_cast<size_t>(msg.width) * channels ||
-      msg.data.size() < static_cast<size_t>(msg.step) * msg.height) {
-    error = "step " + std::to_string(msg.step) + " / data size " + std::to_string(msg.data.size()) +
-            " too small for " + std::to_string(msg.width) + "x" + std::to_string(msg.height) + " " + msg.encoding;
-    return false;
-  }
+  error = checkImage(msg, msg.encoding, 0, 0, ImageLayout::kAnyStep);
+  if (!error.empty()) return false;
   const cv::Mat view(msg.height, msg.width, CV_8UC(channels), const_cast<uint8_t*>(msg.data.data()), msg.step);
   if (channels == 1) view.copyTo(gray);
   else cv::cvtColor(view, gray, code);

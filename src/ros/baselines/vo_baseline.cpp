@@ -2,6 +2,7 @@
 
 #include "viper/ground_truth/ego_motion.h"
 #include "viper/ros/baselines/flow_baseline.h"
+#include "viper/ros/conversions/pose_conversions.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -13,16 +14,6 @@
 
 namespace viper {
 namespace {
-
-Eigen::Isometry3d fromOdomMsg(const nav_msgs::Odometry& m) {
-  const auto& p = m.pose.pose;
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)
-                   .normalized()
-                   .toRotationMatrix();
-  t.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  return t;
-}
 
 // Ground truth is only looked up by exact stamp; older entries than this many are forgotten.
 constexpr size_t kMaxGroundTruth = 300;
@@ -69,7 +60,7 @@ void VoBaseline::onCameraInfo(const sensor_msgs::CameraInfo::ConstPtr& msg) {
 }
 
 void VoBaseline::onGroundTruth(const nav_msgs::Odometry::ConstPtr& msg) {
-  gt_[msg->header.stamp] = fromOdomMsg(*msg);
+  gt_[msg->header.stamp] = fromPoseMsg(msg->pose.pose);
   while (gt_.size() > kMaxGroundTruth) gt_.erase(gt_.begin());
   processPending();
 }
@@ -219,14 +210,7 @@ void VoBaseline::publish(const std_msgs::Header& header) {
   odom.header.stamp = header.stamp;
   odom.header.frame_id = map_frame_;
   odom.child_frame_id = child_frame_;
-  const Eigen::Quaterniond q(map_from_body.linear());
-  odom.pose.pose.position.x = map_from_body.translation().x();
-  odom.pose.pose.position.y = map_from_body.translation().y();
-  odom.pose.pose.position.z = map_from_body.translation().z();
-  odom.pose.pose.orientation.w = q.w();
-  odom.pose.pose.orientation.x = q.x();
-  odom.pose.pose.orientation.y = q.y();
-  odom.pose.pose.orientation.z = q.z();
+  odom.pose.pose = toPoseMsg(map_from_body);
   odom_pub_.publish(odom);
 }
 

@@ -1,7 +1,7 @@
 #include "viper/ros/bridge/capture_bridge.h"
 
 #include "viper/capture/capture_stream.h"
-#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
 
 #include <rosgraph_msgs/Clock.h>
 

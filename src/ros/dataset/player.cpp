@@ -1,6 +1,7 @@
 #include "viper/ros/dataset/player.h"
 
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 #include "viper/ros/ground_truth/instances.h"
 #include "viper/ros/bridge/replay_timing.h"
 

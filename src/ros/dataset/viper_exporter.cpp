@@ -4,8 +4,9 @@
 #include "viper/ground_truth/instance_pipeline.h"
 #include "viper/dataset/viper_flow.h"
 #include "viper/dataset/viper_layout.h"
-#include "viper/ros/bridge/capture_conversions.h"
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 #include "viper/ros/dataset/viper_layout_conversions.h"
 
 #include <filesystem>

@@ -1,8 +1,9 @@
 #include "viper/ros/dataset/viper_layout_conversions.h"
 
 #include "viper/ground_truth/semantic_overlay.h"
-#include "viper/ros/bridge/capture_conversions.h"
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 
 #include <boost/make_shared.hpp>
 #include <sensor_msgs/image_encodings.h>
@@ -47,31 +48,6 @@ Eigen::Isometry3d rigidOf(const dataset::RowMajor4& m, const char* what) {
   t.translation() = e.block<3, 1>(0, 3);
   return t;
 }
-
-std::string sizeText(uint32_t w, uint32_t h) { return std::to_string(w) + "x" + std::to_string(h); }
-
-// Checks encoding and layout; on success `row` is the number of payload bytes per row.
-std::string checkLayout(const sensor_msgs::Image& msg, const std::string& encoding, size_t bytes_per_pixel,
-                        size_t& row) {
-  if (msg.encoding != encoding) return "encoding is '" + msg.encoding + "', expected " + encoding;
-  if (msg.width == 0 || msg.height == 0) return "size is " + sizeText(msg.width, msg.height);
-  row = static_cast<size_t>(msg.width) * bytes_per_pixel;
-  if (msg.step < row) return "step " + std::to_string(msg.step) + " is less than width * " + std::to_string(bytes_per_pixel);
-  if (msg.data.size() != static_cast<size_t>(msg.step) * msg.height)
-    return "data has " + std::to_string(msg.data.size()) + " bytes, step * height is " +
-           std::to_string(static_cast<size_t>(msg.step) * msg.height);
-  return "";
-}
-
-void copyRows(const sensor_msgs::Image& msg, size_t row, uint8_t* dst) {
-  for (uint32_t y = 0; y < msg.height; ++y) std::memcpy(dst + y * row, msg.data.data() + y * msg.step, row);
-}
-
-void swapWords(uint8_t* bytes, size_t n_words) {
-  for (size_t i = 0; i < n_words; ++i) std::reverse(bytes + 4 * i, bytes + 4 * i + 4);
-}
-
-bool hostBigEndian() { return __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__; }
 
 }  // namespace
 
@@ -182,42 +158,6 @@ std::map<int32_t, std::array<double, 4>> instanceBoxes(const int32_t* ids, uint3
   return boxes;
 }
 
-std::string imageFromMsg(const sensor_msgs::Image& msg, const std::string& encoding, dataset::Image8& out) {
-  const size_t channels = encoding == "rgb8" ? 3 : 1;
-  const bool bgr = encoding == "rgb8" && msg.encoding == "bgr8";
-  size_t row = 0;
-  const std::string problem = checkLayout(msg, bgr ? "bgr8" : encoding, channels, row);
-  if (!problem.empty()) return problem;
-  out.width = msg.width, out.height = msg.height;
-  out.channels = static_cast<uint32_t>(channels);
-  out.data.resize(row * msg.height);
-  copyRows(msg, row, out.data.data());
-  if (bgr)
-    for (size_t i = 0; i < out.pixels(); ++i) std::swap(out.data[3 * i], out.data[3 * i + 2]);
-  return "";
-}
-
-std::string int32FromMsg(const sensor_msgs::Image& msg, std::vector<int32_t>& out) {
-  size_t row = 0;
-  const std::string problem = checkLayout(msg, sensor_msgs::image_encodings::TYPE_32SC1, 4, row);
-  if (!problem.empty()) return problem;
-  out.resize(static_cast<size_t>(msg.width) * msg.height);
-  copyRows(msg, row, reinterpret_cast<uint8_t*>(out.data()));
-  if (static_cast<bool>(msg.is_bigendian) != hostBigEndian()) swapWords(reinterpret_cast<uint8_t*>(out.data()), out.size());
-  return "";
-}
-
-std::string flowFromMsg(const sensor_msgs::Image& msg, dataset::FlowImage& out) {
-  size_t row = 0;
-  const std::string problem = checkLayout(msg, sensor_msgs::image_encodings::TYPE_32FC2, 8, row);
-  if (!problem.empty()) return problem;
-  out.width = msg.width, out.height = msg.height;
-  out.uv.resize(2 * out.pixels());
-  copyRows(msg, row, reinterpret_cast<uint8_t*>(out.uv.data()));
-  if (static_cast<bool>(msg.is_bigendian) != hostBigEndian()) swapWords(reinterpret_cast<uint8_t*>(out.uv.data()), out.uv.size());
-  return "";
-}
-
 ViperMessageBuilder::ViperMessageBuilder(const ViperTfFrames& frames, const ClassTable* classes)
     : frames_(frames), classes_(classes) {}
 
@@ -238,12 +178,9 @@ ViperFrameMessages ViperMessageBuilder::build(const dataset::ViperFrame& f, cons
   header.stamp = stamp;
   header.frame_id = frames_.optical;
   auto image = [&](const dataset::Image8& im, const char* encoding) {
-    return boost::make_shared<sensor_msgs::Image>(imageMsg(header, im.width, im.height, encoding, im.channels,
-                                                           im.data.data()));
+    return boost::make_shared<sensor_msgs::Image>(toImageMsg(im, header, encoding));
   };
-  auto flowImage = [&](const dataset::FlowImage& fl) {
-    return boost::make_shared<sensor_msgs::Image>(imageMsg(header, fl.width, fl.height, "32FC2", 8, fl.uv.data()));
-  };
+  auto flowImage = [&](const dataset::FlowImage& fl) { return boost::make_shared<sensor_msgs::Image>(toFlowMsg(fl, header)); };
   const size_t n = static_cast<size_t>(f.width) * f.height;
   if (want.color && f.img) out.color = image(*f.img, "rgb8");
   if ((want.semantic || want.semantic_color) && (f.cls || f.inst)) {

@@ -1,8 +1,9 @@
 #include "viper/ros/ground_truth/boxes.h"
 
 #include "viper/ground_truth/camera_model.h"
-#include "viper/ros/bridge/capture_conversions.h"
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 #include "viper/ros/ground_truth/instances.h"
 
 namespace viper {

@@ -2,8 +2,9 @@
 
 #include "viper/ground_truth/camera_model.h"
 #include "viper/ground_truth/ego_motion.h"
-#include "viper/ros/bridge/capture_conversions.h"
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/flow_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 
 #include <cmath>
 #include <cstring>
@@ -11,19 +12,6 @@
 
 namespace viper {
 namespace {
-
-// Checks a per-pixel image against the draw id image's size; empty string when it fits.
-std::string imageProblem(const sensor_msgs::Image& image, const std::string& encoding, uint32_t width,
-                         uint32_t height) {
-  if (image.encoding != encoding) return "encoding '" + image.encoding + "', expected " + encoding;
-  if (image.is_bigendian) return "big-endian, expected little-endian";
-  if (image.width != width || image.height != height || image.step != width * 4 ||
-      image.data.size() != static_cast<size_t>(image.step) * image.height)
-    return std::to_string(image.width) + "x" + std::to_string(image.height) + " with step " +
-           std::to_string(image.step) + " and " + std::to_string(image.data.size()) + " bytes, but draw_ids is " +
-           std::to_string(width) + "x" + std::to_string(height) + ": sizes disagree";
-  return {};
-}
 
 // Draw indices 0..n-1 in order, deformed positions in fours, every draw id naming a draw.
 std::string drawsProblem(const CaptureFrame& f) {
@@ -41,63 +29,7 @@ std::string drawsProblem(const CaptureFrame& f) {
   return {};
 }
 
-geometry_msgs::Transform toTransformMsg(const Eigen::Isometry3d& t) {
-  const geometry_msgs::Pose p = toPoseMsg(t);
-  geometry_msgs::Transform m;
-  m.translation.x = p.position.x, m.translation.y = p.position.y, m.translation.z = p.position.z;
-  m.rotation = p.orientation;
-  return m;
-}
-
 }  // namespace
-
-std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,
-                                         const GlMatrix* fallback_projection, size_t* bad_depth_pixels) {
-  const size_t n = frame.pixelCount();
-  if (depth_m.size() != n || frame.draw_ids.size() != n)
-    throw std::invalid_argument("windowDepthFromMetres: depth or draw ids do not hold " + std::to_string(n) +
-                                " pixels");
-  // Rows 2 and 3 of each draw's projection (slot 0: pixels without a draw); valid = false: none.
-  struct Rows {
-    bool valid = false;
-    double p22 = 0, p23 = 0, p32 = 0, p33 = 0;
-  };
-  auto rows = [](const GlMatrix& p) { return Rows{true, p(2, 2), p(2, 3), p(3, 2), p(3, 3)}; };
-  std::vector<Rows> by_id(frame.draws.size() + 1);
-  const Rows fallback = fallback_projection ? rows(*fallback_projection) : Rows{};
-  for (size_t i = 0; i < frame.draws.size(); ++i)
-    by_id[i + 1] = (frame.draws[i].matrix_flags & kHasProjection) ? rows(frame.draws[i].projection) : fallback;
-
-  std::vector<float> out(n, 1.0f);
-  // Per draw: pixels without usable depth, and with it. A draw with none at all is a background at
-  // the far plane (a sky): its pixels have no surface, which is not an error.
-  std::vector<uint32_t> bad(by_id.size(), 0), good(by_id.size(), 0);
-  for (size_t p = 0; p < n; ++p) {
-    const uint32_t id = frame.draw_ids[p];
-    if (id == 0 || id >= by_id.size()) continue;
-    const Rows& r = by_id[id];
-    const float m = depth_m[p];
-    if (!r.valid || !(m > 0.0f) || !std::isfinite(m)) {
-      ++bad[id];
-      continue;
-    }
-    // OpenGL eye z is -depth; window depth = (z_ndc + 1) / 2 with z_ndc = (P22 z + P23) / (P32 z + P33).
-    const double z = -static_cast<double>(m);
-    const double z_ndc = (r.p22 * z + r.p23) / (r.p32 * z + r.p33);
-    const double d = 0.5 * (z_ndc + 1.0);
-    if (d >= 0.0 && d < 1.0) {
-      out[p] = static_cast<float>(d);
-      ++good[id];
-    } else {
-      ++bad[id];
-    }
-  }
-  size_t bad_total = 0;
-  for (size_t id = 1; id < bad.size(); ++id)
-    if (good[id] > 0) bad_total += bad[id];
-  if (bad_depth_pixels) *bad_depth_pixels = bad_total;
-  return out;
-}
 
 Flow::Flow(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), private_nh_(pnh), it_(nh) {}
 
@@ -202,25 +134,18 @@ Flow::HeldPtr Flow::makeHeldFrame(const DrawList& draws, const sensor_msgs::Imag
                        problem.c_str());
     return nullptr;
   }
-  problem = imageProblem(depth, "32FC1", f.width, f.height);
+  problem = depthFromImage(depth, f, held->depth_m);
   if (!problem.empty()) {
     ROS_ERROR_THROTTLE(5, "%s (frame %lu): %s; frame dropped", depth_sub_.getTopic().c_str(), number, problem.c_str());
     return nullptr;
   }
-  problem = imageProblem(primitive_ids, "32SC1", f.width, f.height);
+  problem = primitiveIdsFromImage(primitive_ids, f);
   if (!problem.empty()) {
     ROS_ERROR_THROTTLE(5, "%s (frame %lu): %s; frame dropped", primitive_ids_sub_.getTopic().c_str(), number,
                        problem.c_str());
     return nullptr;
   }
-  const size_t n = f.pixelCount();
   held->header = draw_ids.header;
-  // assign: written once, not zeroed first (message buffers come from new[], aligned for floats).
-  const auto* depth_m = reinterpret_cast<const float*>(depth.data.data());
-  held->depth_m.assign(depth_m, depth_m + n);
-  // -1 (no draw) reads as 0xffffffff: meaningless where the draw id is 0
-  const auto* primitives = reinterpret_cast<const uint32_t*>(primitive_ids.data.data());
-  f.primitive_ids.assign(primitives, primitives + n);
 
   const std::optional<FrameCamera> camera = chooseFrameCamera(f);
   size_t bad_depth = 0;
@@ -298,8 +223,9 @@ void Flow::flowBetween(const HeldFrame& a, const HeldFrame& b, FlowField& out) {
 
 void Flow::publish(const image_transport::Publisher& flow_pub, const image_transport::Publisher& visible_pub,
                    const std_msgs::Header& header, const FlowField& field) {
-  flow_pub.publish(imageMsgPtr(header, field.width, field.height, "32FC2", 8, field.uv.data()));
-  visible_pub.publish(imageMsgPtr(header, field.width, field.height, "mono8", 1, field.visible.data()));
+  const FlowMessages m = toFlowMsgs(field, header);
+  flow_pub.publish(m.flow);
+  visible_pub.publish(m.visible);
 }
 
 void Flow::onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, const ImageConstPtr& draw_ids,
@@ -394,8 +320,9 @@ bool Flow::onCorrespondences(Correspondences::Request& req, Correspondences::Res
     res.message = e.what();
     return true;
   }
-  res.flow = imageMsg(a->header, field.width, field.height, "32FC2", 8, field.uv.data());
-  res.visible = imageMsg(a->header, field.width, field.height, "mono8", 1, field.visible.data());
+  const FlowMessages m = toFlowMsgs(field, a->header);
+  res.flow = *m.flow;
+  res.visible = *m.visible;
   res.pose_valid = a->optical_from_world && b->optical_from_world;
   if (res.pose_valid) res.b_in_a = toTransformMsg(*a->optical_from_world * b->optical_from_world->inverse());
   res.success = true;

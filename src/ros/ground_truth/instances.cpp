@@ -1,8 +1,9 @@
 #include "viper/ros/ground_truth/instances.h"
 
-#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ground_truth/semantic_overlay.h"
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 
 #include <ros/package.h>
 
@@ -108,11 +109,12 @@ void Instances::onColor(const sensor_msgs::Image::ConstPtr& color) {
 
 void Instances::publishOverlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic) {
   const size_t n = static_cast<size_t>(color.width) * color.height;
-  if (color.encoding != "rgb8" || color.step != color.width * 3 || color.data.size() != 3 * n ||
-      semantic.size() != n) {
-    ROS_ERROR_THROTTLE(5, "%s: color image %ux%u '%s' (step %u) does not fit the %zu-pixel semantic image; no overlay",
-                       color_sub_.getTopic().c_str(), color.width, color.height, color.encoding.c_str(), color.step,
-                       semantic.size());
+  std::string problem = checkImage(color, "rgb8");
+  if (problem.empty() && semantic.size() != n)
+    problem = "its " + std::to_string(n) + " pixels do not fit the " + std::to_string(semantic.size()) +
+              "-pixel semantic image";
+  if (!problem.empty()) {
+    ROS_ERROR_THROTTLE(5, "%s: color image: %s; no overlay", color_sub_.getTopic().c_str(), problem.c_str());
     return;
   }
   scratch_rgb_.resize(3 * n);

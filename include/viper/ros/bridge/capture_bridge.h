@@ -3,7 +3,7 @@
 #pragma once
 
 #include "viper/capture/capture_frame.h"
-#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/bridge/replay_timing.h"
 
 #include <image_transport/image_transport.h>

@@ -13,6 +13,8 @@
 #include "viper/dataset/viper_camera.h"
 #include "viper/dataset/viper_images.h"
 #include "viper/dataset/viper_sequence.h"
+#include "viper/ros/conversions/flow_conversions.h"   // flowFromMsg, which the layout's users call
+#include "viper/ros/conversions/image_conversions.h"  // imageFromMsg, int32FromMsg
 
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
@@ -89,15 +91,6 @@ dataset::ViperBoxRow viperBoxRow(const OrientedBox& box_in_optical, int class_id
 /// Tight 2D boxes (x_min, y_min, x_max, y_max, inclusive pixels) of every instance id > 0 in a
 /// 32SC1 instance id image of `width` x `height` pixels.
 std::map<int32_t, std::array<double, 4>> instanceBoxes(const int32_t* ids, uint32_t width, uint32_t height);
-
-/// Copies an image message into an Image8 of `channels` channels if its encoding is `encoding`
-/// (rgb8: 3, mono8: 1; bgr8 is accepted for rgb8 and swapped), removing row padding. Returns "" or
-/// what is wrong (encoding, size, step, data size).
-std::string imageFromMsg(const sensor_msgs::Image& msg, const std::string& encoding, dataset::Image8& out);
-/// Same for a 32SC1 image (instance ids), either byte order.
-std::string int32FromMsg(const sensor_msgs::Image& msg, std::vector<int32_t>& out);
-/// Same for a 32FC2 flow image, either byte order.
-std::string flowFromMsg(const sensor_msgs::Image& msg, dataset::FlowImage& out);
 
 /// Names of the frames of the messages built from the layout.
 struct ViperTfFrames {

@@ -29,17 +29,6 @@
 
 namespace viper {
 
-/// Converts depth in metres along the optical axis (REP 118) back to OpenGL window depth in [0, 1],
-/// the inverse of depthMetres(): each pixel with the projection of the draw that owns it (draws
-/// without kHasProjection use `fallback_projection`, pixels become 1 = no surface when that is
-/// null too). Pixels without a draw, and pixels whose depth is not finite or not positive, become 1.
-/// `frame` supplies draws and draw ids; `depth_m` holds frame.pixelCount() values.
-/// Returns the window depths and, in `bad_depth_pixels`, how many pixels of a draw had no usable
-/// depth, counting only draws that have usable depth elsewhere (a draw with none at all is a
-/// background at the far plane, such as a sky, and not an error). Throws std::invalid_argument when a size does not match the frame.
-std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,
-                                         const GlMatrix* fallback_projection, size_t* bad_depth_pixels = nullptr);
-
 /// The flow node's class, shared by the node and the nodelet.
 class Flow {
  public:

@@ -1,45 +1,11 @@
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
 
-#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 
 #include <Eigen/SVD>
 
-#include <cstring>
 
 namespace viper {
-
-geometry_msgs::Pose toPoseMsg(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
-  geometry_msgs::Pose m;
-  m.position.x = p.x(), m.position.y = p.y(), m.position.z = p.z();
-  m.orientation.x = q.x(), m.orientation.y = q.y(), m.orientation.z = q.z(), m.orientation.w = q.w();
-  return m;
-}
-
-geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose) {
-  return toPoseMsg(pose.translation(), Eigen::Quaterniond(pose.linear()).normalized());
-}
-
-geometry_msgs::TransformStamped toTransformMsg(const Eigen::Isometry3d& t, const ros::Time& stamp,
-                                               const std::string& parent, const std::string& child) {
-  geometry_msgs::TransformStamped m;
-  m.header.stamp = stamp;
-  m.header.frame_id = parent;
-  m.child_frame_id = child;
-  const geometry_msgs::Pose p = toPoseMsg(t);
-  m.transform.translation.x = p.position.x, m.transform.translation.y = p.position.y;
-  m.transform.translation.z = p.position.z;
-  m.transform.rotation = p.orientation;
-  return m;
-}
-
-Eigen::Isometry3d fromPoseMsg(const geometry_msgs::Pose& m) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.translation() = Eigen::Vector3d(m.position.x, m.position.y, m.position.z);
-  t.linear() = Eigen::Quaterniond(m.orientation.w, m.orientation.x, m.orientation.y, m.orientation.z)
-                   .normalized()
-                   .toRotationMatrix();
-  return t;
-}
 
 std::string className(const ClassTable& classes, int class_id) {
   return class_id >= 0 && static_cast<size_t>(class_id) < classes.size() ? classes.at(class_id).name
@@ -73,6 +39,28 @@ ObjectArray toObjectArrayMsg(const std::vector<TrackedObject>& objects, const Cl
     msg.objects.push_back(std::move(m));
   }
   return msg;
+}
+
+std::vector<TrackedObject> fromObjectArrayMsg(const ObjectArray& msg) {
+  std::vector<TrackedObject> out;
+  out.reserve(msg.objects.size());
+  for (const Object& m : msg.objects) {
+    TrackedObject t;
+    t.track_id = m.track_id;
+    FrameObject& o = t.object;
+    o.class_id = m.class_id;
+    o.is_thing = m.track_id > 0;
+    o.draws = m.draws;
+    o.pixel_count = m.pixel_count;
+    if (m.pixel_count > 0) {
+      o.x_min = static_cast<int>(m.box_2d.x_offset), o.y_min = static_cast<int>(m.box_2d.y_offset);
+      o.x_max = o.x_min + static_cast<int>(m.box_2d.width) - 1;
+      o.y_max = o.y_min + static_cast<int>(m.box_2d.height) - 1;
+    }
+    o.world = fromPoseMsg(m.world_pose).matrix().cast<float>();
+    out.push_back(std::move(t));
+  }
+  return out;
 }
 
 Box3D toBox3DMsg(const OrientedBox& box, int32_t id, uint8_t class_id, const ClassTable& classes,
@@ -132,24 +120,6 @@ visualization_msgs::MarkerArray boxMarkers(const Box3DArray& boxes, const ClassT
     out.markers.push_back(label);
   }
   return out;
-}
-
-std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& ids, CaptureFrame& frame) {
-  if (ids.encoding != "32SC1") return "draw_ids has encoding '" + ids.encoding + "', expected 32SC1";
-  if (ids.is_bigendian) return "draw_ids is big-endian, expected little-endian";
-  if (ids.step != ids.width * 4 || ids.data.size() != static_cast<size_t>(ids.step) * ids.height)
-    return "draw_ids is " + std::to_string(ids.width) + "x" + std::to_string(ids.height) + " with step " +
-           std::to_string(ids.step) + " and " + std::to_string(ids.data.size()) + " bytes: sizes disagree";
-  if (ids.header.stamp != draws.header.stamp) return "draw_ids and draws have different stamps";
-  frame.width = ids.width;
-  frame.height = ids.height;
-  frame.time_s = draws.header.stamp.toSec();
-  fromDrawListMsg(draws, frame);
-  // assign, not resize + memcpy: written once, not zeroed first (message buffers come from new[],
-  // aligned for any scalar type).
-  const auto* id_words = reinterpret_cast<const uint32_t*>(ids.data.data());
-  frame.draw_ids.assign(id_words, id_words + static_cast<size_t>(ids.width) * ids.height);
-  return {};
 }
 
 }  // namespace viper

@@ -1,35 +1,24 @@
-// The converter between ground-truth core types (objects, boxes, poses, images) and ROS messages.
+// Objects and boxes: core types <-> viper/ObjectArray, viper/Box3D, and the rviz markers of boxes.
+// Part of the converter between messages and core types (include/viper/ros/conversions/;
+// docs/design.md).
 #pragma once
 
 #include "viper/ground_truth/boxes.h"
-#include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/instance_pipeline.h"
-#include "viper/ros/bridge/capture_conversions.h"  // imageMsg, imageMsgPtr
 
-#include <geometry_msgs/Pose.h>
-#include <geometry_msgs/TransformStamped.h>
-#include <ros/time.h>
-#include <sensor_msgs/Image.h>
 #include <std_msgs/Header.h>
 #include <viper/Box3D.h>
 #include <viper/Box3DArray.h>
-#include <viper/DrawList.h>
 #include <viper/ObjectArray.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <Eigen/Geometry>
 
 #include <string>
+#include <vector>
 
 namespace viper {
-
-geometry_msgs::Pose toPoseMsg(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation);
-geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& pose);
-/// A tf transform: `t` is the pose of `child` in `parent` (parent_from_child).
-geometry_msgs::TransformStamped toTransformMsg(const Eigen::Isometry3d& t, const ros::Time& stamp,
-                                               const std::string& parent, const std::string& child);
-Eigen::Isometry3d fromPoseMsg(const geometry_msgs::Pose& msg);
 
 /// Name of a class id in `classes`, or "class_<id>" for ids outside the table.
 std::string className(const ClassTable& classes, int class_id);
@@ -38,6 +27,10 @@ std::string className(const ClassTable& classes, int class_id);
 /// polar decomposition; the 2D box is empty for objects without visible pixels.
 ObjectArray toObjectArrayMsg(const std::vector<TrackedObject>& objects, const ClassTable& classes,
                              const std_msgs::Header& header);
+/// Back to the objects: track id, class (is_thing = a track id above 0), draws, pixel count, 2D
+/// box and the world matrix of `world_pose` (a rigid transform: the message keeps no scale).
+/// Resource keys and 3D boxes are not in the message and stay empty.
+std::vector<TrackedObject> fromObjectArrayMsg(const ObjectArray& msg);
 
 /// An oriented box with its id, class and linear velocity (m/s, same frame as the box).
 Box3D toBox3DMsg(const OrientedBox& box, int32_t id, uint8_t class_id, const ClassTable& classes,
@@ -49,9 +42,5 @@ OrientedBox fromBox3DMsg(const Box3D& msg);
 /// text label "class id" above it (namespace "labels"), preceded by a DELETEALL so boxes of earlier
 /// frames disappear.
 visualization_msgs::MarkerArray boxMarkers(const Box3DArray& boxes, const ClassTable& classes);
-
-/// Fills `frame`'s size, number, time, draws and draw ids from a draw list and a draw id image
-/// (32SC1). Returns an empty string, or what is wrong (encoding, size, stamps that differ).
-std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& draw_ids, CaptureFrame& frame);
 
 }  // namespace viper

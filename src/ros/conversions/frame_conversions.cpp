@@ -1,4 +1,4 @@
-#include "viper/ros/bridge/capture_conversions.h"
+#include "viper/ros/conversions/frame_conversions.h"
 
 #include <boost/make_shared.hpp>
 #include <sensor_msgs/image_encodings.h>
@@ -138,6 +138,21 @@ std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::
   return meshes;
 }
 
+std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& ids, CaptureFrame& frame) {
+  const std::string problem = checkImage(ids, sensor_msgs::image_encodings::TYPE_32SC1);
+  if (!problem.empty()) return "draw_ids: " + problem;
+  if (ids.header.stamp != draws.header.stamp) return "draw_ids and draws have different stamps";
+  frame.width = ids.width;
+  frame.height = ids.height;
+  frame.time_s = draws.header.stamp.toSec();
+  fromDrawListMsg(draws, frame);
+  // assign, not resize + memcpy: written once, not zeroed first (message buffers come from new[],
+  // aligned for any scalar type).
+  const auto* id_words = reinterpret_cast<const uint32_t*>(ids.data.data());
+  frame.draw_ids.assign(id_words, id_words + static_cast<size_t>(ids.width) * ids.height);
+  return {};
+}
+
 sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header) {
   checkSize(frame, frame.color_rgb.size(), 3, "color");
   return imageMsg(header, frame.width, frame.height, sensor_msgs::image_encodings::RGB8, 3, frame.color_rgb.data());
@@ -167,6 +182,30 @@ sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::H
   return img;
 }
 
+std::string colorFromImage(const sensor_msgs::Image& color, CaptureFrame& frame) {
+  const std::string problem = checkImage(color, sensor_msgs::image_encodings::RGB8, frame.width, frame.height);
+  if (!problem.empty()) return problem;
+  frame.color_rgb.assign(color.data.begin(), color.data.end());
+  return {};
+}
+
+std::string depthFromImage(const sensor_msgs::Image& depth, const CaptureFrame& frame, std::vector<float>& depth_m) {
+  const std::string problem = checkImage(depth, sensor_msgs::image_encodings::TYPE_32FC1, frame.width, frame.height);
+  if (!problem.empty()) return problem;
+  const auto* metres = reinterpret_cast<const float*>(depth.data.data());
+  depth_m.assign(metres, metres + frame.pixelCount());
+  return {};
+}
+
+std::string primitiveIdsFromImage(const sensor_msgs::Image& primitive_ids, CaptureFrame& frame) {
+  const std::string problem =
+      checkImage(primitive_ids, sensor_msgs::image_encodings::TYPE_32SC1, frame.width, frame.height);
+  if (!problem.empty()) return problem;
+  const auto* words = reinterpret_cast<const uint32_t*>(primitive_ids.data.data());
+  frame.primitive_ids.assign(words, words + frame.pixelCount());
+  return {};
+}
+
 sensor_msgs::CameraInfo cameraInfo(const PinholeIntrinsics* intrinsics, uint32_t width, uint32_t height,
                                    const std_msgs::Header& header) {
   sensor_msgs::CameraInfo info;
@@ -186,26 +225,6 @@ sensor_msgs::CameraInfo cameraInfo(const PinholeIntrinsics* intrinsics, uint32_t
     }
   }
   return info;
-}
-
-sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
-                            const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
-  sensor_msgs::Image m;
-  m.header = header;
-  m.width = width;
-  m.height = height;
-  m.encoding = encoding;
-  m.is_bigendian = 0;
-  m.step = width * bytes_per_pixel;
-  // assign, not resize + memcpy: the bytes are written once, not zeroed first.
-  const auto* bytes = static_cast<const uint8_t*>(data);
-  m.data.assign(bytes, bytes + static_cast<size_t>(m.step) * height);
-  return m;
-}
-
-sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
-                                  const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
-  return boost::make_shared<sensor_msgs::Image>(imageMsg(header, width, height, encoding, bytes_per_pixel, data));
 }
 
 bool MeshStoreAccumulator::add(const std::vector<MeshRecord>& meshes) {
@@ -248,6 +267,33 @@ FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& h
     out.mesh_store->header = header;
   }
   return out;
+}
+
+std::string frameFromMessages(const FrameMessages& m, CaptureFrame& frame, std::vector<float>* depth_m) {
+  if (!m.draws || !m.draw_ids || !m.color || !m.depth || !m.primitive_ids)
+    return "a frame needs its draws, draw_ids, color, depth and primitive_ids messages";
+  std::string problem = frameFromDrawMsgs(*m.draws, *m.draw_ids, frame);
+  if (problem.empty()) {
+    problem = colorFromImage(*m.color, frame);
+    if (!problem.empty()) problem = "color: " + problem;
+  }
+  if (problem.empty()) {
+    problem = primitiveIdsFromImage(*m.primitive_ids, frame);
+    if (!problem.empty()) problem = "primitive_ids: " + problem;
+  }
+  std::vector<float> metres;
+  if (problem.empty()) {
+    problem = depthFromImage(*m.depth, frame, metres);
+    if (!problem.empty()) problem = "depth: " + problem;
+  }
+  if (!problem.empty()) return problem;
+  const std::optional<FrameCamera> camera = chooseFrameCamera(frame);
+  frame.depth_window = windowDepthFromMetres(frame, metres, camera ? &camera->projection : nullptr);
+  frame.new_meshes.clear();
+  if (m.mesh_store)
+    for (const Mesh& mesh : m.mesh_store->meshes) frame.new_meshes.push_back(fromMeshMsg(mesh));
+  if (depth_m) *depth_m = std::move(metres);
+  return {};
 }
 
 }  // namespace viper

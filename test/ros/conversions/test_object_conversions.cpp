@@ -1,4 +1,4 @@
-#include "viper/ros/ground_truth/ground_truth_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@ namespace {
 
 ClassTable classes() { return ClassTable::load("config/viper_classes.csv"); }
 
-TEST(GroundTruthConversions, BoxRoundTrip) {
+TEST(ObjectConversions, BoxRoundTrip) {
   OrientedBox b;
   b.center = {1.5, -2, 0.75};
   b.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.2, 0.1, 1).normalized()));
@@ -21,7 +21,7 @@ TEST(GroundTruthConversions, BoxRoundTrip) {
   for (int i = 0; i < 8; ++i) EXPECT_LT((c0[i] - c1[i]).norm(), 1e-12);
 }
 
-TEST(GroundTruthConversions, ObjectsCarryTrackClassDrawsAnd2DBox) {
+TEST(ObjectConversions, ObjectsCarryTrackClassDrawsAnd2DBox) {
   TrackedObject t;
   t.track_id = 4;
   t.object.class_id = 26;
@@ -41,7 +41,7 @@ TEST(GroundTruthConversions, ObjectsCarryTrackClassDrawsAnd2DBox) {
   EXPECT_DOUBLE_EQ(a.objects[0].world_pose.orientation.w, 1.0);
 }
 
-TEST(GroundTruthConversions, MarkersClearThenOneCubeAndLabelPerBox) {
+TEST(ObjectConversions, MarkersClearThenOneCubeAndLabelPerBox) {
   Box3DArray boxes;
   boxes.header.frame_id = "map";
   OrientedBox b;
@@ -56,28 +56,39 @@ TEST(GroundTruthConversions, MarkersClearThenOneCubeAndLabelPerBox) {
   EXPECT_EQ(m.markers[4].text, "car 2");
 }
 
-TEST(GroundTruthConversions, FrameFromDrawMessagesChecksTheImage) {
-  DrawList dl;
-  dl.header.stamp = ros::Time(5, 0);
-  dl.draws.resize(2);
-  dl.draws[1].index = 1;
-  std::vector<int32_t> ids = {0, 1, 2, 2, 1, 0};
-  std_msgs::Header h = dl.header;
-  sensor_msgs::Image img = imageMsg(h, 3, 2, "32SC1", 4, ids.data());
-  CaptureFrame f;
-  EXPECT_EQ(frameFromDrawMsgs(dl, img, f), "");
-  EXPECT_EQ(f.width, 3u);
-  EXPECT_EQ(f.draw_ids[2], 2u);
-  EXPECT_DOUBLE_EQ(f.time_s, 5.0);
-  sensor_msgs::Image wrong = img;
-  wrong.encoding = "mono8";
-  EXPECT_NE(frameFromDrawMsgs(dl, wrong, f).find("encoding 'mono8'"), std::string::npos);
-  wrong = img;
-  wrong.data.pop_back();
-  EXPECT_NE(frameFromDrawMsgs(dl, wrong, f).find("sizes disagree"), std::string::npos);
-  wrong = img;
-  wrong.header.stamp = ros::Time(6, 0);
-  EXPECT_NE(frameFromDrawMsgs(dl, wrong, f).find("different stamps"), std::string::npos);
+TEST(ObjectConversions, ObjectsRoundTrip) {
+  TrackedObject car, road;
+  car.track_id = 12;
+  car.object.class_id = 24;
+  car.object.is_thing = true;
+  car.object.draws = {0, 5};
+  car.object.pixel_count = 30;
+  car.object.x_min = 4, car.object.y_min = 6, car.object.x_max = 9, car.object.y_max = 10;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.3, -1, 0.2).normalized()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(3, -4, 0.5);
+  car.object.world = pose.matrix().cast<float>();
+  road.object.class_id = 3;
+  road.object.draws = {1};  // stuff: no track, no visible pixels
+  const std::vector<TrackedObject> objects = {car, road};
+  const std::vector<TrackedObject> back = fromObjectArrayMsg(toObjectArrayMsg(objects, classes(), std_msgs::Header()));
+  ASSERT_EQ(back.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    SCOPED_TRACE("object " + std::to_string(i));
+    const FrameObject &a = objects[i].object, &b = back[i].object;
+    EXPECT_EQ(back[i].track_id, objects[i].track_id);
+    EXPECT_EQ(b.class_id, a.class_id);
+    EXPECT_EQ(b.is_thing, a.is_thing);
+    EXPECT_EQ(b.draws, a.draws);
+    EXPECT_EQ(b.pixel_count, a.pixel_count);
+    if (a.pixel_count > 0) {
+      EXPECT_EQ(b.x_min, a.x_min);
+      EXPECT_EQ(b.y_min, a.y_min);
+      EXPECT_EQ(b.x_max, a.x_max);
+      EXPECT_EQ(b.y_max, a.y_max);
+    }
+    EXPECT_LT((b.world - a.world).cwiseAbs().maxCoeff(), 1e-6f) << b.world;
+  }
 }
 
 }  // namespace

@@ -1,9 +1,12 @@
-// The one converter between capture core types and ROS messages: draws, meshes, the per-pixel images
-// of a frame and its camera info.
+// A captured frame: core types (CaptureFrame, draws, meshes) <-> the capture bridge's raw messages
+// (draw list, mesh store, color, depth, draw id and primitive id images, camera info), both ways.
+// Part of the converter between messages and core types (include/viper/ros/conversions/;
+// docs/design.md).
 #pragma once
 
-#include "viper/ground_truth/camera_model.h"
 #include "viper/capture/capture_frame.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/ros/conversions/image_conversions.h"
 
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -37,6 +40,11 @@ MeshRecord fromMeshMsg(const Mesh& msg);
 /// multiple of 3 is left out, with a sentence naming it appended to `problems`.
 std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::string>& problems);
 
+/// Fills `frame`'s size, number, time, condition, draws and draw ids from a draw list and a draw id
+/// image (32SC1, packed). Returns an empty string, or what is wrong (encoding, size, stamps that
+/// differ).
+std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& draw_ids, CaptureFrame& frame);
+
 /// Color image of `frame`, encoding rgb8, top row first.
 /// Throws std::invalid_argument if the frame's color buffer does not hold width*height*3 bytes.
 sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header);
@@ -52,19 +60,19 @@ sensor_msgs::Image drawIdImage(const CaptureFrame& frame, const std_msgs::Header
 /// is 0. Throws std::invalid_argument on a size mismatch.
 sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::Header& header);
 
+/// The inverses of the images above, for a frame whose size is already set (frameFromDrawMsgs):
+/// each checks its image (checkImage: encoding, the frame's size, packed rows) and returns "" or
+/// what is wrong, leaving the frame as it was.
+std::string colorFromImage(const sensor_msgs::Image& color, CaptureFrame& frame);
+/// Depth in metres (NaN = no surface), frame.pixelCount() values.
+std::string depthFromImage(const sensor_msgs::Image& depth, const CaptureFrame& frame, std::vector<float>& depth_m);
+/// Primitive ids (-1 where there is no draw reads back as 0xffffffff, meaningless there).
+std::string primitiveIdsFromImage(const sensor_msgs::Image& primitive_ids, CaptureFrame& frame);
+
 /// Camera info of a pinhole camera without distortion (plumb_bob, D = 0, R = I, P = [K | 0]).
 /// With no intrinsics (frame without a camera) K, P are all zero: "uncalibrated" in ROS terms.
 sensor_msgs::CameraInfo cameraInfo(const PinholeIntrinsics* intrinsics, uint32_t width, uint32_t height,
                                    const std_msgs::Header& header);
-
-/// An image message of `width` x `height` pixels of `bytes_per_pixel` bytes copied from `data`.
-sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
-                            const std::string& encoding, uint32_t bytes_per_pixel, const void* data);
-
-/// The same, shared: what the nodelets publish, so that subscribers in the same manager get the
-/// message itself (zero-copy) instead of a serialised copy of it.
-sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
-                                  const std::string& encoding, uint32_t bytes_per_pixel, const void* data);
 
 /// The mesh store as the capture bridge publishes it: every mesh seen so far, each key once, in the
 /// order the capture first brought them.
@@ -100,5 +108,14 @@ struct FrameMessages {
 /// validateFrame(). Throws std::invalid_argument if an image buffer does not match the frame's size;
 /// `meshes` is then left unchanged.
 FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes);
+
+/// The inverse of frameMessages: the frame of one frame's raw messages. Draws, draw ids,
+/// primitive ids and color come back exactly; window depth comes back from the metres through
+/// windowDepthFromMetres (to float precision; 1 where there is no surface); `new_meshes` holds the
+/// mesh store's meshes when the messages carry one. `depth_m` (may be null) receives the metres.
+/// Returns "" or what is wrong (a missing message or one that does not fit the draw id image);
+/// `frame` is then incomplete.
+std::string frameFromMessages(const FrameMessages& messages, CaptureFrame& frame,
+                              std::vector<float>* depth_m = nullptr);
 
 }  // namespace viper

@@ -18,7 +18,7 @@ install(TARGETS test_scene RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION}
 
 if(CATKIN_ENABLE_TESTING)
   # Runs the real binary: structure of its oracle, determinism, both GL loaders, exit codes.
-  catkin_add_gtest(test_scene_run scene/test/test_scene_run.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  catkin_add_gtest(test_scene_run test/scene/test_scene_run.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   target_link_libraries(test_scene_run viper_core)
   target_compile_definitions(test_scene_run PRIVATE VIPER_TEST_SCENE_BIN="$<TARGET_FILE:test_scene>")
   add_dependencies(test_scene_run test_scene)

@@ -1,0 +1,50 @@
+// A headless OpenGL context with a pbuffer surface of a given size, through EGL: what the
+// package's own GL programs (test_scene, world, the capture tests' programs) render into.
+#pragma once
+
+#include <EGL/egl.h>
+
+#include <cstdint>
+#include <string>
+
+namespace viper {
+namespace gl_common {
+
+/// The OpenGL context to ask EGL for.
+struct GlContextVersion {
+  int major = 3;
+  int minor = 3;
+  /// true: EGL_CONTEXT_OPENGL_PROFILE_MASK core; false: no profile attribute (EGL's default).
+  bool core = true;
+};
+
+/// Owns an EGL display, an RGBA8 + depth 24 pbuffer surface and a current OpenGL context. The
+/// surface is the default framebuffer (framebuffer 0) of the context.
+class HeadlessEglContext {
+ public:
+  /// Tries Mesa's surfaceless platform first, then EGL_DEFAULT_DISPLAY. Throws std::runtime_error
+  /// saying which step failed (with the EGL error code) if neither gives a context.
+  HeadlessEglContext(uint32_t width, uint32_t height, GlContextVersion version = GlContextVersion());
+  ~HeadlessEglContext();
+  HeadlessEglContext(const HeadlessEglContext&) = delete;
+  HeadlessEglContext& operator=(const HeadlessEglContext&) = delete;
+
+  /// eglSwapBuffers on the pbuffer (a no-op for the pixels, but the frame boundary capture layers
+  /// watch). Throws std::runtime_error on failure.
+  void swapBuffers();
+
+  /// Which platform was used ("surfaceless", or the default display and why surfaceless failed).
+  const std::string& platform() const { return platform_; }
+
+ private:
+  bool tryDisplay(EGLDisplay display, uint32_t width, uint32_t height, const GlContextVersion& version,
+                  std::string& error);
+
+  EGLDisplay display_ = EGL_NO_DISPLAY;
+  EGLSurface surface_ = EGL_NO_SURFACE;
+  EGLContext context_ = EGL_NO_CONTEXT;
+  std::string platform_;
+};
+
+}  // namespace gl_common
+}  // namespace viper

@@ -1,4 +1,4 @@
-# viper_gl_common: what our own OpenGL programs (test_scene, world, the capture tests' programs)
+# viper_gl_common: what our own OpenGL programs (test_scene, world; gl_engine/gl_legacy_program its shaders)
 # share: the headless EGL context, shader compile/link with clear errors, PPM frame dumps. Plain
 # EGL + GL + the standard library: no ROS, no viper_core, so the programs stay plain GL programs.
 add_library(viper_gl_common STATIC

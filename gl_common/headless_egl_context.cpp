@@ -15,32 +15,27 @@ std::string eglErrorText(const char* step) {
   return buffer;
 }
 
-std::string versionText(const GlContextVersion& v) {
-  return "OpenGL " + std::to_string(v.major) + "." + std::to_string(v.minor) + (v.core ? " core" : "");
-}
-
 }  // namespace
 
-HeadlessEglContext::HeadlessEglContext(uint32_t width, uint32_t height, GlContextVersion version) {
+HeadlessEglContext::HeadlessEglContext(uint32_t width, uint32_t height) {
   std::string error;
   // Surfaceless Mesa needs no X server, no GPU and no device node, and supports pbuffers.
   const EGLDisplay surfaceless = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (surfaceless != EGL_NO_DISPLAY && tryDisplay(surfaceless, width, height, version, error)) {
+  if (surfaceless != EGL_NO_DISPLAY && tryDisplay(surfaceless, width, height, error)) {
     platform_ = "surfaceless";
     return;
   }
   const std::string surfaceless_error = surfaceless == EGL_NO_DISPLAY ? eglErrorText("eglGetPlatformDisplay") : error;
   const EGLDisplay fallback = eglGetDisplay(EGL_DEFAULT_DISPLAY);
-  if (fallback != EGL_NO_DISPLAY && tryDisplay(fallback, width, height, version, error)) {
+  if (fallback != EGL_NO_DISPLAY && tryDisplay(fallback, width, height, error)) {
     platform_ = "default display (surfaceless failed: " + surfaceless_error + ")";
     return;
   }
-  throw std::runtime_error("no headless " + versionText(version) + " context: surfaceless platform: " +
-                           surfaceless_error + "; default display: " + error);
+  throw std::runtime_error("no headless OpenGL 3.3 core context: surfaceless platform: " + surfaceless_error +
+                           "; default display: " + error);
 }
 
-bool HeadlessEglContext::tryDisplay(EGLDisplay display, uint32_t width, uint32_t height,
-                                    const GlContextVersion& version, std::string& error) {
+bool HeadlessEglContext::tryDisplay(EGLDisplay display, uint32_t width, uint32_t height, std::string& error) {
   EGLint major = 0, minor = 0;
   if (!eglInitialize(display, &major, &minor)) {
     error = eglErrorText("eglInitialize");
@@ -58,17 +53,14 @@ bool HeadlessEglContext::tryDisplay(EGLDisplay display, uint32_t width, uint32_t
   }
   const EGLint surface_attributes[] = {EGL_WIDTH, static_cast<EGLint>(width), EGL_HEIGHT, static_cast<EGLint>(height),
                                        EGL_NONE};
-  // Without `core` the list ends before the profile attribute, as a legacy program asks.
-  const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, version.major, EGL_CONTEXT_MINOR_VERSION,
-                                       version.minor, version.core ? EGL_CONTEXT_OPENGL_PROFILE_MASK : EGL_NONE,
-                                       EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-  const std::string create_step = "eglCreateContext(" + versionText(version) + ")";
+  const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+                                       EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
   if (!eglBindAPI(EGL_OPENGL_API)) {
     error = eglErrorText("eglBindAPI(EGL_OPENGL_API)");
   } else if ((surface_ = eglCreatePbufferSurface(display, config, surface_attributes)) == EGL_NO_SURFACE) {
     error = eglErrorText("eglCreatePbufferSurface");
   } else if ((context_ = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attributes)) == EGL_NO_CONTEXT) {
-    error = eglErrorText(create_step.c_str());
+    error = eglErrorText("eglCreateContext(OpenGL 3.3 core)");
   } else if (!eglMakeCurrent(display, surface_, surface_, context_)) {
     error = eglErrorText("eglMakeCurrent");
   } else {

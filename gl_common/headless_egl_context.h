@@ -1,5 +1,5 @@
-// A headless OpenGL context with a pbuffer surface of a given size, through EGL: what the
-// package's own GL programs (test_scene, world, the capture tests' programs) render into.
+// A headless OpenGL 3.3 core context with a pbuffer surface of a given size, through EGL: what
+// test_scene and world render into.
 #pragma once
 
 #include <EGL/egl.h>
@@ -10,21 +10,13 @@
 namespace viper {
 namespace gl_common {
 
-/// The OpenGL context to ask EGL for.
-struct GlContextVersion {
-  int major = 3;
-  int minor = 3;
-  /// true: EGL_CONTEXT_OPENGL_PROFILE_MASK core; false: no profile attribute (EGL's default).
-  bool core = true;
-};
-
-/// Owns an EGL display, an RGBA8 + depth 24 pbuffer surface and a current OpenGL context. The
-/// surface is the default framebuffer (framebuffer 0) of the context.
+/// Owns an EGL display, an RGBA8 + depth 24 pbuffer surface and a current OpenGL 3.3 core
+/// context. The surface is the default framebuffer (framebuffer 0) of the context.
 class HeadlessEglContext {
  public:
   /// Tries Mesa's surfaceless platform first, then EGL_DEFAULT_DISPLAY. Throws std::runtime_error
   /// saying which step failed (with the EGL error code) if neither gives a context.
-  HeadlessEglContext(uint32_t width, uint32_t height, GlContextVersion version = GlContextVersion());
+  HeadlessEglContext(uint32_t width, uint32_t height);
   ~HeadlessEglContext();
   HeadlessEglContext(const HeadlessEglContext&) = delete;
   HeadlessEglContext& operator=(const HeadlessEglContext&) = delete;
@@ -37,8 +29,7 @@ class HeadlessEglContext {
   const std::string& platform() const { return platform_; }
 
  private:
-  bool tryDisplay(EGLDisplay display, uint32_t width, uint32_t height, const GlContextVersion& version,
-                  std::string& error);
+  bool tryDisplay(EGLDisplay display, uint32_t width, uint32_t height, std::string& error);
 
   EGLDisplay display_ = EGL_NO_DISPLAY;
   EGLSurface surface_ = EGL_NO_SURFACE;

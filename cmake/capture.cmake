@@ -47,12 +47,12 @@ if(CATKIN_ENABLE_TESTING)
   # GL 4.5 test program that draws as engines do (test/capture/engine_scene.h).
   add_executable(viper_gl_engine_program test/capture/gl_engine_program.cpp)
   target_include_directories(viper_gl_engine_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
-  target_link_libraries(viper_gl_engine_program PRIVATE PkgConfig::EGL PkgConfig::GL)
+  target_link_libraries(viper_gl_engine_program PRIVATE viper_gl_common PkgConfig::EGL PkgConfig::GL)
 
   # GL 3.0 compatibility test program that draws as Minetest does (matrix stack, client arrays).
   add_executable(viper_gl_legacy_program test/capture/gl_legacy_program.cpp)
   target_include_directories(viper_gl_legacy_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
-  target_link_libraries(viper_gl_legacy_program PRIVATE PkgConfig::EGL PkgConfig::GL)
+  target_link_libraries(viper_gl_legacy_program PRIVATE viper_gl_common PkgConfig::EGL PkgConfig::GL)
 
   catkin_add_gtest(test_capture_legacy test/capture/test_capture_legacy.cpp src/capture/layer/matrix_stack.cpp
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

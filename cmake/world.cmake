@@ -1,7 +1,7 @@
 # world: the procedural town, viper's default data source (a plain OpenGL program; see docs/world.md).
 file(GLOB VIPER_WORLD_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/world/*.cpp)
 add_executable(world ${VIPER_WORLD_SOURCES})
-target_link_libraries(world viper_core PkgConfig::EGL PkgConfig::GL)
+target_link_libraries(world viper_gl_common viper_core PkgConfig::EGL PkgConfig::GL)
 # X11 only for the optional --window mode; headless rendering needs none.
 pkg_check_modules(VIPER_WORLD_X11 QUIET IMPORTED_TARGET x11)
 if(VIPER_WORLD_X11_FOUND)

@@ -1,13 +1,13 @@
 // test_scene: a small plain OpenGL program (a street with cars, buildings, a skinned person and rain)
 // that the capture layer is tested on. It knows nothing of capture; --oracle writes the true
 // answers for tests.
-#include "egl_context.h"
 #include "gl_api.h"
 #include "options.h"
-#include "ppm.h"
 #include "renderer.h"
 #include "world.h"
 
+#include "gl_common/headless_egl_context.h"
+#include "gl_common/ppm.h"
 #include "viper/ground_truth/oracle.h"
 
 #include <chrono>
@@ -61,7 +61,7 @@ viper::OracleFrame toOracle(uint64_t number, const FrameState& s, const World& w
 
 int run(const SceneOptions& o) {
   if (!o.dump_dir.empty()) std::filesystem::create_directories(o.dump_dir);
-  EglContext context(o.width, o.height);
+  viper::gl_common::HeadlessEglContext context(o.width, o.height);
   const GlApi gl = loadGlApi(o.loader);
   std::cerr << "test_scene: " << o.width << "x" << o.height << ", EGL " << context.platform() << ", GL loader "
             << glLoaderName(o.loader) << ", renderer " << reinterpret_cast<const char*>(gl.GetString(GL_RENDERER))
@@ -79,7 +79,7 @@ int run(const SceneOptions& o) {
     if (!o.dump_dir.empty()) {
       char name[32];
       std::snprintf(name, sizeof(name), "frame_%06llu.ppm", static_cast<unsigned long long>(n));
-      writePpm((std::filesystem::path(o.dump_dir) / name).string(), o.width, o.height, renderer.readColor());
+      viper::gl_common::writePpm((std::filesystem::path(o.dump_dir) / name).string(), o.width, o.height, renderer.readColor());
     }
     if (o.benchmark) gl.Finish();  // time the rendering, not just the command submission
     context.swapBuffers();

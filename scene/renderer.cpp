@@ -2,6 +2,8 @@
 
 #include "shaders.h"
 
+#include "gl_common/shader_build.h"
+
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -60,39 +62,15 @@ Renderer::~Renderer() {
   for (Program& p : programs_) gl_.DeleteProgram(p.id);
 }
 
-GLuint Renderer::compile(GLenum type, const char* source, const char* name) {
-  const GLuint shader = gl_.CreateShader(type);
-  gl_.ShaderSource(shader, 1, &source, nullptr);
-  gl_.CompileShader(shader);
-  GLint ok = GL_FALSE;
-  gl_.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (ok != GL_TRUE) {
-    char log[2048] = {0};
-    gl_.GetShaderInfoLog(shader, sizeof(log), nullptr, log);
-    gl_.DeleteShader(shader);
-    throw std::runtime_error(std::string("compiling the ") + name +
-                             (type == GL_VERTEX_SHADER ? " vertex" : " fragment") + " shader failed: " + log);
-  }
-  return shader;
-}
-
 Renderer::Program Renderer::buildProgram(const char* vertex_source, const char* fragment_source, const char* name) {
   Program p;
-  const GLuint vs = compile(GL_VERTEX_SHADER, vertex_source, name);
-  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment_source, name);
+  const gl_common::ShaderCalls calls = gl_common::shaderCallsOf(gl_);
+  const GLuint vs = gl_common::compileShader(calls, GL_VERTEX_SHADER, vertex_source, name);
+  const GLuint fs = gl_common::compileShader(calls, GL_FRAGMENT_SHADER, fragment_source, name);
   p.id = gl_.CreateProgram();
   gl_.AttachShader(p.id, vs);
   gl_.AttachShader(p.id, fs);
-  gl_.LinkProgram(p.id);
-  gl_.DeleteShader(vs);
-  gl_.DeleteShader(fs);
-  GLint ok = GL_FALSE;
-  gl_.GetProgramiv(p.id, GL_LINK_STATUS, &ok);
-  if (ok != GL_TRUE) {
-    char log[2048] = {0};
-    gl_.GetProgramInfoLog(p.id, sizeof(log), nullptr, log);
-    throw std::runtime_error(std::string("linking the ") + name + " program failed: " + log);
-  }
+  gl_common::linkProgram(calls, p.id, {vs, fs}, name);
   p.world = gl_.GetUniformLocation(p.id, "uWorld");
   p.view = gl_.GetUniformLocation(p.id, "uView");
   p.projection = gl_.GetUniformLocation(p.id, "uProj");

@@ -38,7 +38,6 @@ class Renderer {
   };
 
   Program buildProgram(const char* vertex_source, const char* fragment_source, const char* name);
-  GLuint compile(GLenum type, const char* source, const char* name);
   void checkError(const char* what);
 
   const GlApi& gl_;

@@ -1,16 +1,18 @@
 // `world`: viper's procedural town, a plain OpenGL program (see docs/world.md).
 #include "classes.h"
-#include "egl_context.h"
 #include "options.h"
 #include "oracle_meshes.h"
 #include "renderer.h"
+#include "window_context.h"
 #include "world_scene.h"
+
+#include "gl_common/headless_egl_context.h"
+#include "gl_common/ppm.h"
 
 #include "viper/ground_truth/oracle.h"
 
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -25,13 +27,6 @@ double cpuMs() {
   timespec ts;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-void writePpm(const std::string& path, int w, int h, const std::vector<uint8_t>& rgb) {
-  std::ofstream out(path, std::ios::binary);
-  out << "P6\n" << w << " " << h << "\n255\n";
-  out.write(reinterpret_cast<const char*>(rgb.data()), std::streamsize(rgb.size()));
-  if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 int run(const viper::world::Options& o) {
@@ -53,10 +48,11 @@ int run(const viper::world::Options& o) {
     if (stat(o.dump_dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
       throw std::runtime_error("--dump-dir: '" + o.dump_dir + "' is not a directory");
   }
-  EglContext context;
-  if (!o.window || !context.createWindow(o.width, o.height)) {
+  WindowContext window;
+  std::unique_ptr<viper::gl_common::HeadlessEglContext> headless;
+  if (!o.window || !window.open(o.width, o.height)) {
     if (o.window) std::fprintf(stderr, "world: --window: no X11 display (or no X11 in this build), rendering headless\n");
-    context.create(o.width, o.height);
+    headless = std::make_unique<viper::gl_common::HeadlessEglContext>(uint32_t(o.width), uint32_t(o.height));
   }
   Renderer renderer;
   renderer.init(scene.meshes(), o.width, o.height);
@@ -81,10 +77,11 @@ int run(const viper::world::Options& o) {
       renderer.readPixels(rgb);
       char name[64];
       std::snprintf(name, sizeof(name), "/frame_%06d.ppm", f);
-      writePpm(o.dump_dir + name, o.width, o.height, rgb);
+      viper::gl_common::writePpm(o.dump_dir + name, uint32_t(o.width), uint32_t(o.height), rgb);
       dump_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - dump_start).count();
     }
-    context.swap();
+    if (headless) headless->swapBuffers();
+    else window.swap();
     if (o.benchmark) {
       // The whole frame: rendering and the swap (where a capture layer reads the frame back), less
       // the dump.

@@ -1,6 +1,7 @@
 #include "shaders.h"
 
-#include <stdexcept>
+#include "gl_common/shader_build.h"
+
 #include <vector>
 
 namespace viper {
@@ -225,18 +226,16 @@ void main() {
 }
 )";
 
-GLuint compile(GLenum type, const char* source) {
-  GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &source, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetShaderInfoLog(s, sizeof(log), nullptr, log);
-    throw std::runtime_error(std::string("GLSL compile error: ") + log);
+// For the errors: "compiling the sky vertex shader failed: ...".
+const char* programName(ProgramKind kind) {
+  switch (kind) {
+    case ProgramKind::kLit: return "lit";
+    case ProgramKind::kSkinned: return "skinned";
+    case ProgramKind::kSky: return "sky";
+    case ProgramKind::kParticles: return "particles";
+    case ProgramKind::kGlare: return "glare";
+    default: return "unknown";
   }
-  return s;
 }
 }  // namespace
 
@@ -251,21 +250,15 @@ GLuint buildProgram(ProgramKind kind) {
     case ProgramKind::kGlare: vs = kGlareVertex, fs = kGlareFragment; break;
     default: break;
   }
+  const gl_common::ShaderCalls calls = gl_common::linkedShaderCalls();
+  const char* name = programName(kind);
   GLuint p = glCreateProgram();
-  GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+  GLuint v = gl_common::compileShader(calls, GL_VERTEX_SHADER, vs, name);
+  GLuint f = gl_common::compileShader(calls, GL_FRAGMENT_SHADER, fs, name);
   glAttachShader(p, v);
   glAttachShader(p, f);
   glBindAttribLocation(p, 0, "aPos");
-  glLinkProgram(p);
-  glDeleteShader(v);
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetProgramInfoLog(p, sizeof(log), nullptr, log);
-    throw std::runtime_error(std::string("GLSL link error: ") + log);
-  }
+  gl_common::linkProgram(calls, p, {v, f}, name);
   return p;
 }
 

@@ -1,13 +1,17 @@
 // What the EGL test programs (gl_engine_program.cpp, gl_legacy_program.cpp) share: a message and
-// exit on failure, a shader compiled or the program ended, and a pbuffer made current with an
-// OpenGL context. Include after the program's GL header (core or compatibility).
+// exit on failure, a shader compiled (gl_common's compileShader) or the program ended, and a pbuffer
+// made current with an OpenGL context of their own version that they never tear down (the capture
+// layer is tested on programs that exit so). Include after the program's GL header.
 #pragma once
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include "gl_common/shader_build.h"
+
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <string>
 
 namespace viper {
@@ -18,18 +22,13 @@ namespace test_program {
   std::exit(1);
 }
 
+/// A compiled shader of `type`, or the program ended with the GLSL log.
 inline GLuint compile(const char* program, GLenum type, const char* src) {
-  GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &src, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048];
-    glGetShaderInfoLog(s, sizeof(log), nullptr, log);
-    die(program, std::string("shader: ") + log);
+  try {
+    return gl_common::compileShader(gl_common::linkedShaderCalls(), type, src, "test");
+  } catch (const std::exception& e) {
+    die(program, e.what());
   }
-  return s;
 }
 
 struct EglPbuffer {

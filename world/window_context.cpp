@@ -1,4 +1,4 @@
-#include "egl_context.h"
+#include "window_context.h"
 
 #include <EGL/eglext.h>
 
@@ -23,7 +23,7 @@ namespace {
 }
 }  // namespace
 
-EglContext::~EglContext() {
+WindowContext::~WindowContext() {
   if (display_ != EGL_NO_DISPLAY) {
     eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
@@ -38,7 +38,7 @@ EglContext::~EglContext() {
 #endif
 }
 
-bool EglContext::createWindow(int width, int height) {
+bool WindowContext::open(int width, int height) {
 #ifdef VIPER_WORLD_WITH_X11
   const char* name = std::getenv("DISPLAY");
   if (!name || !*name) return false;
@@ -96,32 +96,7 @@ bool EglContext::createWindow(int width, int height) {
 #endif
 }
 
-void EglContext::create(int width, int height) {
-  display_ = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (display_ == EGL_NO_DISPLAY) fail("eglGetPlatformDisplay(SURFACELESS_MESA)");
-  EGLint major = 0, minor = 0;
-  if (!eglInitialize(display_, &major, &minor)) fail("eglInitialize");
-  const EGLint config_attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
-                                   EGL_OPENGL_BIT, EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8,
-                                   EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8, EGL_DEPTH_SIZE, 24,
-                                   EGL_NONE};
-  EGLConfig config;
-  EGLint count = 0;
-  if (!eglChooseConfig(display_, config_attribs, &config, 1, &count) || count < 1)
-    fail("eglChooseConfig (RGBA8, depth 24, pbuffer)");
-  const EGLint surface_attribs[] = {EGL_WIDTH, width, EGL_HEIGHT, height, EGL_NONE};
-  surface_ = eglCreatePbufferSurface(display_, config, surface_attribs);
-  if (surface_ == EGL_NO_SURFACE) fail("eglCreatePbufferSurface");
-  if (!eglBindAPI(EGL_OPENGL_API)) fail("eglBindAPI(OpenGL)");
-  const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                    EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                    EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-  context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, context_attribs);
-  if (context_ == EGL_NO_CONTEXT) fail("eglCreateContext (OpenGL 3.3 core)");
-  if (!eglMakeCurrent(display_, surface_, surface_, context_)) fail("eglMakeCurrent");
-}
-
-void EglContext::swap() { eglSwapBuffers(display_, surface_); }
+void WindowContext::swap() { eglSwapBuffers(display_, surface_); }
 
 }  // namespace world
 }  // namespace viper

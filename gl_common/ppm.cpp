@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 namespace viper {
-namespace scene {
+namespace gl_common {
 
 void writePpm(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgb) {
   if (rgb.size() != static_cast<size_t>(width) * height * 3)
@@ -17,5 +17,5 @@ void writePpm(const std::string& path, uint32_t width, uint32_t height, const st
   if (!out.flush()) throw std::runtime_error(path + ": write error");
 }
 
-}  // namespace scene
+}  // namespace gl_common
 }  // namespace viper

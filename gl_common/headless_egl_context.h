@@ -1,4 +1,5 @@
-// A headless OpenGL 3.3 core context with a pbuffer surface of a given size, through EGL.
+// A headless OpenGL 3.3 core context with a pbuffer surface of a given size, through EGL: what
+// test_scene and world render into.
 #pragma once
 
 #include <EGL/egl.h>
@@ -7,24 +8,24 @@
 #include <string>
 
 namespace viper {
-namespace scene {
+namespace gl_common {
 
-/// Owns an EGL display, a pbuffer surface and a current OpenGL 3.3 core context. The surface is the
-/// default framebuffer (framebuffer 0) of the context.
-class EglContext {
+/// Owns an EGL display, an RGBA8 + depth 24 pbuffer surface and a current OpenGL 3.3 core
+/// context. The surface is the default framebuffer (framebuffer 0) of the context.
+class HeadlessEglContext {
  public:
   /// Tries Mesa's surfaceless platform first, then EGL_DEFAULT_DISPLAY. Throws std::runtime_error
   /// saying which step failed (with the EGL error code) if neither gives a context.
-  EglContext(uint32_t width, uint32_t height);
-  ~EglContext();
-  EglContext(const EglContext&) = delete;
-  EglContext& operator=(const EglContext&) = delete;
+  HeadlessEglContext(uint32_t width, uint32_t height);
+  ~HeadlessEglContext();
+  HeadlessEglContext(const HeadlessEglContext&) = delete;
+  HeadlessEglContext& operator=(const HeadlessEglContext&) = delete;
 
   /// eglSwapBuffers on the pbuffer (a no-op for the pixels, but the frame boundary capture layers
   /// watch). Throws std::runtime_error on failure.
   void swapBuffers();
 
-  /// Which platform was used and the GL renderer, for the log.
+  /// Which platform was used ("surfaceless", or the default display and why surfaceless failed).
   const std::string& platform() const { return platform_; }
 
  private:
@@ -36,5 +37,5 @@ class EglContext {
   std::string platform_;
 };
 
-}  // namespace scene
+}  // namespace gl_common
 }  // namespace viper

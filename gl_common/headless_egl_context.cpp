@@ -1,4 +1,4 @@
-#include "egl_context.h"
+#include "headless_egl_context.h"
 
 #include <EGL/eglext.h>
 
@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 namespace viper {
-namespace scene {
+namespace gl_common {
 namespace {
 
 std::string eglErrorText(const char* step) {
@@ -17,7 +17,7 @@ std::string eglErrorText(const char* step) {
 
 }  // namespace
 
-EglContext::EglContext(uint32_t width, uint32_t height) {
+HeadlessEglContext::HeadlessEglContext(uint32_t width, uint32_t height) {
   std::string error;
   // Surfaceless Mesa needs no X server, no GPU and no device node, and supports pbuffers.
   const EGLDisplay surfaceless = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
@@ -35,7 +35,7 @@ EglContext::EglContext(uint32_t width, uint32_t height) {
                            "; default display: " + error);
 }
 
-bool EglContext::tryDisplay(EGLDisplay display, uint32_t width, uint32_t height, std::string& error) {
+bool HeadlessEglContext::tryDisplay(EGLDisplay display, uint32_t width, uint32_t height, std::string& error) {
   EGLint major = 0, minor = 0;
   if (!eglInitialize(display, &major, &minor)) {
     error = eglErrorText("eglInitialize");
@@ -75,16 +75,16 @@ bool EglContext::tryDisplay(EGLDisplay display, uint32_t width, uint32_t height,
   return false;
 }
 
-EglContext::~EglContext() {
+HeadlessEglContext::~HeadlessEglContext() {
   eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   eglDestroyContext(display_, context_);
   eglDestroySurface(display_, surface_);
   eglTerminate(display_);
 }
 
-void EglContext::swapBuffers() {
+void HeadlessEglContext::swapBuffers() {
   if (!eglSwapBuffers(display_, surface_)) throw std::runtime_error(eglErrorText("eglSwapBuffers"));
 }
 
-}  // namespace scene
+}  // namespace gl_common
 }  // namespace viper

@@ -8,33 +8,37 @@ if(TARGET test_viper_images)
   target_link_libraries(test_viper_images opencv_core opencv_imgcodecs)
 endif()
 
-# viper_layout_ros: layout <-> messages, the exporter, the player (node + nodelet).
+# viper_layout_ros: layout <-> messages, the exporter, the player and the live exporter (nodes + nodelets).
 add_library(viper_layout_ros
   src/ros/dataset/viper_layout_conversions.cpp
   src/ros/dataset/viper_exporter.cpp
   src/ros/dataset/viper_bag_conversion.cpp
   src/ros/dataset/player.cpp
   src/ros/dataset/player_nodelet.cpp
+  src/ros/dataset/export_roles.cpp
+  src/ros/dataset/live_exporter.cpp
+  src/ros/dataset/live_exporter_nodelet.cpp
 )
 # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
 find_package(pluginlib REQUIRED)
 find_package(class_loader REQUIRED)
 target_include_directories(viper_layout_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_layout_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-  ${class_loader_INCLUDE_DIRS})
+  ${class_loader_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS})
 target_link_libraries(viper_layout_ros PUBLIC viper_ground_truth_ros viper_ros viper_core viper_dataset ${catkin_LIBRARIES})
 add_dependencies(viper_layout_ros viper_generate_messages_cpp)
 set_target_properties(viper_layout_ros PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 
 add_executable(player nodes/player_node.cpp)
+add_executable(viper_exporter nodes/viper_exporter_node.cpp)
 add_executable(viper_to_bag tools/viper_to_bag.cpp)
 add_executable(export_viper tools/export_viper.cpp)
-foreach(t player viper_to_bag export_viper)
+foreach(t player viper_exporter viper_to_bag export_viper)
   target_link_libraries(${t} viper_layout_ros)
   set_target_properties(${t} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
-install(TARGETS viper_layout_ros player viper_to_bag export_viper
+install(TARGETS viper_layout_ros player viper_exporter viper_to_bag export_viper
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

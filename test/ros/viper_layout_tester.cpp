@@ -6,17 +6,20 @@
 //    content, poses, boxes and camera_info, paced at ~rate;
 //  - LoopsWithIncreasingStampsAndClock: the player loops: stamps and /clock keep increasing, problems are logged once;
 //  - GroundTruthExportPlayerGiveIdenticalTopics: the committed raw bag through the ground-truth nodelets (replay.launch),
-//    recorded into a bag here, export_viper into the layout, the player (in this process) back to
+//    recorded into a bag here, export_viper into the layout (the live exporter, in this process,
+//    writes the same files from the live topics), the player (in this process) back to
 //    topics: images identical, flow identical to float16, poses, boxes and intrinsics equal within
 //    float precision; viper_to_bag of the layout gives the player's messages.
 // Private parameters: timeout_s (120); the round trip also bag, export_viper, viper_to_bag.
 #include "bag_publishers.h"
+#include "viper_layout_tester_support.h"
 #include "viper_test_layout.h"
 
 #include "viper/ground_truth/ego_motion.h"
 #include "viper/dataset/float16.h"
 #include "viper/ros/conversions/object_conversions.h"
 #include "viper/ros/conversions/pose_conversions.h"
+#include "viper/ros/dataset/live_exporter.h"
 #include "viper/ros/dataset/player.h"
 
 #include <gtest/gtest.h>
@@ -48,111 +51,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace viper_test_layout;
 
-const char* kImageTopics[] = {"capture/color/image_raw",     "ground_truth/semantic",
-                              "ground_truth/instance_ids",   "ground_truth/instances_viper",
-                              "ground_truth/flow/forward",   "ground_truth/flow/backward"};
-
-// Everything received, by topic.
-class Received {
- public:
-  void subscribe(ros::NodeHandle& nh, const std::string& ns) {
-    for (const char* t : kImageTopics) {
-      const std::string topic = ns + t;
-      subs_.push_back(nh.subscribe<sensor_msgs::Image>(topic, 200, [this, topic](const sensor_msgs::ImageConstPtr& m) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        images[topic].push_back(m);
-        arrival[topic].push_back(ros::WallTime::now());
-      }));
-    }
-    infos_sub_ = nh.subscribe<sensor_msgs::CameraInfo>(ns + "capture/color/camera_info", 200,
-                                                       [this](const sensor_msgs::CameraInfoConstPtr& m) {
-                                                         std::lock_guard<std::mutex> lock(mutex_);
-                                                         infos.push_back(m);
-                                                       });
-    odom_sub_ = nh.subscribe<nav_msgs::Odometry>(ns + "ground_truth/odom", 200, [this](const nav_msgs::OdometryConstPtr& m) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      odoms.push_back(m);
-    });
-    boxes_sub_ = nh.subscribe<viper::Box3DArray>(ns + "ground_truth/boxes", 200, [this](const viper::Box3DArrayConstPtr& m) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      boxes.push_back(m);
-    });
-    optical_sub_ = nh.subscribe<viper::Box3DArray>(ns + "ground_truth/boxes_optical", 200,
-                                                   [this](const viper::Box3DArrayConstPtr& m) {
-                                                     std::lock_guard<std::mutex> lock(mutex_);
-                                                     boxes_optical.push_back(m);
-                                                   });
-  }
-  bool connected() const {
-    for (const auto& s : subs_)
-      if (s.getNumPublishers() == 0) return false;
-    return infos_sub_.getNumPublishers() && odom_sub_.getNumPublishers() && boxes_sub_.getNumPublishers() &&
-           optical_sub_.getNumPublishers();
-  }
-  size_t count(const std::string& topic) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return images[topic].size();
-  }
-
-  std::mutex mutex_;
-  std::map<std::string, std::vector<sensor_msgs::ImageConstPtr>> images;
-  std::map<std::string, std::vector<ros::WallTime>> arrival;
-  std::vector<sensor_msgs::CameraInfoConstPtr> infos;
-  std::vector<nav_msgs::OdometryConstPtr> odoms;
-  std::vector<viper::Box3DArrayConstPtr> boxes, boxes_optical;
-
- private:
-  std::vector<ros::Subscriber> subs_;
-  ros::Subscriber infos_sub_, odom_sub_, boxes_sub_, optical_sub_;
-};
-
-// Waits until `done()` or the deadline; true if done.
-bool waitFor(const std::function<bool()>& done, const ros::WallTime& deadline) {
-  while (!done()) {
-    if (ros::WallTime::now() > deadline || !ros::ok()) return false;
-    ros::WallDuration(0.01).sleep();
-  }
-  return true;
-}
-
 double stampOf(uint64_t index) { return 1.0 + static_cast<double>(index) / 15.0; }
-
-// The player's /rosout lines.
-class Rosout {
- public:
-  explicit Rosout(ros::NodeHandle& nh) {
-    sub_ = nh.subscribe<rosgraph_msgs::Log>("/rosout", 1000, [this](const rosgraph_msgs::LogConstPtr& m) {
-      if (m->msg.rfind("player: ", 0) != 0) return;
-      std::lock_guard<std::mutex> lock(mutex_);
-      lines_.push_back(*m);
-    });
-  }
-  size_t publishers() const { return sub_.getNumPublishers(); }
-  std::vector<rosgraph_msgs::Log> lines() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return lines_;
-  }
-  bool has(const std::string& text) {
-    for (const auto& l : lines())
-      if (l.msg.find(text) != std::string::npos) return true;
-    return false;
-  }
-  size_t errors() {
-    size_t n = 0;
-    for (const auto& l : lines()) n += l.level == rosgraph_msgs::Log::ERROR;
-    return n;
-  }
-
- private:
-  ros::Subscriber sub_;
-  std::mutex mutex_;
-  std::vector<rosgraph_msgs::Log> lines_;
-};
-
-bool sameFloats(const sensor_msgs::Image& m, const std::vector<float>& expected) {
-  if (m.data.size() != expected.size() * 4) return false;
-  return std::memcmp(m.data.data(), expected.data(), m.data.size()) == 0;
-}
 
 Eigen::Isometry3d expectedMapFromBody(uint64_t frame) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -365,6 +264,27 @@ boost::shared_ptr<const M> as(const topic_tools::ShapeShifter::ConstPtr& s) {
 
 Eigen::Isometry3d poseOf(const nav_msgs::Odometry& o) { return viper::fromPoseMsg(o.pose.pose); }
 
+// Every file under `a` is under `b` with the same bytes, and the other way round.
+void expectSameTree(const fs::path& a, const fs::path& b) {
+  auto files = [](const fs::path& root) {
+    std::map<std::string, std::string> out;
+    for (const auto& e : fs::recursive_directory_iterator(root))
+      if (e.is_regular_file()) out[fs::relative(e.path(), root).string()] = e.path().string();
+    return out;
+  };
+  const auto fa = files(a), fb = files(b);
+  ASSERT_FALSE(fa.empty()) << a;
+  for (const auto& [rel, path] : fa) {
+    const auto other = fb.find(rel);
+    if (other == fb.end()) {
+      ADD_FAILURE() << rel << " is in " << a << " but not in " << b;
+      continue;
+    }
+    EXPECT_EQ(run("cmp -s " + path + " " + other->second), 0) << rel << " differs";
+  }
+  for (const auto& [rel, path] : fb) EXPECT_TRUE(fa.count(rel)) << rel << " is in " << b << " but not in " << a;
+}
+
 TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
   ros::NodeHandle nh, pnh("~");
   const double timeout_s = pnh.param("timeout_s", 120.0);
@@ -391,6 +311,11 @@ TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
       std::lock_guard<std::mutex> lock(truth.mutex);
       truth.messages[t].push_back(m);
     }));
+  // The live exporter (viper_exporter's class, in this process) writes the same topics as they come.
+  ros::NodeHandle live_pnh("~live_exporter");
+  live_pnh.setParam("root", (work / "live").string());
+  viper::LiveExporter live(nh, live_pnh);
+  ASSERT_TRUE(live.start());
   rosbag::Bag raw(bag_path, rosbag::bagmode::Read);
   rosbag::View view(raw);
   std::map<std::string, ros::Publisher> pubs = viper::test::advertiseBagTopics(nh, view);
@@ -398,7 +323,7 @@ TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
     if (pubs["/capture/draws"].getNumSubscribers() < 1 || pubs["/capture/draw_ids"].getNumSubscribers() < 1) return false;
     for (const auto& s : subs)
       if (s.getNumPublishers() < 1) return false;
-    return true;
+    return live.inputsConnected();
   };
   ASSERT_TRUE(waitFor(connected, deadline)) << "ground-truth nodes did not connect";
   std::vector<ros::Time> frames;
@@ -436,6 +361,19 @@ TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
   for (const char* m : {"img", "cls", "inst", "flow", "flowbw", "bb"})
     EXPECT_TRUE(fs::is_directory(layout / "train" / m / "001")) << m;
   EXPECT_TRUE(fs::is_regular_file(layout / "train" / "camera" / "001.csv"));
+
+  // 3b. The live export is the bag export, file for file and byte for byte.
+  const std::vector<std::string> live_topics = {"/ground_truth/semantic",   "/ground_truth/instance_ids",
+                                                "/ground_truth/instances_viper", "/ground_truth/flow/forward",
+                                                "/ground_truth/flow/backward",  "/ground_truth/boxes_optical",
+                                                "/ground_truth/objects"};
+  size_t expected_live = 2 * n;  // color and draws
+  for (const std::string& t : live_topics) expected_live += truth.count(t);
+  EXPECT_TRUE(waitFor([&] { return live.messagesReceived() >= expected_live; }, deadline))
+      << "the live exporter received " << live.messagesReceived() << " of " << expected_live << " messages";
+  EXPECT_EQ(live.finish(), 0) << live.summary();
+  EXPECT_EQ(live.framesNumbered(), n);
+  expectSameTree(layout, work / "live");
 
   // 4. The player, in this process, under /replayed.
   ros::NodeHandle replayed("replayed"), player_pnh("~player");

@@ -8,6 +8,7 @@
 // evaluation has seen (all conditions), so wTP = avg * sum(tp / size) is accumulated as the sum.
 #include "viper/evaluation/evaluation.h"
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -34,6 +35,8 @@ class SemanticIiouMetric : public Metric {
     layout_.headline = {{"mean_iiou", "iIoU %", 2}};
     layout_.per_class = {"iiou_percent", "iIoU %", 2};
     layout_.classes = instance_class_;
+    for (size_t c = 0; c < scored_.size() && c < kind_.size(); ++c)
+      kind_[c] = static_cast<uint8_t>((scored_[c] ? kScored : 0) | (instance_class_[c] ? kInstance : 0));
     instances_.assign(scored_.size(), 0);
     instance_px_.assign(scored_.size(), 0);
   }
@@ -53,16 +56,20 @@ class SemanticIiouMetric : public Metric {
       uint64_t size = 0, tp = 0;
     };
     std::unordered_map<uint64_t, Instance> frame;  // by (instance id, class)
+    // An instance's pixels come in runs along a row: the last one found is looked up first.
+    uint64_t last_key = 0;
+    Instance* last = nullptr;
     uint64_t scored = 0;
     for (size_t i = 0; i < n; ++i) {
       const uint8_t g = f.gt_semantic[i], p = f.pred_semantic[i];
-      if (g >= k || !scored_[g]) continue;
+      if (!(kind_[g] & kScored)) continue;
       ++scored;
-      if (p != g && p < k && instance_class_[p]) ++s.classes[p].fp;
-      if (f.gt_instance_ids[i] == 0 || !instance_class_[g]) continue;
-      Instance& inst = frame[(static_cast<uint64_t>(static_cast<uint32_t>(f.gt_instance_ids[i])) << 8) | g];
-      ++inst.size;
-      inst.tp += p == g;
+      if (p != g && (kind_[p] & kInstance)) ++s.classes[p].fp;
+      if (f.gt_instance_ids[i] == 0 || !(kind_[g] & kInstance)) continue;
+      const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(f.gt_instance_ids[i])) << 8) | g;
+      if (last == nullptr || key != last_key) last = &frame[key], last_key = key;
+      ++last->size;
+      last->tp += p == g;
     }
     for (const auto& [key, inst] : frame) {
       const uint8_t c = static_cast<uint8_t>(key & 0xff);
@@ -114,7 +121,9 @@ class SemanticIiouMetric : public Metric {
     return out;
   }
 
+  static constexpr uint8_t kScored = 1, kInstance = 2;
   std::vector<bool> scored_, instance_class_;
+  std::array<uint8_t, 256> kind_{};  // per class id (any byte): kScored | kInstance
   MetricLayout layout_;
   std::map<std::string, State> by_condition_;
   std::vector<uint64_t> instances_, instance_px_;  // per class, over every condition: the average sizes

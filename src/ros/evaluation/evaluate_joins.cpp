@@ -180,8 +180,9 @@ void Evaluate::onPairPrediction(MetricInput input, const ros::Time& stamp, bool 
     ros::Time t = stamp;
     if (stamp_second) {
       if (!drawsExpected()) {
-        ROS_WARN_THROTTLE(5, "%s: ~%s 'second' needs the draw lists (%s) to pair frames; skipped",
-                          topicOf(input).c_str(), stamp_param.c_str(), draws_sub_.getTopic().c_str());
+        if (!throttled("stamp " + stamp_param))
+          ROS_WARN("%s: ~%s 'second' needs the draw lists (%s) to pair frames; skipped", topicOf(input).c_str(),
+                   stamp_param.c_str(), draws_sub_.getTopic().c_str());
         return;
       }
       if (frames_.count(t) == 0) {  // held until that frame's draw list comes (at most depth_)
@@ -253,15 +254,18 @@ void Evaluate::onTfPoll(const ros::SteadyTimerEvent&) {
 // ---- scoring -------------------------------------------------------------------------------
 
 // Throttled per topic: one call site serves every metric, and a bad topic must not hide another.
+bool Evaluate::throttled(const std::string& key) {
+  std::lock_guard<std::mutex> lock(throttle_mutex_);
+  const ros::WallTime now = ros::WallTime::now();
+  const auto it = last_logged_.find(key);
+  if (it != last_logged_.end() && (now - it->second).toSec() < 5.0) return true;
+  last_logged_[key] = now;
+  return false;
+}
+
 void Evaluate::skipFrame(const std::string& topic, const ros::Time& stamp, const std::string& problem) {
-  {
-    std::lock_guard<std::mutex> lock(error_mutex_);
-    const ros::WallTime now = ros::WallTime::now();
-    const auto it = last_error_.find(topic);
-    if (it != last_error_.end() && (now - it->second).toSec() < 5.0) return;
-    last_error_[topic] = now;
-  }
-  ROS_ERROR("%s (stamp %.6f): %s; frame skipped", topic.c_str(), stamp.toSec(), problem.c_str());
+  if (!throttled("error " + topic))
+    ROS_ERROR("%s (stamp %.6f): %s; frame skipped", topic.c_str(), stamp.toSec(), problem.c_str());
 }
 
 void Evaluate::score(const ros::Time& stamp, MetricSlot& slot, const FrameEntry& e) {

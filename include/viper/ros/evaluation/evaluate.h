@@ -133,6 +133,8 @@ class Evaluate {
   void scoreAll(const Completed& done);
   /// Logs that a frame is skipped because of `problem` in `topic`, at most every 5 s per topic.
   void skipFrame(const std::string& topic, const ros::Time& stamp, const std::string& problem);
+  /// Whether a message of `key` was logged less than 5 s ago (else notes that it is logged now).
+  bool throttled(const std::string& key);
 
   /// put() into `join` (join_mutex_ held), filling in the frame of `stamp` when its draw list is
   /// known, or the default condition when no draw lists are published.
@@ -169,8 +171,8 @@ class Evaluate {
   std::map<MetricInput, std::map<ros::Time, Setter>> early_;
   size_t depth_ = 10;
   std::map<ros::Time, ros::SteadyTime> tf_pending_;  // ground-truth stamps waiting for the estimate's tf
-  std::mutex error_mutex_;                           // last_error_
-  std::map<std::string, ros::WallTime> last_error_;  // by topic, for skipFrame()
+  std::mutex throttle_mutex_;                          // last_logged_
+  std::map<std::string, ros::WallTime> last_logged_;  // by message key, for throttled()
 
   ros::Subscriber draws_sub_, gt_semantic_sub_, gt_ids_sub_, gt_flow_sub_, gt_visible_sub_, gt_odom_sub_;
   ros::Subscriber semantic_sub_, instances_sub_, flow_sub_, sparse_sub_, odom_sub_;

@@ -60,7 +60,9 @@ class StampJoin {
   uint64_t dropped_ = 0;
 };
 
-/// The evaluate node's class, shared by the node and the nodelet.
+/// The evaluate node's class, shared by the node and the nodelet. It holds one join (by stamp), one
+/// lock and one scoring path per registered metric (metric.h), fed by the topics of the inputs the
+/// metric declares.
 class Evaluate {
  public:
   Evaluate(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh);

@@ -4,7 +4,8 @@
 file(GLOB VIPER_CORE_SOURCES CONFIGURE_DEPENDS
   ${PROJECT_SOURCE_DIR}/src/capture/*.cpp
   ${PROJECT_SOURCE_DIR}/src/ground_truth/*.cpp
-  ${PROJECT_SOURCE_DIR}/src/evaluation/*.cpp)
+  ${PROJECT_SOURCE_DIR}/src/evaluation/*.cpp
+  ${PROJECT_SOURCE_DIR}/src/evaluation/metrics/*.cpp)
 list(FILTER VIPER_CORE_SOURCES EXCLUDE REGEX "/src/evaluation/plots\\.cpp$")
 add_library(viper_core ${VIPER_CORE_SOURCES})
 target_include_directories(viper_core PUBLIC ${PROJECT_SOURCE_DIR}/include)
@@ -28,7 +29,7 @@ if(CATKIN_ENABLE_TESTING)
     ground_truth/test_ego_motion ground_truth/test_flow ground_truth/test_instance_pipeline
     ground_truth/test_objects_tracking ground_truth/test_oracle ground_truth/test_semantic_overlay
     evaluation/test_eval_report evaluation/test_metrics_equivalence evaluation/test_metrics_instance_odometry
-    evaluation/test_metrics_semantic_flow)
+    evaluation/test_metrics_semantic_flow evaluation/test_metric_iiou)
   foreach(t ${VIPER_CORE_TESTS})
     get_filename_component(name ${t} NAME)
     catkin_add_gtest(${name} ${PROJECT_SOURCE_DIR}/test/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

@@ -14,6 +14,7 @@ set_target_properties(viper_report PROPERTIES
 add_library(viper_evaluate_ros
   src/ros/evaluation/evaluate_inputs.cpp
   src/ros/evaluation/evaluate.cpp
+  src/ros/evaluation/evaluate_joins.cpp
   src/ros/evaluation/evaluate_nodelet.cpp
 )
 target_include_directories(viper_evaluate_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)

@@ -118,6 +118,51 @@ std::string classCsv(const EvaluationSummary& s, const std::vector<bool>& evalua
   return out;
 }
 
+// The metrics reporting through MetricScores that scored a frame.
+std::vector<const MetricLayout*> scoredPlugins(const EvaluationSummary& s) {
+  std::vector<const MetricLayout*> out;
+  for (const MetricLayout& m : s.layouts)
+    if (s.all.scoresOf(m.key).frames > 0) out.push_back(&m);
+  return out;
+}
+
+double headlineValue(const ConditionSummary& c, const MetricLayout& m, const ReportColumn& col) {
+  const MetricScores& scores = c.scoresOf(m.key);
+  const auto it = scores.values.find(col.key);
+  return it == scores.values.end() ? NAN : it->second;
+}
+
+double classValue(const ConditionSummary& c, const MetricLayout& m, size_t k) {
+  const std::vector<double>& v = c.scoresOf(m.key).per_class;
+  return k < v.size() ? v[k] : NAN;
+}
+
+// A metric's section: its per-class table (one row per class scored anywhere, then the mean).
+std::string pluginMarkdown(const EvaluationSummary& s, const MetricLayout& m) {
+  std::string out = "## " + m.title + "\n\n";
+  if (!m.note.empty()) out += m.note + "\n\n";
+  if (m.per_class.key.empty() || m.headline.empty()) return out;
+  const auto cols = columns(s);
+  std::vector<std::string> header = {"class"};
+  for (const ConditionSummary* c : cols) header.push_back(c->condition);
+  out += markdownHeader(header, 1);
+  for (size_t k = 0; k < s.class_names.size(); ++k) {
+    if (k >= m.classes.size() || !m.classes[k]) continue;
+    bool any = false;
+    std::vector<std::string> row = {s.class_names[k]};
+    for (const ConditionSummary* c : cols) {
+      const double v = classValue(*c, m, k);
+      any = any || std::isfinite(v);
+      row.push_back(fixed(v, m.per_class.decimals));
+    }
+    if (any) out += markdownRow(row);
+  }
+  std::vector<std::string> row = {"**mean**"};
+  for (const ConditionSummary* c : cols)
+    row.push_back("**" + fixed(headlineValue(*c, m, m.headline[0]), m.headline[0].decimals) + "**");
+  return out + markdownRow(row);
+}
+
 void writeFile(const std::filesystem::path& path, const std::string& text, std::vector<std::string>& written) {
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
   if (!f) throw std::runtime_error(path.string() + ": cannot open for writing");
@@ -140,12 +185,13 @@ std::string reportMarkdown(const EvaluationSummary& s) {
   const ConditionSummary& all = s.all;
   const bool semantic = all.semantic_frames > 0, instances = all.instance_frames > 0,
              dense = all.flow_all.present(), sparse = all.sparse_all.present(), odometry = all.odometry_poses > 0;
+  const std::vector<const MetricLayout*> plugins = scoredPlugins(s);
   std::ostringstream md;
   md << "# Evaluation report\n\n";
   md << "Frames scored: semantic " << all.semantic_frames << ", instances " << all.instance_frames
      << ", dense flow " << all.flow_all.frames << ", sparse flow " << all.sparse_all.frames << ", odometry poses "
      << all.odometry_poses << ".\n\n";
-  if (!(semantic || instances || dense || sparse || odometry)) {
+  if (!(semantic || instances || dense || sparse || odometry || !plugins.empty())) {
     md << "Nothing was scored: no prediction topic delivered a frame that met its ground truth.\n";
     return md.str();
   }
@@ -157,6 +203,8 @@ std::string reportMarkdown(const EvaluationSummary& s) {
   if (dense) header.insert(header.end(), {"flow EPE px", "flow WAUC %", "flow Fl %"});
   if (sparse) header.insert(header.end(), {"sparse EPE px", "sparse WAUC %"});
   if (odometry) header.insert(header.end(), {"VO translation %", "VO rotation deg/m"});
+  for (const MetricLayout* m : plugins)
+    for (const ReportColumn& col : m->headline) header.push_back(col.label);
   md << markdownHeader(header, 1);
   for (const ConditionSummary* c : columns(s)) {
     const bool is_all = c == &s.all;
@@ -168,6 +216,8 @@ std::string reportMarkdown(const EvaluationSummary& s) {
     if (sparse) row.insert(row.end(), {fixed(c->sparse_all.epe_px, 3), fixed(c->sparse_all.wauc, 2)});
     if (odometry) row.insert(row.end(), {fixed(c->odometry.translation_percent, 2),
                                          fixed(c->odometry.rotation_deg_per_m, 4)});
+    for (const MetricLayout* m : plugins)
+      for (const ReportColumn& col : m->headline) row.push_back(fixed(headlineValue(*c, *m, col), col.decimals));
     md << markdownRow(row);
   }
   md << "\n";
@@ -227,6 +277,7 @@ std::string reportMarkdown(const EvaluationSummary& s) {
          << " m) is shorter than the shortest segment length.\n";
     md << "\n![VO error over segment length](odometry_errors.png)\n";
   }
+  for (const MetricLayout* m : plugins) md << "\n" << pluginMarkdown(s, *m);
   return md.str();
 }
 
@@ -310,6 +361,23 @@ std::string odometryCsv(const EvaluationSummary& s) {
   return out;
 }
 
+std::string metricCsv(const EvaluationSummary& s, const MetricLayout& m) {
+  std::string out = "condition,class_id,class_name," + m.per_class.key + "\n";
+  for (const ConditionSummary* c : columns(s)) {
+    if (c->scoresOf(m.key).frames == 0) continue;
+    for (size_t k = 0; k < s.class_names.size(); ++k) {
+      const double v = k < m.classes.size() && m.classes[k] ? classValue(*c, m, k) : NAN;
+      if (std::isfinite(v))
+        out += csvField(c->condition) + "," + std::to_string(k) + "," + csvField(s.class_names[k]) + "," +
+               csvNumber(v) + "\n";
+    }
+    out += csvField(c->condition) + ",-1,mean";
+    for (const ReportColumn& col : m.headline) out += "," + csvNumber(headlineValue(*c, m, col));
+    out += "\n";
+  }
+  return out;
+}
+
 std::string scoresYaml(const EvaluationSummary& s) {
   std::ostringstream y;
   auto block = [&](const ConditionSummary& c, const std::string& indent) {
@@ -333,6 +401,13 @@ std::string scoresYaml(const EvaluationSummary& s) {
         << ", segments: " << c.odometry.segments << ", translation_percent: "
         << yamlNumber(c.odometry.translation_percent)
         << ", rotation_deg_per_m: " << yamlNumber(c.odometry.rotation_deg_per_m) << "}\n";
+    for (const MetricLayout& m : s.layouts) {
+      const MetricScores& scores = c.scoresOf(m.key);
+      if (scores.frames == 0) continue;
+      y << indent << m.key << ": {frames: " << scores.frames;
+      for (const ReportColumn& col : m.headline) y << ", " << col.key << ": " << yamlNumber(headlineValue(c, m, col));
+      y << "}\n";
+    }
   };
   y << "all:\n";
   block(s.all, "  ");
@@ -357,6 +432,15 @@ std::vector<std::string> writeReportTables(const EvaluationSummary& s, const std
   writeFile(d / "flow.csv", flowCsv(s), written);
   writeFile(d / "flow_inliers.csv", flowInliersCsv(s), written);
   writeFile(d / "odometry.csv", odometryCsv(s), written);
+  // A metric's own table is written when it scored something; otherwise one of an earlier report
+  // is removed.
+  for (const MetricLayout& m : s.layouts) {
+    if (m.per_class.key.empty()) continue;
+    const std::filesystem::path path = d / (m.key + ".csv");
+    std::error_code ec;
+    if (s.all.scoresOf(m.key).frames > 0) writeFile(path, metricCsv(s, m), written);
+    else std::filesystem::remove(path, ec);
+  }
   return written;
 }
 

@@ -570,6 +570,10 @@ TEST_F(EvaluateTest, ScoresMatchWhatThePredictionsDeserve) {
   if (!corrupted_) {
     EXPECT_NE(md.find("| **all** | 100.00 | 100.00 | 100.00 | 0.000 | 100.00 | 0.00 | 0.000 | 100.00 | 0.00 | 0.0000 |"),
               std::string::npos);
+    // The plug-in metric iIoU (Cityscapes) reads the same topics: perfect predictions score 100.
+    const std::string iiou = readFile(report_dir + "/semantic_iiou.csv");
+    for (const std::string condition : {"day", "rain", "all"})
+      EXPECT_NE(("\n" + iiou).find("\n" + condition + ",-1,mean,100\n"), std::string::npos) << iiou;
   }
 }
 

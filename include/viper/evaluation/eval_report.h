@@ -35,10 +35,16 @@ std::string flowInliersCsv(const EvaluationSummary& s);
 /// segment length, then a row with length_m "all".
 std::string odometryCsv(const EvaluationSummary& s);
 
+/// `<key>.csv` of a metric that reports through MetricScores (MetricLayout): condition,class_id,
+/// class_name,<per-class key> for every listed class with a score, then a "mean" row (class_id -1)
+/// with its headline numbers, per condition that it scored.
+std::string metricCsv(const EvaluationSummary& s, const MetricLayout& layout);
+
 /// The running scores (headline numbers per condition and over all) as a YAML document.
 std::string scoresYaml(const EvaluationSummary& s);
 
-/// Writes summary.md and every CSV above into `dir` (created if missing). Returns the paths
+/// Writes summary.md and every CSV above into `dir` (created if missing; a metric's own CSV only if
+/// it scored a frame). Returns the paths
 /// written. Throws std::runtime_error naming the file that could not be written.
 std::vector<std::string> writeReportTables(const EvaluationSummary& s, const std::string& dir);
 

@@ -2,42 +2,21 @@
 // feeds frame by frame and what its report and running scores are made from.
 #pragma once
 
-#include "viper/ground_truth/class_table.h"
 #include "viper/evaluation/flow_metrics.h"
-#include "viper/evaluation/instance_metrics.h"
+#include "viper/evaluation/metric.h"
 #include "viper/evaluation/odometry_metrics.h"
 #include "viper/evaluation/semantic_metrics.h"
+#include "viper/ground_truth/class_table.h"
 
 #include <Eigen/Geometry>
 
 #include <cstdint>
 #include <map>
-#include <optional>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace viper {
-
-/// One vector of a sparse flow estimate: a point of the first frame (pixels, OpenCV convention:
-/// integer coordinates are pixel centres) and its motion to the second frame (pixels, u right,
-/// v down).
-struct SparseFlowVector {
-  double x = 0.0, y = 0.0, u = 0.0, v = 0.0;
-};
-
-/// Settings of an evaluation.
-struct EvaluationOptions {
-  /// KITTI segment lengths (m). KITTI uses 100..800 m; short sequences need shorter ones.
-  std::vector<double> odometry_lengths_m = {100, 200, 300, 400, 500, 600, 700, 800};
-  /// Every how many poses a KITTI segment starts (KITTI: 10).
-  size_t odometry_step_frames = 10;
-  /// Ground-truth instances smaller than this are ignored (Cityscapes: 100 px).
-  int min_instance_px = 100;
-  /// Thresholds (px) at which flow inlier curves are sampled for tables and plots.
-  std::vector<double> curve_thresholds_px = defaultCurveThresholds();
-  /// 0, 0.05, ..., 5 px.
-  static std::vector<double> defaultCurveThresholds();
-};
 
 /// Numbers of one flow accumulator.
 struct FlowSummary {
@@ -73,6 +52,10 @@ struct ConditionSummary {
   size_t odometry_sequences = 0;  ///< contiguous runs of poses of this condition
   double odometry_path_m = 0.0;   ///< ground-truth path length over those runs
   OdometryScores odometry;
+  /// The metrics that report through MetricScores, by Metric::name().
+  std::map<std::string, MetricScores> scores;
+  /// scores[metric], or empty scores (no frames) if it has none.
+  const MetricScores& scoresOf(const std::string& metric) const;
 };
 
 /// A summary of the whole evaluation.
@@ -82,43 +65,56 @@ struct EvaluationSummary {
   std::vector<double> curve_thresholds_px;
   std::vector<ConditionSummary> conditions;  ///< day, sunset, rain, snow, night, then others by name
   ConditionSummary all;
+  /// The layouts of the metrics that report through MetricScores, in registration order.
+  std::vector<MetricLayout> layouts;
 };
 
-/// Accumulates every metric per condition (the DrawList's condition tag).
-/// Threads: adds of different metrics (semantic, instances, dense flow, sparse flow, poses) may run
-/// at the same time; adds of one metric, and summarize() or framesAdded() with any add, need the
-/// caller's exclusion.
+/// Accumulates every registered metric (metric.h) per condition (the DrawList's condition tag).
+/// Threads: adds to different metrics may run at the same time; adds to one metric, and
+/// summarize() or framesAdded() with any add, need the caller's exclusion.
 /// Images are row-major without padding, `n` pixels; flows interleaved (u, v) floats, NaN where
 /// undefined.
 class Evaluation {
  public:
   /// The class table gives the names and which classes are scored; void classes (for instance
-  /// AP) are those without class_eval.
+  /// AP) are those without class_eval. Builds one object of every registered metric. Throws
+  /// std::invalid_argument on an empty table or impossible options.
   explicit Evaluation(const ClassTable& classes, EvaluationOptions options = {});
+  Evaluation(Evaluation&&) noexcept;
+  Evaluation& operator=(Evaluation&&) noexcept;
+  ~Evaluation();
 
-  /// Semantic class ids of ground truth and prediction. Throws std::invalid_argument on null
-  /// pointers.
+  /// The metrics, in registration order.
+  const std::vector<std::unique_ptr<Metric>>& metrics() const { return metrics_; }
+  /// The metric called `name`, or null.
+  Metric* metric(const std::string& name) const;
+  /// Adds one frame pair to the metric called `name`; returns what Metric::add() returns.
+  /// Throws std::invalid_argument for an unknown metric, or what the metric throws.
+  uint64_t add(const std::string& name, const EvalFrame& frame);
+
+  /// Semantic class ids of ground truth and prediction (metric "semantic"). Throws
+  /// std::invalid_argument on null pointers.
   void addSemantic(const std::string& condition, const uint8_t* gt, const uint8_t* pred, size_t n);
   /// Ground-truth instance ids (0 = none) and class ids, and the predicted instances (full-frame
-  /// masks of n pixels). Throws std::invalid_argument if a mask has another size.
+  /// masks of n pixels; metric "instances"). Throws std::invalid_argument if a mask has another size.
   void addInstances(const std::string& condition, const int32_t* gt_ids, const uint8_t* gt_classes, size_t n,
                     const std::vector<PredictedInstance>& predictions);
   /// The same for masks given in boxes of a width x height frame. Throws std::invalid_argument if
   /// a box leaves the frame or a non-empty box has no mask.
   void addInstances(const std::string& condition, const int32_t* gt_ids, const uint8_t* gt_classes, uint32_t width,
                     uint32_t height, const std::vector<BoxedInstance>& predictions);
-  /// Dense flow of the same frame pair; `visible` (non-zero = visible in the second frame) selects
-  /// the non-occluded pixels, and may be null (then "noc" equals "all").
+  /// Dense flow of the same frame pair (metric "flow"); `visible` (non-zero = visible in the
+  /// second frame) selects the non-occluded pixels, and may be null (then "noc" equals "all").
   void addFlow(const std::string& condition, const float* gt_uv, const uint8_t* visible, const float* pred_uv,
                size_t n);
-  /// Sparse flow of the same frame pair: each vector is scored against the ground truth at the
-  /// pixel nearest its point; points outside the w x h image are not scored. Returns how many
-  /// vectors were scored (ground truth defined there).
+  /// Sparse flow of the same frame pair (metric "flow_sparse"): each vector is scored against the
+  /// ground truth at the pixel nearest its point; points outside the w x h image are not scored.
+  /// Returns how many vectors were scored (ground truth defined there).
   size_t addSparseFlow(const std::string& condition, const float* gt_uv, const uint8_t* visible, uint32_t width,
                        uint32_t height, const std::vector<SparseFlowVector>& flow);
-  /// One pose pair (camera to world: ground truth and estimate, each in its own world frame).
-  /// Poses of one condition with increasing frame numbers form one trajectory; another condition
-  /// or a frame number that does not increase starts a new one.
+  /// One pose pair (metric "odometry"; camera to world: ground truth and estimate, each in its
+  /// own world frame). Poses of one condition with increasing frame numbers form one trajectory;
+  /// another condition or a frame number that does not increase starts a new one.
   void addPose(const std::string& condition, uint64_t frame_number, const Eigen::Isometry3d& gt,
                const Eigen::Isometry3d& estimate);
 
@@ -128,30 +124,9 @@ class Evaluation {
   uint64_t framesAdded() const;
 
  private:
-  struct Trajectory {
-    std::vector<Eigen::Isometry3d> gt, est;
-    uint64_t last_frame = 0;
-  };
-  struct FlowState {
-    FlowErrorAccumulator all, noc;
-    uint64_t frames = 0, vectors = 0;
-  };
-  /// Adds one frame's overlaps to its condition's accumulator and to the overall one.
-  void addInstanceOverlaps(const std::string& condition, const int32_t* gt_ids, const uint8_t* gt_classes,
-                           uint32_t width, uint32_t height, const std::vector<BoxedInstance>& predictions);
-  void fillOdometry(const std::vector<const Trajectory*>& trajectories, ConditionSummary& out) const;
-
   ClassTable classes_;
   EvaluationOptions options_;
-  std::vector<bool> semantic_eval_, instance_eval_, void_class_;
-  // One map per metric (condition -> state), so that metrics can be added concurrently.
-  std::map<std::string, std::pair<SemanticConfusion, uint64_t>> semantic_;  // confusion, frames
-  std::map<std::string, std::pair<InstanceApAccumulator, uint64_t>> instances_;
-  std::optional<InstanceApAccumulator> all_instances_;  // AP does not merge: frames are also added here
-  std::map<std::string, FlowState> flow_, sparse_;
-  std::map<std::string, std::vector<Trajectory>> trajectories_;
-  std::string last_pose_condition_;
-  uint64_t semantic_frames_ = 0, instance_frames_ = 0, flow_frames_ = 0, sparse_frames_ = 0, poses_ = 0;
+  std::vector<std::unique_ptr<Metric>> metrics_;
 };
 
 }  // namespace viper

@@ -17,6 +17,7 @@
 
 #include <Eigen/Geometry>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -59,7 +60,9 @@ class StampJoin {
   uint64_t dropped_ = 0;
 };
 
-/// The evaluate node's class, shared by the node and the nodelet.
+/// The evaluate node's class, shared by the node and the nodelet. It holds one join (by stamp), one
+/// lock and one scoring path per registered metric (metric.h), fed by the topics of the inputs the
+/// metric declares.
 class Evaluate {
  public:
   Evaluate(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh);
@@ -80,61 +83,64 @@ class Evaluate {
     uint64_t frame_number = 0;
     std::string condition;
   };
-  // Each entry also waits for its frame's draw list (condition, frame number), which may arrive
-  // after the images: topics are not ordered across connections.
-  struct SemanticEntry {
-    ImagePtr gt, pred;
+  // The messages of one frame that a metric reads (MetricInputs `needs`). An entry also waits for
+  // its frame's draw list (condition, frame number), which may arrive after the images: topics
+  // are not ordered across connections.
+  struct FrameEntry {
+    MetricInputs needs = 0;
+    ImagePtr gt_semantic, gt_ids, gt_flow, gt_visible, pred_semantic, pred_flow;
+    InstancePredictionArray::ConstPtr pred_instances;
+    opencv_apps::FlowArrayStamped::ConstPtr pred_sparse;
+    std::optional<Eigen::Isometry3d> gt_pose, pred_pose;
     std::optional<FrameInfo> frame;
-    bool complete() const { return gt && pred && frame; }
+    bool has(MetricInput input) const;
+    bool complete() const;
   };
-  struct InstanceEntry {
-    ImagePtr gt_classes, gt_ids;
-    InstancePredictionArray::ConstPtr pred;
-    std::optional<FrameInfo> frame;
-    bool complete() const { return gt_classes && gt_ids && pred && frame; }
+  using Setter = std::function<void(FrameEntry&)>;
+  // One registered metric: its inputs, its join of them by stamp, and the lock of its scoring.
+  struct MetricSlot {
+    Metric* metric = nullptr;  // owned by evaluation_
+    MetricInputs needs = 0;
+    StampJoin<FrameEntry> join;
+    std::mutex mutex;
   };
-  struct FlowEntry {
-    ImagePtr gt, visible, pred;
-    std::optional<FrameInfo> frame;
-    bool complete() const { return gt && visible && pred && frame; }
-  };
-  struct SparseEntry {
-    ImagePtr gt, visible;
-    opencv_apps::FlowArrayStamped::ConstPtr pred;
-    std::optional<FrameInfo> frame;
-    bool complete() const { return gt && visible && pred && frame; }
-  };
-  struct PoseEntry {
-    std::optional<Eigen::Isometry3d> gt, est;
-    std::optional<FrameInfo> frame;
-    bool complete() const { return gt && est && frame; }
-  };
+  using Completed = std::vector<std::pair<ros::Time, std::pair<MetricSlot*, FrameEntry>>>;
 
-  // Ground truth.
+  // Ground truth and predictions: every topic hands its message to the joins of the metrics
+  // that read it.
   void onDraws(const DrawList::ConstPtr& msg);
-  void onGtSemantic(const ImagePtr& msg);
-  void onGtInstanceIds(const ImagePtr& msg);
-  void onGtFlow(const ImagePtr& msg);
-  void onGtFlowVisible(const ImagePtr& msg);
   void onGtOdom(const nav_msgs::Odometry::ConstPtr& msg);
-  // Predictions.
-  void onSemantic(const ImagePtr& msg);
   void onInstances(const InstancePredictionArray::ConstPtr& msg);
   void onFlow(const ImagePtr& msg);
   void onFlowSparse(const opencv_apps::FlowArrayStamped::ConstPtr& msg);
   void onOdom(const nav_msgs::Odometry::ConstPtr& msg);
   void onTfPoll(const ros::SteadyTimerEvent&);
-  // Scoring of complete entries (ground truth stamp `stamp`).
-  void score(const ros::Time& stamp, const SemanticEntry& e);
-  void score(const ros::Time& stamp, const InstanceEntry& e);
-  void score(const ros::Time& stamp, const FlowEntry& e);
-  void score(const ros::Time& stamp, const SparseEntry& e);
-  void score(const ros::Time& stamp, const PoseEntry& e);
+  /// Puts one input of `stamp` into the join of every metric that reads it (ground truth only
+  /// where the metric's predictions are published); completed entries go to `done`.
+  /// join_mutex_ held.
+  void deliver(const ros::Time& stamp, MetricInput input, const Setter& set, Completed& done);
+  /// deliver() under join_mutex_, then scores what completed.
+  void deliverAndScore(const ros::Time& stamp, MetricInput input, const Setter& set);
+  /// A flow prediction: paired with the previous frame's ground truth when ~<stamp_param> is
+  /// 'second' (held until its own frame's draw list is known), else with its own stamp's.
+  void onPairPrediction(MetricInput input, const ros::Time& stamp, bool stamp_second, const std::string& stamp_param,
+                        const Setter& set);
+  /// Whether the predictions that `needs` names are published (a metric's ground truth waits
+  /// only then).
+  bool predictionsPublished(MetricInputs needs) const;
+  /// The topic an input comes from (for messages).
+  std::string topicOf(MetricInput input) const;
+  /// Checks and converts a complete entry and adds it to its metric.
+  void score(const ros::Time& stamp, MetricSlot& slot, const FrameEntry& e);
+  void scoreAll(const Completed& done);
+  /// Logs that a frame is skipped because of `problem` in `topic`, at most every 5 s per topic.
+  void skipFrame(const std::string& topic, const ros::Time& stamp, const std::string& problem);
+  /// Whether a message of `key` was logged less than 5 s ago (else notes that it is logged now).
+  bool throttled(const std::string& key);
 
   /// put() into `join` (join_mutex_ held), filling in the frame of `stamp` when its draw list is
   /// known, or the default condition when no draw lists are published.
-  template <typename Entry, typename Set>
-  std::optional<Entry> put(StampJoin<Entry>& join, const ros::Time& stamp, Set&& set);
+  std::optional<FrameEntry> put(MetricSlot& slot, const ros::Time& stamp, const Setter& set);
   /// The stamp of the frame before `stamp` when the two are consecutive frames; nullopt (with a
   /// throttled warning naming `topic`) when unknown. join_mutex_ held; `stamp` must be in frames_.
   std::optional<ros::Time> previousFrame(const ros::Time& stamp, const std::string& topic);
@@ -143,15 +149,14 @@ class Evaluate {
   void noteInput();
   void onPublishTimer(const ros::SteadyTimerEvent&);
   bool onWriteReport(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
+  /// Every metric's lock, taken in one order: for summaries and reports.
+  std::vector<std::unique_lock<std::mutex>> lockAllMetrics();
 
   ros::NodeHandle nh_, private_nh_;
   std::unique_ptr<Evaluation> evaluation_;
-  // evaluation_: one lock per metric, so that metrics are scored in parallel (nodelet threads);
-  // summaries and reports take them all.
-  std::mutex semantic_mutex_, instance_mutex_, flow_mutex_, sparse_mutex_, pose_mutex_;
-  using AllMetricsLock = std::scoped_lock<std::mutex, std::mutex, std::mutex, std::mutex, std::mutex>;
-  AllMetricsLock lockAllMetrics();
-  std::mutex join_mutex_;   // the joins, frames_, counters
+  // One slot per metric, so that metrics are scored in parallel (nodelet threads).
+  std::vector<std::unique_ptr<MetricSlot>> slots_;
+  std::mutex join_mutex_;  // the joins, frames_, early_, counters
   std::string report_dir_, default_condition_;
   bool write_on_shutdown_ = true;
   bool flow_stamp_second_ = false, sparse_stamp_second_ = true;
@@ -161,19 +166,15 @@ class Evaluate {
   double tf_wait_s_ = 1.0;
   double idle_shutdown_s_ = 0.0;
 
-  StampJoin<SemanticEntry> semantic_join_;
-  StampJoin<InstanceEntry> instance_join_;
-  StampJoin<FlowEntry> flow_join_;
-  StampJoin<SparseEntry> sparse_join_;
-  StampJoin<PoseEntry> pose_join_;
   std::map<ros::Time, FrameInfo> frames_;  // recent draw lists by stamp
   uint64_t frame_counter_ = 0;             // frame numbers when there are no draw lists
   bool draws_seen_ = false;
   // Flow predictions stamped with the second frame, waiting for that frame's draw list.
-  std::map<ros::Time, ImagePtr> early_flow_;
-  std::map<ros::Time, opencv_apps::FlowArrayStamped::ConstPtr> early_sparse_;
+  std::map<MetricInput, std::map<ros::Time, Setter>> early_;
   size_t depth_ = 10;
   std::map<ros::Time, ros::SteadyTime> tf_pending_;  // ground-truth stamps waiting for the estimate's tf
+  std::mutex throttle_mutex_;                          // last_logged_
+  std::map<std::string, ros::WallTime> last_logged_;  // by message key, for throttled()
 
   ros::Subscriber draws_sub_, gt_semantic_sub_, gt_ids_sub_, gt_flow_sub_, gt_visible_sub_, gt_odom_sub_;
   ros::Subscriber semantic_sub_, instances_sub_, flow_sub_, sparse_sub_, odom_sub_;

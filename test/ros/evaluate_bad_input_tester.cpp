@@ -185,9 +185,9 @@ TEST_F(EvaluateBadInput, BadFramesAreReportedAndSkippedGoodOnesScored) {
   nav_msgs::Odometry broken = odom(t[0], 0.0);
   broken.pose.pose.orientation.w = 0.0;
   est_odom.publish(broken);
-  EXPECT_TRUE(wait([&] { return logged("/evaluate", "/perception/semantic", "encoding 'rgb8' (4x3), expected 'mono8'"); }));
+  EXPECT_TRUE(wait([&] { return logged("/evaluate", "/perception/semantic", "encoding is 'rgb8', expected mono8 (4x3)"); }));
   EXPECT_TRUE(wait([&] { return logged("/evaluate", "/perception/instances", "instance 0 mask 2x2 at (3, 0) leaves the 4x3 frame"); }));
-  EXPECT_TRUE(wait([&] { return logged("/evaluate", "/perception/flow", "encoding '32FC1' (4x3), expected '32FC2'"); }));
+  EXPECT_TRUE(wait([&] { return logged("/evaluate", "/perception/flow", "encoding is '32FC1', expected 32FC2 (4x3)"); }));
   EXPECT_TRUE(wait([&] { return logged("/evaluate", "/perception/odom", "quaternion has norm 0"); }));
 
   // Frame 1: broken ground truth (semantic as 32SC1, visibility mask of another size).
@@ -203,8 +203,8 @@ TEST_F(EvaluateBadInput, BadFramesAreReportedAndSkippedGoodOnesScored) {
   flow.publish(flowImage(t[1], 1.0f));
   sparse.publish(sparseAt(t[1]));
   est_odom.publish(odom(t[1], 0.5));
-  EXPECT_TRUE(wait([&] { return logged("/evaluate", "/ground_truth/semantic", "encoding '32SC1' (4x3), expected 'mono8'"); }));
-  EXPECT_TRUE(wait([&] { return logged("/evaluate", "/ground_truth/flow/forward_visible", "size 5x3, expected 4x3"); }));
+  EXPECT_TRUE(wait([&] { return logged("/evaluate", "/ground_truth/semantic", "encoding is '32SC1', expected mono8 (4x3)"); }));
+  EXPECT_TRUE(wait([&] { return logged("/evaluate", "/ground_truth/flow/forward_visible", "size is 5x3, expected 4x3"); }));
 
   // Frames 2..5: all good. Semantic: the car pixels predicted as road on frame 2 only.
   for (int k = 2; k < 6; ++k) {

@@ -1,6 +1,6 @@
 # viper_core: the ROS-free library, by stage: capture (format, shader rewrite, profile), ground truth
 # (objects, tracking, boxes, flow, camera, checks), evaluation (metrics, report; the plots, which
-# need OpenCV, are viper_report: evaluate.cmake).
+# need OpenCV, are viper_report: evaluation.cmake).
 file(GLOB VIPER_CORE_SOURCES CONFIGURE_DEPENDS
   ${PROJECT_SOURCE_DIR}/src/capture/*.cpp
   ${PROJECT_SOURCE_DIR}/src/ground_truth/*.cpp
@@ -21,7 +21,7 @@ install(DIRECTORY include/viper/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATIO
 
 if(CATKIN_ENABLE_TESTING)
   # Unit tests of the core, by stage (the stages' folders also hold tests that run programs:
-  # capture.cmake, flow_truth.cmake).
+  # capture.cmake, ground_truth.cmake).
   set(VIPER_CORE_TESTS
     capture/test_capture_profile capture/test_capture_stream capture/test_capture_stream_damage
     capture/test_resource_census capture/test_shader_rewrite

@@ -1,3 +1,5 @@
+# Stage 5, dataset: VIPER's release layout (readers and writers in viper_dataset), export_flow,
+# the player, the exporters (export_viper, viper_exporter) and viper_to_bag.
 # viper_dataset: ROS-free readers and writers of dataset files (VIPER's release layout, its .npz
 # flow, Middlebury .flo, its PNG/JPEG images and CSV files), and the export_flow command that fills
 # that layout from a bag.
@@ -57,4 +59,160 @@ if(CATKIN_ENABLE_TESTING)
     target_link_libraries(test_export_flow ${catkin_LIBRARIES})
     add_dependencies(test_export_flow export_flow)
   endif()
+endif()
+
+# VIPER's release layout (docs/viper_layout.md): the player node + nodelet, the viper_to_bag and
+# export_viper commands, their tests and benchmark. The ROS-free readers and writers (images, camera
+# and box CSV, sequences) are part of viper_dataset (cmake/dataset.cmake globs src/dataset).
+
+# test/dataset/test_viper_images.cpp checks what OpenCV sees in our files.
+if(TARGET test_viper_images)
+  target_include_directories(test_viper_images SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+  target_link_libraries(test_viper_images opencv_core opencv_imgcodecs)
+endif()
+
+# viper_layout_ros: layout <-> messages, the exporter, the player and the live exporter (nodes + nodelets).
+add_library(viper_layout_ros
+  src/ros/dataset/viper_layout_conversions.cpp
+  src/ros/dataset/viper_exporter.cpp
+  src/ros/dataset/viper_bag_conversion.cpp
+  src/ros/dataset/player.cpp
+  src/ros/dataset/player_nodelet.cpp
+  src/ros/dataset/export_roles.cpp
+  src/ros/dataset/live_exporter.cpp
+  src/ros/dataset/live_exporter_nodelet.cpp
+)
+# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
+find_package(pluginlib REQUIRED)
+find_package(class_loader REQUIRED)
+target_include_directories(viper_layout_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_layout_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+  ${class_loader_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS})
+target_link_libraries(viper_layout_ros PUBLIC viper_ground_truth_ros viper_ros viper_core viper_dataset ${catkin_LIBRARIES})
+add_dependencies(viper_layout_ros viper_generate_messages_cpp)
+set_target_properties(viper_layout_ros PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+
+add_executable(player nodes/player_node.cpp)
+add_executable(viper_exporter nodes/viper_exporter_node.cpp)
+add_executable(viper_to_bag tools/viper_to_bag.cpp)
+add_executable(export_viper tools/export_viper.cpp)
+foreach(t player viper_exporter viper_to_bag export_viper)
+  target_link_libraries(${t} viper_layout_ros)
+  set_target_properties(${t} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+endforeach()
+install(TARGETS viper_layout_ros player viper_exporter viper_to_bag export_viper
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+target_include_directories(viper_to_bag PRIVATE ${PROJECT_SOURCE_DIR}/tools)
+target_include_directories(export_viper PRIVATE ${PROJECT_SOURCE_DIR}/tools)
+# Where the class table is found when the package is not on ROS_PACKAGE_PATH.
+target_compile_definitions(viper_to_bag PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+target_compile_definitions(export_viper PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+
+if(CATKIN_ENABLE_TESTING)
+  find_package(rostest REQUIRED)
+  # Plain gtest, no roscore: the converter and the exporter.
+  catkin_add_gtest(test_viper_layout_conversions test/ros/test_viper_layout_conversions.cpp)
+  if(TARGET test_viper_layout_conversions)
+    target_link_libraries(test_viper_layout_conversions viper_layout_ros gtest_main)
+  endif()
+  # The export_viper command on bags written by the test.
+  catkin_add_gtest(test_export_viper test/ros/test_export_viper.cpp)
+  if(TARGET test_export_viper)
+    target_link_libraries(test_export_viper viper_layout_ros gtest_main)
+    target_compile_definitions(test_export_viper PRIVATE VIPER_EXPORT_VIPER="$<TARGET_FILE:export_viper>")
+    add_dependencies(test_export_viper export_viper)
+  endif()
+
+  # The player tests' dataset (damage included), written at build time by our own writers.
+  add_executable(make_viper_test_layout test/ros/make_viper_test_layout.cpp)
+  target_link_libraries(make_viper_test_layout viper_dataset)
+  set(VIPER_TEST_LAYOUT ${PROJECT_BINARY_DIR}/test_data/viper_layout)
+  add_custom_command(OUTPUT ${VIPER_TEST_LAYOUT}/train/camera/001.csv
+    COMMAND make_viper_test_layout --out ${VIPER_TEST_LAYOUT}
+    DEPENDS make_viper_test_layout
+    COMMENT "Writing the player tests' VIPER layout")
+  add_custom_target(viper_test_layout DEPENDS ${VIPER_TEST_LAYOUT}/train/camera/001.csv)
+
+  viper_add_tester(viper_layout_tester test/ros/viper_layout_tester.cpp viper_layout_ros)
+  if(TARGET tests)
+    add_dependencies(tests viper_test_layout)
+  endif()
+
+  set(_layout_deps viper_layout_tester viper_test_layout player viper_layout_ros)
+  add_rostest(test/ros/viper_player.test ARGS layout:=${VIPER_TEST_LAYOUT} DEPENDENCIES ${_layout_deps})
+  add_rostest(test/ros/viper_player_nodelet.test ARGS layout:=${VIPER_TEST_LAYOUT} DEPENDENCIES ${_layout_deps})
+  add_rostest(test/ros/viper_player_loop.test ARGS layout:=${VIPER_TEST_LAYOUT} DEPENDENCIES ${_layout_deps})
+  add_rostest(test/ros/viper_layout_roundtrip.test
+    ARGS export_viper:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/export_viper
+         viper_to_bag:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/viper_to_bag
+    DEPENDENCIES viper_layout_tester export_viper viper_to_bag viper_ground_truth_ros viper_flow_ros)
+
+  # The same round trip on the world: 20 frames of the town (day, driving) captured at build time and
+  # turned into a raw bag by capture_to_bag (cmake/capture.cmake).
+  set(VIPER_WORLD_ROUNDTRIP_CAPTURE ${PROJECT_BINARY_DIR}/test_data/world_roundtrip.vcap)
+  set(VIPER_WORLD_RAW_BAG ${PROJECT_BINARY_DIR}/test_data/world_raw.bag)
+  add_custom_command(OUTPUT ${VIPER_WORLD_ROUNDTRIP_CAPTURE}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/test_data
+    COMMAND $<TARGET_FILE:viper_capture> --output ${VIPER_WORLD_ROUNDTRIP_CAPTURE}
+            --profile ${PROJECT_SOURCE_DIR}/config/profiles/world.yaml --condition day --fps 15
+            -- $<TARGET_FILE:world> --condition day --ego drive --frames 20 --width 480 --height 270
+    DEPENDS viper_capture viper_intercept world
+    COMMENT "Capturing the world for the VIPER layout round trip")
+  add_custom_command(OUTPUT ${VIPER_WORLD_RAW_BAG}
+    COMMAND capture_to_bag ${VIPER_WORLD_ROUNDTRIP_CAPTURE} --output ${VIPER_WORLD_RAW_BAG}
+    DEPENDS capture_to_bag ${VIPER_WORLD_ROUNDTRIP_CAPTURE}
+    COMMENT "Converting the world capture into a raw bag")
+  add_custom_target(world_raw_bag DEPENDS ${VIPER_WORLD_RAW_BAG})
+  if(TARGET tests)
+    add_dependencies(tests world_raw_bag)
+  endif()
+  # (Its own small .test file: the test's name is made of its arguments, and these paths would make it
+  # longer than a file name may be.)
+  add_rostest(test/ros/viper_layout_roundtrip_world.test
+    ARGS test_data:=${PROJECT_BINARY_DIR}/test_data bin:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}
+    DEPENDENCIES viper_layout_tester export_viper viper_to_bag viper_ground_truth_ros viper_flow_ros world_raw_bag)
+
+  # That bag holds what capture_bridge publishes for the same capture, message for message.
+  viper_add_tester(capture_to_bag_tester test/ros/capture_to_bag_tester.cpp viper_layout_ros)
+  add_rostest(test/ros/capture_to_bag.test
+    ARGS capture:=${VIPER_WORLD_ROUNDTRIP_CAPTURE} bag:=${VIPER_WORLD_RAW_BAG}
+    DEPENDENCIES capture_to_bag_tester capture_bridge world_raw_bag)
+  # And bag_player (node and nodelet) plays that bag message for message.
+  add_rostest(test/ros/bag_player.test ARGS bag:=${VIPER_WORLD_RAW_BAG}
+    DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
+  add_rostest(test/ros/bag_player.test ARGS bag:=${VIPER_WORLD_RAW_BAG} nodelet:=true
+    DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
+  # With ~loop it plays the bag again and again, stamps continuing: on that bag (times = stamps) and on
+  # the committed test bag (recorded: its bag times span less than its stamps).
+  viper_add_tester(bag_player_loop_tester test/ros/bag_player_loop_tester.cpp viper_layout_ros)
+  add_rostest(test/ros/bag_player_loop.test ARGS bag:=${VIPER_WORLD_RAW_BAG} nodelet:=true
+    DEPENDENCIES bag_player_loop_tester bag_player viper_ros world_raw_bag)
+  add_rostest(test/ros/bag_player_loop.test ARGS bag:=${PROJECT_SOURCE_DIR}/bags/test_scene_raw.bag
+    DEPENDENCIES bag_player_loop_tester bag_player viper_ros)
+  # ... and names a damaged chunk, keeping what came before it.
+  set(VIPER_WORLD_DAMAGED_BAG ${PROJECT_BINARY_DIR}/test_data/world_raw_damaged.bag)
+  add_custom_command(OUTPUT ${VIPER_WORLD_DAMAGED_BAG}
+    COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/ros/damage_file.py ${VIPER_WORLD_RAW_BAG} ${VIPER_WORLD_DAMAGED_BAG}
+    DEPENDS ${VIPER_WORLD_RAW_BAG} ${PROJECT_SOURCE_DIR}/test/ros/damage_file.py
+    COMMENT "Damaging a copy of the world raw bag")
+  add_custom_target(world_raw_damaged_bag DEPENDS ${VIPER_WORLD_DAMAGED_BAG})
+  # The damaged bag's command names the raw bag as a file, which brings the raw bag's command into
+  # this target too: without the order, make -j runs capture_to_bag twice at once on the same
+  # output and the bag's index comes out broken ("Error reading INDEX_DATA header").
+  add_dependencies(world_raw_damaged_bag world_raw_bag)
+  if(TARGET tests)
+    add_dependencies(tests world_raw_damaged_bag)
+  endif()
+  add_rostest(test/ros/bag_player_damaged.test
+    ARGS bag:=${VIPER_WORLD_DAMAGED_BAG} intact_bag:=${VIPER_WORLD_RAW_BAG}
+    DEPENDENCIES capture_to_bag_tester bag_player world_raw_damaged_bag)
+  roslaunch_add_file_check(launch/viper_player.launch root:=/tmp/viper)
+endif()
+
+# bench/bench_viper_layout.cpp (built by cmake/bench.cmake when Google Benchmark is there).
+if(TARGET bench_viper_layout)
+  target_link_libraries(bench_viper_layout viper_layout_ros)
 endif()

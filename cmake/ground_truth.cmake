@@ -1,3 +1,5 @@
+# Stage 3, ground truth: the nodes (instances, boxes, odometry, flow) and the checks of their cores
+# against the oracles of our own programs.
 # viper_ground_truth_ros: the ground-truth nodes (instances, boxes, odometry) and their nodelets.
 add_library(viper_ground_truth_ros
   src/ros/ground_truth/instances.cpp
@@ -57,4 +59,82 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/bad_input.test DEPENDENCIES bad_input_tester viper_ground_truth_ros)
   roslaunch_add_file_check(launch/replay.launch label_table:=labels.yaml bag:=raw.bag)
   roslaunch_add_file_check(launch/world_live.launch)
+endif()
+
+# viper_flow_ros: the flow node (dense optical flow, occlusion masks, correspondences service) and
+# its nodelet. Core: src/ground_truth/flow.cpp (viper_core).
+add_library(viper_flow_ros
+  src/ros/ground_truth/flow.cpp
+  src/ros/ground_truth/flow_nodelet.cpp
+)
+target_include_directories(viper_flow_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_flow_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
+target_link_libraries(viper_flow_ros PUBLIC viper_ground_truth_ros viper_ros viper_core ${catkin_LIBRARIES})
+add_dependencies(viper_flow_ros viper_generate_messages_cpp)
+set_target_properties(viper_flow_ros PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+
+add_executable(flow nodes/flow_node.cpp)
+target_link_libraries(flow viper_flow_ros)
+set_target_properties(flow PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS viper_flow_ros flow
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  # The committed raw bag through replay.launch (instances + flow nodelets), fed and checked by
+  # flow_tester; and broken frames into the flow node, checked by flow_bad_input_tester.
+  viper_add_tester(flow_tester test/ros/flow_tester.cpp viper_ros viper_core)
+  viper_add_tester(flow_bad_input_tester test/ros/flow_bad_input_tester.cpp)
+  add_rostest(test/ros/flow_replay.test DEPENDENCIES flow_tester viper_flow_ros viper_ground_truth_ros)
+  add_rostest(test/ros/flow_bad_input.test DEPENDENCIES flow_bad_input_tester flow)
+  roslaunch_add_file_check(launch/replay.launch label_table:=labels.yaml bag:=raw.bag flow_wide_baseline:=2)
+endif()
+
+# Flow and boxes checked against analytic truth from the world's oracle (version 2, with meshes):
+# the world is captured at build time in all five conditions at 480x270 and 15 fps
+# (test/ground_truth/test_flow_against_oracle.cpp, test_boxes_against_oracle.cpp).
+if(CATKIN_ENABLE_TESTING)
+  set(VIPER_FLOW_TRUTH_DATA ${PROJECT_BINARY_DIR}/test_data/flow_truth)
+  set(VIPER_FLOW_TRUTH_FILES)
+  # Ego mode and length per condition, so that the five sequences also differ in camera motion
+  # (ride: lower, leaning and swaying; walk: sidewalk, step bob; the longer ones reach higher
+  # speeds). Same seed: the town and traffic whose resources config/labels/world_labels.yaml labels.
+  set(ego_day drive)
+  set(ego_sunset ride)
+  set(ego_rain walk)
+  set(ego_snow drive)
+  set(ego_night ride)
+  set(frames_day 12)
+  set(frames_sunset 12)
+  set(frames_rain 12)
+  set(frames_snow 24)
+  set(frames_night 24)
+  foreach(condition day sunset rain snow night)
+    set(capture ${VIPER_FLOW_TRUTH_DATA}/world_${condition}.vcap)
+    set(oracle ${VIPER_FLOW_TRUTH_DATA}/world_${condition}.oracle)
+    add_custom_command(OUTPUT ${capture} ${oracle}
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${VIPER_FLOW_TRUTH_DATA}
+      COMMAND $<TARGET_FILE:viper_capture> --output ${capture} --profile ${PROJECT_SOURCE_DIR}/config/profiles/world.yaml
+              --condition ${condition} --fps 15 -- $<TARGET_FILE:world> --condition ${condition} --ego ${ego_${condition}}
+              --frames ${frames_${condition}} --width 480 --height 270 --oracle ${oracle}
+      DEPENDS viper_capture viper_intercept world
+      COMMENT "Capturing the world (${condition}) for the flow and box truth checks")
+    list(APPEND VIPER_FLOW_TRUTH_FILES ${capture} ${oracle})
+  endforeach()
+  add_custom_target(flow_truth_captures DEPENDS ${VIPER_FLOW_TRUTH_FILES})
+
+  catkin_add_gtest(test_flow_against_oracle
+    test/ground_truth/test_flow_against_oracle.cpp
+    test/ground_truth/test_boxes_against_oracle.cpp
+    test/ground_truth/oracle_truth.cpp)
+  if(TARGET test_flow_against_oracle)
+    target_link_libraries(test_flow_against_oracle viper_core gtest_main)
+    target_compile_definitions(test_flow_against_oracle PRIVATE
+      VIPER_FLOW_TRUTH_DIR="${VIPER_FLOW_TRUTH_DATA}"
+      VIPER_WORLD_LABELS="${PROJECT_SOURCE_DIR}/config/labels/world_labels.yaml"
+      VIPER_CLASSES_CSV="${PROJECT_SOURCE_DIR}/config/viper_classes.csv")
+    add_dependencies(test_flow_against_oracle flow_truth_captures)
+  endif()
 endif()

@@ -1,6 +1,6 @@
 // Analytic truth from a world's oracle (version 2: meshes, matrices, bones), computed without any
 // of the capture's derived data, and the captured sequences of the five conditions it is compared
-// with (made at build time by cmake/flow_truth.cmake).
+// with (made at build time by cmake/ground_truth.cmake).
 #pragma once
 
 #include "viper/capture/capture_frame.h"

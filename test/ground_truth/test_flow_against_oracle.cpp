@@ -390,7 +390,7 @@ TEST(FlowAgainstOracle, FlowMatchesAnalyticTruthInAllConditions) {
   }
 
   std::printf("\nFlow vs analytic oracle truth, world %ux%u, %zu+ frames per condition at 15 fps, forward and backward "
-              "flow of each consecutive pair (ego: see cmake/flow_truth.cmake).\nEndpoint error (px) on pixels our mask calls visible in the other "
+              "flow of each consecutive pair (ego: see cmake/ground_truth.cmake).\nEndpoint error (px) on pixels our mask calls visible in the other "
               "frame; occluded: mask 0; no_flow: truth but NaN flow; no_truth: flow without truth;\nmask_ok: our mask "
               "agrees with visibility judged against the oracle surface at the true target; |flow|: mean true flow\n",
               seqs.front().frames.front().width, seqs.front().frames.front().height, seqs.front().frames.size());

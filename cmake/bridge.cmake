@@ -1,3 +1,5 @@
+# Stage 2, the bridge: captures into raw topics and bags (capture_bridge, bag_player, capture_to_bag).
+
 # viper_ros: the capture bridge and the bag player (nodes + nodelets).
 # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
 find_package(pluginlib REQUIRED)
@@ -90,4 +92,30 @@ if(CATKIN_ENABLE_TESTING)
   roslaunch_add_file_check(launch/capture_bridge.launch file:=capture.vcap)
   roslaunch_add_file_check(launch/capture_bridge.launch file:=capture.vcap nodelet:=true)
   roslaunch_add_file_check(launch/bridge_throughput.launch file:=capture.vcap)
+endif()
+
+# capture_to_bag: a capture into the raw bag capture_bridge would publish (viper::frameMessages).
+# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
+find_package(pluginlib REQUIRED)
+find_package(class_loader REQUIRED)
+add_executable(capture_to_bag tools/capture_to_bag.cpp)
+target_include_directories(capture_to_bag SYSTEM PRIVATE ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
+target_link_libraries(capture_to_bag viper_ros)
+set_target_properties(capture_to_bag PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS capture_to_bag RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  # The command on make_test_capture's captures (above): topics, stamps and content against
+  # viper::frameMessages, a truncated capture, usage. The comparison with the running bridge is the
+  # rostest capture_to_bag.test (cmake/dataset.cmake, on the world).
+  catkin_add_gtest(test_capture_to_bag test/ros/test_capture_to_bag.cpp)
+  if(TARGET test_capture_to_bag)
+    target_include_directories(test_capture_to_bag SYSTEM PRIVATE ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
+    target_link_libraries(test_capture_to_bag viper_ros gtest_main)
+    target_compile_definitions(test_capture_to_bag PRIVATE
+      VIPER_CAPTURE_TO_BAG="$<TARGET_FILE:capture_to_bag>"
+      VIPER_TEST_CAPTURE_OK="${PROJECT_BINARY_DIR}/test_data/bridge_ok.vcap"
+      VIPER_TEST_CAPTURE_TRUNCATED="${PROJECT_BINARY_DIR}/test_data/bridge_truncated.vcap")
+    add_dependencies(test_capture_to_bag capture_to_bag viper_ros_test_captures)
+  endif()
 endif()

@@ -242,11 +242,6 @@ TEST(ViperLayoutPlayer, LoopsWithIncreasingStampsAndClock) {
 
 // ---- round trip ----------------------------------------------------------------------------
 
-int run(const std::string& command) {
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 // The ground truth of the raw bag, as the nodes published it, by topic, in order.
 struct Truth {
   std::mutex mutex;
@@ -263,27 +258,6 @@ boost::shared_ptr<const M> as(const topic_tools::ShapeShifter::ConstPtr& s) {
 }
 
 Eigen::Isometry3d poseOf(const nav_msgs::Odometry& o) { return viper::fromPoseMsg(o.pose.pose); }
-
-// Every file under `a` is under `b` with the same bytes, and the other way round.
-void expectSameTree(const fs::path& a, const fs::path& b) {
-  auto files = [](const fs::path& root) {
-    std::map<std::string, std::string> out;
-    for (const auto& e : fs::recursive_directory_iterator(root))
-      if (e.is_regular_file()) out[fs::relative(e.path(), root).string()] = e.path().string();
-    return out;
-  };
-  const auto fa = files(a), fb = files(b);
-  ASSERT_FALSE(fa.empty()) << a;
-  for (const auto& [rel, path] : fa) {
-    const auto other = fb.find(rel);
-    if (other == fb.end()) {
-      ADD_FAILURE() << rel << " is in " << a << " but not in " << b;
-      continue;
-    }
-    EXPECT_EQ(run("cmp -s " + path + " " + other->second), 0) << rel << " differs";
-  }
-  for (const auto& [rel, path] : fb) EXPECT_TRUE(fa.count(rel)) << rel << " is in " << b << " but not in " << a;
-}
 
 TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
   ros::NodeHandle nh, pnh("~");

@@ -1,5 +1,5 @@
 // What the VIPER layout tests share: everything a subscriber received by topic, the player's
-// /rosout lines, waiting on a condition.
+// /rosout lines, waiting on a condition, running a command, comparing two folders.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -10,7 +10,11 @@
 #include <sensor_msgs/Image.h>
 #include <viper/Box3DArray.h>
 
+#include <sys/wait.h>
+
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -121,6 +125,34 @@ class Rosout {
 bool sameFloats(const sensor_msgs::Image& m, const std::vector<float>& expected) {
   if (m.data.size() != expected.size() * 4) return false;
   return std::memcmp(m.data.data(), expected.data(), m.data.size()) == 0;
+}
+
+// Runs a shell command; its exit code, or -1.
+int run(const std::string& command) {
+  const int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Every file under `a` is under `b` with the same bytes, and the other way round.
+void expectSameTree(const std::filesystem::path& a, const std::filesystem::path& b) {
+  namespace fs = std::filesystem;
+  auto files = [](const fs::path& root) {
+    std::map<std::string, std::string> out;
+    for (const auto& e : fs::recursive_directory_iterator(root))
+      if (e.is_regular_file()) out[fs::relative(e.path(), root).string()] = e.path().string();
+    return out;
+  };
+  const auto fa = files(a), fb = files(b);
+  ASSERT_FALSE(fa.empty()) << a;
+  for (const auto& [rel, path] : fa) {
+    const auto other = fb.find(rel);
+    if (other == fb.end()) {
+      ADD_FAILURE() << rel << " is in " << a << " but not in " << b;
+      continue;
+    }
+    EXPECT_EQ(run("cmp -s " + path + " " + other->second), 0) << rel << " differs";
+  }
+  for (const auto& [rel, path] : fb) EXPECT_TRUE(fa.count(rel)) << rel << " is in " << b << " but not in " << a;
 }
 
 }  // namespace

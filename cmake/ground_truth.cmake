@@ -90,6 +90,7 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/flow_replay.test DEPENDENCIES flow_tester viper_flow_ros viper_ground_truth_ros)
   add_rostest(test/ros/flow_bad_input.test DEPENDENCIES flow_bad_input_tester flow)
   roslaunch_add_file_check(launch/replay.launch label_table:=labels.yaml bag:=raw.bag flow_wide_baseline:=2)
+  roslaunch_add_file_check(launch/replay.launch label_table:=labels.yaml bag:=raw.bag export_dir:=layout)
 endif()
 
 # Flow and boxes checked against analytic truth from the world's oracle (version 2, with meshes):

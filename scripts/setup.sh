@@ -23,7 +23,7 @@ PKGS=(
   libgtest-dev libbenchmark-dev
   xvfb imagemagick
   libzip-dev python3-numpy libpng-dev
-  libstd-srvs-dev libopencv-apps-dev ros-opencv-apps python3-opencv-apps python3-sensor-msgs
+  libstd-srvs-dev python3-std-srvs libopencv-apps-dev ros-opencv-apps python3-opencv-apps python3-sensor-msgs
 )
 
 build=1

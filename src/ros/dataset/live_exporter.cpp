@@ -2,6 +2,7 @@
 
 #include <ros/package.h>
 
+#include <cstdio>
 #include <sstream>
 
 namespace viper {
@@ -31,7 +32,15 @@ bool LiveExporter::readParameters() {
     return false;
   }
   private_nh_.param("split", e.split, e.split);
-  private_nh_.param("seq", e.seq, e.seq);
+  // _seq:=002 on a command line or in a launch file arrives as the integer 2: VIPER's names have three digits.
+  int seq_number = 0;
+  if (private_nh_.getParam("seq", seq_number)) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%03d", seq_number);
+    e.seq = name;
+  } else {
+    private_nh_.param("seq", e.seq, e.seq);
+  }
   int first_frame = 0;
   private_nh_.param("first_frame", first_frame, 0);
   config_.first_frame = static_cast<uint64_t>(std::max(first_frame, 0));

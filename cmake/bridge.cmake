@@ -13,6 +13,7 @@ add_library(viper_ros
   src/ros/bridge/output_counter_nodelet.cpp
   src/ros/bridge/bag_player.cpp
   src/ros/bridge/bag_player_nodelet.cpp
+  src/ros/bridge/raw_frames.cpp
 )
 target_include_directories(viper_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})

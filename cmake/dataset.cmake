@@ -5,6 +5,7 @@
 # that layout from a bag.
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
+pkg_check_modules(LIBCRYPTO REQUIRED IMPORTED_TARGET libcrypto)  # SHA-256 of the sequence markers (OpenSSL)
 
 file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/dataset/*.cpp)
 add_library(viper_dataset ${VIPER_DATASET_SOURCES})
@@ -15,7 +16,7 @@ target_compile_options(viper_dataset PRIVATE -O3 -fno-trapping-math)
 # PNG through libpng (palette indices of class images must not be expanded to colors), JPEG
 # through OpenCV.
 target_include_directories(viper_dataset SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBPNG opencv_core opencv_imgproc opencv_imgcodecs)
+target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBPNG PkgConfig::LIBCRYPTO opencv_core opencv_imgproc opencv_imgcodecs)
 set_target_properties(viper_dataset PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 install(TARGETS viper_dataset
@@ -81,6 +82,7 @@ add_library(viper_layout_ros
   src/ros/dataset/export_roles.cpp
   src/ros/dataset/live_exporter.cpp
   src/ros/dataset/live_exporter_nodelet.cpp
+  src/ros/dataset/sequence_generator.cpp
 )
 # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
 find_package(pluginlib REQUIRED)
@@ -88,7 +90,7 @@ find_package(class_loader REQUIRED)
 target_include_directories(viper_layout_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_layout_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
   ${class_loader_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS})
-target_link_libraries(viper_layout_ros PUBLIC viper_ground_truth_ros viper_ros viper_core viper_dataset ${catkin_LIBRARIES})
+target_link_libraries(viper_layout_ros PUBLIC viper_flow_ros viper_ground_truth_ros viper_ros viper_core viper_dataset ${catkin_LIBRARIES})
 add_dependencies(viper_layout_ros viper_generate_messages_cpp)
 set_target_properties(viper_layout_ros PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
@@ -97,16 +99,19 @@ add_executable(player nodes/player_node.cpp)
 add_executable(viper_exporter nodes/viper_exporter_node.cpp)
 add_executable(viper_to_bag tools/viper_to_bag.cpp)
 add_executable(export_viper tools/export_viper.cpp)
-foreach(t player viper_exporter viper_to_bag export_viper)
+add_executable(generate tools/generate.cpp)
+foreach(t player viper_exporter viper_to_bag export_viper generate)
   target_link_libraries(${t} viper_layout_ros)
   set_target_properties(${t} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
-install(TARGETS viper_layout_ros player viper_exporter viper_to_bag export_viper
+install(TARGETS viper_layout_ros player viper_exporter viper_to_bag export_viper generate
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 target_include_directories(viper_to_bag PRIVATE ${PROJECT_SOURCE_DIR}/tools)
 target_include_directories(export_viper PRIVATE ${PROJECT_SOURCE_DIR}/tools)
+target_include_directories(generate PRIVATE ${PROJECT_SOURCE_DIR}/tools)
+target_compile_definitions(generate PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 # Where the class table is found when the package is not on ROS_PACKAGE_PATH.
 target_compile_definitions(viper_to_bag PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 target_compile_definitions(export_viper PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")

@@ -2,6 +2,10 @@
 # against the oracles of our own programs.
 # viper_ground_truth_ros: the ground-truth nodes (instances, boxes, odometry) and their nodelets.
 add_library(viper_ground_truth_ros
+  src/ros/ground_truth/step_log.cpp
+  src/ros/ground_truth/instances_step.cpp
+  src/ros/ground_truth/boxes_step.cpp
+  src/ros/ground_truth/odometry_step.cpp
   src/ros/ground_truth/instances.cpp
   src/ros/ground_truth/boxes.cpp
   src/ros/ground_truth/odometry.cpp
@@ -64,6 +68,8 @@ endif()
 # viper_flow_ros: the flow node (dense optical flow, occlusion masks, correspondences service) and
 # its nodelet. Core: src/ground_truth/flow.cpp (viper_core).
 add_library(viper_flow_ros
+  src/ros/ground_truth/flow_step.cpp
+  src/ros/ground_truth/ground_truth_pipeline.cpp
   src/ros/ground_truth/flow.cpp
   src/ros/ground_truth/flow_nodelet.cpp
 )

@@ -6,10 +6,9 @@
 // docs/capture_bridge.md has the details.
 #include "viper/capture/capture_stream.h"
 #include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/bridge/bag_writer.h"
 #include "viper/ros/bridge/replay_timing.h"
 
-#include <rosbag/bag.h>
-#include <ros/message_traits.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -77,47 +76,22 @@ std::string parse(int argc, char** argv, Options& o) {
   return {};
 }
 
-// Writes messages with the connection headers a recorder of the bridge's publishers would store
-// (the mesh store latched, so that `rosbag play` latches it as the bridge does).
+// The bridge's raw topics under its namespace, written as its publishers would (BagWriter).
 class RawBagWriter {
  public:
-  RawBagWriter(const std::string& path, const std::string& compression, const std::string& ns) : ns_(ns == "/" ? "" : ns) {
-    bag_.open(path, rosbag::bagmode::Write);
-    if (compression == "lz4") bag_.setCompression(rosbag::compression::LZ4);
-    else if (compression == "bz2") bag_.setCompression(rosbag::compression::BZ2);
-  }
-
+  RawBagWriter(const std::string& path, const std::string& compression, const std::string& ns)
+      : bag_(path, compression, "/capture_to_bag"), ns_(ns == "/" ? "" : ns) {}
   template <typename M>
   void write(const std::string& name, const boost::shared_ptr<M>& msg, bool latched = false) {
-    const std::string topic = ns_ + "/" + name;
-    auto& header = headers_[topic];
-    if (!header) {
-      header = boost::make_shared<ros::M_string>();
-      (*header)["callerid"] = "/capture_to_bag";
-      (*header)["latching"] = latched ? "1" : "0";
-      (*header)["md5sum"] = ros::message_traits::md5sum(*msg);
-      (*header)["message_definition"] = ros::message_traits::definition(*msg);
-      (*header)["topic"] = topic;
-      (*header)["type"] = ros::message_traits::datatype(*msg);
-    }
-    // A publisher numbers its messages in header.seq (roscpp rewrites it on the wire): so does the bag.
-    msg->header.seq = seq_[topic]++;
-    bag_.write(topic, msg->header.stamp, msg, header);
-    ++messages_;
-    bytes_ += ros::serialization::serializationLength(*msg);
+    bag_.write(ns_ + "/" + name, msg, latched);
   }
-
   void close() { bag_.close(); }
-  uint64_t messages() const { return messages_; }
-  uint64_t bytes() const { return bytes_; }
+  uint64_t messages() const { return bag_.messages(); }
+  uint64_t bytes() const { return bag_.bytes(); }
 
  private:
-  rosbag::Bag bag_;
+  viper::BagWriter bag_;
   std::string ns_;
-  std::map<std::string, boost::shared_ptr<ros::M_string>> headers_;
-  std::map<std::string, uint32_t> seq_;
-  uint64_t messages_ = 0;
-  uint64_t bytes_ = 0;
 };
 
 }  // namespace

@@ -1,13 +1,6 @@
 #include "viper/ros/ground_truth/instances.h"
 
-#include "viper/ros/conversions/frame_conversions.h"
-#include "viper/ground_truth/semantic_overlay.h"
-#include "viper/ros/conversions/object_conversions.h"
-#include "viper/ros/conversions/pose_conversions.h"
-
 #include <ros/package.h>
-
-#include <cstring>
 
 namespace viper {
 
@@ -24,7 +17,7 @@ std::optional<ClassTable> loadClassTableParam(const ros::NodeHandle& pnh) {
 }
 
 Instances::Instances(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
-    : nh_(nh), private_nh_(pnh), it_(nh) {}
+    : nh_(nh), private_nh_(pnh), it_(nh), log_([this](StepInput input) { return topicOf(input); }) {}
 
 bool Instances::start() {
   const std::string me = private_nh_.getNamespace();
@@ -34,22 +27,18 @@ bool Instances::start() {
               "e.g. config/labels/world_labels.yaml", me.c_str());
     return false;
   }
-  classes_ = loadClassTableParam(private_nh_);
-  if (!classes_) return false;
-  InstancePipelineOptions options;
-  options.thing_classes = classes_->instanceEvalMask();
-  options.thing_classes.resize(256, false);
-  private_nh_.param("area_weighted_vote", options.area_weighted_vote, true);
-  options.compute_boxes = false;  // the boxes node makes them
-  int extrapolate = 10;
-  private_nh_.param("extrapolate_frames", extrapolate, 10);
-  if (extrapolate < 0) {
-    ROS_ERROR("%s: ~extrapolate_frames must be >= 0 (got %d); using 10", me.c_str(), extrapolate);
-    extrapolate = 10;
+  std::optional<ClassTable> classes = loadClassTableParam(private_nh_);
+  if (!classes) return false;
+  InstancesSettings settings;
+  private_nh_.param("area_weighted_vote", settings.area_weighted_vote, settings.area_weighted_vote);
+  private_nh_.param("extrapolate_frames", settings.extrapolate_frames, settings.extrapolate_frames);
+  if (settings.extrapolate_frames < 0) {
+    ROS_ERROR("%s: ~extrapolate_frames must be >= 0 (got %d); using 10", me.c_str(), settings.extrapolate_frames);
+    settings.extrapolate_frames = 10;
   }
-  options.tracker.extrapolate_frames = extrapolate;
-  private_nh_.param("lod_tolerance_m", options.tracker.lod_tolerance_m, 0.05);
-  private_nh_.param("resume_tracks_by_resources", options.tracker.resume_by_resources, false);
+  private_nh_.param("lod_tolerance_m", settings.lod_tolerance_m, settings.lod_tolerance_m);
+  private_nh_.param("resume_tracks_by_resources", settings.resume_tracks_by_resources,
+                    settings.resume_tracks_by_resources);
   double alpha = 0.5;
   private_nh_.param("overlay_alpha", alpha, 0.5);
   if (!(alpha >= 0.0 && alpha <= 1.0)) {
@@ -64,7 +53,7 @@ bool Instances::start() {
     queue_size = 10;
   }
   try {
-    pipeline_ = std::make_unique<InstancePipeline>(LabelTable::load(label_path), options);
+    step_ = std::make_unique<InstancesStep>(LabelTable::load(label_path), std::move(*classes), settings);
   } catch (const std::exception& e) {
     ROS_FATAL("%s: ~label_table: %s", me.c_str(), e.what());
     return false;
@@ -86,12 +75,23 @@ bool Instances::start() {
   return true;
 }
 
+std::string Instances::topicOf(StepInput input) const {
+  switch (input) {
+    case StepInput::kDraws: return draws_sub_.getTopic();
+    case StepInput::kDrawIds: return draw_ids_sub_.getTopic();
+    case StepInput::kMeshStore: return mesh_store_sub_.getTopic();
+    case StepInput::kColor: return color_sub_.getTopic();
+    default: return defaultTopicOf(input);
+  }
+}
+
 void Instances::onMeshStore(const MeshStore::ConstPtr& store) {
-  std::vector<std::string> problems;
-  std::vector<MeshRecord> meshes = fromMeshStoreMsg(*store, problems);
-  for (const std::string& p : problems) ROS_ERROR_THROTTLE(5, "%s: %s", mesh_store_sub_.getTopic().c_str(), p.c_str());
-  std::lock_guard<std::mutex> lock(mutex_);
-  pipeline_->addMeshes(meshes);
+  StepProblems problems;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    step_->addMeshes(*store, problems);
+  }
+  log_.log(problems);
 }
 
 void Instances::onColor(const sensor_msgs::Image::ConstPtr& color) {
@@ -108,74 +108,41 @@ void Instances::onColor(const sensor_msgs::Image::ConstPtr& color) {
 }
 
 void Instances::publishOverlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic) {
-  const size_t n = static_cast<size_t>(color.width) * color.height;
-  std::string problem = checkImage(color, "rgb8");
-  if (problem.empty() && semantic.size() != n)
-    problem = "its " + std::to_string(n) + " pixels do not fit the " + std::to_string(semantic.size()) +
-              "-pixel semantic image";
-  if (!problem.empty()) {
-    ROS_ERROR_THROTTLE(5, "%s: color image: %s; no overlay", color_sub_.getTopic().c_str(), problem.c_str());
-    return;
-  }
-  scratch_rgb_.resize(3 * n);
-  overlayClasses(color.data.data(), semantic.data(), n, *classes_, overlay_alpha_, scratch_rgb_.data());
-  overlay_pub_.publish(imageMsgPtr(color.header, color.width, color.height, "rgb8", 3, scratch_rgb_.data()));
+  StepProblems problems;
+  sensor_msgs::ImagePtr overlay = step_->overlay(color, semantic, overlay_alpha_, problems);
+  log_.log(problems);
+  if (overlay) overlay_pub_.publish(overlay);
 }
 
 void Instances::onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Image::ConstPtr& ids) {
   std::lock_guard<std::mutex> lock(mutex_);
-  const std::string& topic = draw_ids_sub_.getTopic();
-  if (!last_stamp_.isZero() && draws->header.stamp <= last_stamp_) {
-    ROS_ERROR_THROTTLE(5, "%s: frame %lu stamp %.6f is not after the previous %.6f; frame dropped",
-                       topic.c_str(), static_cast<unsigned long>(draws->frame_number), draws->header.stamp.toSec(),
-                       last_stamp_.toSec());
-    return;
-  }
-  const std::string problem = frameFromDrawMsgs(*draws, *ids, frame_);
-  if (!problem.empty()) {
-    ROS_ERROR_THROTTLE(5, "%s (frame %lu, frame_id '%s'): %s; frame dropped", topic.c_str(),
-                       static_cast<unsigned long>(draws->frame_number), ids->header.frame_id.c_str(), problem.c_str());
-    return;
-  }
-  try {
-    pipeline_->process(frame_, result_);
-  } catch (const std::exception& e) {
-    ROS_ERROR_THROTTLE(5, "%s: %s; frame dropped", topic.c_str(), e.what());
-    return;
-  }
-  last_stamp_ = draws->header.stamp;
-  for (const std::string& p : result_.problems) ROS_WARN_THROTTLE(5, "%s: %s", topic.c_str(), p.c_str());
-
-  const std_msgs::Header& header = ids->header;
-  const uint32_t w = frame_.width, h = frame_.height;
-  const size_t n = frame_.pixelCount();
-  if (semantic_pub_.getNumSubscribers() > 0)
-    semantic_pub_.publish(imageMsgPtr(header, w, h, "mono8", 1, result_.semantic.data()));
-  if (semantic_color_pub_.getNumSubscribers() > 0) {
-    scratch_rgb_.resize(3 * n);
-    colorizeClasses(result_.semantic.data(), n, *classes_, scratch_rgb_.data());
-    semantic_color_pub_.publish(imageMsgPtr(header, w, h, "rgb8", 3, scratch_rgb_.data()));
-  }
+  InstancesStep::Want want;
+  want.semantic = semantic_pub_.getNumSubscribers() > 0;
+  want.semantic_color = semantic_color_pub_.getNumSubscribers() > 0;
+  want.instance_ids = instance_ids_pub_.getNumSubscribers() > 0;
+  want.boundaries = boundaries_pub_.getNumSubscribers() > 0;
+  want.instances_viper = viper_pub_.getNumSubscribers() > 0;
+  InstancesStep::Output out;
+  StepProblems problems;
+  const bool kept = step_->process(*draws, *ids, want, out, problems);
+  log_.log(problems);
+  if (!kept) return;
+  if (out.semantic) semantic_pub_.publish(out.semantic);
+  if (out.semantic_color) semantic_color_pub_.publish(out.semantic_color);
   if (overlay_pub_.getNumSubscribers() > 0) {
-    auto color = pending_color_.find(header.stamp);
+    auto color = pending_color_.find(ids->header.stamp);
     if (color != pending_color_.end()) {
-      publishOverlay(*color->second, result_.semantic);
+      publishOverlay(*color->second, step_->lastSemantic());
       pending_color_.erase(pending_color_.begin(), std::next(color));
     } else {
-      pending_semantic_[header.stamp] = result_.semantic;
+      pending_semantic_[ids->header.stamp] = step_->lastSemantic();
       while (pending_semantic_.size() > 8) pending_semantic_.erase(pending_semantic_.begin());
     }
   }
-  if (instance_ids_pub_.getNumSubscribers() > 0)
-    instance_ids_pub_.publish(imageMsgPtr(header, w, h, "32SC1", 4, result_.instance_ids.data()));
-  if (boundaries_pub_.getNumSubscribers() > 0)
-    boundaries_pub_.publish(imageMsgPtr(header, w, h, "mono8", 1, result_.boundaries.data()));
-  if (viper_pub_.getNumSubscribers() > 0) {
-    scratch_rgb_.resize(3 * n);
-    encodeViperInstances(result_.semantic.data(), result_.instance_ids.data(), n, scratch_rgb_.data());
-    viper_pub_.publish(imageMsgPtr(header, w, h, "rgb8", 3, scratch_rgb_.data()));
-  }
-  objects_pub_.publish(toObjectArrayMsg(result_.objects, *classes_, header));
+  if (out.instance_ids) instance_ids_pub_.publish(out.instance_ids);
+  if (out.boundaries) boundaries_pub_.publish(out.boundaries);
+  if (out.instances_viper) viper_pub_.publish(out.instances_viper);
+  objects_pub_.publish(out.objects);
   ++frames_;
 }
 

@@ -4,6 +4,8 @@
 
 #include "viper/ground_truth/boxes.h"
 #include "viper/ground_truth/class_table.h"
+#include "viper/ros/ground_truth/boxes_step.h"
+#include "viper/ros/ground_truth/step_log.h"
 
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/exact_time.h>
@@ -31,17 +33,12 @@ class Boxes {
   using SyncPolicy = message_filters::sync_policies::ExactTime<ObjectArray, DrawList>;
   void onFrame(const ObjectArray::ConstPtr& objects, const DrawList::ConstPtr& draws);
   void onMeshStore(const MeshStore::ConstPtr& store);
+  std::string topicOf(StepInput input) const;
 
   ros::NodeHandle nh_, private_nh_;
-  std::optional<ClassTable> classes_;
-  std::string map_frame_ = "map";
-  MeshRegistry meshes_;
+  StepLog log_;
+  std::unique_ptr<BoxesStep> step_;
   std::mutex mutex_;
-  struct LastSeen {
-    Eigen::Vector3d center;
-    double time_s;
-  };
-  std::map<int32_t, LastSeen> last_seen_;  // per track id, for velocities
 
   message_filters::Subscriber<ObjectArray> objects_sub_;
   message_filters::Subscriber<DrawList> draws_sub_;

@@ -6,6 +6,8 @@
 #include "viper/ground_truth/boxes.h"
 #include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/flow.h"
+#include "viper/ros/ground_truth/flow_step.h"
+#include "viper/ros/ground_truth/step_log.h"
 
 #include <Eigen/Geometry>
 #include <image_transport/image_transport.h>
@@ -39,16 +41,6 @@ class Flow {
   uint64_t framesProcessed() const { return frames_; }
 
  private:
-  /// One frame kept for later flow computations.
-  struct HeldFrame {
-    std_msgs::Header header;
-    CaptureFrame frame;  ///< draws, draw ids, primitive ids, window depth (from the depth image)
-    std::vector<float> depth_m;
-    std::vector<int32_t> object_ids;  ///< per draw: track id of its object, 0 for none / stuff
-    std::vector<bool> excluded;       ///< per draw: visible, placed (kHasWorld), but in no object
-    std::optional<Eigen::Isometry3d> optical_from_world;  ///< nullopt: no usable camera
-  };
-  using HeldPtr = std::shared_ptr<const HeldFrame>;
   using ImageConstPtr = sensor_msgs::Image::ConstPtr;
   using SyncPolicy = message_filters::sync_policies::ExactTime<DrawList, sensor_msgs::Image, sensor_msgs::Image,
                                                                sensor_msgs::Image, ObjectArray>;
@@ -59,21 +51,10 @@ class Flow {
               const ImageConstPtr& primitive_ids, const ObjectArray::ConstPtr& objects);
   void onMeshStore(const MeshStore::ConstPtr& store);
   bool onCorrespondences(Correspondences::Request& req, Correspondences::Response& res);
-
-  /// Builds a held frame from one synchronised set of messages; nullptr after a throttled error.
-  HeldPtr makeHeldFrame(const DrawList& draws, const sensor_msgs::Image& depth, const sensor_msgs::Image& draw_ids,
-                        const sensor_msgs::Image& primitive_ids, const ObjectArray& objects);
-  /// Flow a -> b into `out`, after dropping associations of excluded draws; logs deformed draws
-  /// whose vertex positions are missing. Caller holds mutex_.
-  void flowBetween(const HeldFrame& a, const HeldFrame& b, FlowField& out);
-  void publish(const image_transport::Publisher& flow_pub, const image_transport::Publisher& visible_pub,
-               const std_msgs::Header& header, const FlowField& field);
+  std::string topicOf(StepInput input) const;
 
   ros::NodeHandle nh_, private_nh_;
   image_transport::ImageTransport it_;
-  FlowOptions options_;
-  int wide_baseline_ = 0;
-  size_t window_size_ = 5;
 
   message_filters::Subscriber<DrawList> draws_sub_;
   image_transport::SubscriberFilter depth_sub_, draw_ids_sub_, primitive_ids_sub_;
@@ -83,11 +64,10 @@ class Flow {
   image_transport::Publisher forward_pub_, forward_visible_pub_, backward_pub_, backward_visible_pub_, wide_pub_,
       wide_visible_pub_;
   ros::ServiceServer correspondences_srv_;
+  StepLog log_;
 
-  std::mutex mutex_;                // guards everything below
-  MeshRegistry meshes_;
-  std::deque<HeldPtr> window_;      // oldest first; consecutive capture frames
-  FlowField scratch_;               // reused between frames
+  std::mutex mutex_;  // guards the step
+  std::unique_ptr<FlowStep> step_;
   uint64_t frames_ = 0;
 };
 

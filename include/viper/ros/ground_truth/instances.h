@@ -4,6 +4,8 @@
 
 #include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/instance_pipeline.h"
+#include "viper/ros/ground_truth/instances_step.h"
+#include "viper/ros/ground_truth/step_log.h"
 
 #include <image_transport/image_transport.h>
 #include <message_filters/subscriber.h>
@@ -38,11 +40,12 @@ class Instances {
   /// Publishes the overlay of `color` and `semantic` (same stamp); false with an error if the
   /// color image does not fit.
   void publishOverlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic);
+  std::string topicOf(StepInput input) const;
 
   ros::NodeHandle nh_, private_nh_;
   image_transport::ImageTransport it_;
-  std::optional<ClassTable> classes_;
-  std::unique_ptr<InstancePipeline> pipeline_;
+  StepLog log_;
+  std::unique_ptr<InstancesStep> step_;
   std::mutex mutex_;
 
   message_filters::Subscriber<DrawList> draws_sub_;
@@ -58,10 +61,6 @@ class Instances {
   std::map<ros::Time, std::vector<uint8_t>> pending_semantic_;
   ros::Publisher objects_pub_;
 
-  CaptureFrame frame_;     // reused between frames
-  InstanceFrame result_;   // reused between frames
-  std::vector<uint8_t> scratch_rgb_;
-  ros::Time last_stamp_;
   uint64_t frames_ = 0;
 };
 

@@ -3,7 +3,8 @@
 // docs/ground_truth_nodes.md.
 #pragma once
 
-#include "viper/ground_truth/ego_motion.h"
+#include "viper/ros/ground_truth/odometry_step.h"
+#include "viper/ros/ground_truth/step_log.h"
 
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
@@ -27,17 +28,13 @@ class Odometry {
   void onDraws(const DrawList::ConstPtr& draws);
 
   ros::NodeHandle nh_, private_nh_;
-  std::string map_frame_ = "map", body_frame_ = "camera";
+  StepLog log_;
+  std::unique_ptr<OdometryStep> step_;
   bool publish_tf_ = true;
-  int path_max_poses_ = 10000;
   ros::Subscriber draws_sub_;
   ros::Publisher odom_pub_, path_pub_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_;
-  std::string static_optical_frame_;  // optical frame the static transform was sent for
-  std::optional<EgoPose> last_;
-  ros::Time last_stamp_;
-  nav_msgs::Path path_;
 };
 
 }  // namespace viper

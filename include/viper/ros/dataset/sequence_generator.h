@@ -1,0 +1,66 @@
+// One sequence of a dataset, generated in lockstep without a ROS master: raw frames (a capture or a
+// raw bag) through every ground-truth step (GroundTruthPipeline, the nodes' own code) into VIPER's
+// release layout and/or a ground-truth bag. Every frame is processed; nothing is dropped for being
+// slow. The sequence is written into a temporary folder and moved into place with a done-marker
+// (sha256 of every file) only when complete, so a partial sequence is never taken for a finished
+// one. docs/dataset_generation.md.
+#pragma once
+
+#include "viper/ros/bridge/raw_frames.h"
+#include "viper/ros/dataset/viper_exporter.h"
+#include "viper/ros/ground_truth/ground_truth_pipeline.h"
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+namespace viper {
+
+/// What a sequence writes.
+struct SequenceOutputs {
+  bool layout = true;  ///< VIPER's release layout: img, cls, inst, flow, flowbw, bb, camera
+  bool bag = true;     ///< SPLIT/bag/SEQ.bag: raw and ground-truth topics at their header stamps
+  std::string bag_compression = "lz4";
+};
+
+struct SequenceSettings {
+  std::string root;            ///< the dataset's root folder
+  std::string split = "train";
+  std::string seq = "001";
+  SequenceOutputs outputs;
+  ViperExportOptions layout;   ///< image format, palette, ... (root, split and seq are set from above)
+  GroundTruthSettings ground_truth;
+  uint64_t max_frames = 0;     ///< 0 = every frame of the input
+};
+
+/// What generating a sequence did.
+struct SequenceResult {
+  uint64_t frames = 0;           ///< frames processed and written
+  uint64_t dropped = 0;          ///< frames a step dropped (bad input), named in problems
+  std::vector<std::string> problems;  ///< input damage, dropped frames, each naming the input and frame
+  bool skipped = false;          ///< already finished (its marker checked out); nothing was done
+  std::filesystem::path marker;  ///< the done-marker
+};
+
+class SequenceGenerator {
+ public:
+  explicit SequenceGenerator(SequenceSettings settings, LabelTable labels, ClassTable classes);
+
+  /// The marker of the sequence: ROOT/SPLIT/SEQ.done.
+  std::filesystem::path markerPath() const;
+  /// Whether the sequence is finished: its marker exists and every file has its checksum.
+  bool finished(std::string* why_not = nullptr) const;
+
+  /// Generates the sequence from `input` (unless finished() and !force). `progress(done, total)`
+  /// is called after every frame (total 0 when unknown). Throws std::runtime_error naming the
+  /// sequence, the frame and the file when an output cannot be written; the partial sequence is
+  /// then left in ROOT/.partial and never counts as finished.
+  SequenceResult run(RawFrames& input, bool force, const std::function<void(uint64_t, uint64_t)>& progress = {});
+
+ private:
+  SequenceSettings settings_;
+  LabelTable labels_;
+  ClassTable classes_;
+};
+
+}  // namespace viper

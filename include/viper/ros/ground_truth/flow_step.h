@@ -1,0 +1,85 @@
+// The flow node's per-frame work without ROS plumbing: frames held in a window, flow f -> f+1 and
+// back, wide-baseline flow and correspondences between held frames. The flow node and the lockstep
+// `generate` both run it (docs/flow_node.md).
+#pragma once
+
+#include "viper/capture/capture_frame.h"
+#include "viper/ground_truth/boxes.h"
+#include "viper/ground_truth/flow.h"
+#include "viper/ros/conversions/flow_conversions.h"
+#include "viper/ros/ground_truth/step_problems.h"
+
+#include <sensor_msgs/Image.h>
+#include <viper/Correspondences.h>
+#include <viper/DrawList.h>
+#include <viper/MeshStore.h>
+#include <viper/ObjectArray.h>
+
+#include <Eigen/Geometry>
+
+#include <deque>
+#include <memory>
+#include <optional>
+
+namespace viper {
+
+/// Settings of the flow step (the flow node's parameters).
+struct FlowSettings {
+  FlowOptions options;    ///< occlusion thresholds
+  int wide_baseline = 0;  ///< k of flow f -> f+k (0 = off)
+  size_t window_size = 5; ///< frames held (>= 2 and >= wide_baseline + 1)
+};
+
+class FlowStep {
+ public:
+  explicit FlowStep(const FlowSettings& settings);
+
+  /// Meshes of a mesh store message (deformed draws need their rest mesh).
+  void addMeshes(const MeshStore& store, StepProblems& problems);
+
+  /// Which flows to compute.
+  struct Want {
+    bool forward = true, backward = true, wide = true;
+  };
+  /// A frame's flows; a field is null where it was not computed. forward: frame f-1 -> f, with
+  /// f-1's header; backward: f -> f-1, with f's header; wide: f-k -> f, with f-k's header.
+  struct Output {
+    FlowMessages forward, backward, wide;
+  };
+  /// Takes one synchronised frame into the window and computes what `want` asks for. Returns false
+  /// if the frame was dropped (the window then starts over: no flow spans it). `problems` gets what
+  /// was wrong, dropped or partial.
+  bool process(const DrawList& draws, const sensor_msgs::Image& depth, const sensor_msgs::Image& draw_ids,
+               const sensor_msgs::Image& primitive_ids, const ObjectArray& objects, const Want& want, Output& out,
+               StepProblems& problems);
+
+  /// Flow, mask and relative pose between two held frames (the ~correspondences service);
+  /// `res.success` false with `res.message` saying why when a stamp is not held.
+  void correspondences(const ros::Time& stamp_a, const ros::Time& stamp_b, Correspondences::Response& res,
+                       StepProblems& problems);
+
+  const FlowSettings& settings() const { return settings_; }
+
+ private:
+  /// One frame kept for later flow computations.
+  struct HeldFrame {
+    std_msgs::Header header;
+    CaptureFrame frame;  ///< draws, draw ids, primitive ids, window depth (from the depth image)
+    std::vector<float> depth_m;
+    std::vector<int32_t> object_ids;  ///< per draw: track id of its object, 0 for none / stuff
+    std::vector<bool> excluded;       ///< per draw: visible, placed (kHasWorld), but in no object
+    std::optional<Eigen::Isometry3d> optical_from_world;  ///< nullopt: no usable camera
+  };
+  using HeldPtr = std::shared_ptr<const HeldFrame>;
+
+  HeldPtr makeHeldFrame(const DrawList& draws, const sensor_msgs::Image& depth, const sensor_msgs::Image& draw_ids,
+                        const sensor_msgs::Image& primitive_ids, const ObjectArray& objects, StepProblems& problems);
+  void flowBetween(const HeldFrame& a, const HeldFrame& b, FlowField& out, StepProblems& problems);
+
+  FlowSettings settings_;
+  MeshRegistry meshes_;
+  std::deque<HeldPtr> window_;  // oldest first; consecutive capture frames
+  FlowField scratch_;           // reused between frames
+};
+
+}  // namespace viper

@@ -1,0 +1,66 @@
+// The instances node's per-frame work without ROS plumbing: objects, classes, tracks and the
+// segmentation images of one frame, as messages. The instances node and the lockstep `generate`
+// both run it (docs/ground_truth_nodes.md).
+#pragma once
+
+#include "viper/ground_truth/class_table.h"
+#include "viper/ground_truth/instance_pipeline.h"
+#include "viper/ground_truth/label_table.h"
+#include "viper/ros/ground_truth/step_problems.h"
+
+#include <sensor_msgs/Image.h>
+#include <viper/DrawList.h>
+#include <viper/MeshStore.h>
+#include <viper/ObjectArray.h>
+
+#include <memory>
+#include <vector>
+
+namespace viper {
+
+/// Settings of the instances step (the instances node's parameters, with the same defaults).
+struct InstancesSettings {
+  bool area_weighted_vote = true;
+  int extrapolate_frames = 10;
+  double lod_tolerance_m = 0.05;
+  bool resume_tracks_by_resources = false;
+};
+
+class InstancesStep {
+ public:
+  /// Throws std::invalid_argument if a setting is out of range (extrapolate_frames < 0).
+  InstancesStep(LabelTable labels, ClassTable classes, const InstancesSettings& settings);
+
+  void addMeshes(const MeshStore& store, StepProblems& problems);
+
+  /// Which images to make (objects are always made).
+  struct Want {
+    bool semantic = true, semantic_color = true, instance_ids = true, boundaries = true, instances_viper = true;
+  };
+  /// A frame's outputs, each with the draw id image's header; null where not wanted.
+  struct Output {
+    sensor_msgs::ImagePtr semantic, semantic_color, instance_ids, boundaries, instances_viper;
+    ObjectArrayPtr objects;
+  };
+  /// One frame (draw list and draw id image of one stamp). Returns false if it was dropped.
+  bool process(const DrawList& draws, const sensor_msgs::Image& draw_ids, const Want& want, Output& out,
+               StepProblems& problems);
+  /// The class ids of the last frame processed (for the overlay).
+  const std::vector<uint8_t>& lastSemantic() const { return result_.semantic; }
+  /// The overlay of class colors over a camera image (rgb8) of `semantic`'s size, or null with a
+  /// problem if it does not fit.
+  sensor_msgs::ImagePtr overlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic, float alpha,
+                                StepProblems& problems);
+
+  const ClassTable& classes() const { return classes_; }
+
+ private:
+  ClassTable classes_;
+  std::unique_ptr<InstancePipeline> pipeline_;
+  CaptureFrame frame_;    // reused between frames
+  InstanceFrame result_;  // reused between frames
+  std::vector<uint8_t> scratch_rgb_;
+  ros::Time last_stamp_;
+};
+
+}  // namespace viper

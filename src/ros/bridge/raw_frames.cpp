@@ -1,0 +1,143 @@
+#include "viper/ros/bridge/raw_frames.h"
+
+#include <sstream>
+
+namespace viper {
+
+CaptureRawFrames::CaptureRawFrames(const std::string& path, std::optional<double> start_time_s,
+                                   const std::string& frame_id)
+    : path_(path), timing_(0.0, start_time_s), frame_id_(frame_id) {
+  try {
+    reader_ = std::make_unique<CaptureReader>(path);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot read capture '" + path + "': " + e.what());
+  }
+}
+
+bool CaptureRawFrames::next(FrameMessages& out) {
+  while (!ended_) {
+    const uint64_t offset = reader_->offset();
+    try {
+      if (reader_->next(frame_) == CaptureReader::Status::kEnd) break;
+    } catch (const CaptureFormatError& e) {
+      std::ostringstream what;
+      what << "capture '" << path_ << "' is damaged at byte " << e.offset() << " (after "
+           << (last_number_ ? "frame " + std::to_string(*last_number_) : std::string("no frame")) << "; " << frames_
+           << " frames read): " << e.what();
+      problems_.push_back(what.str());
+      break;
+    }
+    const std::string problem = validateFrame(frame_);
+    if (!problem.empty()) {
+      problems_.push_back("dropping frame " + std::to_string(frame_.number) + " of '" + path_ + "' (byte " +
+                          std::to_string(offset) + "): " + problem);
+      continue;
+    }
+    std_msgs::Header header;
+    header.stamp = ros::Time(timing_.stampOf(frame_.time_s));
+    header.frame_id = frame_id_;
+    if (timing_.lastWasClamped())
+      problems_.push_back("frame " + std::to_string(frame_.number) + " of '" + path_ + "' goes back in time (" +
+                          std::to_string(frame_.time_s) + " s); stamped 1 ms after the previous frame");
+    try {
+      out = frameMessages(frame_, header, meshes_);
+    } catch (const std::invalid_argument& e) {
+      problems_.push_back("dropping frame " + std::to_string(frame_.number) + " of '" + path_ + "' (byte " +
+                          std::to_string(offset) + "): " + e.what());
+      continue;
+    }
+    if (!out.camera_problem.empty() && !camera_warned_) {
+      camera_warned_ = true;
+      problems_.push_back("frame " + std::to_string(frame_.number) + " of '" + path_ + "': " + out.camera_problem);
+    }
+    last_number_ = frame_.number;
+    ++frames_;
+    return true;
+  }
+  ended_ = true;
+  return false;
+}
+
+BagRawFrames::BagRawFrames(const std::string& path, const std::string& ns) : path_(path), ns_(ns) {
+  try {
+    bag_.open(path, rosbag::bagmode::Read);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot open bag '" + path + "': " + e.what());
+  }
+  const std::vector<std::string> topics = {ns + "/draws", ns + "/draw_ids", ns + "/depth/image_raw",
+                                           ns + "/primitive_ids", ns + "/color/image_raw", ns + "/color/camera_info",
+                                           ns + "/mesh_store"};
+  frame_count_ = rosbag::View(bag_, rosbag::TopicQuery(ns + "/draws")).size();
+  if (frame_count_ == 0) throw std::runtime_error("bag '" + path + "' has no " + ns + "/draws: not a raw bag");
+  view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics));
+  it_ = view_->begin();
+}
+
+bool BagRawFrames::complete(const FrameMessages& m) const {
+  return m.draws && m.draw_ids && m.depth && m.primitive_ids && m.color && m.camera_info;
+}
+
+bool BagRawFrames::next(FrameMessages& out) {
+  try {
+    for (; it_ != view_->end(); ++it_) {
+      const rosbag::MessageInstance& m = *it_;
+      const std::string topic = m.getTopic().substr(ns_.size());
+      FrameMessages* f = nullptr;
+      auto slot = [&](const auto& msg) -> FrameMessages* {
+        if (!msg) {
+          problems_.push_back("bag '" + path_ + "': " + m.getTopic() + " carries " + m.getDataType() +
+                              "; message skipped");
+          return nullptr;
+        }
+        return &pending_[msg->header.stamp];
+      };
+      if (topic == "/draws") {
+        auto msg = m.instantiate<DrawList>();
+        if ((f = slot(msg))) f->draws = msg;
+      } else if (topic == "/mesh_store") {
+        auto msg = m.instantiate<MeshStore>();
+        if ((f = slot(msg))) f->mesh_store = msg;
+      } else if (topic == "/color/camera_info") {
+        auto msg = m.instantiate<sensor_msgs::CameraInfo>();
+        if ((f = slot(msg))) f->camera_info = msg;
+      } else {
+        auto msg = m.instantiate<sensor_msgs::Image>();
+        if ((f = slot(msg))) {
+          if (topic == "/draw_ids") f->draw_ids = msg;
+          else if (topic == "/depth/image_raw") f->depth = msg;
+          else if (topic == "/primitive_ids") f->primitive_ids = msg;
+          else f->color = msg;
+        }
+      }
+      if (f == nullptr) continue;
+      if (!complete(*f)) continue;
+      // Frames come in stamp order: anything older still incomplete never will be.
+      const ros::Time done = f->draws->header.stamp;
+      while (pending_.begin()->first < done) {
+        problems_.push_back("bag '" + path_ + "': the raw messages of stamp " +
+                            std::to_string(pending_.begin()->first.toSec()) + " are incomplete; frame dropped");
+        pending_.erase(pending_.begin());
+      }
+      out = *f;
+      pending_.erase(done);
+      ++it_;
+      return true;
+    }
+  } catch (const std::exception& e) {
+    problems_.push_back("bag '" + path_ + "' cannot be read further: " + e.what());
+    it_ = view_->end();
+  }
+  for (const auto& [stamp, m] : pending_)
+    problems_.push_back("bag '" + path_ + "': the raw messages of stamp " + std::to_string(stamp.toSec()) +
+                        " are incomplete; frame dropped");
+  pending_.clear();
+  return false;
+}
+
+std::unique_ptr<RawFrames> openRawFrames(const std::string& path) {
+  const bool capture = path.size() >= 5 && path.compare(path.size() - 5, 5, ".vcap") == 0;
+  if (capture) return std::make_unique<CaptureRawFrames>(path);
+  return std::make_unique<BagRawFrames>(path);
+}
+
+}  // namespace viper

@@ -1,0 +1,251 @@
+#include "viper/ros/ground_truth/flow_step.h"
+
+#include "viper/ground_truth/camera_model.h"
+#include "viper/ground_truth/ego_motion.h"
+#include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+namespace viper {
+namespace {
+
+// Draw indices 0..n-1 in order, deformed positions in fours, every draw id naming a draw.
+std::string drawsProblem(const CaptureFrame& f) {
+  for (size_t i = 0; i < f.draws.size(); ++i) {
+    if (f.draws[i].index != i)
+      return "draw " + std::to_string(i) + " has index " + std::to_string(f.draws[i].index) + " (0..n-1 expected)";
+    if (f.draws[i].deformed_clip_xyzw.size() % 4 != 0)
+      return "draw " + std::to_string(i) + " has " + std::to_string(f.draws[i].deformed_clip_xyzw.size()) +
+             " deformed_clip_xyzw floats, not a multiple of 4";
+  }
+  for (uint32_t id : f.draw_ids) {
+    if (id > f.draws.size())
+      return "draw id " + std::to_string(id) + " in draw_ids, but only " + std::to_string(f.draws.size()) + " draws";
+  }
+  return {};
+}
+
+std::string frameText(unsigned long number) { return " (frame " + std::to_string(number) + "): "; }
+
+template <typename... Args>
+std::string format(const char* fmt, Args... args) {
+  char text[512];
+  std::snprintf(text, sizeof text, fmt, args...);
+  return text;
+}
+
+}  // namespace
+
+FlowStep::FlowStep(const FlowSettings& settings) : settings_(settings) {}
+
+void FlowStep::addMeshes(const MeshStore& store, StepProblems& problems) {
+  std::vector<std::string> bad;
+  meshes_.add(fromMeshStoreMsg(store, bad));
+  for (std::string& p : bad) problems.push_back({StepInput::kMeshStore, StepSeverity::kError, "mesh", ": " + p});
+}
+
+FlowStep::HeldPtr FlowStep::makeHeldFrame(const DrawList& draws, const sensor_msgs::Image& depth,
+                                          const sensor_msgs::Image& draw_ids, const sensor_msgs::Image& primitive_ids,
+                                          const ObjectArray& objects, StepProblems& problems) {
+  auto held = std::make_shared<HeldFrame>();
+  CaptureFrame& f = held->frame;
+  const unsigned long number = draws.frame_number;
+  auto drop = [&](StepInput input, const char* kind, const std::string& problem) {
+    problems.push_back({input, StepSeverity::kError, kind, frameText(number) + problem + "; frame dropped"});
+    return nullptr;
+  };
+  std::string problem = frameFromDrawMsgs(draws, draw_ids, f);
+  if (!problem.empty()) return drop(StepInput::kDrawIds, "draw_ids", problem);
+  problem = drawsProblem(f);
+  if (!problem.empty()) return drop(StepInput::kDraws, "draws", problem);
+  problem = depthFromImage(depth, f, held->depth_m);
+  if (!problem.empty()) return drop(StepInput::kDepth, "depth", problem);
+  problem = primitiveIdsFromImage(primitive_ids, f);
+  if (!problem.empty()) return drop(StepInput::kPrimitiveIds, "primitive_ids", problem);
+  held->header = draw_ids.header;
+
+  const std::optional<FrameCamera> camera = chooseFrameCamera(f);
+  size_t bad_depth = 0;
+  f.depth_window = windowDepthFromMetres(f, held->depth_m, camera ? &camera->projection : nullptr, &bad_depth);
+  if (bad_depth > 0)
+    problems.push_back({StepInput::kDepth, StepSeverity::kError, "bad_depth",
+                        format(" (frame %lu): %zu pixels of a draw have no finite positive depth (or no projection); "
+                               "their flow is undefined", number, bad_depth)});
+  if (camera) {
+    try {
+      egoPoseFromView(camera->view, 0.0);  // throws unless the view matrix is rigid
+      held->optical_from_world = opticalFromWorld(camera->view);
+    } catch (const std::exception& e) {
+      problems.push_back({StepInput::kDraws, StepSeverity::kWarning, "view",
+                          frameText(number) + "camera view matrix: " + e.what() + "; no relative pose for this frame"});
+    }
+  }
+
+  // Per draw: the track id of its object. Visible placed draws in no object have no association.
+  held->object_ids.assign(f.draws.size(), 0);
+  std::vector<bool> listed(f.draws.size(), false);
+  size_t out_of_range = 0;
+  for (const Object& o : objects.objects) {
+    for (uint32_t d : o.draws) {
+      if (d >= f.draws.size()) {
+        ++out_of_range;
+        continue;
+      }
+      listed[d] = true;
+      held->object_ids[d] = std::max(o.track_id, 0);
+    }
+  }
+  held->excluded.assign(f.draws.size(), false);
+  size_t unlisted = 0, unlisted_pixels = 0;
+  for (size_t i = 0; i < f.draws.size(); ++i) {
+    const DrawRecord& d = f.draws[i];
+    if (!listed[i] && (d.matrix_flags & kHasWorld) && d.visible_pixels > 0) {
+      held->excluded[i] = true;
+      ++unlisted;
+      unlisted_pixels += d.visible_pixels;
+    }
+  }
+  if (out_of_range > 0 || unlisted > 0)
+    problems.push_back({StepInput::kObjects, StepSeverity::kError, "association",
+                        format(" (frame %lu): %zu visible draws (%zu pixels) are in no object and %zu object parts "
+                               "name no draw of the frame's %zu: those pixels have no association, no flow",
+                               number, unlisted, unlisted_pixels, out_of_range, f.draws.size())});
+  return held;
+}
+
+void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, FlowField& out, StepProblems& problems) {
+  std::vector<int32_t> a_to_b = associateDraws(a.frame, a.object_ids, b.frame, b.object_ids);
+  for (size_t i = 0; i < a_to_b.size(); ++i) {
+    int32_t& j = a_to_b[i];
+    if (a.excluded[i] || (j >= 0 && b.excluded[j])) j = -1;
+    if (j < 0) continue;
+    const DrawRecord& da = a.frame.draws[i];
+    const DrawRecord& db = b.frame.draws[j];
+    if (da.visible_pixels == 0 || (da.deformed_clip_xyzw.empty() && db.deformed_clip_xyzw.empty())) continue;
+    const MeshRecord* mesh = meshes_.find(da.mesh_key);
+    const size_t floats = mesh ? 4 * (mesh->positions_xyz.size() / 3) : 0;
+    if (!mesh) {
+      problems.push_back({StepInput::kMeshStore, StepSeverity::kError, "missing_mesh",
+                          format(": mesh %016llx of deformed draw %zu (frame %lu) is not in the mesh store; its "
+                                 "pixels have no flow", static_cast<unsigned long long>(da.mesh_key), i,
+                                 static_cast<unsigned long>(a.frame.number))});
+    } else if (da.deformed_clip_xyzw.size() != floats || db.deformed_clip_xyzw.size() != floats) {
+      problems.push_back({StepInput::kDraws, StepSeverity::kError, "deformed",
+                          format(": deformed draw %zu (mesh %016llx, %zu vertices) has %zu vertex positions in frame "
+                                 "%lu and its draw %d has %zu in frame %lu: missing vertex positions, its pixels "
+                                 "have no flow", i, static_cast<unsigned long long>(da.mesh_key), floats / 4,
+                                 da.deformed_clip_xyzw.size() / 4, static_cast<unsigned long>(a.frame.number), j,
+                                 db.deformed_clip_xyzw.size() / 4, static_cast<unsigned long>(b.frame.number))});
+    }
+  }
+  computeFlow(a.frame, b.frame, a_to_b, b.depth_m, meshes_, out, settings_.options);
+}
+
+bool FlowStep::process(const DrawList& draws, const sensor_msgs::Image& depth, const sensor_msgs::Image& draw_ids,
+                       const sensor_msgs::Image& primitive_ids, const ObjectArray& objects, const Want& want,
+                       Output& out, StepProblems& problems) {
+  out = Output();
+  const unsigned long number = draws.frame_number;
+  if (!window_.empty() && draws.header.stamp <= window_.back()->header.stamp) {
+    problems.push_back({StepInput::kDraws, StepSeverity::kError, "stamp_order",
+                        format(": frame %lu stamp %.6f is not after the previous frame's %.6f; frame dropped", number,
+                               draws.header.stamp.toSec(), window_.back()->header.stamp.toSec())});
+    return false;
+  }
+  HeldPtr cur;
+  try {
+    cur = makeHeldFrame(draws, depth, draw_ids, primitive_ids, objects, problems);
+  } catch (const std::exception& e) {
+    problems.push_back({StepInput::kDraws, StepSeverity::kError, "frame", frameText(number) + e.what() + "; frame dropped"});
+  }
+  if (!cur) {
+    window_.clear();  // the sequence is broken: no flow spans the dropped frame
+    return false;
+  }
+  if (!window_.empty()) {
+    const HeldFrame& prev = *window_.back();
+    if (cur->frame.width != prev.frame.width || cur->frame.height != prev.frame.height) {
+      problems.push_back({StepInput::kDrawIds, StepSeverity::kError, "size_change",
+                          format(" (frame %lu): %ux%u, but the previous frame was %ux%u; the window starts over",
+                                 number, cur->frame.width, cur->frame.height, prev.frame.width, prev.frame.height)});
+      window_.clear();
+    } else if (cur->frame.number <= prev.frame.number) {
+      // A looping replay, or another capture: no flow across it, and nothing was lost.
+      problems.push_back({StepInput::kDraws, StepSeverity::kInfo, "numbers_restart",
+                          format(": frame %lu follows frame %lu: the frame numbers start over (a loop or another "
+                                 "capture); the window starts over", number,
+                                 static_cast<unsigned long>(prev.frame.number))});
+      window_.clear();
+    } else if (cur->frame.number != prev.frame.number + 1) {
+      problems.push_back({StepInput::kDraws, StepSeverity::kWarning, "gap",
+                          format(": frame %lu follows frame %lu: the frames between were dropped; the window starts "
+                                 "over", number, static_cast<unsigned long>(prev.frame.number))});
+      window_.clear();
+    }
+  }
+  window_.push_back(cur);
+  while (window_.size() > settings_.window_size) window_.pop_front();
+
+  try {
+    const size_t n = window_.size();
+    if (n >= 2) {
+      const HeldFrame& prev = *window_[n - 2];
+      if (want.forward) {
+        flowBetween(prev, *cur, scratch_, problems);
+        out.forward = toFlowMsgs(scratch_, prev.header);
+      }
+      if (want.backward) {
+        flowBetween(*cur, prev, scratch_, problems);
+        out.backward = toFlowMsgs(scratch_, cur->header);
+      }
+    }
+    const size_t k = static_cast<size_t>(settings_.wide_baseline);
+    if (k > 0 && n > k && want.wide) {
+      const HeldFrame& a = *window_[n - 1 - k];
+      flowBetween(a, *cur, scratch_, problems);
+      out.wide = toFlowMsgs(scratch_, a.header);
+    }
+  } catch (const std::exception& e) {
+    problems.push_back({StepInput::kDraws, StepSeverity::kError, "flow",
+                        frameText(number) + e.what() + "; no flow for this frame"});
+    out = Output();
+    return false;
+  }
+  return true;
+}
+
+void FlowStep::correspondences(const ros::Time& stamp_a, const ros::Time& stamp_b, Correspondences::Response& res,
+                               StepProblems& problems) {
+  HeldPtr a, b;
+  std::string held;
+  for (const HeldPtr& f : window_) {
+    if (f->header.stamp == stamp_a) a = f;
+    if (f->header.stamp == stamp_b) b = f;
+    held += (held.empty() ? "" : ", ") + std::to_string(f->header.stamp.toSec());
+  }
+  if (!a || !b) {
+    res.success = false;
+    res.message = std::string("stamp ") + (a ? "b " + std::to_string(stamp_b.toSec()) : "a " + std::to_string(stamp_a.toSec())) +
+                  " is not held; held: [" + held + "]";
+    return;
+  }
+  FlowField field;
+  try {
+    flowBetween(*a, *b, field, problems);
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+    return;
+  }
+  const FlowMessages m = toFlowMsgs(field, a->header);
+  res.flow = *m.flow;
+  res.visible = *m.visible;
+  res.pose_valid = a->optical_from_world && b->optical_from_world;
+  if (res.pose_valid) res.b_in_a = toTransformMsg(*a->optical_from_world * b->optical_from_world->inverse());
+  res.success = true;
+}
+
+}  // namespace viper

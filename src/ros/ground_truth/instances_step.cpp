@@ -1,0 +1,99 @@
+#include "viper/ros/ground_truth/instances_step.h"
+
+#include "viper/ground_truth/semantic_overlay.h"
+#include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/object_conversions.h"
+
+#include <boost/make_shared.hpp>
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace viper {
+
+InstancesStep::InstancesStep(LabelTable labels, ClassTable classes, const InstancesSettings& settings)
+    : classes_(std::move(classes)) {
+  if (settings.extrapolate_frames < 0)
+    throw std::invalid_argument("extrapolate_frames must be >= 0 (got " + std::to_string(settings.extrapolate_frames) + ")");
+  InstancePipelineOptions options;
+  options.thing_classes = classes_.instanceEvalMask();
+  options.thing_classes.resize(256, false);
+  options.area_weighted_vote = settings.area_weighted_vote;
+  options.compute_boxes = false;  // the boxes step makes them
+  options.tracker.extrapolate_frames = settings.extrapolate_frames;
+  options.tracker.lod_tolerance_m = settings.lod_tolerance_m;
+  options.tracker.resume_by_resources = settings.resume_tracks_by_resources;
+  pipeline_ = std::make_unique<InstancePipeline>(std::move(labels), options);
+}
+
+void InstancesStep::addMeshes(const MeshStore& store, StepProblems& problems) {
+  std::vector<std::string> bad;
+  pipeline_->addMeshes(fromMeshStoreMsg(store, bad));
+  for (std::string& p : bad) problems.push_back({StepInput::kMeshStore, StepSeverity::kError, "mesh", ": " + p});
+}
+
+bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids, const Want& want, Output& out,
+                            StepProblems& problems) {
+  out = Output();
+  const unsigned long number = draws.frame_number;
+  if (!last_stamp_.isZero() && draws.header.stamp <= last_stamp_) {
+    char text[160];
+    std::snprintf(text, sizeof text, ": frame %lu stamp %.6f is not after the previous %.6f; frame dropped", number,
+                  draws.header.stamp.toSec(), last_stamp_.toSec());
+    problems.push_back({StepInput::kDrawIds, StepSeverity::kError, "stamp_order", text});
+    return false;
+  }
+  const std::string problem = frameFromDrawMsgs(draws, ids, frame_);
+  if (!problem.empty()) {
+    problems.push_back({StepInput::kDrawIds, StepSeverity::kError, "frame",
+                        " (frame " + std::to_string(number) + ", frame_id '" + ids.header.frame_id + "'): " + problem +
+                            "; frame dropped"});
+    return false;
+  }
+  try {
+    pipeline_->process(frame_, result_);
+  } catch (const std::exception& e) {
+    problems.push_back({StepInput::kDrawIds, StepSeverity::kError, "pipeline", std::string(": ") + e.what() + "; frame dropped"});
+    return false;
+  }
+  last_stamp_ = draws.header.stamp;
+  for (const std::string& p : result_.problems)
+    problems.push_back({StepInput::kDrawIds, StepSeverity::kWarning, "objects", ": " + p});
+
+  const std_msgs::Header& header = ids.header;
+  const uint32_t w = frame_.width, h = frame_.height;
+  const size_t n = frame_.pixelCount();
+  if (want.semantic) out.semantic = imageMsgPtr(header, w, h, "mono8", 1, result_.semantic.data());
+  if (want.semantic_color) {
+    scratch_rgb_.resize(3 * n);
+    colorizeClasses(result_.semantic.data(), n, classes_, scratch_rgb_.data());
+    out.semantic_color = imageMsgPtr(header, w, h, "rgb8", 3, scratch_rgb_.data());
+  }
+  if (want.instance_ids) out.instance_ids = imageMsgPtr(header, w, h, "32SC1", 4, result_.instance_ids.data());
+  if (want.boundaries) out.boundaries = imageMsgPtr(header, w, h, "mono8", 1, result_.boundaries.data());
+  if (want.instances_viper) {
+    scratch_rgb_.resize(3 * n);
+    encodeViperInstances(result_.semantic.data(), result_.instance_ids.data(), n, scratch_rgb_.data());
+    out.instances_viper = imageMsgPtr(header, w, h, "rgb8", 3, scratch_rgb_.data());
+  }
+  out.objects = boost::make_shared<ObjectArray>(toObjectArrayMsg(result_.objects, classes_, header));
+  return true;
+}
+
+sensor_msgs::ImagePtr InstancesStep::overlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic,
+                                             float alpha, StepProblems& problems) {
+  const size_t n = static_cast<size_t>(color.width) * color.height;
+  std::string problem = checkImage(color, "rgb8");
+  if (problem.empty() && semantic.size() != n)
+    problem = "its " + std::to_string(n) + " pixels do not fit the " + std::to_string(semantic.size()) +
+              "-pixel semantic image";
+  if (!problem.empty()) {
+    problems.push_back({StepInput::kColor, StepSeverity::kError, "overlay", ": color image: " + problem + "; no overlay"});
+    return nullptr;
+  }
+  scratch_rgb_.resize(3 * n);
+  overlayClasses(color.data.data(), semantic.data(), n, classes_, alpha, scratch_rgb_.data());
+  return imageMsgPtr(color.header, color.width, color.height, "rgb8", 3, scratch_rgb_.data());
+}
+
+}  // namespace viper

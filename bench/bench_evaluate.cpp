@@ -64,7 +64,7 @@ void BM_Semantic(benchmark::State& state) {
     if (rnd.next(10) == 0) p = static_cast<uint8_t>(rnd.next(32));
   Evaluation e(classes());
   for (auto _ : state) e.addSemantic("day", gt.data(), pred.data(), kN);
-  benchmark::DoNotOptimize(e.summarize().all.mean_iou);
+  benchmark::DoNotOptimize(e.summarize().all.scoresOf("semantic").value("mean_iou"));
 }
 
 struct FlowFrame {
@@ -113,7 +113,7 @@ void BM_DenseFlow(benchmark::State& state) {
   const FlowFrame& f = flowFrame(state.range(0) != 0);
   Evaluation e(classes());
   for (auto _ : state) e.addFlow("day", f.gt.data(), f.visible.data(), f.pred.data(), kN);
-  benchmark::DoNotOptimize(e.summarize().all.flow_all.wauc);
+  benchmark::DoNotOptimize(e.summarize().all.scoresOf("flow").value("wauc"));
 }
 
 // sparse flow: 8100 vectors on a grid (opencv_apps' fback_flow with a 16 px step gives ~8100).
@@ -130,7 +130,7 @@ void BM_SparseFlow(benchmark::State& state) {
     }
   Evaluation e(classes());
   for (auto _ : state) e.addSparseFlow("day", f.gt.data(), f.visible.data(), kW, kH, vectors);
-  benchmark::DoNotOptimize(e.summarize().all.sparse_all.wauc);
+  benchmark::DoNotOptimize(e.summarize().all.scoresOf("flow_sparse").value("wauc"));
 }
 
 // 40 ground-truth instances (ellipses, ~34 % of the frame) plus 20 under 100 px; 30 predictions
@@ -223,7 +223,7 @@ void BM_InstancesBoxMasks(benchmark::State& state) {
   Evaluation e(classes());
   for (auto _ : state) e.addInstances("day", s.ids.data(), s.classes.data(), kW, kH, s.boxes);
   state.counters["box_fraction"] = s.box_fraction;
-  benchmark::DoNotOptimize(e.summarize().all.ap);
+  benchmark::DoNotOptimize(e.summarize().all.scoresOf("instances").value("ap"));
 }
 
 void BM_InstancesFullFrameMasks(benchmark::State& state) {
@@ -231,7 +231,7 @@ void BM_InstancesFullFrameMasks(benchmark::State& state) {
   Evaluation e(classes());
   for (auto _ : state) e.addInstances("day", s.ids.data(), s.classes.data(), kN, s.full);
   state.counters["box_fraction"] = s.box_fraction;
-  benchmark::DoNotOptimize(e.summarize().all.ap);
+  benchmark::DoNotOptimize(e.summarize().all.scoresOf("instances").value("ap"));
 }
 
 // semantic_iiou (a plug-in, through Evaluation::add): ground-truth classes and ids, and a

@@ -7,7 +7,6 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
-#include <tuple>
 
 namespace viper {
 namespace {
@@ -49,16 +48,6 @@ std::vector<const ConditionSummary*> columns(const EvaluationSummary& s) {
   return c;
 }
 
-struct FlowRow {
-  const char* input;
-  const char* region;
-  const FlowSummary ConditionSummary::*member;
-};
-const FlowRow kFlowRows[] = {{"dense", "all", &ConditionSummary::flow_all},
-                             {"dense", "noc", &ConditionSummary::flow_noc},
-                             {"sparse", "all", &ConditionSummary::sparse_all},
-                             {"sparse", "noc", &ConditionSummary::sparse_noc}};
-
 std::string markdownRow(const std::vector<std::string>& cells) {
   std::string row = "|";
   for (const std::string& c : cells) row += " " + c + " |";
@@ -71,96 +60,186 @@ std::string markdownHeader(const std::vector<std::string>& cells, size_t left_al
   return markdownRow(cells) + rule + "\n";
 }
 
-// A per-class table: one row per class scored anywhere, then the mean.
-std::string classTable(const EvaluationSummary& s, const std::vector<bool>& evaluated,
-                       const std::vector<double> ConditionSummary::*per_class, double ConditionSummary::*mean) {
+// A number as a column shows it: Markdown with its decimals, CSV exactly; counts as whole numbers.
+std::string number(double v, const ReportColumn& col, bool markdown) {
+  if (col.decimals == ReportColumn::kCount)
+    return std::isfinite(v) ? std::to_string(static_cast<uint64_t>(v)) : (markdown ? "-" : "");
+  if (!markdown || col.decimals == ReportColumn::kShortest) return csvNumber(v);
+  return fixed(v, col.decimals);
+}
+
+double rowValue(const ReportRow& row, const std::string& key) {
+  const auto it = row.values.find(key);
+  return it == row.values.end() ? NAN : it->second;
+}
+
+std::string cell(const ReportRow& row, const ReportColumn& col, bool markdown) {
+  const auto text = row.text.find(col.key);
+  if (text != row.text.end()) return markdown ? text->second : csvField(text->second);
+  return number(rowValue(row, col.key), col, markdown);
+}
+
+bool scored(const EvaluationSummary& s, const MetricLayout& m) { return s.all.scoresOf(m.key).frames > 0; }
+
+// The metrics sharing m's section and files: its group in registration order, or m alone.
+std::vector<const MetricLayout*> groupOf(const EvaluationSummary& s, const MetricLayout& m) {
+  if (m.group.empty()) return {&m};
+  std::vector<const MetricLayout*> out;
+  for (const MetricLayout& o : s.layouts)
+    if (o.group == m.group) out.push_back(&o);
+  return out;
+}
+
+bool leadsGroup(const EvaluationSummary& s, const MetricLayout& m) { return groupOf(s, m).front() == &m; }
+
+bool groupScored(const EvaluationSummary& s, const MetricLayout& m) {
+  for (const MetricLayout* g : groupOf(s, m))
+    if (scored(s, *g)) return true;
+  return false;
+}
+
+const ReportTable* tableNamed(const MetricLayout& m, const std::string& name) {
+  for (const ReportTable& t : m.tables)
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+double classValue(const ConditionSummary& c, const MetricLayout& m, const std::string& key, size_t k) {
+  const auto& per_class = c.scoresOf(m.key).per_class;
+  const auto it = per_class.find(key);
+  return it != per_class.end() && k < it->second.size() ? it->second[k] : NAN;
+}
+
+bool listed(const MetricLayout& m, size_t k) { return k < m.classes.size() && m.classes[k]; }
+
+// Markdown: one row per listed class scored anywhere, a column per condition, then the mean.
+std::string perClassMarkdown(const EvaluationSummary& s, const MetricLayout& m, const ReportTable& t) {
   const auto cols = columns(s);
   std::vector<std::string> header = {"class"};
   for (const ConditionSummary* c : cols) header.push_back(c->condition);
   std::string out = markdownHeader(header, 1);
   for (size_t k = 0; k < s.class_names.size(); ++k) {
-    if (k >= evaluated.size() || !evaluated[k]) continue;
+    if (!listed(m, k)) continue;
     bool any = false;
     std::vector<std::string> row = {s.class_names[k]};
     for (const ConditionSummary* c : cols) {
-      const double v = k < (c->*per_class).size() ? (c->*per_class)[k] : NAN;
+      const double v = classValue(*c, m, t.columns[0].key, k);
       any = any || std::isfinite(v);
-      row.push_back(fixed(v, 2));
+      row.push_back(fixed(v, t.columns[0].decimals));
     }
     if (any) out += markdownRow(row);
   }
   std::vector<std::string> row = {"**mean**"};
-  for (const ConditionSummary* c : cols) row.push_back("**" + fixed(c->*mean, 2) + "**");
+  for (const ConditionSummary* c : cols)
+    row.push_back("**" + fixed(c->scoresOf(m.key).value(t.mean[0].key), t.mean[0].decimals) + "**");
   return out + markdownRow(row);
 }
 
-std::string classCsv(const EvaluationSummary& s, const std::vector<bool>& evaluated, const std::string& header,
-                     const std::vector<const std::vector<double> ConditionSummary::*>& per_class,
-                     const std::vector<double ConditionSummary::*>& means, uint64_t ConditionSummary::*frames) {
-  std::string out = header + "\n";
+std::string perClassCsv(const EvaluationSummary& s, const MetricLayout& m, const ReportTable& t) {
+  std::string out = "condition,class_id,class_name";
+  for (const ReportColumn& col : t.columns) out += "," + col.key;
+  out += "\n";
   for (const ConditionSummary* c : columns(s)) {
-    if (c->*frames == 0) continue;
+    const MetricScores& scores = c->scoresOf(m.key);
+    if (scores.frames == 0) continue;
     for (size_t k = 0; k < s.class_names.size(); ++k) {
-      if (k >= evaluated.size() || !evaluated[k]) continue;
+      if (!listed(m, k)) continue;
       bool any = false;
       std::string values;
-      for (const auto member : per_class) {
-        const double v = k < (c->*member).size() ? (c->*member)[k] : NAN;
+      for (const ReportColumn& col : t.columns) {
+        const double v = classValue(*c, m, col.key, k);
         any = any || std::isfinite(v);
         values += "," + csvNumber(v);
       }
       if (any) out += csvField(c->condition) + "," + std::to_string(k) + "," + csvField(s.class_names[k]) + values + "\n";
     }
     out += csvField(c->condition) + ",-1,mean";
-    for (const auto member : means) out += "," + csvNumber(c->*member);
+    for (const ReportColumn& col : t.mean) out += "," + csvNumber(scores.value(col.key));
     out += "\n";
   }
   return out;
 }
 
-// The metrics reporting through MetricScores that scored a frame.
-std::vector<const MetricLayout*> scoredPlugins(const EvaluationSummary& s) {
-  std::vector<const MetricLayout*> out;
-  for (const MetricLayout& m : s.layouts)
-    if (s.all.scoresOf(m.key).frames > 0) out.push_back(&m);
+// A row table: per condition, the rows of every metric of the group that scored there.
+std::string rowTable(const EvaluationSummary& s, const MetricLayout& m, const ReportTable& t, bool markdown) {
+  std::string out;
+  if (markdown) {
+    std::vector<std::string> header = {"condition"};
+    for (const ReportColumn& col : t.columns) header.push_back(col.label);
+    out = markdownHeader(header, t.left_aligned);
+  } else {
+    out = "condition";
+    for (const ReportColumn& col : t.columns) out += "," + col.key;
+    out += "\n";
+  }
+  for (const ConditionSummary* c : columns(s))
+    for (const MetricLayout* g : groupOf(s, m)) {
+      const ReportTable* gt = tableNamed(*g, t.name);
+      const MetricScores& scores = c->scoresOf(g->key);
+      if (gt == nullptr || scores.frames == 0) continue;
+      for (const std::string& set : gt->rows) {
+        const auto rows = scores.rows.find(set);
+        if (rows == scores.rows.end()) continue;
+        for (const ReportRow& row : rows->second) {
+          if (markdown && !gt->skip_zero.empty() && rowValue(row, gt->skip_zero) == 0.0) continue;
+          std::vector<std::string> cells = {markdown ? (c == &s.all ? "**all**" : c->condition)
+                                                     : csvField(c->condition)};
+          for (const ReportColumn& col : gt->columns) cells.push_back(cell(row, col, markdown));
+          if (markdown) {
+            out += markdownRow(cells);
+          } else {
+            for (size_t i = 0; i < cells.size(); ++i) out += (i ? "," : "") + cells[i];
+            out += "\n";
+          }
+        }
+      }
+    }
   return out;
 }
 
-double headlineValue(const ConditionSummary& c, const MetricLayout& m, const ReportColumn& col) {
-  const MetricScores& scores = c.scoresOf(m.key);
-  const auto it = scores.values.find(col.key);
-  return it == scores.values.end() ? NAN : it->second;
+std::string tableMarkdown(const EvaluationSummary& s, const MetricLayout& m, const ReportTable& t) {
+  return t.kind == ReportTable::kPerClass ? perClassMarkdown(s, m, t) : rowTable(s, m, t, true);
 }
 
-double classValue(const ConditionSummary& c, const MetricLayout& m, size_t k) {
-  const std::vector<double>& v = c.scoresOf(m.key).per_class;
-  return k < v.size() ? v[k] : NAN;
+std::string tableCsvOf(const EvaluationSummary& s, const MetricLayout& m, const ReportTable& t) {
+  return t.kind == ReportTable::kPerClass ? perClassCsv(s, m, t) : rowTable(s, m, t, false);
 }
 
-// A metric's section: its per-class table (one row per class scored anywhere, then the mean).
-std::string pluginMarkdown(const EvaluationSummary& s, const MetricLayout& m) {
-  std::string out = "## " + m.title + "\n\n";
-  if (!m.note.empty()) out += m.note + "\n\n";
-  if (m.per_class.key.empty() || m.headline.empty()) return out;
-  const auto cols = columns(s);
-  std::vector<std::string> header = {"class"};
-  for (const ConditionSummary* c : cols) header.push_back(c->condition);
-  out += markdownHeader(header, 1);
-  for (size_t k = 0; k < s.class_names.size(); ++k) {
-    if (k >= m.classes.size() || !m.classes[k]) continue;
-    bool any = false;
-    std::vector<std::string> row = {s.class_names[k]};
-    for (const ConditionSummary* c : cols) {
-      const double v = classValue(*c, m, k);
-      any = any || std::isfinite(v);
-      row.push_back(fixed(v, m.per_class.decimals));
+// Curves: x, then a column per condition, metric of the group that scored there, and curve.
+std::string curveCsv(const EvaluationSummary& s, const MetricLayout& m, const CurveFile& f) {
+  std::vector<const std::vector<double>*> series;
+  std::string out = f.x_label;
+  for (const ConditionSummary* c : columns(s))
+    for (const MetricLayout* g : groupOf(s, m)) {
+      const MetricScores& scores = c->scoresOf(g->key);
+      if (scores.frames == 0) continue;
+      for (const CurveFile& gf : g->curve_files) {
+        if (gf.file != f.file) continue;
+        for (const ReportColumn& curve : gf.curves) {
+          static const std::vector<double> kNone;
+          const auto it = scores.curves.find(curve.key);
+          series.push_back(it == scores.curves.end() ? &kNone : &it->second);
+          out += "," + csvField(c->condition + "/" + curve.label);
+        }
+      }
     }
-    if (any) out += markdownRow(row);
+  out += "\n";
+  for (size_t i = 0; i < f.x.size(); ++i) {
+    out += csvNumber(f.x[i]);
+    for (const std::vector<double>* y : series) out += "," + csvNumber(i < y->size() ? (*y)[i] : NAN);
+    out += "\n";
   }
-  std::vector<std::string> row = {"**mean**"};
-  for (const ConditionSummary* c : cols)
-    row.push_back("**" + fixed(headlineValue(*c, m, m.headline[0]), m.headline[0].decimals) + "**");
-  return out + markdownRow(row);
+  return out;
+}
+
+std::string section(const EvaluationSummary& s, const MetricLayout& m) {
+  std::string out;
+  for (const MarkdownPart& part : m.markdown) {
+    if (part.kind == MarkdownPart::kText) out += part.text;
+    else if (part.kind == MarkdownPart::kNote) out += s.all.scoresOf(m.key).note;
+    else if (const ReportTable* t = tableNamed(m, part.text)) out += tableMarkdown(s, m, *t);
+  }
+  return out;
 }
 
 void writeFile(const std::filesystem::path& path, const std::string& text, std::vector<std::string>& written) {
@@ -182,230 +261,79 @@ std::string csvNumber(double v) {
 }
 
 std::string reportMarkdown(const EvaluationSummary& s) {
-  const ConditionSummary& all = s.all;
-  const bool semantic = all.semantic_frames > 0, instances = all.instance_frames > 0,
-             dense = all.flow_all.present(), sparse = all.sparse_all.present(), odometry = all.odometry_poses > 0;
-  const std::vector<const MetricLayout*> plugins = scoredPlugins(s);
   std::ostringstream md;
   md << "# Evaluation report\n\n";
-  md << "Frames scored: semantic " << all.semantic_frames << ", instances " << all.instance_frames
-     << ", dense flow " << all.flow_all.frames << ", sparse flow " << all.sparse_all.frames << ", odometry poses "
-     << all.odometry_poses << ".\n\n";
-  if (!(semantic || instances || dense || sparse || odometry || !plugins.empty())) {
+  md << "Frames scored: ";
+  bool first = true, any = false;
+  for (const MetricLayout& m : s.layouts) {
+    any = any || scored(s, m);
+    if (m.frames_label.empty()) continue;
+    md << (first ? "" : ", ") << m.frames_label << " " << s.all.scoresOf(m.key).frames;
+    first = false;
+  }
+  md << ".\n\n";
+  if (!any) {
     md << "Nothing was scored: no prediction topic delivered a frame that met its ground truth.\n";
     return md.str();
   }
 
   md << "## Summary\n\n";
   std::vector<std::string> header = {"condition"};
-  if (semantic) header.push_back("mIoU %");
-  if (instances) header.insert(header.end(), {"AP %", "AP50 %"});
-  if (dense) header.insert(header.end(), {"flow EPE px", "flow WAUC %", "flow Fl %"});
-  if (sparse) header.insert(header.end(), {"sparse EPE px", "sparse WAUC %"});
-  if (odometry) header.insert(header.end(), {"VO translation %", "VO rotation deg/m"});
-  for (const MetricLayout* m : plugins)
-    for (const ReportColumn& col : m->headline) header.push_back(col.label);
+  for (const MetricLayout& m : s.layouts)
+    if (scored(s, m))
+      for (const ReportColumn& col : m.summary) header.push_back(col.label);
   md << markdownHeader(header, 1);
   for (const ConditionSummary* c : columns(s)) {
-    const bool is_all = c == &s.all;
-    std::vector<std::string> row = {is_all ? "**all**" : c->condition};
-    if (semantic) row.push_back(fixed(c->mean_iou, 2));
-    if (instances) row.insert(row.end(), {fixed(c->ap, 2), fixed(c->ap50, 2)});
-    if (dense) row.insert(row.end(), {fixed(c->flow_all.epe_px, 3), fixed(c->flow_all.wauc, 2),
-                                      fixed(c->flow_all.outlier_percent, 2)});
-    if (sparse) row.insert(row.end(), {fixed(c->sparse_all.epe_px, 3), fixed(c->sparse_all.wauc, 2)});
-    if (odometry) row.insert(row.end(), {fixed(c->odometry.translation_percent, 2),
-                                         fixed(c->odometry.rotation_deg_per_m, 4)});
-    for (const MetricLayout* m : plugins)
-      for (const ReportColumn& col : m->headline) row.push_back(fixed(headlineValue(*c, *m, col), col.decimals));
+    std::vector<std::string> row = {c == &s.all ? "**all**" : c->condition};
+    for (const MetricLayout& m : s.layouts)
+      if (scored(s, m))
+        for (const ReportColumn& col : m.summary) row.push_back(number(c->scoresOf(m.key).value(col.key), col, true));
     md << markdownRow(row);
   }
   md << "\n";
-
-  if (semantic) {
-    md << "## Semantic segmentation: IoU % per class\n\n";
-    md << classTable(s, s.semantic_eval, &ConditionSummary::iou, &ConditionSummary::mean_iou) << "\n";
-  }
-  if (instances) {
-    md << "## Instance segmentation: AP % per class (IoU 0.50:0.05:0.95, Cityscapes)\n\n";
-    md << classTable(s, s.instance_eval, &ConditionSummary::class_ap, &ConditionSummary::ap) << "\n";
-    md << "## Instance segmentation: AP50 % per class\n\n";
-    md << classTable(s, s.instance_eval, &ConditionSummary::class_ap50, &ConditionSummary::ap50) << "\n";
-  }
-  if (dense || sparse) {
-    md << "## Optical flow\n\n";
-    md << "`all`: every pixel with ground-truth flow; `noc`: those visible in the next frame. Fl: endpoint error "
-          "> 3 px and > 5 % of the true motion (KITTI). Sparse: one pixel per flow vector.\n\n";
-    md << markdownHeader({"condition", "input", "region", "frames", "pixels", "WAUC %", "EPE px", "Fl %",
-                          "invalid"},
-                         3);
-    for (const ConditionSummary* c : columns(s))
-      for (const FlowRow& r : kFlowRows) {
-        const FlowSummary& f = c->*(r.member);
-        if (!f.present()) continue;
-        md << markdownRow({c == &s.all ? "**all**" : c->condition, r.input, r.region, std::to_string(f.frames),
-                           std::to_string(f.pixels), fixed(f.wauc, 2), fixed(f.epe_px, 3),
-                           fixed(f.outlier_percent, 2), std::to_string(f.invalid)});
-      }
-    md << "\n![flow inlier rate over threshold](flow_inliers.png)\n\n";
-  }
-  if (odometry) {
-    md << "## Visual odometry (KITTI)\n\n";
-    md << markdownHeader({"condition", "poses", "sequences", "path m", "segments", "translation %",
-                          "rotation deg/m"},
-                         1);
-    for (const ConditionSummary* c : columns(s)) {
-      if (c->odometry_poses == 0) continue;
-      md << markdownRow({c == &s.all ? "**all**" : c->condition, std::to_string(c->odometry_poses),
-                         std::to_string(c->odometry_sequences), fixed(c->odometry_path_m, 1),
-                         std::to_string(c->odometry.segments), fixed(c->odometry.translation_percent, 2),
-                         fixed(c->odometry.rotation_deg_per_m, 4)});
-    }
-    md << "\n### By segment length\n\n";
-    md << markdownHeader({"condition", "length m", "segments", "translation %", "rotation deg/m"}, 1);
-    for (const ConditionSummary* c : columns(s)) {
-      const OdometryScores& o = c->odometry;
-      for (size_t i = 0; i < o.lengths_m.size(); ++i) {
-        if (o.segments_per_length[i] == 0) continue;
-        md << markdownRow({c == &s.all ? "**all**" : c->condition, csvNumber(o.lengths_m[i]),
-                           std::to_string(o.segments_per_length[i]), fixed(o.translation_percent_by_length[i], 2),
-                           fixed(o.rotation_deg_per_m_by_length[i], 4)});
-      }
-    }
-    if (all.odometry.segments == 0)
-      md << "\nNo segment: the ground-truth path (" << fixed(all.odometry_path_m, 1)
-         << " m) is shorter than the shortest segment length.\n";
-    md << "\n![VO error over segment length](odometry_errors.png)\n";
-  }
-  for (const MetricLayout* m : plugins) md << "\n" << pluginMarkdown(s, *m);
+  for (const MetricLayout& m : s.layouts)
+    if (leadsGroup(s, m) && groupScored(s, m)) md << section(s, m);
   return md.str();
 }
 
 std::string summaryCsv(const EvaluationSummary& s) {
-  std::string out =
-      "condition,semantic_frames,mean_iou,instance_frames,ap,ap50,"
-      "flow_frames,flow_wauc,flow_epe_px,flow_outlier_percent,flow_noc_wauc,flow_noc_epe_px,flow_noc_outlier_percent,"
-      "sparse_frames,sparse_vectors,sparse_wauc,sparse_epe_px,sparse_outlier_percent,"
-      "sparse_noc_wauc,sparse_noc_epe_px,sparse_noc_outlier_percent,"
-      "odometry_poses,odometry_path_m,odometry_segments,odometry_translation_percent,odometry_rotation_deg_per_m\n";
-  auto n = [](double v) { return "," + csvNumber(v); };
-  auto u = [](uint64_t v) { return "," + std::to_string(v); };
-  for (const ConditionSummary* c : columns(s)) {
-    out += csvField(c->condition) + u(c->semantic_frames) + n(c->mean_iou) + u(c->instance_frames) + n(c->ap) +
-           n(c->ap50) + u(c->flow_all.frames) + n(c->flow_all.wauc) + n(c->flow_all.epe_px) +
-           n(c->flow_all.outlier_percent) + n(c->flow_noc.wauc) + n(c->flow_noc.epe_px) +
-           n(c->flow_noc.outlier_percent) + u(c->sparse_all.frames) + u(c->sparse_vectors) + n(c->sparse_all.wauc) +
-           n(c->sparse_all.epe_px) + n(c->sparse_all.outlier_percent) + n(c->sparse_noc.wauc) +
-           n(c->sparse_noc.epe_px) + n(c->sparse_noc.outlier_percent) + u(c->odometry_poses) +
-           n(c->odometry_path_m) + u(c->odometry.segments) + n(c->odometry.translation_percent) +
-           n(c->odometry.rotation_deg_per_m) + "\n";
-  }
-  return out;
-}
-
-std::string semanticIouCsv(const EvaluationSummary& s) {
-  return classCsv(s, s.semantic_eval, "condition,class_id,class_name,iou_percent", {&ConditionSummary::iou},
-                  {&ConditionSummary::mean_iou}, &ConditionSummary::semantic_frames);
-}
-
-std::string instanceApCsv(const EvaluationSummary& s) {
-  return classCsv(s, s.instance_eval, "condition,class_id,class_name,ap_percent,ap50_percent",
-                  {&ConditionSummary::class_ap, &ConditionSummary::class_ap50},
-                  {&ConditionSummary::ap, &ConditionSummary::ap50}, &ConditionSummary::instance_frames);
-}
-
-std::string flowCsv(const EvaluationSummary& s) {
-  std::string out = "condition,input,region,frames,pixels,invalid,wauc,epe_px,outlier_percent\n";
-  for (const ConditionSummary* c : columns(s))
-    for (const FlowRow& r : kFlowRows) {
-      const FlowSummary& f = c->*(r.member);
-      if (!f.present()) continue;
-      out += csvField(c->condition) + "," + r.input + "," + r.region + "," + std::to_string(f.frames) + "," +
-             std::to_string(f.pixels) + "," + std::to_string(f.invalid) + "," + csvNumber(f.wauc) + "," +
-             csvNumber(f.epe_px) + "," + csvNumber(f.outlier_percent) + "\n";
-    }
-  return out;
-}
-
-std::string flowInliersCsv(const EvaluationSummary& s) {
-  std::vector<const FlowSummary*> series;
-  std::string out = "threshold_px";
-  for (const ConditionSummary* c : columns(s))
-    for (const FlowRow& r : kFlowRows) {
-      const FlowSummary& f = c->*(r.member);
-      if (!f.present()) continue;
-      series.push_back(&f);
-      out += "," + csvField(c->condition + "/" + r.input + "/" + r.region);
-    }
+  std::string out = "condition";
+  for (const MetricLayout& m : s.layouts)
+    for (const ReportColumn& col : m.summary_csv) out += "," + col.label;
   out += "\n";
-  for (size_t i = 0; i < s.curve_thresholds_px.size(); ++i) {
-    out += csvNumber(s.curve_thresholds_px[i]);
-    for (const FlowSummary* f : series) out += "," + csvNumber(i < f->inlier_percent.size() ? f->inlier_percent[i] : NAN);
+  for (const ConditionSummary* c : columns(s)) {
+    out += csvField(c->condition);
+    for (const MetricLayout& m : s.layouts)
+      for (const ReportColumn& col : m.summary_csv) out += "," + number(c->scoresOf(m.key).value(col.key), col, false);
     out += "\n";
   }
   return out;
 }
 
-std::string odometryCsv(const EvaluationSummary& s) {
-  std::string out = "condition,length_m,segments,translation_percent,rotation_deg_per_m\n";
-  for (const ConditionSummary* c : columns(s)) {
-    if (c->odometry_poses == 0) continue;
-    const OdometryScores& o = c->odometry;
-    for (size_t i = 0; i < o.lengths_m.size(); ++i)
-      out += csvField(c->condition) + "," + csvNumber(o.lengths_m[i]) + "," + std::to_string(o.segments_per_length[i]) +
-             "," + csvNumber(o.translation_percent_by_length[i]) + "," + csvNumber(o.rotation_deg_per_m_by_length[i]) +
-             "\n";
-    out += csvField(c->condition) + ",all," + std::to_string(o.segments) + "," + csvNumber(o.translation_percent) +
-           "," + csvNumber(o.rotation_deg_per_m) + "\n";
+std::string tableCsv(const EvaluationSummary& s, const std::string& file) {
+  for (const MetricLayout& m : s.layouts) {
+    if (!leadsGroup(s, m)) continue;
+    for (const ReportTable& t : m.tables)
+      if (t.file == file) return tableCsvOf(s, m, t);
+    for (const CurveFile& f : m.curve_files)
+      if (f.file == file) return curveCsv(s, m, f);
   }
-  return out;
-}
-
-std::string metricCsv(const EvaluationSummary& s, const MetricLayout& m) {
-  std::string out = "condition,class_id,class_name," + m.per_class.key + "\n";
-  for (const ConditionSummary* c : columns(s)) {
-    if (c->scoresOf(m.key).frames == 0) continue;
-    for (size_t k = 0; k < s.class_names.size(); ++k) {
-      const double v = k < m.classes.size() && m.classes[k] ? classValue(*c, m, k) : NAN;
-      if (std::isfinite(v))
-        out += csvField(c->condition) + "," + std::to_string(k) + "," + csvField(s.class_names[k]) + "," +
-               csvNumber(v) + "\n";
-    }
-    out += csvField(c->condition) + ",-1,mean";
-    for (const ReportColumn& col : m.headline) out += "," + csvNumber(headlineValue(*c, m, col));
-    out += "\n";
-  }
-  return out;
+  throw std::invalid_argument("tableCsv: no metric writes " + file);
 }
 
 std::string scoresYaml(const EvaluationSummary& s) {
   std::ostringstream y;
   auto block = [&](const ConditionSummary& c, const std::string& indent) {
-    if (c.semantic_frames > 0)
-      y << indent << "semantic: {frames: " << c.semantic_frames << ", mean_iou: " << yamlNumber(c.mean_iou) << "}\n";
-    if (c.instance_frames > 0)
-      y << indent << "instances: {frames: " << c.instance_frames << ", ap: " << yamlNumber(c.ap)
-        << ", ap50: " << yamlNumber(c.ap50) << "}\n";
-    for (const auto& [key, all, noc] : {std::tuple<const char*, const FlowSummary*, const FlowSummary*>{
-                                            "flow", &c.flow_all, &c.flow_noc},
-                                        {"flow_sparse", &c.sparse_all, &c.sparse_noc}}) {
-      if (!all->present()) continue;
-      y << indent << key << ": {frames: " << all->frames << ", pixels: " << all->pixels
-        << ", wauc: " << yamlNumber(all->wauc) << ", epe_px: " << yamlNumber(all->epe_px)
-        << ", outlier_percent: " << yamlNumber(all->outlier_percent) << ", noc_wauc: " << yamlNumber(noc->wauc)
-        << ", noc_epe_px: " << yamlNumber(noc->epe_px) << ", noc_outlier_percent: "
-        << yamlNumber(noc->outlier_percent) << "}\n";
-    }
-    if (c.odometry_poses > 0)
-      y << indent << "odometry: {poses: " << c.odometry_poses << ", path_m: " << yamlNumber(c.odometry_path_m)
-        << ", segments: " << c.odometry.segments << ", translation_percent: "
-        << yamlNumber(c.odometry.translation_percent)
-        << ", rotation_deg_per_m: " << yamlNumber(c.odometry.rotation_deg_per_m) << "}\n";
     for (const MetricLayout& m : s.layouts) {
       const MetricScores& scores = c.scoresOf(m.key);
       if (scores.frames == 0) continue;
-      y << indent << m.key << ": {frames: " << scores.frames;
-      for (const ReportColumn& col : m.headline) y << ", " << col.key << ": " << yamlNumber(headlineValue(c, m, col));
+      y << indent << m.key << ": {";
+      for (size_t i = 0; i < m.yaml.size(); ++i) {
+        const ReportColumn& col = m.yaml[i];
+        const double v = scores.value(col.key);
+        y << (i ? ", " : "") << col.label << ": "
+          << (col.decimals == ReportColumn::kCount ? number(v, col, false) : yamlNumber(v));
+      }
       y << "}\n";
     }
   };
@@ -427,19 +355,17 @@ std::vector<std::string> writeReportTables(const EvaluationSummary& s, const std
   std::vector<std::string> written;
   writeFile(d / "summary.md", reportMarkdown(s), written);
   writeFile(d / "summary.csv", summaryCsv(s), written);
-  writeFile(d / "semantic_iou.csv", semanticIouCsv(s), written);
-  writeFile(d / "instance_ap.csv", instanceApCsv(s), written);
-  writeFile(d / "flow.csv", flowCsv(s), written);
-  writeFile(d / "flow_inliers.csv", flowInliersCsv(s), written);
-  writeFile(d / "odometry.csv", odometryCsv(s), written);
-  // A metric's own table is written when it scored something; otherwise one of an earlier report
-  // is removed.
+  // A metric's file is written when it says so or when it scored something; otherwise one of an
+  // earlier report is removed.
   for (const MetricLayout& m : s.layouts) {
-    if (m.per_class.key.empty()) continue;
-    const std::filesystem::path path = d / (m.key + ".csv");
-    std::error_code ec;
-    if (s.all.scoresOf(m.key).frames > 0) writeFile(path, metricCsv(s, m), written);
-    else std::filesystem::remove(path, ec);
+    if (!leadsGroup(s, m)) continue;
+    for (const ReportTable& t : m.tables) {
+      if (t.file.empty()) continue;
+      std::error_code ec;
+      if (t.always || groupScored(s, m)) writeFile(d / t.file, tableCsvOf(s, m, t), written);
+      else std::filesystem::remove(d / t.file, ec);
+    }
+    for (const CurveFile& f : m.curve_files) writeFile(d / f.file, curveCsv(s, m, f), written);
   }
   return written;
 }

@@ -33,6 +33,12 @@ std::vector<double> EvaluationOptions::defaultCurveThresholds() {
   return t;
 }
 
+double MetricScores::value(const std::string& key) const {
+  if (key == "frames") return static_cast<double>(frames);
+  const auto it = values.find(key);
+  return it == values.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
+}
+
 const MetricScores& ConditionSummary::scoresOf(const std::string& metric) const {
   static const MetricScores kNone;
   const auto it = scores.find(metric);
@@ -130,14 +136,11 @@ void Evaluation::addPose(const std::string& condition, uint64_t frame_number, co
 EvaluationSummary Evaluation::summarize() const {
   EvaluationSummary s;
   for (const ClassInfo& c : classes_.classes()) s.class_names.push_back(c.name);
-  s.semantic_eval = classes_.semanticEvalMask();
-  s.instance_eval = classes_.instanceEvalMask();
-  s.curve_thresholds_px = options_.curve_thresholds_px;
   std::vector<std::string> names;
   for (const auto& m : metrics_) {
     for (const std::string& c : m->conditions())
       if (std::find(names.begin(), names.end(), c) == names.end()) names.push_back(c);
-    if (const MetricLayout* layout = m->layout()) s.layouts.push_back(*layout);
+    s.layouts.push_back(m->layout());
   }
   std::sort(names.begin(), names.end());
   std::stable_sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {

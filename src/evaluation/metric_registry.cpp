@@ -13,9 +13,9 @@ std::unique_ptr<Metric> makeSparseFlowMetric(const MetricContext&);
 std::unique_ptr<Metric> makeOdometryMetric(const MetricContext&);
 
 const std::vector<MetricFactory>& registeredMetrics() {
-  static const std::vector<MetricFactory> metrics = {makeSemanticIouMetric, makeSemanticIiouMetric,
-                                                     makeInstanceApMetric,  makeDenseFlowMetric,
-                                                     makeSparseFlowMetric,  makeOdometryMetric};
+  static const std::vector<MetricFactory> metrics = {makeSemanticIouMetric, makeInstanceApMetric,
+                                                     makeDenseFlowMetric,   makeSparseFlowMetric,
+                                                     makeOdometryMetric,    makeSemanticIiouMetric};
   return metrics;
 }
 

@@ -146,61 +146,54 @@ cv::Mat renderLinePlot(const LinePlot& plot, int width, int height) {
   return img;
 }
 
-std::string writeFlowInlierPlot(const EvaluationSummary& s, const std::string& dir) {
-  LinePlot plot;
-  plot.title = "Optical flow: pixels within an endpoint error";
-  plot.x_label = "endpoint error threshold (px)";
-  plot.y_label = "inliers (%)";
-  plot.x_min = 0.0, plot.x_max = 5.0, plot.y_min = 0.0, plot.y_max = 100.0;
-  plot.legend_bottom = true;  // the curves rise towards the top right
-  for (const ConditionSummary* c : columns(s)) {
-    for (const auto& [input, f] : {std::pair<const char*, const FlowSummary*>{"dense", &c->flow_all},
-                                   {"sparse", &c->sparse_all}}) {
-      if (!f->present()) continue;
-      plot.series.push_back({c->condition + " " + input, s.curve_thresholds_px, f->inlier_percent});
-    }
+std::string writePlot(const EvaluationSummary& s, const MetricLayout& metric, const PlotLayout& plot,
+                      const std::string& dir) {
+  // The metrics sharing the figure: the metric's group (or itself), each with its own curves.
+  std::vector<std::pair<const MetricLayout*, const PlotLayout*>> members;
+  for (const MetricLayout& m : s.layouts) {
+    if (&m != &metric && (metric.group.empty() || m.group != metric.group)) continue;
+    for (const PlotLayout& p : m.plots)
+      if (p.file == plot.file && p.panels.size() == plot.panels.size()) members.emplace_back(&m, &p);
   }
-  if (plot.series.empty()) return "";
-  const std::string path = (std::filesystem::path(dir) / "flow_inliers.png").string();
-  writePng(renderLinePlot(plot), path);
-  return path;
-}
-
-std::string writeOdometryPlot(const EvaluationSummary& s, const std::string& dir) {
-  if (s.all.odometry.segments == 0) return "";
-  LinePlot t, r;
-  t.title = "VO translation error";
-  r.title = "VO rotation error";
-  t.x_label = r.x_label = "segment length (m)";
-  t.y_label = "translation error (%)";
-  r.y_label = "rotation error (deg/m)";
-  const std::vector<double>& lengths = s.all.odometry.lengths_m;
-  t.x_min = r.x_min = 0.0;
-  t.x_max = r.x_max = lengths.empty() ? 1.0 : *std::max_element(lengths.begin(), lengths.end()) * 1.05;
-  t.markers = r.markers = true;
-  t.y_max = r.y_max = 0.0;  // from the data
-  for (const ConditionSummary* c : columns(s)) {
-    if (c->odometry.segments == 0) continue;
-    t.series.push_back({c->condition, c->odometry.lengths_m, c->odometry.translation_percent_by_length});
-    r.series.push_back({c->condition, c->odometry.lengths_m, c->odometry.rotation_deg_per_m_by_length});
+  std::vector<cv::Mat> panels;
+  for (size_t p = 0; p < plot.panels.size(); ++p) {
+    LinePlot lines = plot.panels[p].axes;
+    for (const ConditionSummary* c : columns(s))
+      for (const auto& [owner, member] : members) {
+        const MetricScores& scores = c->scoresOf(owner->key);
+        if (!(scores.value(member->when) > 0.0)) continue;
+        const PlotLayout::Panel& panel = member->panels[p];
+        for (const ReportColumn& curve : panel.curves) {
+          const auto y = scores.curves.find(curve.key);
+          lines.series.push_back({c->condition + (curve.label.empty() ? "" : " " + curve.label), panel.x,
+                                  y == scores.curves.end() ? std::vector<double>() : y->second});
+        }
+      }
+    if (lines.series.empty()) return "";
+    panels.push_back(renderLinePlot(lines, plot.width, plot.height));
   }
-  cv::Mat both;
-  cv::hconcat(renderLinePlot(t, 640, 460), renderLinePlot(r, 640, 460), both);
-  const std::string path = (std::filesystem::path(dir) / "odometry_errors.png").string();
-  writePng(both, path);
+  if (panels.empty()) return "";
+  cv::Mat image;
+  if (panels.size() == 1) image = panels[0];
+  else cv::hconcat(panels, image);
+  const std::string path = (std::filesystem::path(dir) / plot.file).string();
+  writePng(image, path);
   return path;
 }
 
 std::vector<std::string> writeReport(const EvaluationSummary& s, const std::string& dir) {
   std::vector<std::string> written = writeReportTables(s, dir);
   // A figure with nothing to show is removed, so that no figure of an earlier report stays behind.
-  const std::pair<std::string, const char*> figures[] = {{writeFlowInlierPlot(s, dir), "flow_inliers.png"},
-                                                         {writeOdometryPlot(s, dir), "odometry_errors.png"}};
-  for (const auto& [path, name] : figures) {
-    std::error_code ec;
-    if (path.empty()) std::filesystem::remove(std::filesystem::path(dir) / name, ec);
-    else written.push_back(path);
-  }
+  std::vector<std::string> files;
+  for (const MetricLayout& m : s.layouts)
+    for (const PlotLayout& plot : m.plots) {
+      if (std::find(files.begin(), files.end(), plot.file) != files.end()) continue;
+      files.push_back(plot.file);
+      const std::string path = writePlot(s, m, plot, dir);
+      std::error_code ec;
+      if (path.empty()) std::filesystem::remove(std::filesystem::path(dir) / plot.file, ec);
+      else written.push_back(path);
+    }
   return written;
 }
 

@@ -38,6 +38,25 @@ std::string readFile(const std::filesystem::path& p) {
   return s.str();
 }
 
+// A metric's number, count, per-class vector and curve in a summary.
+double value(const ConditionSummary& c, const std::string& metric, const std::string& key) {
+  return c.scoresOf(metric).value(key);
+}
+uint64_t count(const ConditionSummary& c, const std::string& metric, const std::string& key) {
+  return static_cast<uint64_t>(value(c, metric, key));
+}
+const std::vector<double>& perClass(const ConditionSummary& c, const std::string& metric, const std::string& key) {
+  return c.scoresOf(metric).per_class.at(key);
+}
+const std::vector<double>& curve(const ConditionSummary& c, const std::string& metric, const std::string& key) {
+  return c.scoresOf(metric).curves.at(key);
+}
+const MetricLayout& layoutOf(const EvaluationSummary& s, const std::string& metric) {
+  for (const MetricLayout& m : s.layouts)
+    if (m.key == metric) return m;
+  throw std::out_of_range(metric);
+}
+
 // 20x10 frame: a car (id 1) on the left half and a bus (id 2) on the right half, 100 px each.
 struct InstanceFrame {
   static constexpr int kW = 20, kH = 10;
@@ -143,67 +162,67 @@ TEST(Evaluation, WorkedExampleNumbers) {
   EXPECT_EQ(s.conditions[1].condition, "rain");
   const ConditionSummary &day = s.conditions[0], &rain = s.conditions[1], &all = s.all;
 
-  EXPECT_DOUBLE_EQ(day.iou[kRoad], 75.0);
-  EXPECT_DOUBLE_EQ(day.iou[kCar], 50.0);
-  EXPECT_DOUBLE_EQ(day.iou[kTree], 0.0);
-  EXPECT_TRUE(std::isnan(day.iou[2]));
-  EXPECT_DOUBLE_EQ(day.mean_iou, 62.5);
-  EXPECT_DOUBLE_EQ(rain.mean_iou, 100.0);
-  EXPECT_DOUBLE_EQ(all.iou[kRoad], 100.0 * (5.0 / 6));
-  EXPECT_DOUBLE_EQ(all.iou[kCar], 100.0 * (4.0 / 6));
-  EXPECT_DOUBLE_EQ(all.mean_iou, (100.0 * (5.0 / 6) + 100.0 * (4.0 / 6)) / 2);
-  EXPECT_EQ(day.semantic_pixels, 7u);
-  EXPECT_EQ(all.semantic_frames, 2u);
+  EXPECT_DOUBLE_EQ(perClass(day, "semantic", "iou_percent")[kRoad], 75.0);
+  EXPECT_DOUBLE_EQ(perClass(day, "semantic", "iou_percent")[kCar], 50.0);
+  EXPECT_DOUBLE_EQ(perClass(day, "semantic", "iou_percent")[kTree], 0.0);
+  EXPECT_TRUE(std::isnan(perClass(day, "semantic", "iou_percent")[2]));
+  EXPECT_DOUBLE_EQ(value(day, "semantic", "mean_iou"), 62.5);
+  EXPECT_DOUBLE_EQ(value(rain, "semantic", "mean_iou"), 100.0);
+  EXPECT_DOUBLE_EQ(perClass(all, "semantic", "iou_percent")[kRoad], 100.0 * (5.0 / 6));
+  EXPECT_DOUBLE_EQ(perClass(all, "semantic", "iou_percent")[kCar], 100.0 * (4.0 / 6));
+  EXPECT_DOUBLE_EQ(value(all, "semantic", "mean_iou"), (100.0 * (5.0 / 6) + 100.0 * (4.0 / 6)) / 2);
+  EXPECT_EQ(count(day, "semantic", "pixels"), 7u);
+  EXPECT_EQ(all.scoresOf("semantic").frames, 2u);
 
-  EXPECT_DOUBLE_EQ(day.class_ap[kCar], 100.0);
-  EXPECT_DOUBLE_EQ(day.class_ap[kBus], 50.0);
-  EXPECT_DOUBLE_EQ(day.class_ap50[kBus], 100.0);
-  EXPECT_DOUBLE_EQ(day.ap, 75.0);
-  EXPECT_DOUBLE_EQ(day.ap50, 100.0);
-  EXPECT_DOUBLE_EQ(rain.ap, 0.0);
-  EXPECT_TRUE(std::isnan(rain.class_ap[kBus]));
-  EXPECT_DOUBLE_EQ(all.class_ap[kCar], 50.0);
-  EXPECT_DOUBLE_EQ(all.ap, 50.0);
-  EXPECT_DOUBLE_EQ(all.ap50, 75.0);
+  EXPECT_DOUBLE_EQ(perClass(day, "instances", "ap_percent")[kCar], 100.0);
+  EXPECT_DOUBLE_EQ(perClass(day, "instances", "ap_percent")[kBus], 50.0);
+  EXPECT_DOUBLE_EQ(perClass(day, "instances", "ap50_percent")[kBus], 100.0);
+  EXPECT_DOUBLE_EQ(value(day, "instances", "ap"), 75.0);
+  EXPECT_DOUBLE_EQ(value(day, "instances", "ap50"), 100.0);
+  EXPECT_DOUBLE_EQ(value(rain, "instances", "ap"), 0.0);
+  EXPECT_TRUE(std::isnan(perClass(rain, "instances", "ap_percent")[kBus]));
+  EXPECT_DOUBLE_EQ(perClass(all, "instances", "ap_percent")[kCar], 50.0);
+  EXPECT_DOUBLE_EQ(value(all, "instances", "ap"), 50.0);
+  EXPECT_DOUBLE_EQ(value(all, "instances", "ap50"), 75.0);
 
-  EXPECT_EQ(day.flow_all.pixels, 3u);
-  EXPECT_NEAR(day.flow_all.epe_px, 12.5 / 3, 1e-12);
-  EXPECT_NEAR(day.flow_all.wauc, 100.0 * 1.25 / 3, 1e-12);
-  EXPECT_NEAR(day.flow_all.outlier_percent, 100.0 / 3, 1e-12);
-  EXPECT_EQ(day.flow_noc.pixels, 2u);
-  EXPECT_DOUBLE_EQ(day.flow_noc.epe_px, 1.25);
-  EXPECT_DOUBLE_EQ(day.flow_noc.wauc, 62.5);
-  EXPECT_DOUBLE_EQ(day.flow_noc.outlier_percent, 0.0);
-  EXPECT_FALSE(rain.flow_all.present());
-  EXPECT_EQ(all.flow_all.pixels, 3u);
-  EXPECT_EQ(all.flow_all.frames, 1u);
+  EXPECT_EQ(count(day, "flow", "pixels"), 3u);
+  EXPECT_NEAR(value(day, "flow", "epe_px"), 12.5 / 3, 1e-12);
+  EXPECT_NEAR(value(day, "flow", "wauc"), 100.0 * 1.25 / 3, 1e-12);
+  EXPECT_NEAR(value(day, "flow", "outlier_percent"), 100.0 / 3, 1e-12);
+  EXPECT_EQ(count(day, "flow", "noc_pixels"), 2u);
+  EXPECT_DOUBLE_EQ(value(day, "flow", "noc_epe_px"), 1.25);
+  EXPECT_DOUBLE_EQ(value(day, "flow", "noc_wauc"), 62.5);
+  EXPECT_DOUBLE_EQ(value(day, "flow", "noc_outlier_percent"), 0.0);
+  EXPECT_EQ(rain.scoresOf("flow").frames, 0u);
+  EXPECT_EQ(count(all, "flow", "pixels"), 3u);
+  EXPECT_EQ(all.scoresOf("flow").frames, 1u);
   // Inlier curve: error 0 counts from 0.05 px on, 2.5 px from 2.55 px on, 10 px never.
-  ASSERT_EQ(s.curve_thresholds_px.size(), 101u);
-  EXPECT_DOUBLE_EQ(day.flow_all.inlier_percent[0], 0.0);
-  EXPECT_NEAR(day.flow_all.inlier_percent[1], 100.0 / 3, 1e-12);
-  EXPECT_NEAR(day.flow_all.inlier_percent[50], 100.0 / 3, 1e-12);
-  EXPECT_NEAR(day.flow_all.inlier_percent[51], 200.0 / 3, 1e-12);
-  EXPECT_NEAR(day.flow_all.inlier_percent[100], 200.0 / 3, 1e-12);
+  ASSERT_EQ(layoutOf(s, "flow").curve_files.at(0).x.size(), 101u);
+  EXPECT_DOUBLE_EQ(curve(day, "flow", "inliers")[0], 0.0);
+  EXPECT_NEAR(curve(day, "flow", "inliers")[1], 100.0 / 3, 1e-12);
+  EXPECT_NEAR(curve(day, "flow", "inliers")[50], 100.0 / 3, 1e-12);
+  EXPECT_NEAR(curve(day, "flow", "inliers")[51], 200.0 / 3, 1e-12);
+  EXPECT_NEAR(curve(day, "flow", "inliers")[100], 200.0 / 3, 1e-12);
 
-  EXPECT_EQ(day.sparse_vectors, 4u);
-  EXPECT_EQ(day.sparse_all.pixels, 2u);
-  EXPECT_DOUBLE_EQ(day.sparse_all.epe_px, 1.25);
-  EXPECT_DOUBLE_EQ(day.sparse_all.wauc, 62.5);
-  EXPECT_DOUBLE_EQ(day.sparse_all.outlier_percent, 0.0);
-  EXPECT_EQ(day.sparse_noc.pixels, 1u);
-  EXPECT_DOUBLE_EQ(day.sparse_noc.epe_px, 0.0);
-  EXPECT_DOUBLE_EQ(day.sparse_noc.wauc, 100.0);
+  EXPECT_EQ(count(day, "flow_sparse", "vectors"), 4u);
+  EXPECT_EQ(count(day, "flow_sparse", "pixels"), 2u);
+  EXPECT_DOUBLE_EQ(value(day, "flow_sparse", "epe_px"), 1.25);
+  EXPECT_DOUBLE_EQ(value(day, "flow_sparse", "wauc"), 62.5);
+  EXPECT_DOUBLE_EQ(value(day, "flow_sparse", "outlier_percent"), 0.0);
+  EXPECT_EQ(count(day, "flow_sparse", "noc_pixels"), 1u);
+  EXPECT_DOUBLE_EQ(value(day, "flow_sparse", "noc_epe_px"), 0.0);
+  EXPECT_DOUBLE_EQ(value(day, "flow_sparse", "noc_wauc"), 100.0);
 
-  EXPECT_EQ(day.odometry_poses, 4u);
-  EXPECT_EQ(day.odometry.segments, 3u);
-  EXPECT_DOUBLE_EQ(day.odometry.translation_percent, (50.0 + 37.5 + 50.0) / 3);
-  EXPECT_DOUBLE_EQ(day.odometry.rotation_deg_per_m, 0.0);
-  EXPECT_EQ(rain.odometry.segments, 0u);
-  EXPECT_TRUE(std::isnan(rain.odometry.translation_percent));
-  EXPECT_EQ(all.odometry_poses, 6u);
-  EXPECT_EQ(all.odometry_sequences, 2u);
-  EXPECT_DOUBLE_EQ(all.odometry_path_m, 3.5);
-  EXPECT_EQ(all.odometry.segments, 3u);
+  EXPECT_EQ(day.scoresOf("odometry").frames, 4u);
+  EXPECT_EQ(count(day, "odometry", "segments"), 3u);
+  EXPECT_DOUBLE_EQ(value(day, "odometry", "translation_percent"), (50.0 + 37.5 + 50.0) / 3);
+  EXPECT_DOUBLE_EQ(value(day, "odometry", "rotation_deg_per_m"), 0.0);
+  EXPECT_EQ(count(rain, "odometry", "segments"), 0u);
+  EXPECT_TRUE(std::isnan(value(rain, "odometry", "translation_percent")));
+  EXPECT_EQ(all.scoresOf("odometry").frames, 6u);
+  EXPECT_EQ(count(all, "odometry", "sequences"), 2u);
+  EXPECT_DOUBLE_EQ(value(all, "odometry", "path_m"), 3.5);
+  EXPECT_EQ(count(all, "odometry", "segments"), 3u);
 }
 
 TEST(EvalReport, SummaryCsv) {
@@ -220,7 +239,7 @@ TEST(EvalReport, SummaryCsv) {
 
 TEST(EvalReport, PerClassCsv) {
   const EvaluationSummary s = example().summarize();
-  const std::string sem = semanticIouCsv(s);
+  const std::string sem = tableCsv(s, "semantic_iou.csv");
   EXPECT_EQ(lines(sem)[0], "condition,class_id,class_name,iou_percent");
   EXPECT_TRUE(hasLine(sem, "day,3,road,75")) << sem;
   EXPECT_TRUE(hasLine(sem, "day,7,tree,0")) << sem;
@@ -229,7 +248,7 @@ TEST(EvalReport, PerClassCsv) {
   EXPECT_TRUE(hasLine(sem, "rain,-1,mean,100")) << sem;
   EXPECT_TRUE(hasLine(sem, "all,3,road," + csvNumber(100.0 * (5.0 / 6)))) << sem;
   EXPECT_FALSE(sem.find(",sky,") != std::string::npos) << "sky has nothing to score";
-  const std::string ap = instanceApCsv(s);
+  const std::string ap = tableCsv(s, "instance_ap.csv");
   EXPECT_EQ(lines(ap)[0], "condition,class_id,class_name,ap_percent,ap50_percent");
   EXPECT_TRUE(hasLine(ap, "day,24,car,100,100")) << ap;
   EXPECT_TRUE(hasLine(ap, "day,26,bus,50,100")) << ap;
@@ -242,7 +261,7 @@ TEST(EvalReport, PerClassCsv) {
 
 TEST(EvalReport, FlowAndOdometryCsv) {
   const EvaluationSummary s = example().summarize();
-  const std::string flow = flowCsv(s);
+  const std::string flow = tableCsv(s, "flow.csv");
   const std::string third = csvNumber(100.0 / 3);
   EXPECT_EQ(lines(flow).size(), 9u) << flow;  // header + day and all x dense/sparse x all/noc
   EXPECT_TRUE(hasLine(flow, "day,dense,all,1,3,0," + csvNumber(100.0 * 1.25 / 3) + "," + csvNumber(12.5 / 3) + "," +
@@ -252,7 +271,7 @@ TEST(EvalReport, FlowAndOdometryCsv) {
   EXPECT_TRUE(hasLine(flow, "day,sparse,all,1,2,0,62.5,1.25,0")) << flow;
   EXPECT_TRUE(hasLine(flow, "all,sparse,noc,1,1,0,100,0,0")) << flow;
 
-  const std::string inliers = flowInliersCsv(s);
+  const std::string inliers = tableCsv(s, "flow_inliers.csv");
   const auto il = lines(inliers);
   ASSERT_EQ(il.size(), 102u);
   EXPECT_EQ(il[0], "threshold_px,day/dense/all,day/dense/noc,day/sparse/all,day/sparse/noc,all/dense/all,"
@@ -260,7 +279,7 @@ TEST(EvalReport, FlowAndOdometryCsv) {
   EXPECT_EQ(il[1], "0,0,0,0,0,0,0,0,0");
   EXPECT_EQ(il[101], "5," + csvNumber(200.0 / 3) + ",100,100,100," + csvNumber(200.0 / 3) + ",100,100,100");
 
-  const std::string odo = odometryCsv(s);
+  const std::string odo = tableCsv(s, "odometry.csv");
   EXPECT_EQ(lines(odo)[0], "condition,length_m,segments,translation_percent,rotation_deg_per_m");
   EXPECT_TRUE(hasLine(odo, "day,1,2,50,0")) << odo;
   EXPECT_TRUE(hasLine(odo, "day,2,1,37.5,0")) << odo;
@@ -318,7 +337,7 @@ TEST(EvalReport, NothingScored) {
   const auto l = lines(summaryCsv(s));
   ASSERT_EQ(l.size(), 2u);
   EXPECT_EQ(l[1], "all,0,,0,,,0,,,,,,,0,0,,,,,,,0,0,0,,");
-  EXPECT_EQ(lines(flowCsv(s)).size(), 1u);
+  EXPECT_EQ(lines(tableCsv(s, "flow.csv")).size(), 1u);
   EXPECT_EQ(scoresYaml(s), "all:\nconditions: {}\n");
 }
 
@@ -339,16 +358,16 @@ TEST(Evaluation, AllInvalidAndEmptyInputs) {
   const EvaluationSummary s = e.summarize();
   ASSERT_EQ(s.conditions.size(), 1u);
   const ConditionSummary& n = s.conditions[0];
-  EXPECT_EQ(n.flow_all.frames, 2u);
-  EXPECT_EQ(n.flow_all.pixels, 1u);
-  EXPECT_EQ(n.flow_all.invalid, 1u);
-  EXPECT_TRUE(std::isnan(n.flow_all.epe_px));
-  EXPECT_DOUBLE_EQ(n.flow_all.outlier_percent, 100.0);
-  EXPECT_DOUBLE_EQ(n.flow_all.wauc, 0.0);
-  EXPECT_EQ(n.instance_frames, 1u);
-  EXPECT_TRUE(std::isnan(n.ap));
-  EXPECT_EQ(n.sparse_all.frames, 1u);
-  EXPECT_EQ(n.sparse_all.pixels, 0u);
+  EXPECT_EQ(n.scoresOf("flow").frames, 2u);
+  EXPECT_EQ(count(n, "flow", "pixels"), 1u);
+  EXPECT_EQ(count(n, "flow", "invalid"), 1u);
+  EXPECT_TRUE(std::isnan(value(n, "flow", "epe_px")));
+  EXPECT_DOUBLE_EQ(value(n, "flow", "outlier_percent"), 100.0);
+  EXPECT_DOUBLE_EQ(value(n, "flow", "wauc"), 0.0);
+  EXPECT_EQ(n.scoresOf("instances").frames, 1u);
+  EXPECT_TRUE(std::isnan(value(n, "instances", "ap")));
+  EXPECT_EQ(n.scoresOf("flow_sparse").frames, 1u);
+  EXPECT_EQ(count(n, "flow_sparse", "pixels"), 0u);
   EXPECT_TRUE(hasLine(reportMarkdown(s), "| night | - | - | - | 0.00 | 100.00 | - | - |")) << reportMarkdown(s);
 }
 
@@ -360,13 +379,13 @@ TEST(Evaluation, TrajectoryBreaksOnConditionChangeAndFrameNumbersGoingBack) {
   e.addPose("day", 4, at(4), at(4));  // back to day: a new run
   const EvaluationSummary s = e.summarize();
   ASSERT_EQ(s.conditions.size(), 2u);
-  EXPECT_EQ(s.conditions[0].odometry_sequences, 3u);
-  EXPECT_EQ(s.conditions[0].odometry_poses, 7u);
-  EXPECT_DOUBLE_EQ(s.conditions[0].odometry_path_m, 4.0);
-  EXPECT_EQ(s.conditions[1].odometry_sequences, 1u);
+  EXPECT_EQ(count(s.conditions[0], "odometry", "sequences"), 3u);
+  EXPECT_EQ(s.conditions[0].scoresOf("odometry").frames, 7u);
+  EXPECT_DOUBLE_EQ(value(s.conditions[0], "odometry", "path_m"), 4.0);
+  EXPECT_EQ(count(s.conditions[1], "odometry", "sequences"), 1u);
   // Two runs of 0..2 m each give segments 0->2 (1 m) only: error 0.
-  EXPECT_EQ(s.all.odometry.segments, 2u);
-  EXPECT_DOUBLE_EQ(s.all.odometry.translation_percent, 0.0);
+  EXPECT_EQ(count(s.all, "odometry", "segments"), 2u);
+  EXPECT_DOUBLE_EQ(value(s.all, "odometry", "translation_percent"), 0.0);
 }
 
 TEST(Evaluation, RejectsMismatchedMasksAndBadOptions) {
@@ -445,12 +464,12 @@ TEST(Evaluation, BoxedAndFullFrameInstancesScoreAsTheAccumulatorOnTheWholeFrame)
   for (int c : {kCar, kBus, 20}) {
     if (std::isnan(direct.classAp(c))) continue;
     ++compared;
-    EXPECT_EQ(a.all.class_ap[c], 100.0 * direct.classAp(c)) << c;
-    EXPECT_EQ(b.all.class_ap[c], 100.0 * direct.classAp(c)) << c;
-    EXPECT_EQ(b.all.class_ap50[c], 100.0 * direct.classAp50(c)) << c;
+    EXPECT_EQ(perClass(a.all, "instances", "ap_percent")[c], 100.0 * direct.classAp(c)) << c;
+    EXPECT_EQ(perClass(b.all, "instances", "ap_percent")[c], 100.0 * direct.classAp(c)) << c;
+    EXPECT_EQ(perClass(b.all, "instances", "ap50_percent")[c], 100.0 * direct.classAp50(c)) << c;
   }
   EXPECT_GE(compared, 2);
-  EXPECT_EQ(b.all.ap, 100.0 * direct.meanAp());
+  EXPECT_EQ(value(b.all, "instances", "ap"), 100.0 * direct.meanAp());
   EXPECT_GT(direct.meanAp(), 0.0) << "the random predictions should hit something";
   EXPECT_LT(direct.meanAp(), 1.0);
 

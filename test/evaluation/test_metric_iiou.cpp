@@ -55,7 +55,7 @@ TEST(MetricIiou, IsRegisteredWithItsInputs) {
   const Metric* m = e.metric("semantic_iiou");
   ASSERT_NE(m, nullptr);
   EXPECT_EQ(m->inputs(), kGtSemantic | kGtInstanceIds | kPredSemantic);
-  ASSERT_NE(m->layout(), nullptr);
+  EXPECT_EQ(m->layout().key, "semantic_iiou");
   EXPECT_THROW(Evaluation(ClassTable::load("config/viper_classes.csv")).add("no_such_metric", EvalFrame{}),
                std::invalid_argument);
 }
@@ -66,17 +66,17 @@ TEST(MetricIiou, HandComputedCase) {
   const MetricScores& day = s.conditions[0].scoresOf("semantic_iiou");
   EXPECT_EQ(s.conditions[0].condition, "day");
   EXPECT_EQ(day.frames, 1u);
-  EXPECT_NEAR(day.per_class[kCar], 100.0 * 3.75 / 11.0, 1e-12);
-  EXPECT_TRUE(std::isnan(day.per_class[kBus]));   // neither in ground truth nor predicted
-  EXPECT_TRUE(std::isnan(day.per_class[kRoad]));  // not an instance class
+  EXPECT_NEAR(day.per_class.at("iiou_percent")[kCar], 100.0 * 3.75 / 11.0, 1e-12);
+  EXPECT_TRUE(std::isnan(day.per_class.at("iiou_percent")[kBus]));   // neither in ground truth nor predicted
+  EXPECT_TRUE(std::isnan(day.per_class.at("iiou_percent")[kRoad]));  // not an instance class
   EXPECT_NEAR(day.values.at("mean_iiou"), 100.0 * 3.75 / 11.0, 1e-12);
   EXPECT_DOUBLE_EQ(s.conditions[1].scoresOf("semantic_iiou").values.at("mean_iiou"), 100.0);
   const MetricScores& all = s.all.scoresOf("semantic_iiou");
   EXPECT_EQ(all.frames, 2u);
-  EXPECT_DOUBLE_EQ(all.per_class[kCar], 54.6875);
+  EXPECT_DOUBLE_EQ(all.per_class.at("iiou_percent")[kCar], 54.6875);
   EXPECT_DOUBLE_EQ(all.values.at("mean_iiou"), 54.6875);
   // The other metrics saw nothing.
-  EXPECT_EQ(s.all.semantic_frames, 0u);
+  EXPECT_EQ(s.all.scoresOf("semantic").frames, 0u);
 }
 
 TEST(MetricIiou, Report) {
@@ -89,7 +89,7 @@ TEST(MetricIiou, Report) {
   EXPECT_TRUE(hasLine(md, "| **all** | 54.69 |")) << md;
   EXPECT_TRUE(hasLine(md, "| car | 34.09 | 100.00 | 54.69 |")) << md;
   EXPECT_TRUE(hasLine(md, "| **mean** | **34.09** | **100.00** | **54.69** |")) << md;
-  const std::string csv = metricCsv(s, s.layouts.at(0));
+  const std::string csv = tableCsv(s, "semantic_iiou.csv");
   EXPECT_TRUE(hasLine(csv, "condition,class_id,class_name,iiou_percent")) << csv;
   EXPECT_TRUE(hasLine(csv, "all,24,car,54.6875")) << csv;
   EXPECT_TRUE(hasLine(csv, "rain,-1,mean,100")) << csv;

@@ -4,6 +4,8 @@
 // from tf instead of a topic. Both nodes then go idle, write their report and shut down
 // (~shutdown_after_idle_s); the reports are checked.
 // Private parameters: report_dir (of /evaluate), tf_report_dir (of /evaluate_tf), timeout_s (60).
+#include "../common/process_util.h"
+
 #include <geometry_msgs/TransformStamped.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -18,11 +20,11 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
-#include <fstream>
 #include <mutex>
-#include <sstream>
 
 namespace {
+
+using viper::test::readFile;
 
 constexpr uint32_t kW = 4, kH = 3;
 
@@ -50,13 +52,6 @@ nav_msgs::Odometry odom(const ros::Time& t, double x) {
   m.pose.pose.position.x = x;
   m.pose.pose.orientation.w = 1.0;
   return m;
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
 }
 
 class EvaluateBadInput : public ::testing::Test {

@@ -13,7 +13,9 @@
 // ~report_dir), evaluate (evaluate's node name, "/evaluate"), draws_subscribers (processes that
 // read /capture/draws: 2 with evaluate as a node, 1 as a nodelet of replay.launch's manager),
 // timeout_s (180).
+#include "../common/process_util.h"
 #include "bag_publishers.h"
+#include "evaluate_expect.h"
 
 #include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/ego_motion.h"
@@ -37,14 +39,15 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <set>
-#include <sstream>
 
 namespace {
+
+using namespace evaluate_expect;
+using viper::test::readFile;
 
 const std::string kGtSemantic = "/ground_truth/semantic", kGtIds = "/ground_truth/instance_ids",
                   kGtFlow = "/ground_truth/flow/forward", kGtVisible = "/ground_truth/flow/forward_visible",
@@ -52,88 +55,12 @@ const std::string kGtSemantic = "/ground_truth/semantic", kGtIds = "/ground_trut
 constexpr int kShiftPx = 3;
 constexpr double kSparseBiasPx = 0.25, kStretch = 1.1;
 
-// Expected flow scores, accumulated here independently of the core.
-struct FlowExpect {
-  uint64_t n = 0, outliers = 0;
-  double epe = 0.0, wauc = 0.0;
-  void add(double e, double gt_norm) {
-    ++n;
-    epe += e;
-    if (e < 5.0) wauc += (1.0 - e / 5.0) * (1.0 - e / 5.0);
-    if (e > 3.0 && e > 0.05 * gt_norm) ++outliers;
-  }
-  void merge(const FlowExpect& o) { n += o.n, outliers += o.outliers, epe += o.epe, wauc += o.wauc; }
-  double epeMean() const { return epe / n; }
-  double waucPercent() const { return 100.0 * wauc / n; }
-  double outlierPercent() const { return 100.0 * outliers / n; }
-};
-
-// Expected semantic scores: confusion over ground-truth pixels of scored classes.
-struct SemanticExpect {
-  std::vector<uint64_t> tp = std::vector<uint64_t>(256), fp = std::vector<uint64_t>(256),
-                        fn = std::vector<uint64_t>(256), gt = std::vector<uint64_t>(256);
-  void merge(const SemanticExpect& o) {
-    for (int c = 0; c < 256; ++c) tp[c] += o.tp[c], fp[c] += o.fp[c], fn[c] += o.fn[c], gt[c] += o.gt[c];
-  }
-  double meanIou(size_t classes) const {
-    double sum = 0;
-    int k = 0;
-    for (size_t c = 0; c < classes; ++c)
-      if (gt[c] > 0) sum += static_cast<double>(tp[c]) / (tp[c] + fp[c] + fn[c]), ++k;
-    return 100.0 * sum / k;
-  }
-};
-
 struct Expected {
   SemanticExpect semantic;
   FlowExpect flow_all, flow_noc, sparse_all, sparse_noc;
   std::set<int> instance_classes;  // scored classes with a ground-truth instance of >= 100 px
   std::vector<Eigen::Isometry3d> gt_poses;
 };
-
-std::map<std::string, std::string> csvRow(const std::string& path, const std::string& condition) {
-  std::ifstream f(path);
-  std::string header, line;
-  std::getline(f, header);
-  auto split = [](const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    for (std::string cell; std::getline(ss, cell, ',');) out.push_back(cell);
-    if (!s.empty() && s.back() == ',') out.push_back("");
-    return out;
-  };
-  const auto keys = split(header);
-  while (std::getline(f, line)) {
-    const auto cells = split(line);
-    if (cells.empty() || cells[0] != condition) continue;
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < keys.size() && i < cells.size(); ++i) row[keys[i]] = cells[i];
-    return row;
-  }
-  return {};
-}
-
-double number(const std::map<std::string, std::string>& row, const std::string& key) {
-  const auto it = row.find(key);
-  if (it == row.end() || it->second.empty()) return NAN;
-  return std::stod(it->second);
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-// Frames counted in the "all" block of the running scores, "" key -> -1 if absent.
-long framesIn(const std::string& yaml, const std::string& key) {
-  const std::string field = key == "odometry" ? "poses" : "frames";
-  const std::string needle = "\n  " + key + ": {" + field + ": ";
-  const size_t at = ("\n" + yaml).find(needle);
-  if (at == std::string::npos) return -1;
-  return std::stol(yaml.substr(at + needle.size() - 1));
-}
 
 Eigen::Isometry3d poseOf(const nav_msgs::Odometry& m) {
   const auto& p = m.pose.pose;
@@ -332,21 +259,6 @@ class EvaluateTest : public ::testing::Test {
     odom_pub_.publish(est);
   }
 };
-
-// KITTI segments of one trajectory, with the 10 % stretch: the error of a segment is 10 % of the
-// straight distance between its ends, divided by its nominal length.
-void stretchedSegments(const std::vector<Eigen::Isometry3d>& gt, const std::vector<double>& lengths, size_t step,
-                       std::vector<double>& translation_ratios) {
-  std::vector<double> dist(gt.size(), 0.0);
-  for (size_t i = 1; i < gt.size(); ++i) dist[i] = dist[i - 1] + (gt[i].translation() - gt[i - 1].translation()).norm();
-  for (size_t first = 0; first < gt.size(); first += step)
-    for (double len : lengths)
-      for (size_t last = first; last < gt.size(); ++last)
-        if (dist[last] > dist[first] + len) {
-          translation_ratios.push_back((kStretch - 1.0) * (gt[last].translation() - gt[first].translation()).norm() / len);
-          break;
-        }
-}
 
 TEST_F(EvaluateTest, ScoresMatchWhatThePredictionsDeserve) {
   ros::NodeHandle nh, pnh("~");
@@ -549,7 +461,7 @@ TEST_F(EvaluateTest, ScoresMatchWhatThePredictionsDeserve) {
       // VO: every trajectory of the condition (all: both), segments as KITTI picks them.
       std::vector<double> ratios;
       for (const auto& [c, e] : expected_)
-        if (condition == "all" || c == condition) stretchedSegments(e.gt_poses, lengths, step, ratios);
+        if (condition == "all" || c == condition) stretchedSegments(e.gt_poses, lengths, step, kStretch, ratios);
       ASSERT_FALSE(ratios.empty()) << "no VO segment: lengths too long for the bag";
       double mean = 0.0;
       for (double r : ratios) mean += r;

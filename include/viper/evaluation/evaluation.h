@@ -18,41 +18,10 @@
 
 namespace viper {
 
-/// Numbers of one flow accumulator.
-struct FlowSummary {
-  uint64_t frames = 0;
-  uint64_t pixels = 0;   ///< scored pixels (sparse: scored vectors)
-  uint64_t invalid = 0;  ///< scored pixels whose prediction is not finite
-  double wauc = 0.0;     ///< 0..100
-  double epe_px = 0.0;
-  double outlier_percent = 0.0;  ///< KITTI Fl: error > 3 px and > 5 % of the true motion
-  std::vector<double> inlier_percent;  ///< at EvaluationOptions::curve_thresholds_px
-  bool present() const { return frames > 0; }
-};
-
-/// Everything scored for one condition, or over all of them. Percentages are 0..100; a NaN means
-/// "nothing to score" (e.g. a class absent from the ground truth).
+/// Everything scored for one condition, or over all of them: each metric's numbers by
+/// Metric::name() (what they mean: the metric's file in src/evaluation/metrics/).
 struct ConditionSummary {
   std::string condition;
-  // Semantic segmentation.
-  uint64_t semantic_frames = 0;
-  uint64_t semantic_pixels = 0;
-  double mean_iou = 0.0;
-  std::vector<double> iou;  ///< per class id, percent; NaN where not scored
-  // Instance segmentation (Cityscapes AP over IoU 0.50:0.05:0.95, and at 0.50).
-  uint64_t instance_frames = 0;
-  double ap = 0.0, ap50 = 0.0;
-  std::vector<double> class_ap, class_ap50;  ///< per class id, percent
-  // Optical flow: dense and sparse, on every pixel with ground truth ("all") and on pixels
-  // visible in the second frame ("noc").
-  FlowSummary flow_all, flow_noc, sparse_all, sparse_noc;
-  uint64_t sparse_vectors = 0;  ///< received, including those outside the image
-  // Visual odometry (KITTI).
-  uint64_t odometry_poses = 0;
-  size_t odometry_sequences = 0;  ///< contiguous runs of poses of this condition
-  double odometry_path_m = 0.0;   ///< ground-truth path length over those runs
-  OdometryScores odometry;
-  /// The metrics that report through MetricScores, by Metric::name().
   std::map<std::string, MetricScores> scores;
   /// scores[metric], or empty scores (no frames) if it has none.
   const MetricScores& scoresOf(const std::string& metric) const;
@@ -61,11 +30,9 @@ struct ConditionSummary {
 /// A summary of the whole evaluation.
 struct EvaluationSummary {
   std::vector<std::string> class_names;  ///< per class id
-  std::vector<bool> semantic_eval, instance_eval;
-  std::vector<double> curve_thresholds_px;
   std::vector<ConditionSummary> conditions;  ///< day, sunset, rain, snow, night, then others by name
   ConditionSummary all;
-  /// The layouts of the metrics that report through MetricScores, in registration order.
+  /// The metrics' layouts, in registration order.
   std::vector<MetricLayout> layouts;
 };
 

@@ -83,31 +83,117 @@ struct MetricContext {
   EvaluationOptions options;
 };
 
-/// A column of a metric's report: a key (YAML and CSV), a label (Markdown) and the decimals shown.
+/// A number or text of a metric's report: where it comes from (`key`), what it is called there
+/// (`label`: Markdown header, CSV header or YAML key) and how it is written.
 struct ReportColumn {
+  static constexpr int kCount = -1;     ///< decimals: a whole number (frames, pixels, segments)
+  static constexpr int kShortest = -2;  ///< decimals: the shortest exact text (csvNumber), also in Markdown
   std::string key, label;
-  int decimals = 2;
+  int decimals = 2;  ///< Markdown decimals (CSV and YAML carry every number exactly)
 };
 
-/// How the report shows a metric that reports through MetricScores: its headline numbers (a
-/// column each in summary.md's table, a key each in the YAML block `key`), and optionally a
-/// per-class table (Markdown section `title`, CSV file `<key>.csv`: condition,class_id,
-/// class_name,<per_class.key>, then a "mean" row with headline[0]).
+/// A table of a metric's report, in summary.md (named by a MarkdownPart) and/or as a CSV file.
+/// Per class: Markdown shows one row per listed class (MetricLayout::classes) with a score in any
+/// condition, a column per condition and all, then a mean row (columns[0] and mean[0]); the CSV
+/// has condition,class_id,class_name,<columns' keys> per listed class with a score, then a row
+/// "<condition>,-1,mean,<mean values>", for every condition the metric scored.
+/// Rows: condition, then `columns` for every row of the row sets `rows` (MetricScores::rows) of
+/// every condition the metric scored (Markdown: "**all**"; CSV header: the columns' keys).
+struct ReportTable {
+  enum Kind { kPerClass, kRows };
+  Kind kind = kPerClass;
+  std::string name;  ///< what a MarkdownPart calls it
+  std::string file;  ///< CSV file name ("flow.csv"); empty: only in Markdown
+  bool always = false;  ///< the CSV is written even when nothing was scored (then header only); else removed
+  std::vector<ReportColumn> columns;  ///< per class: keys of MetricScores::per_class
+  std::vector<ReportColumn> mean;     ///< per class: keys of the mean row's values
+  std::vector<std::string> rows;      ///< rows: the row sets, in order
+  size_t left_aligned = 1;            ///< rows, Markdown: how many leading columns are aligned left
+  std::string skip_zero;              ///< rows, Markdown: rows whose value of this key is 0 are left out
+};
+
+/// A piece of a metric's Markdown section: literal text, a table of its layout by name, or the
+/// metric's note over all conditions (MetricScores::note of "all").
+struct MarkdownPart {
+  enum Kind { kText, kTable, kNote };
+  Kind kind = kText;
+  std::string text;  ///< the text, or the table's name
+};
+
+/// Curves over a common x as a CSV file: `x_label`, then one column per condition (and all) the
+/// metric scored and curve, headed "<condition>/<curve label>"; a row per x.
+struct CurveFile {
+  std::string file, x_label;
+  std::vector<double> x;
+  std::vector<ReportColumn> curves;  ///< keys of MetricScores::curves
+};
+
+/// One line of a plot; points with a non-finite x or y are left out (the line breaks there).
+struct PlotSeries {
+  std::string label;
+  std::vector<double> x, y;
+};
+
+/// A line plot with axes, ticks, a title and a legend.
+struct LinePlot {
+  std::string title, x_label, y_label;
+  double x_min = 0.0, x_max = 1.0;
+  double y_min = 0.0, y_max = 1.0;  ///< y_max <= y_min: from the data (0 to its maximum, padded)
+  bool markers = false;             ///< a dot at every point (for few points)
+  bool legend_bottom = false;       ///< legend in the bottom right corner instead of the top right
+  std::vector<PlotSeries> series;
+};
+
+/// A PNG of a metric: panels side by side, each a LinePlot with one line per condition (and
+/// all) whose value `when` is > 0 and per curve (legend "<condition> <curve label>", or the
+/// condition alone where the label is empty). Written only if it has a line; else removed.
+struct PlotLayout {
+  struct Panel {
+    LinePlot axes;  ///< without series
+    std::vector<double> x;
+    std::vector<ReportColumn> curves;  ///< keys of MetricScores::curves
+  };
+  std::string file;
+  int width = 800, height = 500;  ///< of a panel
+  std::string when = "frames";    ///< a key of MetricScores::values (or "frames")
+  std::vector<Panel> panels;
+};
+
+/// How the report shows a metric; every part of the report loops over the registered metrics'
+/// layouts (docs/evaluate.md). Metrics of one non-empty `group` (dense and sparse flow) share a
+/// Markdown section (the first one's, shown if any of them scored) and files: the tables, curve
+/// files and plots of the same name or file list, per condition, each metric's rows in turn.
 struct MetricLayout {
-  std::string key;    ///< e.g. "semantic_iiou"
-  std::string title;  ///< Markdown section title
-  std::string note;   ///< Markdown text under the title (may be empty)
-  std::vector<ReportColumn> headline;
-  ReportColumn per_class;              ///< empty key: no per-class table
-  std::vector<bool> classes;           ///< per class id: listed in the per-class table
+  std::string key;           ///< Metric::name(): its MetricScores and its YAML block
+  std::string group;
+  std::string frames_label;  ///< in summary.md's "Frames scored" line; empty: not there
+  std::vector<ReportColumn> summary;      ///< summary.md's table (when it scored)
+  std::vector<ReportColumn> summary_csv;  ///< summary.csv (always)
+  std::vector<ReportColumn> yaml;         ///< the running scores (when it scored)
+  std::vector<MarkdownPart> markdown;     ///< its section (when it scored)
+  std::vector<ReportTable> tables;
+  std::vector<CurveFile> curve_files;     ///< always written
+  std::vector<PlotLayout> plots;
+  std::vector<bool> classes;              ///< per class id: listed in per-class tables
 };
 
-/// The numbers of one metric for one condition (or all): `values` by headline key, `per_class`
-/// per class id (NaN where not scored). Percentages are 0..100.
+/// One row of a row table: text cells and numbers by column key (a text wins).
+struct ReportRow {
+  std::map<std::string, std::string> text;
+  std::map<std::string, double> values;
+};
+
+/// The numbers of one metric for one condition (or all). Percentages are 0..100; NaN where
+/// there is nothing to score.
 struct MetricScores {
   uint64_t frames = 0;
-  std::map<std::string, double> values;
-  std::vector<double> per_class;
+  std::map<std::string, double> values;  ///< headline numbers and counts by key
+  std::map<std::string, std::vector<double>> per_class;  ///< per class id, by key
+  std::map<std::string, std::vector<ReportRow>> rows;    ///< row sets by key
+  std::map<std::string, std::vector<double>> curves;     ///< y at the curve's x, by key
+  std::string note;  ///< Markdown (MarkdownPart::kNote)
+  /// values[key] (key "frames": frames), or NaN.
+  double value(const std::string& key) const;
 };
 
 /// One metric. Threads: add() of one object needs the caller's exclusion; different objects
@@ -126,12 +212,11 @@ class Metric {
   virtual uint64_t frames() const = 0;
   /// The conditions it has seen.
   virtual std::vector<std::string> conditions() const = 0;
-  /// Writes its numbers into `s` (whose conditions are filled in, in report order): the fields
-  /// of ConditionSummary for the metrics of the original report, or `scores[name()]`.
+  /// Writes its numbers into `scores[name()]` of `s`'s conditions (filled in, in report order)
+  /// and of `s.all`.
   virtual void summarize(EvaluationSummary& s) const = 0;
-  /// Its report layout when it reports through MetricScores; null for the metrics of the
-  /// original report, whose tables eval_report.cpp writes.
-  virtual const MetricLayout* layout() const { return nullptr; }
+  /// How the report shows it.
+  virtual const MetricLayout& layout() const = 0;
 };
 
 /// A metric's accumulator of one condition and the frames added to it.

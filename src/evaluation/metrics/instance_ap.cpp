@@ -13,8 +13,28 @@ class InstanceApMetric : public Metric {
   explicit InstanceApMetric(const MetricContext& c)
       : evaluated_(c.classes.instanceEvalMask()), min_px_(c.options.min_instance_px) {
     for (bool scored : c.classes.semanticEvalMask()) void_class_.push_back(!scored);
+    layout_.key = "instances";
+    layout_.frames_label = "instances";
+    layout_.summary = {{"ap", "AP %", 2}, {"ap50", "AP50 %", 2}};
+    layout_.summary_csv = {{"frames", "instance_frames", ReportColumn::kCount}, {"ap", "ap"}, {"ap50", "ap50"}};
+    layout_.yaml = {{"frames", "frames", ReportColumn::kCount}, {"ap", "ap"}, {"ap50", "ap50"}};
+    layout_.markdown = {
+        {MarkdownPart::kText, "## Instance segmentation: AP % per class (IoU 0.50:0.05:0.95, Cityscapes)\n\n"},
+        {MarkdownPart::kTable, "ap"},
+        {MarkdownPart::kText, "\n## Instance segmentation: AP50 % per class\n\n"},
+        {MarkdownPart::kTable, "ap50"},
+        {MarkdownPart::kText, "\n"}};
+    ReportTable ap, ap50, csv;
+    ap.name = "ap", ap.columns = {{"ap_percent", "AP %", 2}}, ap.mean = {{"ap", "AP %", 2}};
+    ap50.name = "ap50", ap50.columns = {{"ap50_percent", "AP50 %", 2}}, ap50.mean = {{"ap50", "AP50 %", 2}};
+    csv.name = "instance_ap", csv.file = "instance_ap.csv", csv.always = true;
+    csv.columns = {ap.columns[0], ap50.columns[0]};
+    csv.mean = {ap.mean[0], ap50.mean[0]};
+    layout_.tables = {ap, ap50, csv};
+    layout_.classes = evaluated_;
   }
-  std::string name() const override { return "instances"; }
+  std::string name() const override { return layout_.key; }
+  const MetricLayout& layout() const override { return layout_; }
   MetricInputs inputs() const override { return kGtSemantic | kGtInstanceIds | kPredInstances; }
   uint64_t frames() const override { return frames_; }
   std::vector<std::string> conditions() const override { return keysOf(by_condition_); }
@@ -52,31 +72,39 @@ class InstanceApMetric : public Metric {
   }
 
   void summarize(EvaluationSummary& s) const override {
+    uint64_t all_frames = 0;
     for (ConditionSummary& out : s.conditions) {
       const auto it = by_condition_.find(out.condition);
-      if (it != by_condition_.end()) out.instance_frames = it->second.frames;
-      s.all.instance_frames += out.instance_frames;
-      fill(it != by_condition_.end() ? &it->second.acc : nullptr, out);
+      const uint64_t frames = it != by_condition_.end() ? it->second.frames : 0;
+      all_frames += frames;
+      out.scores[name()] = scores(it != by_condition_.end() ? &it->second.acc : nullptr, frames);
     }
-    fill(all_ ? &*all_ : nullptr, s.all);
+    s.all.scores[name()] = scores(all_ ? &*all_ : nullptr, all_frames);
   }
 
  private:
-  void fill(const InstanceApAccumulator* acc, ConditionSummary& out) const {
+  // Values: ap, ap50; per class: ap_percent, ap50_percent.
+  MetricScores scores(const InstanceApAccumulator* acc, uint64_t frames) const {
     const size_t k = evaluated_.size();
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    out.ap = out.ap50 = nan;
-    out.class_ap.assign(k, nan);
-    out.class_ap50.assign(k, nan);
-    if (acc == nullptr) return;
-    out.ap = 100.0 * acc->meanAp();
-    out.ap50 = 100.0 * acc->meanAp50();
+    MetricScores out;
+    out.frames = frames;
+    out.values["ap"] = out.values["ap50"] = nan;
+    std::vector<double>& class_ap = out.per_class["ap_percent"];
+    std::vector<double>& class_ap50 = out.per_class["ap50_percent"];
+    class_ap.assign(k, nan);
+    class_ap50.assign(k, nan);
+    if (acc == nullptr) return out;
+    out.values["ap"] = 100.0 * acc->meanAp();
+    out.values["ap50"] = 100.0 * acc->meanAp50();
     for (size_t c = 0; c < k; ++c) {
-      out.class_ap[c] = 100.0 * acc->classAp(static_cast<int>(c));
-      out.class_ap50[c] = 100.0 * acc->classAp50(static_cast<int>(c));
+      class_ap[c] = 100.0 * acc->classAp(static_cast<int>(c));
+      class_ap50[c] = 100.0 * acc->classAp50(static_cast<int>(c));
     }
+    return out;
   }
 
+  MetricLayout layout_;
   std::vector<bool> evaluated_, void_class_;
   int min_px_;
   std::map<std::string, Counted<InstanceApAccumulator>> by_condition_;

@@ -28,12 +28,19 @@ class SemanticIiouMetric : public Metric {
   explicit SemanticIiouMetric(const MetricContext& c)
       : scored_(c.classes.semanticEvalMask()), instance_class_(c.classes.instanceEvalMask()) {
     layout_.key = "semantic_iiou";
-    layout_.title = "Semantic segmentation: iIoU % per instance class (Cityscapes)";
-    layout_.note =
-        "Instance-weighted IoU: each ground-truth instance's pixels weigh (average instance size of its class) / "
-        "(its size); averages over every instance of this evaluation.";
-    layout_.headline = {{"mean_iiou", "iIoU %", 2}};
-    layout_.per_class = {"iiou_percent", "iIoU %", 2};
+    layout_.summary = {{"mean_iiou", "iIoU %", 2}};
+    layout_.yaml = {{"frames", "frames", ReportColumn::kCount}, {"mean_iiou", "mean_iiou"}};
+    layout_.markdown = {
+        {MarkdownPart::kText,
+         "\n## Semantic segmentation: iIoU % per instance class (Cityscapes)\n\n"
+         "Instance-weighted IoU: each ground-truth instance's pixels weigh (average instance size of its class) / "
+         "(its size); averages over every instance of this evaluation.\n\n"},
+        {MarkdownPart::kTable, "iiou"}};
+    ReportTable iiou;
+    iiou.name = "iiou", iiou.file = "semantic_iiou.csv";
+    iiou.columns = {{"iiou_percent", "iIoU %", 2}};
+    iiou.mean = {{"mean_iiou", "iIoU %", 2}};
+    layout_.tables = {iiou};
     layout_.classes = instance_class_;
     for (size_t c = 0; c < scored_.size() && c < kind_.size(); ++c)
       kind_[c] = static_cast<uint8_t>((scored_[c] ? kScored : 0) | (instance_class_[c] ? kInstance : 0));
@@ -44,7 +51,7 @@ class SemanticIiouMetric : public Metric {
   MetricInputs inputs() const override { return kGtSemantic | kGtInstanceIds | kPredSemantic; }
   uint64_t frames() const override { return frames_; }
   std::vector<std::string> conditions() const override { return keysOf(by_condition_); }
-  const MetricLayout* layout() const override { return &layout_; }
+  const MetricLayout& layout() const override { return layout_; }
 
   uint64_t add(const EvalFrame& f) override {
     const size_t n = f.pixels(), k = scored_.size();
@@ -105,7 +112,8 @@ class SemanticIiouMetric : public Metric {
   MetricScores scores(const State& state) const {
     MetricScores out;
     out.frames = state.frames;
-    out.per_class.assign(scored_.size(), std::numeric_limits<double>::quiet_NaN());
+    std::vector<double>& per_class = out.per_class["iiou_percent"];
+    per_class.assign(scored_.size(), std::numeric_limits<double>::quiet_NaN());
     double sum = 0.0;
     int count = 0;
     for (size_t c = 0; c < scored_.size(); ++c) {
@@ -114,8 +122,8 @@ class SemanticIiouMetric : public Metric {
       const ClassCounts& n = state.classes[c];
       const double tp = avg * n.tp_rel, denom = tp + static_cast<double>(n.fp) + avg * n.fn_rel;
       if (!(denom > 0.0)) continue;
-      out.per_class[c] = 100.0 * tp / denom;
-      sum += out.per_class[c], ++count;
+      per_class[c] = 100.0 * tp / denom;
+      sum += per_class[c], ++count;
     }
     out.values["mean_iiou"] = count > 0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
     return out;

@@ -10,11 +10,27 @@ namespace {
 
 class SemanticIouMetric : public Metric {
  public:
-  explicit SemanticIouMetric(const MetricContext& c) : evaluated_(c.classes.semanticEvalMask()) {}
-  std::string name() const override { return "semantic"; }
+  explicit SemanticIouMetric(const MetricContext& c) : evaluated_(c.classes.semanticEvalMask()) {
+    layout_.key = "semantic";
+    layout_.frames_label = "semantic";
+    layout_.summary = {{"mean_iou", "mIoU %", 2}};
+    layout_.summary_csv = {{"frames", "semantic_frames", ReportColumn::kCount}, {"mean_iou", "mean_iou"}};
+    layout_.yaml = {{"frames", "frames", ReportColumn::kCount}, {"mean_iou", "mean_iou"}};
+    layout_.markdown = {{MarkdownPart::kText, "## Semantic segmentation: IoU % per class\n\n"},
+                        {MarkdownPart::kTable, "iou"},
+                        {MarkdownPart::kText, "\n"}};
+    ReportTable iou;
+    iou.name = "iou", iou.file = "semantic_iou.csv", iou.always = true;
+    iou.columns = {{"iou_percent", "IoU %", 2}};
+    iou.mean = {{"mean_iou", "mIoU %", 2}};
+    layout_.tables = {iou};
+    layout_.classes = evaluated_;
+  }
+  std::string name() const override { return layout_.key; }
   MetricInputs inputs() const override { return kGtSemantic | kPredSemantic; }
   uint64_t frames() const override { return frames_; }
   std::vector<std::string> conditions() const override { return keysOf(by_condition_); }
+  const MetricLayout& layout() const override { return layout_; }
 
   uint64_t add(const EvalFrame& f) override {
     auto it = by_condition_.find(f.condition);
@@ -29,33 +45,40 @@ class SemanticIouMetric : public Metric {
 
   void summarize(EvaluationSummary& s) const override {
     std::optional<SemanticConfusion> all;
+    uint64_t all_frames = 0;
     for (ConditionSummary& out : s.conditions) {
       const auto it = by_condition_.find(out.condition);
       if (it == by_condition_.end()) {
-        fill(nullptr, out);
+        out.scores[name()] = scores(nullptr, 0);
         continue;
       }
-      out.semantic_frames = it->second.frames;
-      s.all.semantic_frames += it->second.frames;
+      all_frames += it->second.frames;
       if (all) all->merge(it->second.acc);
       else all = it->second.acc;
-      fill(&it->second.acc, out);
+      out.scores[name()] = scores(&it->second.acc, it->second.frames);
     }
-    fill(all ? &*all : nullptr, s.all);
+    s.all.scores[name()] = scores(all ? &*all : nullptr, all_frames);
   }
 
  private:
-  void fill(const SemanticConfusion* sc, ConditionSummary& out) const {
+  // Values: mean_iou, pixels (scored); per class: iou_percent.
+  MetricScores scores(const SemanticConfusion* sc, uint64_t frames) const {
     const size_t k = evaluated_.size();
-    out.iou.assign(k, std::numeric_limits<double>::quiet_NaN());
-    out.mean_iou = std::numeric_limits<double>::quiet_NaN();
-    if (sc == nullptr) return;
-    out.semantic_pixels = sc->scoredPixels();
-    out.mean_iou = 100.0 * sc->meanIou();
-    for (size_t c = 0; c < k; ++c) out.iou[c] = 100.0 * sc->iou(static_cast<int>(c));
+    MetricScores out;
+    out.frames = frames;
+    std::vector<double>& iou = out.per_class["iou_percent"];
+    iou.assign(k, std::numeric_limits<double>::quiet_NaN());
+    out.values["mean_iou"] = std::numeric_limits<double>::quiet_NaN();
+    out.values["pixels"] = 0.0;
+    if (sc == nullptr) return out;
+    out.values["pixels"] = static_cast<double>(sc->scoredPixels());
+    out.values["mean_iou"] = 100.0 * sc->meanIou();
+    for (size_t c = 0; c < k; ++c) iou[c] = 100.0 * sc->iou(static_cast<int>(c));
+    return out;
   }
 
   std::vector<bool> evaluated_;
+  MetricLayout layout_;
   std::map<std::string, Counted<SemanticConfusion>> by_condition_;
   uint64_t frames_ = 0;
 };

@@ -153,7 +153,8 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/viper_layout_roundtrip.test
     ARGS export_viper:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/export_viper
          viper_to_bag:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/viper_to_bag
-    DEPENDENCIES viper_layout_tester export_viper viper_to_bag viper_ground_truth_ros viper_flow_ros)
+         generate:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/generate
+    DEPENDENCIES viper_layout_tester export_viper viper_to_bag generate viper_ground_truth_ros viper_flow_ros)
 
   # The same round trip on the world: 20 frames of the town (day, driving) captured at build time and
   # turned into a raw bag by capture_to_bag (cmake/capture.cmake).
@@ -178,7 +179,7 @@ if(CATKIN_ENABLE_TESTING)
   # longer than a file name may be.)
   add_rostest(test/ros/viper_layout_roundtrip_world.test
     ARGS test_data:=${PROJECT_BINARY_DIR}/test_data bin:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}
-    DEPENDENCIES viper_layout_tester export_viper viper_to_bag viper_ground_truth_ros viper_flow_ros world_raw_bag)
+    DEPENDENCIES viper_layout_tester export_viper viper_to_bag generate viper_ground_truth_ros viper_flow_ros world_raw_bag)
 
   # That bag holds what capture_bridge publishes for the same capture, message for message.
   viper_add_tester(capture_to_bag_tester test/ros/capture_to_bag_tester.cpp viper_layout_ros)

@@ -125,9 +125,16 @@ int main(int argc, char** argv) {
     return 2;
   }
   bar.interrupt();
-  for (const std::string& p : result.problems) std::cerr << "generate: " << p << "\n";
+  // Each at most 20 times: a long sequence may say the same thing of every frame.
+  auto print = [](const std::vector<std::string>& lines, const char* what) {
+    for (size_t i = 0; i < lines.size() && i < 20; ++i) std::cerr << "generate: " << lines[i] << "\n";
+    if (lines.size() > 20) std::cerr << "generate: ... " << lines.size() - 20 << " more " << what << "\n";
+  };
+  print(result.warnings, "warnings");
+  print(result.problems, "problems");
   std::cout << "generate: " << o.sequence.split << "/" << o.sequence.seq << ": " << result.frames << " frames ("
-            << result.dropped << " dropped) from " << o.input << " into " << o.sequence.root << "; marker "
+            << result.dropped << " dropped, " << result.problems.size() << " problems, " << result.warnings.size()
+            << " warnings) from " << o.input << " into " << o.sequence.root << "; marker "
             << result.marker.string() << "\n";
   return result.problems.empty() ? 0 : 1;
 }

@@ -134,12 +134,14 @@ int run(const std::string& command) {
 }
 
 // Every file under `a` is under `b` with the same bytes, and the other way round.
-void expectSameTree(const std::filesystem::path& a, const std::filesystem::path& b) {
+void expectSameTree(const std::filesystem::path& a, const std::filesystem::path& b,
+                    const std::function<bool(const std::string&)>& ignore = {}) {
   namespace fs = std::filesystem;
-  auto files = [](const fs::path& root) {
+  auto files = [&ignore](const fs::path& root) {
     std::map<std::string, std::string> out;
     for (const auto& e : fs::recursive_directory_iterator(root))
-      if (e.is_regular_file()) out[fs::relative(e.path(), root).string()] = e.path().string();
+      if (e.is_regular_file() && !(ignore && ignore(fs::relative(e.path(), root).string())))
+        out[fs::relative(e.path(), root).string()] = e.path().string();
     return out;
   };
   const auto fa = files(a), fb = files(b);

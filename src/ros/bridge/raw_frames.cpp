@@ -1,5 +1,6 @@
 #include "viper/ros/bridge/raw_frames.h"
 
+#include <functional>
 #include <sstream>
 
 namespace viper {
@@ -77,60 +78,62 @@ bool BagRawFrames::complete(const FrameMessages& m) const {
   return m.draws && m.draw_ids && m.depth && m.primitive_ids && m.color && m.camera_info;
 }
 
+bool BagRawFrames::takeOldest(FrameMessages& out) {
+  const auto oldest = pending_.begin();
+  const bool ok = complete(oldest->second);
+  if (ok) out = oldest->second;
+  else
+    problems_.push_back("bag '" + path_ + "': the raw messages of stamp " + std::to_string(oldest->first.toSec()) +
+                        " are incomplete (draws, draw_ids, depth, primitive_ids, color and camera_info needed); "
+                        "frame dropped");
+  pending_.erase(oldest);
+  return ok;
+}
+
 bool BagRawFrames::next(FrameMessages& out) {
   try {
-    for (; it_ != view_->end(); ++it_) {
+    while (it_ != view_->end()) {
       const rosbag::MessageInstance& m = *it_;
       const std::string topic = m.getTopic().substr(ns_.size());
-      FrameMessages* f = nullptr;
-      auto slot = [&](const auto& msg) -> FrameMessages* {
-        if (!msg) {
-          problems_.push_back("bag '" + path_ + "': " + m.getTopic() + " carries " + m.getDataType() +
-                              "; message skipped");
-          return nullptr;
-        }
-        return &pending_[msg->header.stamp];
+      // The message, typed, and where it goes in its stamp's frame.
+      std::function<void(FrameMessages&)> put;
+      std::optional<ros::Time> stamp;
+      auto typed = [&](auto msg, auto member) {
+        if (!msg) return;
+        stamp = msg->header.stamp;
+        put = [msg, member](FrameMessages& f) { f.*member = msg; };
       };
-      if (topic == "/draws") {
-        auto msg = m.instantiate<DrawList>();
-        if ((f = slot(msg))) f->draws = msg;
-      } else if (topic == "/mesh_store") {
-        auto msg = m.instantiate<MeshStore>();
-        if ((f = slot(msg))) f->mesh_store = msg;
-      } else if (topic == "/color/camera_info") {
-        auto msg = m.instantiate<sensor_msgs::CameraInfo>();
-        if ((f = slot(msg))) f->camera_info = msg;
-      } else {
-        auto msg = m.instantiate<sensor_msgs::Image>();
-        if ((f = slot(msg))) {
-          if (topic == "/draw_ids") f->draw_ids = msg;
-          else if (topic == "/depth/image_raw") f->depth = msg;
-          else if (topic == "/primitive_ids") f->primitive_ids = msg;
-          else f->color = msg;
-        }
+      if (topic == "/draws") typed(m.instantiate<DrawList>(), &FrameMessages::draws);
+      else if (topic == "/mesh_store") typed(m.instantiate<MeshStore>(), &FrameMessages::mesh_store);
+      else if (topic == "/color/camera_info") typed(m.instantiate<sensor_msgs::CameraInfo>(), &FrameMessages::camera_info);
+      else if (topic == "/draw_ids") typed(m.instantiate<sensor_msgs::Image>(), &FrameMessages::draw_ids);
+      else if (topic == "/depth/image_raw") typed(m.instantiate<sensor_msgs::Image>(), &FrameMessages::depth);
+      else if (topic == "/primitive_ids") typed(m.instantiate<sensor_msgs::Image>(), &FrameMessages::primitive_ids);
+      else typed(m.instantiate<sensor_msgs::Image>(), &FrameMessages::color);
+      if (!stamp) {
+        problems_.push_back("bag '" + path_ + "': " + m.getTopic() + " carries " + m.getDataType() + "; message skipped");
+        ++it_;
+        continue;
       }
-      if (f == nullptr) continue;
-      if (!complete(*f)) continue;
-      // Frames come in stamp order: anything older still incomplete never will be.
-      const ros::Time done = f->draws->header.stamp;
-      while (pending_.begin()->first < done) {
-        problems_.push_back("bag '" + path_ + "': the raw messages of stamp " +
-                            std::to_string(pending_.begin()->first.toSec()) + " are incomplete; frame dropped");
-        pending_.erase(pending_.begin());
-      }
-      out = *f;
-      pending_.erase(done);
+      put(pending_[*stamp]);
       ++it_;
-      return true;
+      // A recorded bag interleaves the messages of neighbouring frames, and a frame's mesh store may
+      // come after its images: the oldest frame goes once two later frames are whole (or, if it is
+      // not whole itself, once eight are).
+      size_t later_whole = 0;
+      for (auto p = std::next(pending_.begin()); p != pending_.end(); ++p) later_whole += complete(p->second);
+      const bool whole = complete(pending_.begin()->second);
+      if ((whole && later_whole >= 2) || later_whole >= 8) {
+        if (takeOldest(out)) return true;
+      }
     }
   } catch (const std::exception& e) {
     problems_.push_back("bag '" + path_ + "' cannot be read further: " + e.what());
     it_ = view_->end();
   }
-  for (const auto& [stamp, m] : pending_)
-    problems_.push_back("bag '" + path_ + "': the raw messages of stamp " + std::to_string(stamp.toSec()) +
-                        " are incomplete; frame dropped");
-  pending_.clear();
+  while (!pending_.empty()) {
+    if (takeOldest(out)) return true;
+  }
   return false;
 }
 

@@ -162,9 +162,11 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
     frame_of.emplace(stamp, frame);
     StepProblems problems;
     const bool kept = pipeline.process(raw, gt, problems);
-    for (const StepProblem& p : problems)
-      if (p.severity != StepSeverity::kInfo)
-        problem("frame " + std::to_string(frame) + ": " + defaultTopicOf(p.input) + p.text);
+    for (const StepProblem& p : problems) {
+      const std::string text = "sequence " + name + ": frame " + std::to_string(frame) + ": " + defaultTopicOf(p.input) + p.text;
+      if (p.severity == StepSeverity::kError) result.problems.push_back(text);
+      else if (p.severity == StepSeverity::kWarning) result.warnings.push_back(text);
+    }
     if (!kept) ++result.dropped;
     try {
       if (bag) {

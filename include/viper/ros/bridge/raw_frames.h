@@ -63,7 +63,9 @@ class CaptureRawFrames : public RawFrames {
 
 /// A raw bag's frames: the messages of NS/draws, NS/draw_ids, NS/depth/image_raw, NS/primitive_ids,
 /// NS/color/image_raw and NS/color/camera_info of one header stamp, with NS/mesh_store when that
-/// stamp brought one; a stamp missing any of them is dropped with a problem.
+/// stamp brought one; a stamp missing any of them is dropped with a problem. Messages of neighbouring
+/// frames may interleave (a `rosbag record` of the bridge): a frame is taken once two later frames
+/// are whole.
 class BagRawFrames : public RawFrames {
  public:
   /// Throws std::runtime_error naming the bag if it cannot be opened or has no NS/draws.
@@ -73,6 +75,8 @@ class BagRawFrames : public RawFrames {
 
  private:
   bool complete(const FrameMessages& m) const;
+  /// Takes the oldest pending stamp: true with `out` if it is a whole frame, else a problem.
+  bool takeOldest(FrameMessages& out);
 
   std::string path_, ns_;
   rosbag::Bag bag_;

@@ -37,7 +37,8 @@ struct SequenceSettings {
 struct SequenceResult {
   uint64_t frames = 0;           ///< frames processed and written
   uint64_t dropped = 0;          ///< frames a step dropped (bad input), named in problems
-  std::vector<std::string> problems;  ///< input damage, dropped frames, each naming the input and frame
+  std::vector<std::string> problems;  ///< errors: input damage, dropped frames or data, each naming the input and frame
+  std::vector<std::string> warnings;  ///< what a node would warn about (an object without a box, ...)
   bool skipped = false;          ///< already finished (its marker checked out); nothing was done
   std::filesystem::path marker;  ///< the done-marker
 };

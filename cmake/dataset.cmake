@@ -181,6 +181,17 @@ if(CATKIN_ENABLE_TESTING)
     ARGS test_data:=${PROJECT_BINARY_DIR}/test_data bin:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}
     DEPENDENCIES viper_layout_tester export_viper viper_to_bag generate viper_ground_truth_ros viper_flow_ros world_raw_bag)
 
+  # The generate command on the world's capture and its raw bag (no roscore).
+  catkin_add_gtest(test_generate test/dataset/test_generate.cpp)
+  if(TARGET test_generate)
+    target_link_libraries(test_generate viper_dataset gtest_main)
+    target_compile_definitions(test_generate PRIVATE
+      VIPER_GENERATE="$<TARGET_FILE:generate>"
+      VIPER_TEST_DATA="${PROJECT_BINARY_DIR}/test_data"
+      VIPER_WORLD_LABELS="${PROJECT_SOURCE_DIR}/config/labels/world_labels.yaml")
+    add_dependencies(test_generate generate world_raw_bag)
+  endif()
+
   # That bag holds what capture_bridge publishes for the same capture, message for message.
   viper_add_tester(capture_to_bag_tester test/ros/capture_to_bag_tester.cpp viper_layout_ros)
   add_rostest(test/ros/capture_to_bag.test
@@ -216,6 +227,7 @@ if(CATKIN_ENABLE_TESTING)
     ARGS bag:=${VIPER_WORLD_DAMAGED_BAG} intact_bag:=${VIPER_WORLD_RAW_BAG}
     DEPENDENCIES capture_to_bag_tester bag_player world_raw_damaged_bag)
   roslaunch_add_file_check(launch/viper_player.launch root:=/tmp/viper)
+  roslaunch_add_file_check(launch/view_bag.launch bag:=/tmp/viper/train/bag/001.bag)
 endif()
 
 # bench/bench_viper_layout.cpp (built by cmake/bench.cmake when Google Benchmark is there).

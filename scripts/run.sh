@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job: capture the built-in world (or the test scene) through the interceptor, bridge the
-# capture into ROS, record a raw bag, and print a summary of what was captured.
+# capture into ROS and record a raw bag, generate the ground truth of every frame (VIPER's layout and
+# a ground-truth bag), draw a contact sheet of it, and print a summary and the command that shows it.
 # Usage: scripts/run.sh [--program world|test_scene (world)] [--frames N (30)] [--width W (640)]
 #                       [--height H (480)] [--condition day|sunset|rain|snow|night (day)] [--out DIR (build/run)]
 set -euo pipefail
@@ -31,6 +32,10 @@ case "$program" in
   *) echo "run.sh: --program must be world or test_scene, not '$program'" >&2; exit 2 ;;
 esac
 capture="$out/$program.vcap"; oracle="$out/$program.oracle"; bag="$out/${program}_raw.bag"
+case "$program" in
+  world) labels="$here/config/labels/world_labels.yaml" ;;
+  test_scene) labels="$here/config/labels/test_scene_labels.yaml" ;;
+esac
 
 echo "== capturing $frames frames of the $program at ${width}x${height} ($condition) -> $capture"
 # Both programs advance 1/15 s per frame: --fps 15 stamps the frames with that time.
@@ -40,6 +45,17 @@ echo "== capturing $frames frames of the $program at ${width}x${height} ($condit
 echo "== bridging it into ROS and recording the raw topics -> $bag"
 bash "$here/scripts/make_test_bag.sh" --capture "$capture" --output "$bag"
 
+echo "== ground truth of every frame (generate, lockstep) -> $out/dataset"
+"$bin/generate" --input "$capture" --labels "$labels" --out "$out/dataset" --force
+
+sheet="$out/ground_truth.png"
+last=$((frames - 1)); mid=$((frames / 2))
+echo "== contact sheet of frames 0, $mid, $last (color, semantic, instances, depth, flow) -> $sheet"
+"$bin/capture_sheet" "$capture" --frames "0,$mid,$last" --labels "$labels" --out "$sheet"
+
 echo "== summary"
 "$bin/capture_info" "$capture"
 /usr/bin/python3 "$(command -v rosbag)" info "$bag"
+echo "ground truth: $out/dataset (VIPER's layout under train/, the ground-truth bag train/bag/001.bag,"
+echo "              the marker train/001.done); contact sheet: $sheet"
+echo "look at it:   source $here/devel/setup.bash && roslaunch viper view_bag.launch bag:=$out/dataset/train/bag/001.bag"

@@ -1,0 +1,130 @@
+// The generate command (no roscore) on the world's capture made at build time and on its raw bag
+// (capture_to_bag): the same sequence from either, a finished sequence skipped and a changed one
+// redone, a damaged capture's intact frames kept, an output that cannot be written an error with no
+// marker. That its ground truth equals the nodes' is viper_layout_roundtrip.test.
+#include "viper/dataset/sequence_marker.h"
+
+#include "../common/process_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+namespace {
+
+namespace fs = std::filesystem;
+using viper::test::readFile;
+using viper::test::run;
+using viper::test::tempDir;
+
+struct Result {
+  int rc = 0;
+  std::string output;
+};
+
+Result generate(const std::string& input, const std::string& root, const std::string& extra = "") {
+  const std::string log = tempDir("viper_generate_") + "/last.log";
+  Result r;
+  r.rc = run(std::string(VIPER_GENERATE) + " --input " + input + " --labels " + VIPER_WORLD_LABELS + " --out " + root +
+             " " + extra + " > " + log + " 2>&1");
+  r.output = readFile(log);
+  return r;
+}
+
+// Every regular file under `root`, by relative path, with its bytes.
+std::map<std::string, std::string> files(const fs::path& root) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(root))
+    if (e.is_regular_file()) out[fs::relative(e.path(), root).string()] = readFile(e.path().string());
+  return out;
+}
+
+const std::string kCapture = VIPER_TEST_DATA "/world_roundtrip.vcap";
+const std::string kRawBag = VIPER_TEST_DATA "/world_raw.bag";
+
+TEST(Generate, CaptureAndItsRawBagGiveTheSameSequence) {
+  const std::string a = tempDir("viper_generate_") + "/from_capture", b = tempDir("viper_generate_") + "/from_bag";
+  const Result ra = generate(kCapture, a), rb = generate(kRawBag, b);
+  ASSERT_EQ(ra.rc, 0) << ra.output;
+  ASSERT_EQ(rb.rc, 0) << rb.output;
+  EXPECT_NE(ra.output.find("train/001: 20 frames (0 dropped"), std::string::npos) << ra.output;
+  const auto fa = files(a), fb = files(b);
+  for (const char* f : {"train/img/001/001_00000.png", "train/cls/001/001_00019.png", "train/inst/001/001_00007.png",
+                        "train/flow/001/001_00000.npz", "train/flowbw/001/001_00019.npz", "train/bb/001/001_00003.csv",
+                        "train/camera/001.csv", "train/bag/001.bag", "train/001.done"})
+    EXPECT_TRUE(fa.count(f)) << f << " not written";
+  ASSERT_EQ(fa.size(), fb.size());
+  for (const auto& [path, bytes] : fa) {
+    const auto other = fb.find(path);
+    ASSERT_NE(other, fb.end()) << path;
+    EXPECT_TRUE(bytes == other->second) << path << " differs";
+  }
+  // The marker lists every file with its checksum.
+  const viper::dataset::SequenceMarker m = viper::dataset::readSequenceMarker(a + "/train/001.done");
+  EXPECT_EQ(m.frames, 20u);
+  EXPECT_EQ(m.files.size(), fa.size() - 1);
+  EXPECT_EQ(viper::dataset::verifySequence(a, m), "");
+}
+
+TEST(Generate, FinishedIsSkippedChangedIsRedone) {
+  const std::string root = tempDir("viper_generate_") + "/resume";
+  ASSERT_EQ(generate(kRawBag, root).rc, 0);
+  const fs::path png = fs::path(root) / "train/cls/001/001_00004.png";
+  const auto written = fs::last_write_time(png);
+  const std::string original = readFile(png.string());
+
+  Result again = generate(kRawBag, root);
+  EXPECT_EQ(again.rc, 0);
+  EXPECT_NE(again.output.find("is finished"), std::string::npos) << again.output;
+  EXPECT_EQ(fs::last_write_time(png), written) << "a finished sequence was written again";
+
+  std::ofstream(png, std::ios::app) << "x";  // damaged after the run
+  again = generate(kRawBag, root);
+  EXPECT_EQ(again.rc, 0) << again.output;
+  EXPECT_EQ(again.output.find("is finished"), std::string::npos) << "a changed sequence was taken as finished";
+  EXPECT_EQ(readFile(png.string()), original);
+  EXPECT_EQ(viper::dataset::verifySequence(root, viper::dataset::readSequenceMarker(root + "/train/001.done")), "");
+
+  // --force redoes a finished one.
+  again = generate(kRawBag, root, "--force --outputs layout");
+  EXPECT_EQ(again.rc, 0) << again.output;
+  EXPECT_FALSE(fs::exists(fs::path(root) / "train/bag/001.bag")) << "--outputs layout writes no bag";
+}
+
+TEST(Generate, DamagedCaptureKeepsItsIntactFrames) {
+  // The first 2 MiB of the capture: a truncated stream whose earlier frames are intact.
+  const std::string truncated = tempDir("viper_generate_") + "/truncated.vcap";
+  {
+    const std::string bytes = readFile(kCapture);
+    ASSERT_GT(bytes.size(), 3u << 20);
+    std::ofstream(truncated, std::ios::binary).write(bytes.data(), 2 << 20);
+  }
+  const std::string root = tempDir("viper_generate_") + "/damaged";
+  const Result r = generate(truncated, root);
+  EXPECT_EQ(r.rc, 1) << r.output;
+  EXPECT_NE(r.output.find("is damaged at byte"), std::string::npos) << r.output;
+  const viper::dataset::SequenceMarker m = viper::dataset::readSequenceMarker(root + "/train/001.done");
+  EXPECT_GT(m.frames, 0u);
+  EXPECT_LT(m.frames, 20u);
+  char last[32];
+  std::snprintf(last, sizeof last, "001_%05llu.png", static_cast<unsigned long long>(m.frames - 1));
+  EXPECT_TRUE(fs::exists(fs::path(root) / "train/img/001" / last)) << last;
+}
+
+TEST(Generate, UnwritableOutputIsAnErrorWithoutMarker) {
+  const std::string root = tempDir("viper_generate_") + "/not_a_folder";
+  std::ofstream(root) << "a file where the dataset should go";
+  const Result r = generate(kRawBag, root);
+  EXPECT_EQ(r.rc, 2) << r.output;
+  EXPECT_NE(r.output.find(root), std::string::npos) << "the error names the path: " << r.output;
+  EXPECT_FALSE(fs::exists(root + "/train/001.done"));
+
+  const Result usage = generate("", root);
+  EXPECT_EQ(usage.rc, 2);
+  EXPECT_NE(usage.output.find("usage: generate"), std::string::npos);
+}
+
+}  // namespace

@@ -181,10 +181,9 @@ if(CATKIN_ENABLE_TESTING)
     ARGS test_data:=${PROJECT_BINARY_DIR}/test_data bin:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}
     DEPENDENCIES viper_layout_tester export_viper viper_to_bag generate viper_ground_truth_ros viper_flow_ros world_raw_bag)
 
-  # The generate command on the world's capture and its raw bag (no roscore).
-  catkin_add_gtest(test_generate test/dataset/test_generate.cpp)
+  # The generate command on the world's capture and its raw bag (no roscore; test/dataset/test_*.cpp
+  # are gtests, above).
   if(TARGET test_generate)
-    target_link_libraries(test_generate viper_dataset gtest_main)
     target_compile_definitions(test_generate PRIVATE
       VIPER_GENERATE="$<TARGET_FILE:generate>"
       VIPER_TEST_DATA="${PROJECT_BINARY_DIR}/test_data"

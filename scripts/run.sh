@@ -49,7 +49,7 @@ echo "== ground truth of every frame (generate, lockstep) -> $out/dataset"
 "$bin/generate" --input "$capture" --labels "$labels" --out "$out/dataset" --force
 
 sheet="$out/ground_truth.png"
-last=$((frames - 1)); mid=$((frames / 2))
+last=$((frames - 2)); mid=$((frames / 2))  # the flow of a frame needs the next one
 echo "== contact sheet of frames 0, $mid, $last (color, semantic, instances, depth, flow) -> $sheet"
 "$bin/capture_sheet" "$capture" --frames "0,$mid,$last" --labels "$labels" --out "$sheet"
 

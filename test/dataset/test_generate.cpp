@@ -25,7 +25,7 @@ struct Result {
   std::string output;
 };
 
-Result generate(const std::string& input, const std::string& root, const std::string& extra = "") {
+Result runGenerate(const std::string& input, const std::string& root, const std::string& extra = "") {
   const std::string log = tempDir("viper_generate_") + "/last.log";
   Result r;
   r.rc = run(std::string(VIPER_GENERATE) + " --input " + input + " --labels " + VIPER_WORLD_LABELS + " --out " + root +
@@ -47,7 +47,7 @@ const std::string kRawBag = VIPER_TEST_DATA "/world_raw.bag";
 
 TEST(Generate, CaptureAndItsRawBagGiveTheSameSequence) {
   const std::string a = tempDir("viper_generate_") + "/from_capture", b = tempDir("viper_generate_") + "/from_bag";
-  const Result ra = generate(kCapture, a), rb = generate(kRawBag, b);
+  const Result ra = runGenerate(kCapture, a), rb = runGenerate(kRawBag, b);
   ASSERT_EQ(ra.rc, 0) << ra.output;
   ASSERT_EQ(rb.rc, 0) << rb.output;
   EXPECT_NE(ra.output.find("train/001: 20 frames (0 dropped"), std::string::npos) << ra.output;
@@ -71,25 +71,25 @@ TEST(Generate, CaptureAndItsRawBagGiveTheSameSequence) {
 
 TEST(Generate, FinishedIsSkippedChangedIsRedone) {
   const std::string root = tempDir("viper_generate_") + "/resume";
-  ASSERT_EQ(generate(kRawBag, root).rc, 0);
+  ASSERT_EQ(runGenerate(kRawBag, root).rc, 0);
   const fs::path png = fs::path(root) / "train/cls/001/001_00004.png";
   const auto written = fs::last_write_time(png);
   const std::string original = readFile(png.string());
 
-  Result again = generate(kRawBag, root);
+  Result again = runGenerate(kRawBag, root);
   EXPECT_EQ(again.rc, 0);
   EXPECT_NE(again.output.find("is finished"), std::string::npos) << again.output;
   EXPECT_EQ(fs::last_write_time(png), written) << "a finished sequence was written again";
 
   std::ofstream(png, std::ios::app) << "x";  // damaged after the run
-  again = generate(kRawBag, root);
+  again = runGenerate(kRawBag, root);
   EXPECT_EQ(again.rc, 0) << again.output;
   EXPECT_EQ(again.output.find("is finished"), std::string::npos) << "a changed sequence was taken as finished";
   EXPECT_EQ(readFile(png.string()), original);
   EXPECT_EQ(viper::dataset::verifySequence(root, viper::dataset::readSequenceMarker(root + "/train/001.done")), "");
 
   // --force redoes a finished one.
-  again = generate(kRawBag, root, "--force --outputs layout");
+  again = runGenerate(kRawBag, root, "--force --outputs layout");
   EXPECT_EQ(again.rc, 0) << again.output;
   EXPECT_FALSE(fs::exists(fs::path(root) / "train/bag/001.bag")) << "--outputs layout writes no bag";
 }
@@ -103,7 +103,7 @@ TEST(Generate, DamagedCaptureKeepsItsIntactFrames) {
     std::ofstream(truncated, std::ios::binary).write(bytes.data(), 2 << 20);
   }
   const std::string root = tempDir("viper_generate_") + "/damaged";
-  const Result r = generate(truncated, root);
+  const Result r = runGenerate(truncated, root);
   EXPECT_EQ(r.rc, 1) << r.output;
   EXPECT_NE(r.output.find("is damaged at byte"), std::string::npos) << r.output;
   const viper::dataset::SequenceMarker m = viper::dataset::readSequenceMarker(root + "/train/001.done");
@@ -117,12 +117,12 @@ TEST(Generate, DamagedCaptureKeepsItsIntactFrames) {
 TEST(Generate, UnwritableOutputIsAnErrorWithoutMarker) {
   const std::string root = tempDir("viper_generate_") + "/not_a_folder";
   std::ofstream(root) << "a file where the dataset should go";
-  const Result r = generate(kRawBag, root);
+  const Result r = runGenerate(kRawBag, root);
   EXPECT_EQ(r.rc, 2) << r.output;
   EXPECT_NE(r.output.find(root), std::string::npos) << "the error names the path: " << r.output;
   EXPECT_FALSE(fs::exists(root + "/train/001.done"));
 
-  const Result usage = generate("", root);
+  const Result usage = runGenerate("", root);
   EXPECT_EQ(usage.rc, 2);
   EXPECT_NE(usage.output.find("usage: generate"), std::string::npos);
 }

@@ -61,9 +61,11 @@ class GroundTruthBag {
     if (i.instances_viper) bag_.write("/ground_truth/instances_viper", copy(i.instances_viper));
     if (i.objects) bag_.write("/ground_truth/objects", copy(i.objects));
     if (g.boxes.in_map) {
-      bag_.write("/ground_truth/boxes", copy(g.boxes.in_map));
-      auto markers = boost::make_shared<visualization_msgs::MarkerArray>(boxMarkers(*g.boxes.in_map, classes));
-      bag_.writeAt("/ground_truth/box_markers", g.boxes.in_map->header.stamp, markers);
+      // The markers carry the boxes' header, as numbered in this bag (whatever the input numbered).
+      const Box3DArrayPtr boxes = copy(g.boxes.in_map);
+      bag_.write("/ground_truth/boxes", boxes);
+      auto markers = boost::make_shared<visualization_msgs::MarkerArray>(boxMarkers(*boxes, classes));
+      bag_.writeAt("/ground_truth/box_markers", boxes->header.stamp, markers);
     }
     if (g.boxes.in_optical) bag_.write("/ground_truth/boxes_optical", copy(g.boxes.in_optical));
     if (g.odometry) {

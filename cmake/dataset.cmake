@@ -142,6 +142,7 @@ if(CATKIN_ENABLE_TESTING)
   add_custom_target(viper_test_layout DEPENDS ${VIPER_TEST_LAYOUT}/train/camera/001.csv)
 
   viper_add_tester(viper_layout_tester test/ros/viper_layout_tester.cpp viper_layout_ros)
+  target_sources(viper_layout_tester PRIVATE test/ros/viper_layout_roundtrip.cpp)
   if(TARGET tests)
     add_dependencies(tests viper_test_layout)
   endif()

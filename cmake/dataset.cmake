@@ -16,7 +16,7 @@ target_compile_options(viper_dataset PRIVATE -O3 -fno-trapping-math)
 # PNG through libpng (palette indices of class images must not be expanded to colors), JPEG
 # through OpenCV.
 target_include_directories(viper_dataset SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBPNG PkgConfig::LIBCRYPTO opencv_core opencv_imgproc opencv_imgcodecs)
+target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBPNG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
 set_target_properties(viper_dataset PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 install(TARGETS viper_dataset
@@ -190,6 +190,13 @@ if(CATKIN_ENABLE_TESTING)
       VIPER_TEST_DATA="${PROJECT_BINARY_DIR}/test_data"
       VIPER_WORLD_LABELS="${PROJECT_SOURCE_DIR}/config/labels/world_labels.yaml")
     add_dependencies(test_generate generate world_raw_bag)
+  endif()
+
+  # generate --plan on the tiny preset: the world under capture, whole and sharded.
+  if(TARGET test_generate_plan)
+    target_link_libraries(test_generate_plan PkgConfig::YAMLCPP)
+    target_compile_definitions(test_generate_plan PRIVATE VIPER_GENERATE="$<TARGET_FILE:generate>")
+    add_dependencies(test_generate_plan generate viper_capture viper_intercept world)
   endif()
 
   # That bag holds what capture_bridge publishes for the same capture, message for message.

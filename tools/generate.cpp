@@ -4,6 +4,7 @@
 // complete. Exit code: 0 written (or already finished), 1 written with problems reported (bad
 // frames dropped, damaged input: the intact frames written), 2 usage error or an output that cannot
 // be written. docs/dataset_generation.md.
+#include "viper/dataset/dataset_plan.h"
 #include "viper/dataset/viper_layout.h"
 #include "viper/ros/dataset/export_roles.h"
 #include "viper/ros/dataset/sequence_generator.h"
@@ -11,6 +12,10 @@
 
 #include <ros/package.h>
 
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
 #include <iostream>
 #include <optional>
 
@@ -18,6 +23,8 @@ namespace {
 
 const char* kUsage =
     "usage: generate --input CAPTURE.vcap|RAW.bag --labels LABELS.yaml --out ROOT [options]\n"
+    "       generate --plan PLAN.yaml --out ROOT [--task-index I --task-count N] [options]\n"
+    "       generate --write-plan viper|small|tiny --plan PLAN.yaml\n"
     "options: [--split train] [--seq 001] [--outputs layout,bag] [--frames N] [--force]\n"
     "         [--img-format png|jpg] [--jpeg-quality 95] [--png-level 1] [--deflate-level 1]\n"
     "         [--class-table CSV] [--compression none|lz4|bz2] [--no-flow] [--flow-wide-baseline K]\n"
@@ -26,10 +33,15 @@ const char* kUsage =
     "ROOT/SPLIT/bag/SEQ.bag (bag: raw and ground-truth topics at their stamps, for bag_player), then\n"
     "ROOT/SPLIT/SEQ.done (frame count and sha256 of every file). A finished sequence (its marker checks\n"
     "out) is skipped unless --force; an unfinished one is redone.\n"
+    "--plan: every sequence of the plan (or shard I of N: every N-th from the I-th; SLURM_ARRAY_TASK_ID\n"
+    "and SLURM_ARRAY_TASK_COUNT when set), each the built-in world under capture with the sequence's\n"
+    "condition, ego mode, seed, length and size, generated as above (labels: the world's by default).\n"
     "Exit code: 0 written or already finished, 1 problems reported (the rest written), 2 error.\n";
 
 struct Options {
   std::string input, labels, class_table;
+  std::string plan, write_plan;
+  std::optional<uint32_t> task_index, task_count;
   bool force = false;
   viper::SequenceSettings sequence;
 };
@@ -49,6 +61,10 @@ std::string parse(int argc, char** argv, Options& o) {
     const std::string v = argv[++i];
     try {
       if (arg == "--input") o.input = v;
+      else if (arg == "--plan") o.plan = v;
+      else if (arg == "--write-plan") o.write_plan = v;
+      else if (arg == "--task-index") o.task_index = static_cast<uint32_t>(std::stoul(v));
+      else if (arg == "--task-count") o.task_count = static_cast<uint32_t>(std::stoul(v));
       else if (arg == "--labels") o.labels = v;
       else if (arg == "--out") s.root = v;
       else if (arg == "--split") s.split = v;
@@ -73,7 +89,13 @@ std::string parse(int argc, char** argv, Options& o) {
       return "bad number '" + v + "' for " + arg;
     }
   }
-  if (o.input.empty() || o.labels.empty() || s.root.empty()) return "--input, --labels and --out are required";
+  if (!o.write_plan.empty()) return o.plan.empty() ? "--write-plan needs --plan (the file to write)" : "";
+  if (!o.plan.empty()) {
+    if (!o.input.empty()) return "give --input or --plan, not both";
+    if (s.root.empty()) return "--out is required";
+  } else if (o.input.empty() || o.labels.empty() || s.root.empty()) {
+    return "--input, --labels and --out are required";
+  }
   if (s.outputs.bag_compression != "none" && s.outputs.bag_compression != "lz4" && s.outputs.bag_compression != "bz2")
     return "--compression must be none, lz4 or bz2";
   if (s.ground_truth.flow.wide_baseline < 0) return "--flow-wide-baseline must be >= 0";
@@ -84,37 +106,30 @@ std::string parse(int argc, char** argv, Options& o) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  Options o;
-  const std::string error = parse(argc, argv, o);
-  if (!error.empty()) {
-    std::cerr << "generate: " << error << "\n" << kUsage;
-    return 2;
-  }
-  std::string class_table = o.class_table;
-  if (class_table.empty()) {
-    const std::string share = ros::package::getPath("viper");
-    class_table = (share.empty() ? std::string(VIPER_SOURCE_DIR) : share) + "/config/viper_classes.csv";
-  }
+// One sequence from the frames `open()` gives; returns the exit code.
+int oneSequence(const Options& o, const viper::SequenceSettings& settings, const std::string& class_table,
+                const std::string& labels, const std::string& source,
+                const std::function<std::unique_ptr<viper::RawFrames>()>& open) {
+  const std::string name = settings.split + "/" + settings.seq;
   std::optional<viper::SequenceGenerator> generator;
   std::unique_ptr<viper::RawFrames> input;
   try {
     viper::ClassTable classes = viper::ClassTable::load(class_table);
-    o.sequence.layout.palette = viper::classPalette(class_table);
-    viper::dataset::viperFramePath(o.sequence.root, o.sequence.split, "img", o.sequence.seq, 0, "png");  // checks names
-    generator.emplace(o.sequence, viper::LabelTable::load(o.labels), std::move(classes));
-    std::string why;
-    if (!o.force && generator->finished(&why)) {
-      std::cout << "generate: " << o.sequence.split << "/" << o.sequence.seq << " is finished ("
-                << generator->markerPath().string() << " checks out); --force redoes it\n";
+    viper::SequenceSettings s = settings;
+    s.layout.palette = viper::classPalette(class_table);
+    viper::dataset::viperFramePath(s.root, s.split, "img", s.seq, 0, "png");  // checks the names
+    generator.emplace(s, viper::LabelTable::load(labels), std::move(classes));
+    if (!o.force && generator->finished()) {
+      std::cout << "generate: " << name << " is finished (" << generator->markerPath().string()
+                << " checks out); --force redoes it\n";
       return 0;
     }
-    input = viper::openRawFrames(o.input);
+    input = open();
   } catch (const std::exception& e) {
-    std::cerr << "generate: " << e.what() << "\n";
+    std::cerr << "generate: " << name << ": " << e.what() << "\n";
     return 2;
   }
-  viper_tools::ProgressBar bar("generate " + o.sequence.split + "/" + o.sequence.seq, input->frameCount(), "frames");
+  viper_tools::ProgressBar bar("generate " + name, input->frameCount(), "frames");
   viper::SequenceResult result;
   try {
     // finished() was checked above: run() need not check it again.
@@ -132,9 +147,105 @@ int main(int argc, char** argv) {
   };
   print(result.warnings, "warnings");
   print(result.problems, "problems");
-  std::cout << "generate: " << o.sequence.split << "/" << o.sequence.seq << ": " << result.frames << " frames ("
-            << result.dropped << " dropped, " << result.problems.size() << " problems, " << result.warnings.size()
-            << " warnings) from " << o.input << " into " << o.sequence.root << "; marker "
-            << result.marker.string() << "\n";
+  std::cout << "generate: " << name << ": " << result.frames << " frames (" << result.dropped << " dropped, "
+            << result.problems.size() << " problems, " << result.warnings.size() << " warnings) from " << source
+            << " into " << settings.root << "; marker " << result.marker.string() << "\n";
   return result.problems.empty() ? 0 : 1;
+}
+
+// The shard to generate: --task-index/--task-count, else Slurm's array variables, else everything.
+bool shard(const Options& o, uint32_t& index, uint32_t& count, std::string& error) {
+  index = 0, count = 1;
+  const char* slurm_id = std::getenv("SLURM_ARRAY_TASK_ID");
+  const char* slurm_count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+  if (o.task_index || o.task_count) {
+    if (!o.task_index || !o.task_count) return error = "--task-index and --task-count go together", false;
+    index = *o.task_index, count = *o.task_count;
+  } else if (slurm_id && slurm_count) {
+    index = static_cast<uint32_t>(std::stoul(slurm_id)), count = static_cast<uint32_t>(std::stoul(slurm_count));
+    const char* slurm_min = std::getenv("SLURM_ARRAY_TASK_MIN");
+    if (slurm_min) index -= static_cast<uint32_t>(std::stoul(slurm_min));  // arrays may start at 1
+  }
+  if (count == 0 || index >= count)
+    return error = "task " + std::to_string(index) + " of " + std::to_string(count) + " does not exist", false;
+  return true;
+}
+
+int main(int argc, char** argv) {
+  Options o;
+  const std::string error = parse(argc, argv, o);
+  if (!error.empty()) {
+    std::cerr << "generate: " << error << "\n" << kUsage;
+    return 2;
+  }
+  if (!o.write_plan.empty()) {
+    try {
+      const viper::dataset::DatasetPlan plan = viper::dataset::presetPlan(o.write_plan);
+      viper::dataset::writePlan(o.plan, plan);
+      std::cout << "generate: wrote " << o.plan << ": " << plan.sequences.size() << " sequences, "
+                << plan.totalFrames() << " frames\n";
+      return 0;
+    } catch (const std::exception& e) {
+      std::cerr << "generate: " << e.what() << "\n";
+      return 2;
+    }
+  }
+  const std::string share = ros::package::getPath("viper");
+  const std::string package = share.empty() ? std::string(VIPER_SOURCE_DIR) : share;
+  const std::string class_table = o.class_table.empty() ? package + "/config/viper_classes.csv" : o.class_table;
+  if (o.plan.empty())
+    return oneSequence(o, o.sequence, class_table, o.labels, o.input, [&] { return viper::openRawFrames(o.input); });
+
+  viper::dataset::DatasetPlan plan;
+  uint32_t index = 0, count = 1;
+  std::string shard_error;
+  try {
+    plan = viper::dataset::readPlan(o.plan);
+  } catch (const std::exception& e) {
+    std::cerr << "generate: " << e.what() << "\n";
+    return 2;
+  }
+  if (!shard(o, index, count, shard_error)) {
+    std::cerr << "generate: " << shard_error << "\n";
+    return 2;
+  }
+  const std::string labels = o.labels.empty() ? package + "/config/labels/world_labels.yaml" : o.labels;
+  // capture and world sit beside this command.
+  const std::filesystem::path bin = std::filesystem::read_symlink("/proc/self/exe").parent_path();
+  const std::filesystem::path captures = std::filesystem::path(o.sequence.root) / ".captures";
+  int worst = 0;
+  const std::vector<viper::dataset::PlannedSequence> mine = viper::dataset::shardOf(plan, index, count);
+  std::cout << "generate: plan " << plan.name << ", task " << index << " of " << count << ": " << mine.size()
+            << " of " << plan.sequences.size() << " sequences\n";
+  for (const viper::dataset::PlannedSequence& q : mine) {
+    viper::SequenceSettings s = o.sequence;
+    s.split = q.split;
+    s.seq = q.id;
+    const std::filesystem::path vcap = captures / (q.split + "_" + q.id + ".vcap");
+    const std::filesystem::path log = captures / (q.split + "_" + q.id + ".log");
+    auto open = [&]() -> std::unique_ptr<viper::RawFrames> {
+      std::filesystem::create_directories(captures);
+      const std::string command =
+          (bin / "capture").string() + " --output " + vcap.string() + " --profile " + package +
+          "/config/profiles/world.yaml --condition " + q.condition + " --fps " + std::to_string(plan.fps) + " -- " +
+          (bin / "world").string() + " --condition " + q.condition + " --ego " + q.ego + " --seed " +
+          std::to_string(q.seed) + " --frames " + std::to_string(q.frames) + " --width " + std::to_string(q.width) +
+          " --height " + std::to_string(q.height) + " --fps " + std::to_string(plan.fps) + " > " + log.string() +
+          " 2>&1";
+      if (std::system(command.c_str()) != 0)
+        throw std::runtime_error("the world under capture failed; its output is in " + log.string());
+      return std::make_unique<viper::CaptureRawFrames>(vcap.string());
+    };
+    const int code = oneSequence(o, s, class_table, labels, "the world (" + q.condition + ", " + q.ego + ", seed " +
+                                 std::to_string(q.seed) + ")", open);
+    std::error_code ec;
+    std::filesystem::remove(vcap, ec);
+    if (code != 2) std::filesystem::remove(log, ec);
+    worst = std::max(worst, code);
+  }
+  {
+    std::error_code ec;
+    std::filesystem::remove(captures, ec);  // only if empty
+  }
+  return worst;
 }

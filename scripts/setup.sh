@@ -5,7 +5,8 @@
 # Usage: scripts/setup.sh [--no-build] [--test-programs]
 #   --test-programs: also what only the tests need: the third-party programs they capture
 #                    (SuperTuxKart, Minetest), apitrace (records it once, replays it the same every time),
-#                    Chromium and Playwright (npm) for the labelling page's browser test.
+#                    Chromium and Playwright (npm) for the labelling page's browser test, Slurm and
+#                    munge for the dataset generator's cluster test (scripts/test_slurm.sh).
 #                    scripts/test.sh asks for them; a user who only captures their own program does not.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -31,7 +32,7 @@ test_programs=0
 for arg in "$@"; do
   case "$arg" in
     --no-build) build=0 ;;
-    --test-programs) PKGS+=(supertuxkart minetest apitrace chromium nodejs); test_programs=1 ;;
+    --test-programs) PKGS+=(supertuxkart minetest apitrace chromium nodejs slurm-wlm munge); test_programs=1 ;;
     *) echo "setup: unknown option '$arg' (known: --no-build, --test-programs)" >&2; exit 2 ;;
   esac
 done

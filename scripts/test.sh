@@ -7,7 +7,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 build="$here/build"
 fuzz_seconds="${1:-20}"
 
-# What only the tests need (SuperTuxKart, Minetest, apitrace, Chromium, Playwright; about 790 MB to download
+# What only the tests need (SuperTuxKart, Minetest, apitrace, Chromium, Playwright, Slurm; about 800 MB to download
 # on a fresh machine): installed here, not for every user.
 bash "$here/scripts/setup.sh" --test-programs --no-build || { echo "0 passed, 1 failed"; exit 1; }
 if [ ! -f "$build/Makefile" ]; then
@@ -50,6 +50,13 @@ read -r passed failed < "$build/test_counts.txt"
 
 if [ -x "$here/test/fuzz/run_fuzzer.sh" ]; then
   if bash "$here/test/fuzz/run_fuzzer.sh" "$fuzz_seconds"; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+fi
+
+# A real single-node Slurm generating the tiny plan as an array job (about 40 s).
+if bash "$here/scripts/test_slurm.sh" > "$build/test_slurm.log" 2>&1; then
+  echo "slurm: PASSED"; passed=$((passed + 1))
+else
+  echo "slurm: FAILED (see $build/test_slurm.log)"; tail -5 "$build/test_slurm.log"; failed=$((failed + 1))
 fi
 
 echo "$passed passed, $failed failed"

@@ -4,6 +4,7 @@
 // complete. Exit code: 0 written (or already finished), 1 written with problems reported (bad
 // frames dropped, damaged input: the intact frames written), 2 usage error or an output that cannot
 // be written. docs/dataset_generation.md.
+#include "viper/dataset/dataset_manifest.h"
 #include "viper/dataset/dataset_plan.h"
 #include "viper/dataset/viper_layout.h"
 #include "viper/ros/dataset/export_roles.h"
@@ -25,6 +26,7 @@ const char* kUsage =
     "usage: generate --input CAPTURE.vcap|RAW.bag --labels LABELS.yaml --out ROOT [options]\n"
     "       generate --plan PLAN.yaml --out ROOT [--task-index I --task-count N] [options]\n"
     "       generate --write-plan viper|small|tiny --plan PLAN.yaml\n"
+    "       generate --merge --plan PLAN.yaml --out ROOT\n"
     "options: [--split train] [--seq 001] [--outputs layout,bag] [--frames N] [--force]\n"
     "         [--img-format png|jpg] [--jpeg-quality 95] [--png-level 1] [--deflate-level 1]\n"
     "         [--class-table CSV] [--compression none|lz4|bz2] [--no-flow] [--flow-wide-baseline K]\n"
@@ -33,6 +35,8 @@ const char* kUsage =
     "ROOT/SPLIT/bag/SEQ.bag (bag: raw and ground-truth topics at their stamps, for bag_player), then\n"
     "ROOT/SPLIT/SEQ.done (frame count and sha256 of every file). A finished sequence (its marker checks\n"
     "out) is skipped unless --force; an unfinished one is redone.\n"
+    "--merge: checks every planned sequence is finished, then writes ROOT/MANIFEST.sha256 and\n"
+    "ROOT/manifest.md (refuses, naming what is missing, otherwise: exit 2).\n"
     "--plan: every sequence of the plan (or shard I of N: every N-th from the I-th; SLURM_ARRAY_TASK_ID\n"
     "and SLURM_ARRAY_TASK_COUNT when set), each the built-in world under capture with the sequence's\n"
     "condition, ego mode, seed, length and size, generated as above (labels: the world's by default).\n"
@@ -42,7 +46,7 @@ struct Options {
   std::string input, labels, class_table;
   std::string plan, write_plan;
   std::optional<uint32_t> task_index, task_count;
-  bool force = false;
+  bool force = false, merge = false;
   viper::SequenceSettings sequence;
 };
 
@@ -55,6 +59,7 @@ std::string parse(int argc, char** argv, Options& o) {
       std::exit(0);
     }
     if (arg == "--force") { o.force = true; continue; }
+    if (arg == "--merge") { o.merge = true; continue; }
     if (arg == "--no-flow") { s.ground_truth.flow_enabled = false; continue; }
     if (arg == "--resume-tracks") { s.ground_truth.instances.resume_tracks_by_resources = true; continue; }
     if (i + 1 >= argc) return "missing value after " + arg;
@@ -90,6 +95,7 @@ std::string parse(int argc, char** argv, Options& o) {
     }
   }
   if (!o.write_plan.empty()) return o.plan.empty() ? "--write-plan needs --plan (the file to write)" : "";
+  if (o.merge && (o.plan.empty() || s.root.empty())) return "--merge needs --plan and --out";
   if (!o.plan.empty()) {
     if (!o.input.empty()) return "give --input or --plan, not both";
     if (s.root.empty()) return "--out is required";
@@ -204,6 +210,23 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::cerr << "generate: " << e.what() << "\n";
     return 2;
+  }
+  if (o.merge) {
+    try {
+      const viper::dataset::MergeResult m = viper::dataset::mergeDataset(plan, o.sequence.root);
+      for (const std::string& why : m.missing) std::cerr << "generate: missing " << why << "\n";
+      if (!m.missing.empty()) {
+        std::cerr << "generate: " << m.missing.size() << " of " << plan.sequences.size()
+                  << " planned sequences are not finished: no manifest written\n";
+        return 2;
+      }
+      std::cout << "generate: " << o.sequence.root << ": " << m.sequences << " sequences, " << m.frames << " frames, "
+                << m.files << " files: MANIFEST.sha256 and manifest.md written\n";
+      return 0;
+    } catch (const std::exception& e) {
+      std::cerr << "generate: " << e.what() << "\n";
+      return 2;
+    }
   }
   if (!shard(o, index, count, shard_error)) {
     std::cerr << "generate: " << shard_error << "\n";

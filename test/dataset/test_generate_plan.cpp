@@ -118,4 +118,31 @@ TEST(GeneratePlan, ShardsGiveTheSameFilesAsOneProcess) {
   EXPECT_NE(readFile(dir + "/log").find("task 2 of 2 does not exist"), std::string::npos);
 }
 
+TEST(GeneratePlan, MergeWritesTheManifestOnlyWhenEverySequenceIsFinished) {
+  const std::string dir = tempDir("viper_plan_"), plan = dir + "/merge.yaml";
+  const std::string generate = VIPER_GENERATE;
+  const std::string log = " > " + dir + "/merge.log 2>&1";
+  ASSERT_EQ(run(generate + " --write-plan tiny --plan " + plan + " > /dev/null"), 0);
+  // Only the first of two shards: sequences 001 and 003.
+  ASSERT_EQ(run(generate + " --plan " + plan + " --out " + dir + "/m --task-index 0 --task-count 2" + log), 0);
+  EXPECT_EQ(run(generate + " --merge --plan " + plan + " --out " + dir + "/m" + log), 2);
+  std::string out = readFile(dir + "/merge.log");
+  EXPECT_NE(out.find("missing val/002: not generated"), std::string::npos) << out;
+  EXPECT_NE(out.find("1 of 3 planned sequences are not finished"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir + "/m/MANIFEST.sha256"));
+
+  ASSERT_EQ(run(generate + " --plan " + plan + " --out " + dir + "/m --task-index 1 --task-count 2" + log), 0);
+  ASSERT_EQ(run(generate + " --merge --plan " + plan + " --out " + dir + "/m" + log), 0) << readFile(dir + "/merge.log");
+  EXPECT_EQ(run("cd " + dir + "/m && sha256sum --quiet -c MANIFEST.sha256"), 0) << "sha256sum checks the manifest";
+  const std::string md = readFile(dir + "/m/manifest.md");
+  EXPECT_NE(md.find("3 sequences, 30 frames"), std::string::npos) << md;
+  EXPECT_NE(md.find("| val | sunset | 1 | 10 |"), std::string::npos) << md;
+
+  fs::remove(dir + "/m/test/flow/003/003_00004.npz");
+  EXPECT_EQ(run(generate + " --merge --plan " + plan + " --out " + dir + "/m" + log), 2);
+  out = readFile(dir + "/merge.log");
+  EXPECT_NE(out.find("missing test/003: "), std::string::npos) << out;
+  EXPECT_NE(out.find("003_00004.npz is missing"), std::string::npos) << out;
+}
+
 }  // namespace

@@ -7,7 +7,7 @@
 #include "viper/capture/capture_stream.h"
 #include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/bridge/bag_writer.h"
-#include "viper/ros/bridge/replay_timing.h"
+#include "viper/ros/bridge/raw_frames.h"
 
 
 #include <chrono>
@@ -76,24 +76,6 @@ std::string parse(int argc, char** argv, Options& o) {
   return {};
 }
 
-// The bridge's raw topics under its namespace, written as its publishers would (BagWriter).
-class RawBagWriter {
- public:
-  RawBagWriter(const std::string& path, const std::string& compression, const std::string& ns)
-      : bag_(path, compression, "/capture_to_bag"), ns_(ns == "/" ? "" : ns) {}
-  template <typename M>
-  void write(const std::string& name, const boost::shared_ptr<M>& msg, bool latched = false) {
-    bag_.write(ns_ + "/" + name, msg, latched);
-  }
-  void close() { bag_.close(); }
-  uint64_t messages() const { return bag_.messages(); }
-  uint64_t bytes() const { return bag_.bytes(); }
-
- private:
-  viper::BagWriter bag_;
-  std::string ns_;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -111,85 +93,46 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  std::unique_ptr<viper::CaptureReader> reader;
+  // The bridge's conversion and stamps for a file replay (CaptureRawFrames), written as its
+  // publishers would (writeRawFrame).
+  std::unique_ptr<viper::CaptureRawFrames> frames;
   try {
-    reader = std::make_unique<viper::CaptureReader>(o.capture);
+    frames = std::make_unique<viper::CaptureRawFrames>(o.capture, o.start_time, o.frame_id);
   } catch (const std::exception& e) {
-    std::cerr << "capture_to_bag: cannot read capture '" << o.capture << "': " << e.what() << "\n";
+    std::cerr << "capture_to_bag: " << e.what() << "\n";
     return 2;
   }
-  std::unique_ptr<RawBagWriter> out;
+  std::unique_ptr<viper::BagWriter> out;
   try {
-    out = std::make_unique<RawBagWriter>(o.output, o.compression, o.ns);
+    out = std::make_unique<viper::BagWriter>(o.output, o.compression, "/capture_to_bag");
   } catch (const std::exception& e) {
     std::cerr << "capture_to_bag: cannot write '" << o.output << "': " << e.what() << "\n";
     return 2;
   }
 
   const auto start = std::chrono::steady_clock::now();
-  // The bridge's stamps for a file replay: rate 0 paces nothing, stamps depend on capture time only.
-  viper::ReplayTiming timing(0.0, o.start_time);
-  viper::MeshStoreAccumulator meshes;
-  viper::CaptureFrame frame;
-  uint64_t written = 0, problems = 0;
-  std::optional<uint64_t> last_number;
-  bool camera_warned = false;
+  uint64_t written = 0;
+  size_t problems_told = 0, warnings_told = 0;
+  auto tell = [&] {  // what the reader found since the last frame, as it happens
+    for (; warnings_told < frames->warnings().size(); ++warnings_told)
+      std::cerr << "capture_to_bag: " << frames->warnings()[warnings_told] << "\n";
+    for (; problems_told < frames->problems().size(); ++problems_told)
+      std::cerr << "capture_to_bag: " << frames->problems()[problems_told] << "\n";
+  };
   try {
-    while (written < o.frames) {
-      const uint64_t offset = reader->offset();
-      try {
-        if (reader->next(frame) == viper::CaptureReader::Status::kEnd) break;
-      } catch (const viper::CaptureFormatError& e) {
-        std::cerr << "capture_to_bag: capture '" << o.capture << "' is damaged at byte " << e.offset() << " (after "
-                  << (last_number ? "frame " + std::to_string(*last_number) : std::string("no frame")) << "; " << written
-                  << " frames written): " << e.what() << "\n";
-        ++problems;
-        break;
-      }
-      const std::string problem = viper::validateFrame(frame);
-      if (!problem.empty()) {
-        std::cerr << "capture_to_bag: dropping frame " << frame.number << " of '" << o.capture << "' (byte " << offset
-                  << "): " << problem << "\n";
-        ++problems;
-        continue;
-      }
-      std_msgs::Header header;
-      header.stamp = ros::Time(timing.stampOf(frame.time_s));
-      header.frame_id = o.frame_id;
-      if (timing.lastWasClamped()) {
-        std::cerr << "capture_to_bag: frame " << frame.number << " of '" << o.capture << "' goes back in time ("
-                  << frame.time_s << " s); stamped 1 ms after the previous frame\n";
-      }
-      viper::FrameMessages m;
-      try {
-        m = viper::frameMessages(frame, header, meshes);
-      } catch (const std::invalid_argument& e) {
-        std::cerr << "capture_to_bag: dropping frame " << frame.number << " of '" << o.capture << "' (byte " << offset
-                  << "): " << e.what() << "\n";
-        ++problems;
-        continue;
-      }
-      if (!m.camera_problem.empty() && !camera_warned) {
-        camera_warned = true;
-        std::cerr << "capture_to_bag: frame " << frame.number << " of '" << o.capture << "': " << m.camera_problem << "\n";
-      }
-      // The bridge's publication order.
-      if (m.mesh_store) out->write("mesh_store", m.mesh_store, /*latched=*/true);
-      out->write("color/image_raw", m.color);
-      out->write("color/camera_info", m.camera_info);
-      out->write("depth/image_raw", m.depth);
-      out->write("depth/camera_info", m.camera_info);
-      out->write("draw_ids", m.draw_ids);
-      out->write("primitive_ids", m.primitive_ids);
-      out->write("draws", m.draws);
-      last_number = frame.number;
+    viper::FrameMessages m;
+    while (written < o.frames && frames->next(m)) {
+      tell();
+      viper::writeRawFrame(*out, o.ns, m);
       ++written;
     }
+    tell();
     out->close();
   } catch (const std::exception& e) {
     std::cerr << "capture_to_bag: writing '" << o.output << "' failed: " << e.what() << "\n";
     return 2;
   }
+  const size_t problems = frames->problems().size();
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "capture_to_bag: wrote " << written << " frames, " << out->messages() << " messages ("
             << out->bytes() / 1e6 << " MB) of " << o.capture << " to " << o.output << " in " << s << " s ("

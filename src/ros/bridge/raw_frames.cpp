@@ -38,7 +38,7 @@ bool CaptureRawFrames::next(FrameMessages& out) {
     header.stamp = ros::Time(timing_.stampOf(frame_.time_s));
     header.frame_id = frame_id_;
     if (timing_.lastWasClamped())
-      problems_.push_back("frame " + std::to_string(frame_.number) + " of '" + path_ + "' goes back in time (" +
+      warnings_.push_back("frame " + std::to_string(frame_.number) + " of '" + path_ + "' goes back in time (" +
                           std::to_string(frame_.time_s) + " s); stamped 1 ms after the previous frame");
     try {
       out = frameMessages(frame_, header, meshes_);
@@ -49,7 +49,7 @@ bool CaptureRawFrames::next(FrameMessages& out) {
     }
     if (!out.camera_problem.empty() && !camera_warned_) {
       camera_warned_ = true;
-      problems_.push_back("frame " + std::to_string(frame_.number) + " of '" + path_ + "': " + out.camera_problem);
+      warnings_.push_back("frame " + std::to_string(frame_.number) + " of '" + path_ + "': " + out.camera_problem);
     }
     last_number_ = frame_.number;
     ++frames_;
@@ -135,6 +135,18 @@ bool BagRawFrames::next(FrameMessages& out) {
     if (takeOldest(out)) return true;
   }
   return false;
+}
+
+void writeRawFrame(BagWriter& bag, const std::string& ns, const FrameMessages& m) {
+  const std::string prefix = ns == "/" ? "" : ns;
+  if (m.mesh_store) bag.write(prefix + "/mesh_store", m.mesh_store, /*latched=*/true);
+  bag.write(prefix + "/color/image_raw", m.color);
+  bag.write(prefix + "/color/camera_info", m.camera_info);
+  bag.write(prefix + "/depth/image_raw", m.depth);
+  bag.write(prefix + "/depth/camera_info", m.camera_info);
+  bag.write(prefix + "/draw_ids", m.draw_ids);
+  bag.write(prefix + "/primitive_ids", m.primitive_ids);
+  bag.write(prefix + "/draws", m.draws);
 }
 
 std::unique_ptr<RawFrames> openRawFrames(const std::string& path) {

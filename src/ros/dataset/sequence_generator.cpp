@@ -29,47 +29,33 @@ std::vector<fs::path> sequencePaths(const SequenceSettings& s) {
   return out;
 }
 
-// The bag numbers header.seq: it gets a copy, so that the messages handed to the layout stay as they are.
-template <typename M>
-boost::shared_ptr<M> copy(const boost::shared_ptr<M>& p) {
-  return boost::make_shared<M>(*p);
-}
-
 // The ground-truth bag of a sequence: the raw topics as the bridge publishes them and the ground
 // truth as the nodes of replay.launch publish it.
 class GroundTruthBag {
  public:
   GroundTruthBag(const std::string& path, const std::string& compression) : bag_(path, compression, "/generate") {}
 
-  void writeRaw(const FrameMessages& m) {
-    if (m.mesh_store) bag_.write("/capture/mesh_store", copy(m.mesh_store), /*latched=*/true);
-    bag_.write("/capture/color/image_raw", copy(m.color));
-    bag_.write("/capture/color/camera_info", copy(m.camera_info));
-    bag_.write("/capture/depth/image_raw", copy(m.depth));
-    bag_.write("/capture/depth/camera_info", copy(m.camera_info));
-    bag_.write("/capture/draw_ids", copy(m.draw_ids));
-    bag_.write("/capture/primitive_ids", copy(m.primitive_ids));
-    bag_.write("/capture/draws", copy(m.draws));
-  }
+  // The bag numbers header.seq as a publisher would; nothing reads a message's seq after it.
+  void writeRaw(const FrameMessages& m) { writeRawFrame(bag_, "/capture", m); }
 
   void writeGroundTruth(const GroundTruthMessages& g, const ClassTable& classes) {
     const InstancesStep::Output& i = g.instances;
-    if (i.semantic) bag_.write("/ground_truth/semantic", copy(i.semantic));
-    if (i.semantic_color) bag_.write("/ground_truth/semantic_color", copy(i.semantic_color));
-    if (i.instance_ids) bag_.write("/ground_truth/instance_ids", copy(i.instance_ids));
-    if (i.boundaries) bag_.write("/ground_truth/boundaries", copy(i.boundaries));
-    if (i.instances_viper) bag_.write("/ground_truth/instances_viper", copy(i.instances_viper));
-    if (i.objects) bag_.write("/ground_truth/objects", copy(i.objects));
+    if (i.semantic) bag_.write("/ground_truth/semantic", i.semantic);
+    if (i.semantic_color) bag_.write("/ground_truth/semantic_color", i.semantic_color);
+    if (i.instance_ids) bag_.write("/ground_truth/instance_ids", i.instance_ids);
+    if (i.boundaries) bag_.write("/ground_truth/boundaries", i.boundaries);
+    if (i.instances_viper) bag_.write("/ground_truth/instances_viper", i.instances_viper);
+    if (i.objects) bag_.write("/ground_truth/objects", i.objects);
     if (g.boxes.in_map) {
       // The markers carry the boxes' header, as numbered in this bag (whatever the input numbered).
-      const Box3DArrayPtr boxes = copy(g.boxes.in_map);
+      const Box3DArrayPtr& boxes = g.boxes.in_map;
       bag_.write("/ground_truth/boxes", boxes);
       auto markers = boost::make_shared<visualization_msgs::MarkerArray>(boxMarkers(*boxes, classes));
       bag_.writeAt("/ground_truth/box_markers", boxes->header.stamp, markers);
     }
-    if (g.boxes.in_optical) bag_.write("/ground_truth/boxes_optical", copy(g.boxes.in_optical));
+    if (g.boxes.in_optical) bag_.write("/ground_truth/boxes_optical", g.boxes.in_optical);
     if (g.odometry) {
-      bag_.write("/ground_truth/odom", copy(g.odometry->odom));
+      bag_.write("/ground_truth/odom", g.odometry->odom);
       auto tf = boost::make_shared<tf2_msgs::TFMessage>();
       tf->transforms.push_back(g.odometry->map_to_body);
       bag_.writeAt("/tf", g.odometry->map_to_body.header.stamp, tf);
@@ -89,8 +75,8 @@ class GroundTruthBag {
  private:
   void flow(const std::string& topic, const FlowMessages& m) {
     if (!m.flow) return;
-    bag_.write(topic, copy(m.flow));
-    bag_.write(topic + "_visible", copy(m.visible));
+    bag_.write(topic, m.flow);
+    bag_.write(topic + "_visible", m.visible);
   }
   BagWriter bag_;
 };
@@ -206,6 +192,7 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
                                                                : input.frameCount());
   }
   for (const std::string& p : input.problems()) problem(p);
+  for (const std::string& w : input.warnings()) result.warnings.push_back("sequence " + name + ": " + w);
   try {
     if (exporter)
       for (const std::string& n : exporter->finish()) problem(n);

@@ -6,7 +6,11 @@ GroundTruthPipeline::GroundTruthPipeline(LabelTable labels, ClassTable classes, 
     : settings_(settings),
       instances_(std::move(labels), classes, settings.instances),
       boxes_(classes, settings.odometry.map_frame),
-      odometry_(settings.odometry),
+      odometry_([&] {
+        OdometrySettings o = settings.odometry;
+        o.make_path = false;  // the bag and the layout keep the poses; a path per frame is O(n^2)
+        return o;
+      }()),
       flow_(settings.flow) {}
 
 bool GroundTruthPipeline::process(const FrameMessages& raw, GroundTruthMessages& out, StepProblems& problems) {

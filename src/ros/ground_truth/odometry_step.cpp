@@ -67,13 +67,15 @@ bool OdometryStep::process(const DrawList& draws, Output& out, StepProblems& pro
     odom.twist.twist.angular.x = twist.angular_radps.x(), odom.twist.twist.angular.y = twist.angular_radps.y();
     odom.twist.twist.angular.z = twist.angular_radps.z();
   }
-  geometry_msgs::PoseStamped ps;
-  ps.header = odom.header;
-  ps.pose = odom.pose.pose;
-  path_.header.stamp = stamp;
-  path_.poses.push_back(ps);
-  if (static_cast<int>(path_.poses.size()) > settings_.path_max_poses) path_.poses.erase(path_.poses.begin());
-  out.path = boost::make_shared<const nav_msgs::Path>(path_);
+  if (settings_.make_path) {
+    geometry_msgs::PoseStamped ps;
+    ps.header = odom.header;
+    ps.pose = odom.pose.pose;
+    path_.header.stamp = stamp;
+    path_.poses.push_back(ps);
+    if (static_cast<int>(path_.poses.size()) > settings_.path_max_poses) path_.poses.erase(path_.poses.begin());
+    out.path = boost::make_shared<const nav_msgs::Path>(path_);
+  }
   last_ = pose;
   last_stamp_ = stamp;
   return true;

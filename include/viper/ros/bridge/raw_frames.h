@@ -4,6 +4,7 @@
 #pragma once
 
 #include "viper/capture/capture_stream.h"
+#include "viper/ros/bridge/bag_writer.h"
 #include "viper/ros/bridge/replay_timing.h"
 #include "viper/ros/conversions/frame_conversions.h"
 
@@ -30,9 +31,12 @@ class RawFrames {
   virtual uint64_t frameCount() const = 0;
   /// What was wrong (frames dropped, damage), each naming the file and where.
   const std::vector<std::string>& problems() const { return problems_; }
+  /// What is worth saying but lost nothing (no camera for camera_info, a capture time that goes
+  /// back and was stamped after the previous frame).
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  protected:
-  std::vector<std::string> problems_;
+  std::vector<std::string> problems_, warnings_;
 };
 
 /// A capture's frames: stamps as the bridge stamps a file replay (ReplayTiming at rate 0), header
@@ -85,6 +89,10 @@ class BagRawFrames : public RawFrames {
   std::map<ros::Time, FrameMessages> pending_;
   uint64_t frame_count_ = 0;
 };
+
+/// Writes a raw frame's messages under `ns` (e.g. "/capture") in the bridge's publication order, as
+/// a recorder of the bridge would (capture_to_bag, generate's ground-truth bags).
+void writeRawFrame(BagWriter& bag, const std::string& ns, const FrameMessages& m);
 
 /// A .vcap path gives CaptureRawFrames, anything else BagRawFrames.
 std::unique_ptr<RawFrames> openRawFrames(const std::string& path);

@@ -20,6 +20,7 @@ namespace viper {
 struct OdometrySettings {
   std::string map_frame = "map", body_frame = "camera";
   int path_max_poses = 10000;
+  bool make_path = true;  ///< the path message (a copy of every pose so far, each frame)
 };
 
 class OdometryStep {
@@ -33,7 +34,7 @@ class OdometryStep {
     geometry_msgs::TransformStamped map_to_body; ///< the same pose as tf
     geometry_msgs::TransformStamped body_to_optical;  ///< static; `optical_changed` when it is new
     bool optical_changed = false;
-    nav_msgs::PathConstPtr path;                 ///< every pose so far (at most path_max_poses)
+    nav_msgs::PathConstPtr path;                 ///< every pose so far (at most path_max_poses); null without make_path
   };
   /// One frame's draw list. Returns false if it was dropped (stamp not after the last, no camera,
   /// a view matrix that is not rigid).

@@ -5,6 +5,7 @@
 # that layout from a bag.
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
+pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)  # the PNG and npz writers' deflate
 pkg_check_modules(LIBCRYPTO REQUIRED IMPORTED_TARGET libcrypto)  # SHA-256 of the sequence markers (OpenSSL)
 
 file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/dataset/*.cpp)
@@ -13,10 +14,12 @@ target_include_directories(viper_dataset PUBLIC ${PROJECT_SOURCE_DIR}/include)
 # The float16 loops vectorise only at -O3, and only when GCC 12 may execute the float operations
 # of every branch (no floating-point exceptions are ever enabled here).
 target_compile_options(viper_dataset PRIVATE -O3 -fno-trapping-math)
-# PNG through libpng (palette indices of class images must not be expanded to colors), JPEG
-# through OpenCV.
+# PNG read through libpng (palette indices of class images must not be expanded to colors) and
+# written with libdeflate (src/dataset/deflate_writers.h); JPEG through OpenCV.
 target_include_directories(viper_dataset SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBPNG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
+find_package(Threads REQUIRED)  # WriteQueue's workers
+target_link_libraries(viper_dataset PUBLIC Threads::Threads)
+target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBDEFLATE PkgConfig::LIBPNG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
 set_target_properties(viper_dataset PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 install(TARGETS viper_dataset

@@ -30,7 +30,7 @@ const char* kUsage =
     "options: [--split train] [--seq 001] [--outputs layout,bag] [--frames N] [--force]\n"
     "         [--img-format png|jpg] [--jpeg-quality 95] [--png-level 1] [--deflate-level 1]\n"
     "         [--class-table CSV] [--compression none|lz4|bz2] [--no-flow] [--flow-wide-baseline K]\n"
-    "         [--extrapolate-frames 10] [--resume-tracks]\n"
+    "         [--extrapolate-frames 10] [--resume-tracks] [--writer-threads N]\n"
     "Writes ROOT/SPLIT/{img,cls,inst,flow,flowbw,bb}/SEQ/, ROOT/SPLIT/camera/SEQ.csv (layout) and\n"
     "ROOT/SPLIT/bag/SEQ.bag (bag: raw and ground-truth topics at their stamps, for bag_player), then\n"
     "ROOT/SPLIT/SEQ.done (frame count and sha256 of every file). A finished sequence (its marker checks\n"
@@ -40,6 +40,8 @@ const char* kUsage =
     "--plan: every sequence of the plan (or shard I of N: every N-th from the I-th; SLURM_ARRAY_TASK_ID\n"
     "and SLURM_ARRAY_TASK_COUNT when set), each the built-in world under capture with the sequence's\n"
     "condition, ego mode, seed, length and size, generated as above (labels: the world's by default).\n"
+    "--writer-threads: threads that encode the layout's PNG and npz files beside the ground truth\n"
+    "(default: one per CPU this process may use, at most 4; 0: none). The files are the same either way.\n"
     "Exit code: 0 written or already finished, 1 problems reported (the rest written), 2 error.\n";
 
 struct Options {
@@ -77,6 +79,7 @@ std::string parse(int argc, char** argv, Options& o) {
       else if (arg == "--frames") s.max_frames = std::stoull(v);
       else if (arg == "--img-format") s.layout.image_extension = v;
       else if (arg == "--jpeg-quality") s.layout.images.jpeg_quality = std::stoi(v);
+      else if (arg == "--writer-threads") s.layout.writer_threads = static_cast<unsigned>(std::stoul(v));
       else if (arg == "--png-level") s.layout.images.png_compression_level = std::stoi(v);
       else if (arg == "--deflate-level") s.layout.zip.deflate_level = std::stoi(v);
       else if (arg == "--class-table") o.class_table = v;
@@ -156,6 +159,7 @@ int oneSequence(const Options& o, const viper::SequenceSettings& settings, const
   std::cout << "generate: " << name << ": " << result.frames << " frames (" << result.dropped << " dropped, "
             << result.problems.size() << " problems, " << result.warnings.size() << " warnings) from " << source
             << " into " << settings.root << "; marker " << result.marker.string() << "\n";
+  if (!result.skipped) std::cout << "generate: " << name << ": where the time went\n" << result.stages.table(result.frames);
   return result.problems.empty() ? 0 : 1;
 }
 
@@ -179,6 +183,7 @@ bool shard(const Options& o, uint32_t& index, uint32_t& count, std::string& erro
 
 int main(int argc, char** argv) {
   Options o;
+  o.sequence.layout.writer_threads = viper::dataset::WriteQueue::defaultThreads();
   const std::string error = parse(argc, argv, o);
   if (!error.empty()) {
     std::cerr << "generate: " << error << "\n" << kUsage;

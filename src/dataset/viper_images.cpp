@@ -1,5 +1,7 @@
 #include "viper/dataset/viper_images.h"
 
+#include "deflate_writers.h"
+
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -37,10 +39,6 @@ bool endsWith(const std::string& s, const std::string& tail) {
 
 bool isJpegPath(const std::string& path) { return endsWith(path, ".jpg") || endsWith(path, ".jpeg"); }
 
-std::string temporaryPath(const std::string& path) {
-  static std::atomic<unsigned> counter{0};
-  return path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
-}
 
 void checkImage(const Image8& image, uint32_t channels, const char* what) {
   if (image.width == 0 || image.height == 0 || image.channels != channels ||
@@ -157,64 +155,19 @@ Image8 decodePng(const std::string& path, const std::vector<uint8_t>& bytes, Png
   return std::move(ctx.image);
 }
 
-struct PngWriteContext {
-  char error[256] = {0};
-  std::FILE* file = nullptr;
-  std::vector<png_const_bytep> rows;
-  std::vector<png_color> palette;
-};
-
-[[noreturn]] void pngWriteError(png_structp png, png_const_charp message) {
-  auto* ctx = static_cast<PngWriteContext*>(png_get_error_ptr(png));
-  if (ctx->error[0] == 0) std::snprintf(ctx->error, sizeof ctx->error, "%s", message);
-  png_longjmp(png, 1);
-}
-
-void encodePng(const std::string& path, const Image8& image, int color_type, const ClassPalette* palette,
+void encodePng(const std::string& path, const Image8& image, detail::PngColor color, const ClassPalette* palette,
                const ImageWriteOptions& options) {
   if (options.png_compression_level < 0 || options.png_compression_level > 9)
     throw std::invalid_argument("PNG compression level must be 0..9, got " +
                                 std::to_string(options.png_compression_level));
-  const std::string tmp = temporaryPath(path);
-  PngWriteContext ctx;
-  ctx.file = std::fopen(tmp.c_str(), "wb");
-  if (ctx.file == nullptr) throw std::runtime_error(path + ": cannot write PNG: " + std::strerror(errno));
-  const size_t row_bytes = static_cast<size_t>(image.width) * image.channels;
-  ctx.rows.resize(image.height);
-  for (uint32_t y = 0; y < image.height; ++y) ctx.rows[y] = image.data.data() + y * row_bytes;
+  ClassPalette full;
   if (palette != nullptr) {
-    ctx.palette.assign(256, png_color{0, 0, 0});
-    for (size_t i = 0; i < std::min<size_t>(256, palette->size()); ++i)
-      ctx.palette[i] = png_color{(*palette)[i][0], (*palette)[i][1], (*palette)[i][2]};
+    full.assign(256, {{0, 0, 0}});
+    std::copy_n(palette->begin(), std::min<size_t>(256, palette->size()), full.begin());
   }
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &ctx, pngWriteError, pngWarning);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (png == nullptr || info == nullptr || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    std::fclose(ctx.file);
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write PNG: " + (ctx.error[0] ? ctx.error : "libpng could not start"));
-  }
-  png_init_io(png, ctx.file);
-  png_set_compression_level(png, options.png_compression_level);
-  png_set_IHDR(png, info, image.width, image.height, 8, color_type, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
-  if (palette != nullptr) png_set_PLTE(png, info, ctx.palette.data(), static_cast<int>(ctx.palette.size()));
-  png_write_info(png, info);
-  png_write_rows(png, const_cast<png_bytepp>(ctx.rows.data()), image.height);
-  png_write_end(png, info);
-  png_destroy_write_struct(&png, &info);
-  const bool flushed = std::fflush(ctx.file) == 0;
-  const int saved_errno = errno;
-  if (std::fclose(ctx.file) != 0 || !flushed) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write PNG: " + std::strerror(flushed ? errno : saved_errno));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int e = errno;
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write PNG: rename failed: " + std::strerror(e));
-  }
+  detail::writeFileAtomically(path, detail::pngBytes(image.data.data(), image.width, image.height, color, full,
+                                                     options.png_compression_level),
+                              "PNG");
 }
 
 Image8 decodeJpeg(const std::string& path, const std::vector<uint8_t>& bytes) {
@@ -252,22 +205,7 @@ void encodeJpeg(const std::string& path, const Image8& rgb, int quality) {
   std::vector<uint8_t> bytes;
   if (!cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, quality}))
     throw std::runtime_error(path + ": cannot encode JPEG");
-  const std::string tmp = temporaryPath(path);
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot write JPEG: " + std::strerror(errno));
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(path + ": cannot write JPEG: " + std::strerror(errno));
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int e = errno;
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write JPEG: rename failed: " + std::strerror(e));
-  }
+  detail::writeFileAtomically(path, bytes, "JPEG");
 }
 
 }  // namespace
@@ -282,7 +220,7 @@ Image8 readViperColorImage(const std::string& path) {
 void writeViperColorImage(const std::string& path, const Image8& rgb, const ImageWriteOptions& options) {
   checkImage(rgb, 3, "writeViperColorImage");
   if (isJpegPath(path)) encodeJpeg(path, rgb, options.jpeg_quality);
-  else encodePng(path, rgb, PNG_COLOR_TYPE_RGB, nullptr, options);
+  else encodePng(path, rgb, detail::PngColor::kRgb, nullptr, options);
 }
 
 Image8 readViperClassImage(const std::string& path) {
@@ -295,8 +233,8 @@ Image8 readViperClassImage(const std::string& path) {
 void writeViperClassImage(const std::string& path, const Image8& class_ids, const ClassPalette& palette,
                           const ImageWriteOptions& options) {
   checkImage(class_ids, 1, "writeViperClassImage");
-  if (palette.empty()) encodePng(path, class_ids, PNG_COLOR_TYPE_GRAY, nullptr, options);
-  else encodePng(path, class_ids, PNG_COLOR_TYPE_PALETTE, &palette, options);
+  if (palette.empty()) encodePng(path, class_ids, detail::PngColor::kGray, nullptr, options);
+  else encodePng(path, class_ids, detail::PngColor::kPalette, &palette, options);
 }
 
 Image8 readViperInstanceImage(const std::string& path) {
@@ -308,7 +246,7 @@ Image8 readViperInstanceImage(const std::string& path) {
 
 void writeViperInstanceImage(const std::string& path, const Image8& instances, const ImageWriteOptions& options) {
   checkImage(instances, 3, "writeViperInstanceImage");
-  encodePng(path, instances, PNG_COLOR_TYPE_RGB, nullptr, options);
+  encodePng(path, instances, detail::PngColor::kRgb, nullptr, options);
 }
 
 std::vector<int32_t> viperInstanceIds(const Image8& instances) {

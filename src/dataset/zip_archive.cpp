@@ -1,5 +1,7 @@
 #include "viper/dataset/zip_archive.h"
 
+#include "deflate_writers.h"
+
 #include <zip.h>
 
 #include <algorithm>
@@ -19,18 +21,6 @@ std::string codeText(int code) {
   return text;
 }
 
-// libzip turns time_t into DOS date fields through localtime; a time_t made by mktime from local
-// fields comes back as those same fields whatever the time zone, so the archive bytes do not
-// depend on where or when they are written.
-time_t fixedEntryTime() {
-  std::tm t{};
-  t.tm_year = 80;
-  t.tm_mday = 1;
-  t.tm_hour = 12;
-  t.tm_isdst = -1;
-  return std::mktime(&t);
-}
-
 // Entries are small (an image); a size beyond this in a central directory is damage.
 constexpr zip_uint64_t kMaxEntrySize = zip_uint64_t(1) << 32;
 
@@ -46,35 +36,7 @@ void writeZip(const std::string& path, const std::vector<ZipEntry>& entries, con
     if (e.name.empty() || !names.insert(e.name).second)
       throw std::invalid_argument(path + ": empty or duplicate zip entry name '" + e.name + "'");
 
-  int code = 0;
-  zip_t* za = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &code);
-  if (za == nullptr) throw std::runtime_error(path + ": cannot create zip archive: " + codeText(code));
-  const time_t mtime = fixedEntryTime();
-  try {
-    for (const auto& e : entries) {
-      zip_source_t* src = zip_source_buffer(za, e.bytes.data(), e.bytes.size(), 0);
-      if (src == nullptr) throw std::runtime_error(zip_strerror(za));
-      const zip_int64_t index = zip_file_add(za, e.name.c_str(), src, ZIP_FL_ENC_UTF_8);
-      if (index < 0) {
-        zip_source_free(src);
-        throw std::runtime_error(zip_strerror(za));
-      }
-      const auto i = static_cast<zip_uint64_t>(index);
-      const int method = options.deflate_level == 0 ? ZIP_CM_STORE : ZIP_CM_DEFLATE;
-      if (zip_set_file_compression(za, i, method, static_cast<zip_uint32_t>(options.deflate_level)) != 0 ||
-          zip_file_set_mtime(za, i, mtime, 0) != 0)
-        throw std::runtime_error(zip_strerror(za));
-    }
-  } catch (const std::runtime_error& e) {
-    zip_discard(za);
-    throw std::runtime_error(path + ": cannot write zip archive: " + e.what());
-  }
-  // zip_close writes everything to a temporary file beside `path` and renames it.
-  if (zip_close(za) != 0) {
-    const std::string why = zip_strerror(za);
-    zip_discard(za);
-    throw std::runtime_error(path + ": cannot write zip archive: " + why);
-  }
+  detail::writeFileAtomically(path, detail::zipBytes(entries, options.deflate_level), "zip archive");
 }
 
 struct ZipReader::Handle {

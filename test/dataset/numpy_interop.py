@@ -9,6 +9,10 @@ the way numpy.savez and numpy.savez_compressed do for the C++ reader to check.
   numpy_interop.py write-numpy DIR
       writes DIR/<name>.npz and DIR/<name>.expected.f32 (the values as float32, interleaved
       u, v) for several variants, and DIR/manifest.txt with lines "<name> WIDTH HEIGHT".
+  numpy_interop.py check-png DIR NAME...
+      each DIR/NAME.png must decode with PIL (an independent PNG decoder, which checks every chunk's
+      CRC) to the pixels in DIR/NAME.raw (row-major bytes) in mode DIR/NAME.mode (RGB, L or P),
+      and a P image's palette must be DIR/NAME.palette (768 bytes).
 Exit code 0 when everything matched; numpy missing is an error, not a skip.
 """
 import sys
@@ -78,9 +82,36 @@ def write_numpy(folder):
     return 0
 
 
+def check_png(folder, names):
+    from PIL import Image
+
+    failures = 0
+    for name in names:
+        base = folder + "/" + name
+        mode = open(base + ".mode").read().strip()
+        with Image.open(base + ".png") as image:
+            image.load()
+            if image.mode != mode:
+                print(f"{name}.png: PIL mode {image.mode}, expected {mode}")
+                failures += 1
+                continue
+            if image.tobytes() != open(base + ".raw", "rb").read():
+                print(f"{name}.png: PIL's pixels differ from ours")
+                failures += 1
+                continue
+            if mode == "P" and bytes(image.getpalette()[:768]) != open(base + ".palette", "rb").read():
+                print(f"{name}.png: PIL's palette differs from ours")
+                failures += 1
+                continue
+            print(f"{name}.png: {image.size[0]}x{image.size[1]} {mode} equal in PIL")
+    return failures
+
+
 def main(argv):
     if len(argv) >= 5 and argv[1] == "check-ours":
         return 1 if check_ours(argv[2], int(argv[3]), int(argv[4]), argv[5:]) else 0
+    if len(argv) >= 4 and argv[1] == "check-png":
+        return 1 if check_png(argv[2], argv[3:]) else 0
     if len(argv) == 3 and argv[1] == "write-numpy":
         return write_numpy(argv[2])
     print(__doc__)

@@ -1,5 +1,5 @@
 // The generate command (no roscore) on the world's capture made at build time and on its raw bag
-// (capture_to_bag): the same sequence from either, a finished sequence skipped and a changed one
+// (capture_to_bag): the same sequence from either (with writer threads or without), a finished sequence skipped and a changed one
 // redone, a damaged capture's intact frames kept, an output that cannot be written an error with no
 // marker. That its ground truth equals the nodes' is viper_layout_roundtrip.test.
 #include "viper/dataset/sequence_marker.h"
@@ -45,12 +45,15 @@ std::map<std::string, std::string> files(const fs::path& root) {
 const std::string kCapture = VIPER_TEST_DATA "/world_roundtrip.vcap";
 const std::string kRawBag = VIPER_TEST_DATA "/world_raw.bag";
 
+// Also: writer threads (the capture's run has two, the bag's none) change no byte.
 TEST(Generate, CaptureAndItsRawBagGiveTheSameSequence) {
   const std::string a = tempDir("viper_generate_") + "/from_capture", b = tempDir("viper_generate_") + "/from_bag";
-  const Result ra = runGenerate(kCapture, a), rb = runGenerate(kRawBag, b);
+  const Result ra = runGenerate(kCapture, a, "--writer-threads 2"), rb = runGenerate(kRawBag, b, "--writer-threads 0");
   ASSERT_EQ(ra.rc, 0) << ra.output;
   ASSERT_EQ(rb.rc, 0) << rb.output;
   EXPECT_NE(ra.output.find("train/001: 20 frames (0 dropped"), std::string::npos) << ra.output;
+  EXPECT_NE(ra.output.find("layout writers"), std::string::npos) << "the stage table names the writer threads: " << ra.output;
+  EXPECT_EQ(rb.output.find("layout writers"), std::string::npos) << rb.output;
   const auto fa = files(a), fb = files(b);
   for (const char* f : {"train/img/001/001_00000.png", "train/cls/001/001_00019.png", "train/inst/001/001_00007.png",
                         "train/flow/001/001_00000.npz", "train/flowbw/001/001_00019.npz", "train/bb/001/001_00003.csv",

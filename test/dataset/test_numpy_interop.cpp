@@ -1,7 +1,9 @@
 // Interoperability with numpy (the system's python3-numpy, which must be installed: a missing
 // numpy fails these tests). numpy reads our files and finds its own float16 conversion of our
-// input; we read what numpy.savez and numpy.savez_compressed write and find numpy's values.
+// input; we read what numpy.savez and numpy.savez_compressed write and find numpy's values. And
+// PIL (python3-pil) decodes the PNGs we write (our own deflate writer) to our pixels.
 #include "viper/dataset/viper_flow.h"
+#include "viper/dataset/viper_images.h"
 
 #include "dataset_test_util.h"
 
@@ -111,6 +113,45 @@ TEST(NumpyInterop, WeReadWhatNumpySavezWrites) {
     EXPECT_EQ(nans, 2u) << name << ": the planted NaNs";
   }
   EXPECT_EQ(variants, 6u) << out;
+}
+
+TEST(NumpyInterop, PilDecodesOurPngsToOurPixels) {
+  TempDir dir;
+  std::mt19937 rng(11);
+  // Noise rows and flat rows (the Up filter's best and worst cases), odd sizes, every level.
+  auto image = [&](uint32_t w, uint32_t h, uint32_t channels) {
+    Image8 im{w, h, channels, std::vector<uint8_t>(size_t(w) * h * channels)};
+    for (size_t i = 0; i < im.data.size(); ++i) im.data[i] = (i / (w * channels)) % 3 == 0 ? uint8_t(rng()) : uint8_t(i / 97);
+    return im;
+  };
+  auto save = [&](const std::string& name, const Image8& im, const char* mode) {
+    writeBytes(dir / (name + ".raw"), im.data);
+    writeBytes(dir / (name + ".mode"), std::vector<uint8_t>(mode, mode + std::strlen(mode)));
+  };
+  ClassPalette palette(40);
+  for (size_t i = 0; i < palette.size(); ++i) palette[i] = {{uint8_t(i * 5), uint8_t(255 - i), uint8_t(i * 7)}};
+  std::vector<uint8_t> full(768, 0);
+  for (size_t i = 0; i < palette.size(); ++i) std::copy(palette[i].begin(), palette[i].end(), full.begin() + 3 * i);
+  std::string names;
+  for (int level : {0, 1, 6, 9}) {
+    ImageWriteOptions o;
+    o.png_compression_level = level;
+    const std::string l = std::to_string(level);
+    const Image8 rgb = image(53, 31, 3), ids = image(67, 1, 1), inst = image(1, 45, 3);
+    writeViperColorImage(dir / ("img" + l + ".png"), rgb, o);
+    save("img" + l, rgb, "RGB");
+    writeViperClassImage(dir / ("gray" + l + ".png"), ids, {}, o);
+    save("gray" + l, ids, "L");
+    writeViperClassImage(dir / ("cls" + l + ".png"), ids, palette, o);
+    save("cls" + l, ids, "P");
+    writeBytes(dir / ("cls" + l + ".palette"), full);
+    writeViperInstanceImage(dir / ("inst" + l + ".png"), inst, o);
+    save("inst" + l, inst, "RGB");
+    names += " img" + l + " gray" + l + " cls" + l + " inst" + l;
+  }
+  std::string out;
+  EXPECT_EQ(runNumpy("check-png " + dir.path().string() + names, out), 0) << out;
+  EXPECT_NE(out.find("cls9.png: 67x1 P equal in PIL"), std::string::npos) << out;
 }
 
 }  // namespace

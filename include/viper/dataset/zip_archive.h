@@ -1,5 +1,5 @@
-// Zip archives through libzip, as far as .npz files need them: write a set of named entries,
-// stored or deflated; read entries back, stored or deflated, checking their CRCs.
+// Zip archives as far as .npz files need them: write a set of named entries, stored or deflated
+// (libdeflate), and read entries back through libzip, stored or deflated, checking their CRCs.
 #pragma once
 
 #include <cstdint>
@@ -17,13 +17,13 @@ struct ZipEntry {
 
 /// How writeZip stores entries.
 struct ZipWriteOptions {
-  /// 0: stored (as numpy.savez); 1..9: deflated with this zlib level (numpy.savez_compressed
-  /// uses zlib's default, 6). 1 is several times faster than 6 on flow and barely larger.
+  /// 0: stored (as numpy.savez); 1..9: deflated by libdeflate at this level (numpy.savez_compressed
+  /// uses zlib's level 6). 1 is several times faster than 6 on flow and barely larger.
   int deflate_level = 1;
 };
 
-/// Writes `entries` to a new archive at `path`, replacing any file there. libzip writes a
-/// temporary file beside `path` and renames it, so readers never see a half-written archive.
+/// Writes `entries` to a new archive at `path`, replacing any file there: a temporary file beside
+/// `path`, then renamed, so readers never see a half-written archive.
 /// Entry times are fixed (1980-01-01) so equal inputs give equal files.
 /// Throws std::invalid_argument for no entries, duplicate names or a level outside 0..9, and
 /// std::runtime_error naming `path` if the archive cannot be written (e.g. missing folder).

@@ -137,19 +137,28 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
                                            settings_.outputs.bag_compression);
   }
 
+  // With writer threads, the bag is written by one more, in frame order (one thread, a queue).
+  std::unique_ptr<dataset::WriteQueue> bag_writer;
+  if (bag && settings_.layout.writer_threads > 0) bag_writer = std::make_unique<dataset::WriteQueue>(1, 2);
+
   GroundTruthPipeline pipeline(labels_, classes_, settings_.ground_truth);
   std::map<ros::Time, uint64_t> frame_of;  // header stamp -> frame number in the sequence
   FrameMessages raw;
   GroundTruthMessages gt;
   uint64_t read = 0;
   auto problem = [&](const std::string& text) { result.problems.push_back("sequence " + name + ": " + text); };
-  while ((settings_.max_frames == 0 || read < settings_.max_frames) && input.next(raw)) {
+  StageTimes* times = &result.stages;
+  auto next = [&] {
+    StageTimer t(times, "read");
+    return input.next(raw);
+  };
+  while ((settings_.max_frames == 0 || read < settings_.max_frames) && next()) {
     ++read;
     const uint64_t frame = frame_of.size();
     const ros::Time stamp = raw.draws->header.stamp;
     frame_of.emplace(stamp, frame);
     StepProblems problems;
-    const bool kept = pipeline.process(raw, gt, problems);
+    const bool kept = pipeline.process(raw, gt, problems, times);
     for (const StepProblem& p : problems) {
       const std::string text = "sequence " + name + ": frame " + std::to_string(frame) + ": " + defaultTopicOf(p.input) + p.text;
       if (p.severity == StepSeverity::kError) result.problems.push_back(text);
@@ -158,10 +167,19 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
     if (!kept) ++result.dropped;
     try {
       if (bag) {
-        bag->writeRaw(raw);
-        if (kept) bag->writeGroundTruth(gt, pipeline.classes());
+        StageTimer t(times, "bag");
+        // The frame's messages are new every frame and only read from here on (the bag numbers
+        // their header.seq, which nothing else reads), so a thread of its own may write them.
+        auto write = [&bag = *bag, raw, gt = kept ? gt : GroundTruthMessages(), kept, classes = pipeline.classes()] {
+          bag.writeRaw(raw);
+          if (kept) bag.writeGroundTruth(gt, classes);
+          return std::string();
+        };
+        if (bag_writer) bag_writer->submit(write);
+        else write();
       }
       if (exporter) {
+        StageTimer t(times, "layout");
         auto dispatch = [&](const ExportDispatch& d, const ros::Time& at) {
           const auto f = frame_of.find(at);
           if (f == frame_of.end()) return;
@@ -194,16 +212,21 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
   for (const std::string& p : input.problems()) problem(p);
   for (const std::string& w : input.warnings()) result.warnings.push_back("sequence " + name + ": " + w);
   try {
+    StageTimer t(times, "finish");
     if (exporter)
       for (const std::string& n : exporter->finish()) problem(n);
+    if (bag_writer) bag_writer->drain();
     if (bag) bag->close();
   } catch (const std::exception& e) {
     throw std::runtime_error("sequence " + name + ": " + e.what() + " (the partial sequence stays in " +
                              partial.string() + ")");
   }
+  if (exporter && exporter->writerCpuSeconds() > 0) times->add("layout writers", exporter->writerCpuSeconds(), 0.0);
+  if (bag_writer) times->add("bag writer", bag_writer->workerCpuSeconds(), 0.0);
   if (result.frames == 0) throw std::runtime_error("sequence " + name + ": the input has no frame");
 
   // Into place: the sequence's old files go, the new ones come, the marker last.
+  StageTimer into_place(times, "marker");
   dataset::SequenceMarker marker;
   marker.frames = result.frames;
   for (const fs::path& rel : sequencePaths(settings_)) {

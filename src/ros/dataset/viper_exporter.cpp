@@ -27,6 +27,24 @@ ViperExporter::ViperExporter(const ViperExportOptions& options) : options_(optio
     throw std::invalid_argument("image extension must be png or jpg, got '" + options_.image_extension + "'");
   if (options_.camera == CameraSource::kOdometry && !(options_.near_m > 0 && options_.far_m > options_.near_m))
     throw std::invalid_argument("depth range must satisfy 0 < near < far");
+  // A few frames' files in flight at most: each waiting job holds a decoded image.
+  if (options_.writer_threads > 0)
+    writes_ = std::make_unique<dataset::WriteQueue>(options_.writer_threads, 4 * options_.writer_threads);
+}
+
+ViperExportStats ViperExporter::stats() const {
+  ViperExportStats s = stats_;
+  s.flow_overflowed = flow_overflowed_;
+  return s;
+}
+
+std::string ViperExporter::write(uint64_t frame, dataset::WriteQueue::Job job) {
+  if (!writes_) return job();
+  writes_->submit([frame, job = std::move(job)] {
+    const std::string note = job();
+    return note.empty() ? note : "frame " + std::to_string(frame) + ": " + note;
+  });
+  return "";
 }
 
 std::string ViperExporter::path(const char* modality, uint64_t frame, const char* extension) {
@@ -54,16 +72,22 @@ std::string ViperExporter::addColor(uint64_t frame, const sensor_msgs::Image& ms
   dataset::Image8 rgb;
   const std::string problem = imageFromMsg(msg, "rgb8", rgb);
   if (!problem.empty()) return skip(problem);
-  dataset::writeViperColorImage(path("img", frame, options_.image_extension.c_str()), rgb, options_.images);
   ++stats_.img;
-  return "";
+  return write(frame, [file = path("img", frame, options_.image_extension.c_str()), rgb = std::move(rgb),
+                       o = options_.images] {
+    dataset::writeViperColorImage(file, rgb, o);
+    return std::string();
+  });
 }
 
 std::string ViperExporter::addSemantic(uint64_t frame, const sensor_msgs::ImageConstPtr& msg) {
   dataset::Image8 ids;
   const std::string problem = imageFromMsg(*msg, "mono8", ids);
   if (!problem.empty()) return skip(problem);
-  dataset::writeViperClassImage(path("cls", frame, "png"), ids, options_.palette, options_.images);
+  write(frame, [file = path("cls", frame, "png"), ids = std::move(ids), this] {
+    dataset::writeViperClassImage(file, ids, options_.palette, options_.images);
+    return std::string();
+  });
   ++stats_.cls;
   Pending& p = pending_[frame];
   if (!p.inst_written) p.semantic = msg;
@@ -108,7 +132,10 @@ std::string ViperExporter::writeInstFromParts(uint64_t frame, Pending& p) {
   inst.width = s.width, inst.height = s.height, inst.channels = 3;
   inst.data.resize(3 * inst.pixels());
   encodeViperInstances(classes.data.data(), ids.data(), inst.pixels(), inst.data.data());
-  dataset::writeViperInstanceImage(path("inst", frame, "png"), inst, options_.images);
+  write(frame, [file = path("inst", frame, "png"), inst = std::move(inst), o = options_.images] {
+    dataset::writeViperInstanceImage(file, inst, o);
+    return std::string();
+  });
   ++stats_.inst;
   p.inst_written = true;
   p.semantic.reset();  // a frame's images are not kept once written
@@ -123,7 +150,10 @@ std::string ViperExporter::addInstancesViper(uint64_t frame, const sensor_msgs::
   dataset::Image8 inst;
   const std::string problem = imageFromMsg(msg, "rgb8", inst);
   if (!problem.empty()) return skip(problem);
-  dataset::writeViperInstanceImage(path("inst", frame, "png"), inst, options_.images);
+  write(frame, [file = path("inst", frame, "png"), inst = std::move(inst), o = options_.images] {
+    dataset::writeViperInstanceImage(file, inst, o);
+    return std::string();
+  });
   Pending& p = pending_[frame];
   if (!p.inst_written) ++stats_.inst;
   p.inst_written = true;
@@ -134,11 +164,15 @@ std::string ViperExporter::addFlow(uint64_t frame, const sensor_msgs::Image& msg
   dataset::FlowImage flow;
   const std::string problem = flowFromMsg(msg, flow);
   if (!problem.empty()) return skip(problem);
-  const auto result = dataset::writeViperFlow(path(backward ? "flowbw" : "flow", frame, "npz"), flow, options_.zip);
   ++(backward ? stats_.flowbw : stats_.flow);
-  stats_.flow_overflowed += result.overflowed;
-  return result.overflowed == 0 ? "" : std::to_string(result.overflowed) +
-                                           " flow values of 65520 px or more became inf (invalid) in float16";
+  return write(frame, [file = path(backward ? "flowbw" : "flow", frame, "npz"), flow = std::move(flow),
+                       o = options_.zip, this] {
+    const auto result = dataset::writeViperFlow(file, flow, o);
+    flow_overflowed_ += result.overflowed;
+    return result.overflowed == 0 ? std::string()
+                                  : std::to_string(result.overflowed) +
+                                        " flow values of 65520 px or more became inf (invalid) in float16";
+  });
 }
 
 std::string ViperExporter::addBoxesOptical(uint64_t frame, const Box3DArray::ConstPtr& msg) {
@@ -256,6 +290,7 @@ std::string ViperExporter::addCameraInfo(uint64_t frame, const sensor_msgs::Came
 
 std::vector<std::string> ViperExporter::flushUpTo(uint64_t frame) {
   std::vector<std::string> notes;
+  if (writes_) notes = writes_->check();
   while (!pending_.empty() && pending_.begin()->first <= frame) {
     const uint64_t f = pending_.begin()->first;
     Pending& p = pending_.begin()->second;
@@ -279,6 +314,8 @@ std::vector<std::string> ViperExporter::flushUpTo(uint64_t frame) {
 
 std::vector<std::string> ViperExporter::finish() {
   std::vector<std::string> notes = flushUpTo(UINT64_MAX);
+  if (writes_)
+    for (std::string& n : writes_->drain()) notes.push_back(std::move(n));
   if (camera_file_.is_open()) camera_file_.close();
   return notes;
 }

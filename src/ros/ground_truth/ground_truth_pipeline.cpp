@@ -13,7 +13,8 @@ GroundTruthPipeline::GroundTruthPipeline(LabelTable labels, ClassTable classes, 
       }()),
       flow_(settings.flow) {}
 
-bool GroundTruthPipeline::process(const FrameMessages& raw, GroundTruthMessages& out, StepProblems& problems) {
+bool GroundTruthPipeline::process(const FrameMessages& raw, GroundTruthMessages& out, StepProblems& problems,
+                                  StageTimes* times) {
   out = GroundTruthMessages();
   if (raw.mesh_store) {
     instances_.addMeshes(*raw.mesh_store, problems);
@@ -21,10 +22,20 @@ bool GroundTruthPipeline::process(const FrameMessages& raw, GroundTruthMessages&
     if (settings_.flow_enabled) flow_.addMeshes(*raw.mesh_store, problems);
   }
   OdometryStep::Output odometry;
-  if (odometry_.process(*raw.draws, odometry, problems)) out.odometry = odometry;
-  if (!instances_.process(*raw.draws, *raw.draw_ids, InstancesStep::Want(), out.instances, problems)) return false;
-  boxes_.process(*out.instances.objects, *raw.draws, out.boxes, problems);
+  {
+    StageTimer t(times, "odometry");
+    if (odometry_.process(*raw.draws, odometry, problems)) out.odometry = odometry;
+  }
+  {
+    StageTimer t(times, "instances");
+    if (!instances_.process(*raw.draws, *raw.draw_ids, InstancesStep::Want(), out.instances, problems)) return false;
+  }
+  {
+    StageTimer t(times, "boxes");
+    boxes_.process(*out.instances.objects, *raw.draws, out.boxes, problems);
+  }
   if (settings_.flow_enabled) {
+    StageTimer t(times, "flow");
     FlowStep::Want want;
     want.wide = settings_.flow.wide_baseline > 0;
     flow_.process(*raw.draws, *raw.depth, *raw.draw_ids, *raw.primitive_ids, *out.instances.objects, want, out.flow,

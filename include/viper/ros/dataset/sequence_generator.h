@@ -7,6 +7,7 @@
 #pragma once
 
 #include "viper/ros/bridge/raw_frames.h"
+#include "viper/ground_truth/stage_times.h"
 #include "viper/ros/dataset/viper_exporter.h"
 #include "viper/ros/ground_truth/ground_truth_pipeline.h"
 
@@ -41,6 +42,7 @@ struct SequenceResult {
   std::vector<std::string> warnings;  ///< what a node would warn about (an object without a box, ...)
   bool skipped = false;          ///< already finished (its marker checked out); nothing was done
   std::filesystem::path marker;  ///< the done-marker
+  StageTimes stages;             ///< CPU and wall time of reading, each step and each writer
 };
 
 class SequenceGenerator {

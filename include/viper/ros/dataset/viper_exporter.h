@@ -9,6 +9,7 @@
 #include "viper/dataset/viper_boxes.h"
 #include "viper/dataset/viper_camera.h"
 #include "viper/dataset/viper_images.h"
+#include "viper/dataset/write_queue.h"
 #include "viper/dataset/zip_archive.h"
 
 #include <nav_msgs/Odometry.h>
@@ -21,8 +22,10 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <atomic>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,6 +61,10 @@ struct ViperExportOptions {
   double near_m = 0.1;         ///< kOdometry: depth range of the projection written
   double far_m = 1000.0;
   ViperExportInputs inputs;
+  /// Threads that encode and write img, cls, inst, flow and flowbw files while the caller goes on
+  /// (0: each file is written inside its add* call). Errors then come from a later add*, flushUpTo
+  /// or finish, still naming the file; notes (flow overflow) from flushUpTo/finish.
+  unsigned writer_threads = 0;
 };
 
 /// Files written, per modality, and messages skipped.
@@ -103,7 +110,9 @@ class ViperExporter {
   /// flushUpTo every frame and closes the camera file.
   std::vector<std::string> finish();
 
-  const ViperExportStats& stats() const { return stats_; }
+  ViperExportStats stats() const;
+  /// CPU seconds the writer threads spent writing files so far (0 without writer threads).
+  double writerCpuSeconds() const { return writes_ ? writes_->workerCpuSeconds() : 0.0; }
   const ViperExportOptions& options() const { return options_; }
 
  private:
@@ -127,6 +136,8 @@ class ViperExporter {
   std::string writeBoxes(uint64_t frame, Pending& p);
   std::string writeCameraRow(uint64_t frame, const dataset::RowMajor4& view, const dataset::RowMajor4& projection);
   std::string skip(const std::string& problem);
+  /// Runs a job that writes one file of `frame` now, or queues it with writer threads.
+  std::string write(uint64_t frame, dataset::WriteQueue::Job job);
 
   ViperExportOptions options_;
   ViperExportStats stats_;
@@ -135,6 +146,8 @@ class ViperExporter {
   std::optional<dataset::RowMajor4> origin_view_;
   std::ofstream camera_file_;
   std::string camera_path_;
+  std::atomic<size_t> flow_overflowed_{0};
+  std::unique_ptr<dataset::WriteQueue> writes_;  // null without writer threads
 };
 
 }  // namespace viper

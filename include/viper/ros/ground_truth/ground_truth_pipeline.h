@@ -5,6 +5,7 @@
 #pragma once
 
 #include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ground_truth/stage_times.h"
 #include "viper/ros/ground_truth/boxes_step.h"
 #include "viper/ros/ground_truth/flow_step.h"
 #include "viper/ros/ground_truth/instances_step.h"
@@ -36,7 +37,10 @@ class GroundTruthPipeline {
 
   /// One raw frame: its mesh store (if any) first, then every step. Returns false if the instances
   /// step dropped the frame (nothing else is computed then).
-  bool process(const FrameMessages& raw, GroundTruthMessages& out, StepProblems& problems);
+  /// With `times`, each step's CPU and wall time is added to it (stages "odometry", "instances",
+  /// "boxes", "flow").
+  bool process(const FrameMessages& raw, GroundTruthMessages& out, StepProblems& problems,
+               StageTimes* times = nullptr);
 
   const ClassTable& classes() const { return instances_.classes(); }
 

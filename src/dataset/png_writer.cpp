@@ -1,0 +1,67 @@
+#include "deflate_writers.h"
+
+#include <libdeflate.h>
+
+#include <memory>
+#include <stdexcept>
+
+namespace viper::dataset::detail {
+namespace {
+
+void put32(std::vector<uint8_t>& out, uint32_t v) {
+  for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<uint8_t>(v >> shift));
+}
+
+// A chunk: length, type, data, CRC-32 of type and data.
+void chunk(std::vector<uint8_t>& out, const char type[4], const uint8_t* data, size_t size) {
+  put32(out, static_cast<uint32_t>(size));
+  const size_t start = out.size();
+  out.insert(out.end(), type, type + 4);
+  out.insert(out.end(), data, data + size);
+  put32(out, libdeflate_crc32(0, out.data() + start, out.size() - start));
+}
+
+}  // namespace
+
+std::vector<uint8_t> pngBytes(const uint8_t* pixels, uint32_t width, uint32_t height, PngColor color,
+                              const std::vector<std::array<uint8_t, 3>>& palette, int level) {
+  if (level < 0 || level > 12) throw std::invalid_argument("PNG deflate level must be 0..12");
+  const size_t channels = color == PngColor::kRgb ? 3 : 1, row = width * channels;
+  // Filtered rows: a filter-type byte (2, Up: each byte minus the one above it) and the row.
+  std::vector<uint8_t> filtered((row + 1) * height);
+  for (uint32_t y = 0; y < height; ++y) {
+    const uint8_t* r = pixels + y * row;
+    uint8_t* f = filtered.data() + y * (row + 1);
+    f[0] = 2;
+    if (y == 0) {
+      std::copy(r, r + row, f + 1);
+    } else {
+      const uint8_t* up = r - row;
+      for (size_t x = 0; x < row; ++x) f[1 + x] = static_cast<uint8_t>(r[x] - up[x]);
+    }
+  }
+  std::unique_ptr<libdeflate_compressor, decltype(&libdeflate_free_compressor)> compressor(
+      libdeflate_alloc_compressor(level), libdeflate_free_compressor);
+  if (!compressor) throw std::runtime_error("libdeflate could not allocate a compressor");
+  std::vector<uint8_t> idat(libdeflate_zlib_compress_bound(compressor.get(), filtered.size()));
+  idat.resize(libdeflate_zlib_compress(compressor.get(), filtered.data(), filtered.size(), idat.data(), idat.size()));
+  if (idat.empty()) throw std::runtime_error("libdeflate could not compress the image");
+
+  std::vector<uint8_t> out{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  out.reserve(idat.size() + 1024);
+  std::vector<uint8_t> ihdr;
+  put32(ihdr, width);
+  put32(ihdr, height);
+  ihdr.insert(ihdr.end(), {8, static_cast<uint8_t>(color), 0, 0, 0});  // depth, color, deflate, filtering, no interlace
+  chunk(out, "IHDR", ihdr.data(), ihdr.size());
+  if (color == PngColor::kPalette) {
+    std::vector<uint8_t> plte;
+    for (const auto& c : palette) plte.insert(plte.end(), c.begin(), c.end());
+    chunk(out, "PLTE", plte.data(), plte.size());
+  }
+  chunk(out, "IDAT", idat.data(), idat.size());
+  chunk(out, "IEND", nullptr, 0);
+  return out;
+}
+
+}  // namespace viper::dataset::detail

@@ -202,6 +202,16 @@ if(CATKIN_ENABLE_TESTING)
     add_dependencies(test_generate_plan generate viper_capture viper_intercept world)
   endif()
 
+  # Geographically disjoint splits: the world's routes of the viper preset and the tiny plan generated
+  # end to end (its ground-truth bags' camera poses).
+  if(TARGET test_city_splits)
+    target_include_directories(test_city_splits SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+    target_link_libraries(test_city_splits ${catkin_LIBRARIES})
+    target_compile_definitions(test_city_splits PRIVATE VIPER_GENERATE="$<TARGET_FILE:generate>"
+      VIPER_WORLD="$<TARGET_FILE:world>")
+    add_dependencies(test_city_splits generate viper_capture viper_intercept world)
+  endif()
+
   # That bag holds what capture_bridge publishes for the same capture, message for message.
   viper_add_tester(capture_to_bag_tester test/ros/capture_to_bag_tester.cpp viper_layout_ros)
   add_rostest(test/ros/capture_to_bag.test

@@ -39,7 +39,8 @@ const char* kUsage =
     "ROOT/manifest.md (refuses, naming what is missing, otherwise: exit 2).\n"
     "--plan: every sequence of the plan (or shard I of N: every N-th from the I-th; SLURM_ARRAY_TASK_ID\n"
     "and SLURM_ARRAY_TASK_COUNT when set), each the built-in world under capture with the sequence's\n"
-    "condition, ego mode, seed, length and size, generated as above (labels: the world's by default).\n"
+    "condition, ego mode, seed, length and size (and the plan's city and the sequence's region),\n"
+    "generated as above (labels: the world's by default).\n"
     "--writer-threads: threads that encode the layout's PNG and npz files beside the ground truth\n"
     "(default: one per CPU this process may use, at most 4; 0: none). The files are the same either way.\n"
     "Exit code: 0 written or already finished, 1 problems reported (the rest written), 2 error.\n";
@@ -251,6 +252,10 @@ int main(int argc, char** argv) {
     s.seq = q.id;
     const std::filesystem::path vcap = captures / (q.split + "_" + q.id + ".vcap");
     const std::filesystem::path log = captures / (q.split + "_" + q.id + ".log");
+    // A plan's city: the route stays in the sequence's region, the scenery is the city's.
+    const std::string city = plan.city ? " --city-seed " + std::to_string(plan.city->seed) + " --region " +
+                                             plan.regionOf(q).text()
+                                       : "";
     auto open = [&]() -> std::unique_ptr<viper::RawFrames> {
       std::filesystem::create_directories(captures);
       const std::string command =
@@ -258,7 +263,7 @@ int main(int argc, char** argv) {
           "/config/profiles/world.yaml --condition " + q.condition + " --fps " + std::to_string(plan.fps) + " -- " +
           (bin / "world").string() + " --condition " + q.condition + " --ego " + q.ego + " --seed " +
           std::to_string(q.seed) + " --frames " + std::to_string(q.frames) + " --width " + std::to_string(q.width) +
-          " --height " + std::to_string(q.height) + " --fps " + std::to_string(plan.fps) + " > " + log.string() +
+          " --height " + std::to_string(q.height) + " --fps " + std::to_string(plan.fps) + city + " > " + log.string() +
           " 2>&1";
       if (std::system(command.c_str()) != 0)
         throw std::runtime_error("the world under capture failed; its output is in " + log.string());

@@ -81,7 +81,9 @@ LaneSlot Ego::laneSlot() const {
   slot.line = slot.axis == 0 ? r[e].second : r[e].first;
   slot.lane = mode_ == EgoMode::kRide ? 1 : 0;
   Vec3 p = pointAt(s_);
-  slot.s = slot.axis == 0 ? p.x : p.y;
+  // Traffic's lane coordinate is relative to the town's intersection (0, 0).
+  const Vec3 o = town_->intersection(0, 0);
+  slot.s = slot.axis == 0 ? p.x - o.x : p.y - o.y;
   slot.half_length = mode_ == EgoMode::kRide ? 1.0f : 2.3f;
   return slot;
 }

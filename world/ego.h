@@ -31,6 +31,8 @@ class Ego {
   LaneSlot laneSlot() const;
   /// Length of the route path (m).
   double pathLength() const { return cum_.empty() ? 0.0 : cum_.back(); }
+  /// Point of the path `s` metres from its start (clamped to the path; z = 0).
+  Vec3 pathPoint(double s) const { return pointAt(s); }
 
  private:
   Vec3 pointAt(double s) const;

@@ -3,6 +3,7 @@
 #include "options.h"
 #include "oracle_meshes.h"
 #include "renderer.h"
+#include "route_report.h"
 #include "window_context.h"
 #include "world_scene.h"
 
@@ -16,6 +17,7 @@
 #include <iostream>
 #include <memory>
 #include <stdexcept>
+#include <string_view>
 #include <sys/stat.h>
 #include <time.h>
 
@@ -29,16 +31,29 @@ double cpuMs() {
   return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
+// Hash of a mesh's vertices and triangles (this build's std::hash: for comparing runs of one binary).
+size_t contentHash(const viper::world::MeshData& m) {
+  auto bytes = [](const auto& v) {
+    return std::string_view(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+  };
+  const std::hash<std::string_view> h;
+  return h(bytes(m.positions)) ^ (h(bytes(m.colors)) * 31) ^ (h(bytes(m.indices)) * 1000003);
+}
+
 int run(const viper::world::Options& o) {
   using namespace viper::world;
+  if (o.print_route) {
+    printRoute(o, stdout);
+    return 0;
+  }
   WorldScene scene(o);
   if (o.list_meshes) {
-    std::printf("# mesh_name class_id class_name vertices triangles (class -1: shared by classes)\n");
+    std::printf("# mesh_name class_id class_name vertices triangles content_hash (class -1: shared by classes)\n");
     for (int i = 0; i < scene.meshes().size(); ++i) {
       const MeshEntry& m = scene.meshes().at(i);
-      std::printf("%s %d %s %zu %zu\n", m.name.c_str(), m.class_id,
+      std::printf("%s %d %s %zu %zu %016zx\n", m.name.c_str(), m.class_id,
                   m.class_id < 0 ? "shared" : className(uint8_t(m.class_id)), m.data.vertexCount(),
-                  m.data.indices.size() / 3);
+                  m.data.indices.size() / 3, contentHash(m.data));
     }
     return 0;
   }

@@ -28,6 +28,38 @@ long integer(const std::string& option, const std::string& text, long lo, long h
                                 std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return v;
 }
+// "I0,J0,I1,J1": four integers in [0, 100000], I0 <= I1 and J0 <= J1.
+RouteRegion region(const std::string& text) {
+  const std::string what = "--region: '" + text + "' is not I0,J0,I1,J1 (intersection indices in [0, 100000], "
+                           "I0 <= I1, J0 <= J1)";
+  int v[4];
+  size_t from = 0;
+  for (int k = 0; k < 4; ++k) {
+    const size_t comma = k < 3 ? text.find(',', from) : text.size();
+    if (comma == std::string::npos) throw std::invalid_argument(what);
+    try {
+      v[k] = int(integer("--region", text.substr(from, comma - from), 0, 100000));
+    } catch (const std::invalid_argument&) {
+      throw std::invalid_argument(what);
+    }
+    from = comma + 1;
+  }
+  if (v[0] > v[2] || v[1] > v[3]) throw std::invalid_argument(what);
+  return {v[0], v[1], v[2], v[3]};
+}
+
+// A city needs both options, and a region that can hold the route's intersections.
+void checkCity(const Options& o, bool has_region) {
+  if (has_region && !o.in_city) throw std::invalid_argument("--region needs --city-seed (the city it is a part of)");
+  if (o.in_city && !has_region) throw std::invalid_argument("--city-seed needs --region (where the route may go)");
+  if (!o.in_city) return;
+  const int needed = routeEdges(o.route_length_m) + 1;
+  if (o.city.region.intersections() < needed)
+    throw std::invalid_argument("--region " + o.city.region.text() + " holds " +
+                                std::to_string(o.city.region.intersections()) + " intersections; a route of " +
+                                std::to_string(int(o.route_length_m)) + " m visits " + std::to_string(needed) +
+                                " (give a larger region or a shorter --route-length)");
+}
 }  // namespace
 
 std::string usage() {
@@ -42,6 +74,9 @@ std::string usage() {
          "  --fov-deg D       vertical field of view in degrees (default 50)\n"
          "  --ego MODE        drive|ride|walk (default drive)\n"
          "  --route-length M  length of the ego route in metres (default 1000)\n"
+         "  --city-seed S     a part of city S: blocks and light phases from S and the place\n"
+         "  --region I0,J0,I1,J1  the city's intersections (inclusive) the route stays in\n"
+         "  --print-route     print the route (global intersections, path) and exit\n"
          "  --oracle FILE     write the oracle file (true draws, objects, matrices; tests only)\n"
          "  --dump-dir DIR    write every frame as DIR/frame_NNNNNN.ppm\n"
          "  --benchmark       print the mean milliseconds per frame (rendering and swap, glFinish included)\n"
@@ -53,6 +88,7 @@ std::string usage() {
 
 Options parseOptions(int argc, char** argv) {
   Options o;
+  bool has_region = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -63,6 +99,7 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--benchmark") o.benchmark = true;
     else if (a == "--window") o.window = true;
     else if (a == "--list-meshes") o.list_meshes = true;
+    else if (a == "--print-route") o.print_route = true;
     else if (a == "--no-effects") o.no_effects = true;
     else if (a == "--condition") {
       std::string v = value();
@@ -75,7 +112,13 @@ Options parseOptions(int argc, char** argv) {
     else if (a == "--height") o.height = int(integer(a, value(), 16, 8192));
     else if (a == "--fov-deg") o.fov_deg = number(a, value(), 10, 150);
     else if (a == "--route-length") o.route_length_m = number(a, value(), 100, 20000);
-    else if (a == "--oracle") o.oracle_path = value();
+    else if (a == "--city-seed") {
+      o.in_city = true;
+      o.city.city_seed = uint32_t(integer(a, value(), 0, 4294967295L));
+    } else if (a == "--region") {
+      o.city.region = region(value());
+      has_region = true;
+    } else if (a == "--oracle") o.oracle_path = value();
     else if (a == "--dump-dir") o.dump_dir = value();
     else if (a == "--ego") {
       std::string v = value();
@@ -87,6 +130,7 @@ Options parseOptions(int argc, char** argv) {
       throw std::invalid_argument("unknown option '" + a + "' (see --help)");
     }
   }
+  checkCity(o, has_region);
   return o;
 }
 

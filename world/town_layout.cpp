@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 namespace viper {
 namespace world {
@@ -13,6 +12,8 @@ namespace world {
 namespace {
 constexpr float B = RoadDims::kBlock;
 constexpr double kCycle = 32.0;
+// Streams of a city's per-place generators (with the city seed and the global indices).
+constexpr uint32_t kBlockContent = 1, kLightPhase = 2;
 
 float uniform(std::mt19937& rng, float lo, float hi) {
   return lo + (hi - lo) * float(rng() % 100000u) / 100000.0f;
@@ -81,38 +82,15 @@ double TownLayout::secondsOfRedLeft(int i, int j, int axis, double t) const {
   return local < 11.0 ? 0.0 : kCycle - local;
 }
 
-void TownLayout::makeRoute(std::mt19937& rng, float route_length_m) {
-  int edges = std::max(2, int(std::ceil(route_length_m / B)) + 1);
-  std::vector<std::pair<int, int>> r{{0, 0}};
-  std::set<std::pair<int, int>> seen{{0, 0}};
-  int dx = 1, dy = 0;
-  for (int e = 0; e < edges; ++e) {
-    unsigned pick = rng() % 10;  // 6 straight, 2 left, 2 right
-    int order[3] = {0, 1, 2};
-    if (pick >= 6) std::swap(order[0], order[pick >= 8 ? 2 : 1]);
-    bool moved = false;
-    for (int k = 0; k < 3 && !moved; ++k) {
-      int ndx = dx, ndy = dy;
-      if (order[k] == 1) ndx = -dy, ndy = dx;   // left
-      if (order[k] == 2) ndx = dy, ndy = -dx;   // right
-      std::pair<int, int> next{r.back().first + ndx, r.back().second + ndy};
-      if (seen.count(next)) continue;
-      // The first and the last edges stay straight, so the route starts and ends mid-block.
-      if ((e == 0 || e + 1 == edges) && order[k] != 0) continue;
-      r.push_back(next);
-      seen.insert(next);
-      dx = ndx, dy = ndy;
-      moved = true;
-    }
-    if (!moved) break;
-  }
-  int min_i = 0, min_j = 0, max_i = 0, max_j = 0;
+void TownLayout::placeTown(Route r, bool in_city) {
+  int min_i = r[0].first, min_j = r[0].second, max_i = min_i, max_j = min_j;
   for (auto& p : r) {
     min_i = std::min(min_i, p.first), max_i = std::max(max_i, p.first);
     min_j = std::min(min_j, p.second), max_j = std::max(max_j, p.second);
   }
   const int margin = 2;
   for (auto& p : r) p.first += margin - min_i, p.second += margin - min_j;
+  if (in_city) origin_i_ = min_i - margin, origin_j_ = min_j - margin;
   nx_ = max_i - min_i + 1 + 2 * margin;
   ny_ = max_j - min_j + 1 + 2 * margin;
   route_ = r;
@@ -147,15 +125,12 @@ void TownLayout::addProp(uint8_t class_id, int mesh, Vec3 position, float yaw) {
   props_.push_back(p);
 }
 
-void TownLayout::generate(uint32_t seed, float route_length_m, MeshLibrary& meshes) {
+void TownLayout::generate(uint32_t seed, float route_length_m, MeshLibrary& meshes, const CityPlace* city) {
   std::mt19937 rng(seed);
-  makeRoute(rng, route_length_m);
-  phase_offset_s_.resize(nx_ * ny_);
-  for (float& p : phase_offset_s_) p = uniform(rng, 0.0f, float(kCycle));
-  // The first intersection on the route turns green for the ego as the sequence starts, so that
-  // default sequences begin with motion rather than with a wait at a red light.
-  const int first_axis = route_[1].first != route_[0].first ? 0 : 1;
-  phase_offset_s_[route_[1].second * nx_ + route_[1].first] = first_axis == 0 ? 0.0f : float(kCycle) - 16.0f;
+  const int edges = routeEdges(route_length_m);
+  placeTown(city ? routeInRegion(rng, edges, city->region) : randomWalk(rng, edges, {0, 0}, {1, 0}, nullptr),
+            city != nullptr);
+  setLightPhases(rng, city);
 
   meshes.add("trafficlight_pole", kTrafficLight, lightPoleMesh());
   meshes.add("trafficlight_housing", kTrafficLight, lightHousingMesh());
@@ -170,11 +145,39 @@ void TownLayout::generate(uint32_t seed, float route_length_m, MeshLibrary& mesh
   for (int j = 0; j < ny_; ++j)
     for (int i = 0; i < nx_; ++i) makeRoadCell(i, j, meshes);
   for (int j = 0; j + 1 < ny_; ++j)
-    for (int i = 0; i + 1 < nx_; ++i) makeBlock(i, j, rng, meshes);
+    for (int i = 0; i + 1 < nx_; ++i) {
+      if (!city) {
+        makeBlock(i, j, rng, meshes);
+        continue;
+      }
+      std::seed_seq block_seed{city->city_seed, uint32_t(origin_i_ + i), uint32_t(origin_j_ + j), kBlockContent};
+      std::mt19937 block_rng(block_seed);
+      makeBlock(i, j, block_rng, meshes);
+    }
+}
+
+void TownLayout::setLightPhases(std::mt19937& rng, const CityPlace* city) {
+  phase_offset_s_.resize(nx_ * ny_);
+  if (city) {
+    for (int j = 0; j < ny_; ++j)
+      for (int i = 0; i < nx_; ++i) {
+        std::seed_seq light_seed{city->city_seed, uint32_t(origin_i_ + i), uint32_t(origin_j_ + j), kLightPhase};
+        std::mt19937 light_rng(light_seed);
+        phase_offset_s_[j * nx_ + i] = uniform(light_rng, 0.0f, float(kCycle));
+      }
+    return;
+  }
+  for (float& p : phase_offset_s_) p = uniform(rng, 0.0f, float(kCycle));
+  // The first intersection on the route turns green for the ego as the sequence starts, so that
+  // default sequences begin with motion rather than with a wait at a red light. (A city's lights
+  // belong to the city: there the ego may start at a red light.)
+  const int first_axis = route_[1].first != route_[0].first ? 0 : 1;
+  phase_offset_s_[route_[1].second * nx_ + route_[1].first] = first_axis == 0 ? 0.0f : float(kCycle) - 16.0f;
 }
 
 void TownLayout::makeGround(MeshLibrary& meshes) {
   MeshData m;
+  // Relative to intersection (0, 0), which is the origin of a town of its own.
   float lo = -3 * B, hix = (nx_ + 2) * B, hiy = (ny_ + 2) * B;
   // Ring of terrain around the town (the town's own blocks have their own ground).
   Vec3 grass{0.3f, 0.42f, 0.2f};
@@ -183,6 +186,8 @@ void TownLayout::makeGround(MeshLibrary& meshes) {
   groundQuad(m, lo, -B * 0.5f, -B * 0.5f, (ny_ - 0.5f) * B, -0.1f, grass);
   groundQuad(m, (nx_ - 0.5f) * B, -B * 0.5f, hix, (ny_ - 0.5f) * B, -0.1f, grass);
   addChunk("ground_outer", kTerrain, std::move(m), {0, 0, 0}, meshes);
+  chunks_.back().world = translation(intersection(0, 0) + Vec3{0.25f * kTerrain, 0, 0});
+  chunks_.back().center = chunks_.back().center + intersection(0, 0);
 }
 
 void TownLayout::makeRoadCell(int i, int j, MeshLibrary& meshes) {
@@ -228,7 +233,7 @@ void TownLayout::makeRoadCell(int i, int j, MeshLibrary& meshes) {
     for (float s = -h + 0.5f; s < h - 0.5f; s += 1.2f) rquad(7.5f, s, 10.5f, s + 0.6f, white, walk);
     rquad(11.2f, 0.2f, 11.6f, h - 0.3f, white, marks);
   }
-  std::string name = "road_" + std::to_string(i) + "_" + std::to_string(j);
+  std::string name = "road_" + std::to_string(origin_i_ + i) + "_" + std::to_string(origin_j_ + j);
   addChunk(name, kRoad, std::move(road), c, meshes);
   marks.append(walk, Mat4());
   // Markings are road class too, but a separate mesh (its own draw, slightly above the asphalt).
@@ -349,7 +354,7 @@ void TownLayout::makeBlock(int i, int j, std::mt19937& rng, MeshLibrary& meshes)
       for (int k = 0; k < 3; ++k)
         addBarrier(barrier, pose(at(uniform(rng, 4, side_len - 4) , 2.0f + k * 0.2f), face_yaw));
   }
-  std::string name = "block_" + std::to_string(i) + "_" + std::to_string(j) + "_";
+  std::string name = "block_" + std::to_string(origin_i_ + i) + "_" + std::to_string(origin_j_ + j) + "_";
   Vec3 origin{o.x + B * 0.5f, o.y + B * 0.5f, 0};
   addChunk(name + "sidewalk", kSidewalk, std::move(sidewalk), origin, meshes);
   addChunk(name + "terrain", kTerrain, std::move(terrain), origin, meshes);

@@ -5,6 +5,7 @@
 
 #include "math3d.h"
 #include "mesh_library.h"
+#include "town_route.h"
 
 #include <cstdint>
 #include <random>
@@ -59,15 +60,19 @@ enum class LightColor { kGreen, kYellow, kRed };
 class TownLayout {
  public:
   /// Builds the route (about route_length_m long) and a town around it; registers all static
-  /// meshes in `meshes`.
-  void generate(uint32_t seed, float route_length_m, MeshLibrary& meshes);
+  /// meshes in `meshes`. With `city`, the route stays in the city's region and the town is the
+  /// part of the city around it, at the city's coordinates (throws std::runtime_error when no
+  /// route fits the region).
+  void generate(uint32_t seed, float route_length_m, MeshLibrary& meshes, const CityPlace* city = nullptr);
 
   int nx() const { return nx_; }
   int ny() const { return ny_; }
-  /// World position of intersection (i, j) (z = 0).
+  /// World position of intersection (i, j) (z = 0); a city's intersection (origin_i + i, origin_j + j).
   Vec3 intersection(int i, int j) const {
-    return {i * RoadDims::kBlock, j * RoadDims::kBlock, 0.0f};
+    return {(origin_i_ + i) * RoadDims::kBlock, (origin_j_ + j) * RoadDims::kBlock, 0.0f};
   }
+  /// Global indices of intersection (0, 0): (0, 0) for a town of its own.
+  std::pair<int, int> origin() const { return {origin_i_, origin_j_}; }
   /// Light shown at intersection (i, j) for traffic along `axis` at simulation time t (s).
   LightColor lightAt(int i, int j, int axis, double t) const;
   /// Seconds until the light for `axis` at (i, j) next turns from red to green (0 when green).
@@ -84,7 +89,8 @@ class TownLayout {
   const std::vector<std::pair<int, int>>& route() const { return route_; }
 
  private:
-  void makeRoute(std::mt19937& rng, float route_length_m);
+  void placeTown(Route route, bool in_city);
+  void setLightPhases(std::mt19937& rng, const CityPlace* city);
   void makeRoadCell(int i, int j, MeshLibrary& meshes);
   void makeBlock(int i, int j, std::mt19937& rng, MeshLibrary& meshes);
   void makeGround(MeshLibrary& meshes);
@@ -93,6 +99,7 @@ class TownLayout {
   void addProp(uint8_t class_id, int mesh, Vec3 position, float yaw);
 
   int nx_ = 0, ny_ = 0;
+  int origin_i_ = 0, origin_j_ = 0;
   std::vector<float> phase_offset_s_;  ///< per intersection
   std::vector<StaticChunk> chunks_;
   std::vector<PropInstance> props_;

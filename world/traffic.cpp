@@ -29,7 +29,11 @@ Vec3 carColor(std::mt19937& rng) {
 Vec3 Traffic::vehiclePosition(const Vehicle& v) const {
   Vec3 d = v.axis == 0 ? Vec3{float(v.dir), 0, 0} : Vec3{0, float(v.dir), 0};
   Vec3 right{d.y, -d.x, 0};
-  Vec3 p = v.axis == 0 ? Vec3{float(v.s), v.line * B, 0} : Vec3{v.line * B, float(v.s), 0};
+  // Lanes are simulated in the town's own indices; a city's town sits at its origin.
+  const auto [oi, oj] = town_->origin();
+  const double s = v.s + (v.axis == 0 ? oi : oj) * double(B);
+  const float line = (v.line + (v.axis == 0 ? oj : oi)) * B;
+  Vec3 p = v.axis == 0 ? Vec3{float(s), line, 0} : Vec3{line, float(s), 0};
   return p + right * laneOffset(v.lane);
 }
 

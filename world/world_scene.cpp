@@ -15,7 +15,7 @@ constexpr uint32_t kSkyId = 900000, kParticlesId = 900001, kGlareId = 900002;
 }  // namespace
 
 WorldScene::WorldScene(const Options& options) : options_(options) {
-  town_.generate(options.seed, float(options.route_length_m), meshes_);
+  town_.generate(options.seed, float(options.route_length_m), meshes_, options.in_city ? &options.city : nullptr);
   models_ = buildVehicleModels(meshes_);
   person_meshes_ = buildPersonMeshes(meshes_);
   addEffectMeshes(meshes_, options.seed);

@@ -1,5 +1,7 @@
 #include "viper/dataset/dataset_plan.h"
 
+#include "plan_city.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <cstdio>
@@ -20,11 +22,13 @@ bool oneOf(const std::string& v, const std::vector<std::string>& options) {
 }
 
 // `per_split[s]` sequences of `frames` each for the splits train, val, test: conditions in turn
-// within each split (balanced), ego modes in turn over the whole plan, seed = sequence number.
+// within each split (balanced), ego modes in turn over the whole plan, seed = sequence number; the
+// splits are strips of one city (city seed 1), `widths` x `rows` intersections each.
 DatasetPlan compose(const std::string& name, const std::vector<uint32_t>& per_split, uint32_t frames, uint32_t width,
-                    uint32_t height) {
+                    uint32_t height, const std::vector<int>& widths, int rows) {
   DatasetPlan plan;
   plan.name = name;
+  plan.city = stripCity(1, widths, rows);
   const char* splits[] = {"train", "val", "test"};
   uint32_t number = 0;
   for (size_t s = 0; s < 3; ++s)
@@ -48,6 +52,11 @@ DatasetPlan compose(const std::string& name, const std::vector<uint32_t>& per_sp
 
 }  // namespace
 
+const CityRegion& DatasetPlan::regionOf(const PlannedSequence& s) const {
+  if (!city) throw std::logic_error("plan " + name + " has no city");
+  return city->regions.at(s.split).at(s.region);
+}
+
 uint64_t DatasetPlan::totalFrames() const {
   uint64_t n = 0;
   for (const PlannedSequence& s : sequences) n += s.frames;
@@ -56,9 +65,11 @@ uint64_t DatasetPlan::totalFrames() const {
 
 DatasetPlan presetPlan(const std::string& name) {
   // VIPER: 254,064 frames in 184 sequences (77 / 47 / 60): 1,381 frames a sequence on average.
-  if (name == "viper") return compose(name, {77, 47, 60}, 1381, 1920, 1080);
-  if (name == "small") return compose(name, {5, 5, 5}, 200, 1280, 720);
-  if (name == "tiny") return compose(name, {1, 1, 1}, 10, 320, 180);
+  // Routes of about 1 km (15 blocks) need at least 4 x 4 intersections; the strips are wider so that
+  // the routes of a split spread over it.
+  if (name == "viper") return compose(name, {77, 47, 60}, 1381, 1920, 1080, {16, 10, 12}, 12);
+  if (name == "small") return compose(name, {5, 5, 5}, 200, 1280, 720, {6, 6, 6}, 6);
+  if (name == "tiny") return compose(name, {1, 1, 1}, 10, 320, 180, {5, 5, 5}, 5);
   throw std::invalid_argument("unknown preset '" + name + "' (viper, small or tiny)");
 }
 
@@ -71,9 +82,13 @@ void writePlan(const std::string& path, const DatasetPlan& plan) {
         << YAML::Key << "split" << YAML::Value << s.split << YAML::Key << "condition" << YAML::Value << s.condition
         << YAML::Key << "ego" << YAML::Value << s.ego << YAML::Key << "seed" << YAML::Value << s.seed << YAML::Key
         << "frames" << YAML::Value << s.frames << YAML::Key << "width" << YAML::Value << s.width << YAML::Key
-        << "height" << YAML::Value << s.height << YAML::EndMap;
+        << "height" << YAML::Value << s.height;
+    if (plan.city) out << YAML::Key << "region" << YAML::Value << s.region;
+    out << YAML::EndMap;
   }
-  out << YAML::EndSeq << YAML::EndMap;
+  out << YAML::EndSeq;
+  if (plan.city) emitCity(out, *plan.city);
+  out << YAML::EndMap;
   std::ofstream file(path);
   file << "# A dataset plan (rosrun viper generate --plan THIS --out ROOT); docs/dataset_generation.md\n"
        << out.c_str() << "\n";
@@ -92,6 +107,7 @@ DatasetPlan readPlan(const std::string& path) {
   plan.fps = root["fps"] ? root["fps"].as<double>() : 15.0;
   if (!root["sequences"] || !root["sequences"].IsSequence() || root["sequences"].size() == 0)
     throw std::runtime_error("plan " + path + ": no 'sequences' list");
+  if (root["city"]) plan.city = readCity(root["city"], "plan " + path);
   std::set<std::string> seen;
   size_t index = 0;
   for (const YAML::Node& n : root["sequences"]) {
@@ -106,6 +122,7 @@ DatasetPlan readPlan(const std::string& path) {
       s.frames = n["frames"].as<uint32_t>();
       s.width = n["width"] ? n["width"].as<uint32_t>() : 1920;
       s.height = n["height"] ? n["height"].as<uint32_t>() : 1080;
+      s.region = n["region"] ? n["region"].as<uint32_t>() : 0;
     } catch (const std::exception& e) {
       throw std::runtime_error(where + ": " + e.what() + " (id, split and frames are required)");
     }
@@ -115,6 +132,10 @@ DatasetPlan readPlan(const std::string& path) {
     if (s.frames == 0) throw std::runtime_error(where + ": no frames");
     if (s.id.empty() || s.id.find_first_of("/_") != std::string::npos)
       throw std::runtime_error(where + ": id '" + s.id + "' (not empty, no '/' or '_')");
+    if (plan.city && (!plan.city->regions.count(s.split) || s.region >= plan.city->regions.at(s.split).size()))
+      throw std::runtime_error(where + ": region " + std::to_string(s.region) + " of " + s.split +
+                               " (the city has " + std::to_string(plan.city->regions.count(s.split)
+                               ? plan.city->regions.at(s.split).size() : 0) + ")");
     if (!seen.insert(s.split + "/" + s.id).second) throw std::runtime_error(where + ": " + s.split + "/" + s.id + " twice");
     plan.sequences.push_back(s);
   }

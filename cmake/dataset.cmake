@@ -144,6 +144,7 @@ target_include_directories(viper_to_bag PRIVATE ${PROJECT_SOURCE_DIR}/tools)
 target_include_directories(export_viper PRIVATE ${PROJECT_SOURCE_DIR}/tools)
 target_include_directories(generate PRIVATE ${PROJECT_SOURCE_DIR}/tools)
 target_compile_definitions(generate PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+target_link_libraries(generate viper_dataset_statistics)  # written by --merge
 # Where the class table is found when the package is not on ROS_PACKAGE_PATH.
 target_compile_definitions(viper_to_bag PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 target_compile_definitions(export_viper PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")

@@ -35,8 +35,17 @@ int main(int argc, char** argv) {
     if (arg == "--root") root = v;
     else if (arg == "--plan") plan = v;
     else if (arg == "--class-table") class_table = v;
-    else if (arg == "--distance-bin-m") options.distance_bin_m = std::atof(v.c_str());
-    else {
+    else if (arg == "--distance-bin-m") {
+      size_t used = 0;
+      try {
+        options.distance_bin_m = std::stod(v, &used);
+      } catch (const std::exception&) {
+      }
+      if (used != v.size() || !(options.distance_bin_m > 0.0)) {
+        std::cerr << "dataset_statistics: --distance-bin-m takes metres > 0, not '" << v << "'\n";
+        return 2;
+      }
+    } else {
       std::cerr << "dataset_statistics: unknown option " << arg << "\n" << kUsage;
       return 2;
     }

@@ -86,6 +86,12 @@ void countVehicles(const ViperFrame& frame, const std::vector<int>& vehicles, do
 
 }  // namespace
 
+uint64_t histogramTotal(const Histogram& h) {
+  uint64_t n = 0;
+  for (const auto& [bin, count] : h) n += count;
+  return n;
+}
+
 const std::vector<Statistic>& allStatistics() {
   static const std::vector<Statistic> all = {Statistic::kClassesPerImage, Statistic::kInstancesPerImage,
                                              Statistic::kInstancesPerClass, Statistic::kVehiclesByDistance,
@@ -189,9 +195,7 @@ std::vector<StatisticsSequence> layoutSequences(const std::string& root) {
 }
 
 double jensenShannonBits(const Histogram& p, const Histogram& q) {
-  double np = 0.0, nq = 0.0;
-  for (const auto& [bin, n] : p) np += static_cast<double>(n);
-  for (const auto& [bin, n] : q) nq += static_cast<double>(n);
+  const double np = static_cast<double>(histogramTotal(p)), nq = static_cast<double>(histogramTotal(q));
   if (np == 0.0 || nq == 0.0) return std::nan("");
   // JSD = (KL(P || M) + KL(Q || M)) / 2 with M = (P + Q) / 2, summed bin by bin rather than as
   // H(M) - (H(P) + H(Q)) / 2: equal shares give 0 exactly, and disjoint ones 1 up to the rounding of

@@ -62,14 +62,13 @@ LinePlot panel(const DatasetStatistics& s, Statistic statistic, const std::strin
     const Histogram h = s.pooled(statistic, [&](const std::string& split, const std::string& condition) {
       return (is_split ? split : condition) == group;
     });
-    uint64_t n = 0;
-    for (const auto& [bin, count] : h) n += count;
+    const double n = static_cast<double>(histogramTotal(h));
     if (n == 0) continue;
     PlotSeries series{group, {}, {}};
     for (const auto& [bin, place] : x) {
       const auto it = h.find(bin);
       series.x.push_back(place);
-      series.y.push_back(it == h.end() ? 0.0 : static_cast<double>(it->second) / static_cast<double>(n));
+      series.y.push_back(it == h.end() ? 0.0 : static_cast<double>(it->second) / n);
     }
     plot.series.push_back(std::move(series));
   }

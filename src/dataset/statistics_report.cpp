@@ -42,17 +42,11 @@ std::string fixed(double v, int decimals) {
   return buf;
 }
 
-uint64_t total(const Histogram& h) {
-  uint64_t n = 0;
-  for (const auto& [bin, count] : h) n += count;
-  return n;
-}
-
 // Mean of a per-image statistic (its bins are the numbers).
 double mean(const Histogram& h) {
   double sum = 0.0;
   for (const auto& [bin, count] : h) sum += static_cast<double>(bin) * static_cast<double>(count);
-  return total(h) ? sum / static_cast<double>(total(h)) : NAN;
+  return histogramTotal(h) ? sum / static_cast<double>(histogramTotal(h)) : NAN;
 }
 
 const char* binHeading(Statistic statistic) {
@@ -146,8 +140,8 @@ std::string statisticsMarkdown(const DatasetStatistics& s, const std::string& ti
     md << row({split, condition, std::to_string(seqs), std::to_string(imgs),
                fixed(mean(s.pooled(Statistic::kClassesPerImage, take)), 2),
                fixed(mean(s.pooled(Statistic::kInstancesPerImage, take)), 2),
-               std::to_string(total(s.pooled(Statistic::kInstancesPerClass, take))),
-               std::to_string(total(s.pooled(Statistic::kVehiclesByDistance, take)))});
+               std::to_string(histogramTotal(s.pooled(Statistic::kInstancesPerClass, take))),
+               std::to_string(histogramTotal(s.pooled(Statistic::kVehiclesByDistance, take)))});
   };
   for (const std::string& split : s.splits())
     for (const std::string& condition : s.conditions()) {

@@ -20,6 +20,9 @@ namespace viper::dataset {
 /// A distribution as counts: bin -> count. Bins are class ids, numbers per image or distance bins.
 using Histogram = std::map<int64_t, uint64_t>;
 
+/// The sum of a histogram's counts.
+uint64_t histogramTotal(const Histogram& h);
+
 /// The statistics, in the order reports list them.
 enum class Statistic {
   kClassesPerImage,     ///< bin: distinct scored classes (class_eval) in an image; count: images

@@ -8,6 +8,7 @@
 #include "viper/dataset/viper_images.h"
 #include "viper/dataset/viper_layout.h"
 
+#include "../common/process_util.h"
 #include "dataset_test_util.h"
 
 #include <gtest/gtest.h>
@@ -15,7 +16,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace {
@@ -24,6 +24,7 @@ using namespace viper::dataset;
 using viper_dataset_test::readBytes;
 using viper_dataset_test::TempDir;
 using viper_dataset_test::writeBytes;
+using viper::test::readFile;
 namespace fs = std::filesystem;
 
 // Class ids of config/viper_classes.csv.
@@ -88,13 +89,6 @@ std::vector<StatisticsSequence> writeDataset(const std::string& root) {
 
 viper::ClassTable classTable() { return viper::ClassTable::load(VIPER_CLASS_TABLE); }
 
-std::string readText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // divergence.csv's value for one statistic and pair.
 double divergence(const std::string& csv, const std::string& statistic, const std::string& between,
                   const std::string& a, const std::string& b) {
@@ -126,21 +120,21 @@ TEST(DatasetStatistics, KnownDatasetGivesExactCountsAndDivergences) {
   EXPECT_EQ(written.size(), 2 * allStatistics().size() + 2);
   const std::string out = root + "/statistics/";
 
-  EXPECT_EQ(readText(out + "classes_per_image.csv"),
+  EXPECT_EQ(readFile(out + "classes_per_image.csv"),
             "split,condition,bin,count\ntrain,day,3,1\ntrain,day,4,1\nval,day,3,1\nval,day,4,1\ntest,night,2,1\n");
-  EXPECT_EQ(readText(out + "instances_per_image.csv"),
+  EXPECT_EQ(readFile(out + "instances_per_image.csv"),
             "split,condition,bin,count\ntrain,day,1,1\ntrain,day,2,1\nval,day,2,2\ntest,night,0,1\n");
-  EXPECT_EQ(readText(out + "instances_per_class.csv"),
+  EXPECT_EQ(readFile(out + "instances_per_class.csv"),
             "split,condition,bin,count\ntrain,day,person,1\ntrain,day,car,2\nval,day,person,1\nval,day,car,3\n");
-  EXPECT_EQ(readText(out + "vehicles_by_distance.csv"),
+  EXPECT_EQ(readFile(out + "vehicles_by_distance.csv"),
             "split,condition,bin,count\ntrain,day,0,1\ntrain,day,10,1\ntrain,day,20,1\nval,day,40,1\n");
-  EXPECT_EQ(readText(out + "pixels_per_class.csv"),
+  EXPECT_EQ(readFile(out + "pixels_per_class.csv"),
             "split,condition,bin,count\n"
             "train,day,unlabeled,1\ntrain,day,sky,5\ntrain,day,road,5\ntrain,day,person,1\ntrain,day,car,4\n"
             "val,day,unlabeled,2\nval,day,sky,2\nval,day,road,4\nval,day,person,2\nval,day,car,6\n"
             "test,night,unlabeled,2\ntest,night,ambiguous,2\ntest,night,sky,3\ntest,night,building,1\n");
 
-  const std::string jsd = readText(out + "divergence.csv");
+  const std::string jsd = readFile(out + "divergence.csv");
   EXPECT_EQ(jsd.rfind("statistic,between,a,b,jsd_bits\n", 0), 0u) << jsd;
   EXPECT_DOUBLE_EQ(divergence(jsd, "classes_per_image", "split", "train", "val"), 0.0) << "identical";
   EXPECT_DOUBLE_EQ(divergence(jsd, "instances_per_image", "split", "train", "test"), 1.0) << "disjoint";
@@ -148,7 +142,7 @@ TEST(DatasetStatistics, KnownDatasetGivesExactCountsAndDivergences) {
   EXPECT_DOUBLE_EQ(divergence(jsd, "instances_per_image", "condition", "day", "night"), 1.0);
   EXPECT_TRUE(std::isnan(divergence(jsd, "vehicles_by_distance", "split", "train", "test"))) << "test has none";
 
-  const std::string md = readText(root + "/statistics.md");
+  const std::string md = readFile(root + "/statistics.md");
   EXPECT_NE(md.find("5 images (frames with a cls or inst file) in 3 sequences"), std::string::npos) << md;
   EXPECT_NE(md.find("| train | day | 1 | 2 | 3.50 | 1.50 | 3 | 3 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| instances per image | 0.311 | 1.000 | 1.000 |"), std::string::npos) << md;

@@ -9,6 +9,9 @@ pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)  # the PNG and
 pkg_check_modules(LIBCRYPTO REQUIRED IMPORTED_TARGET libcrypto)  # SHA-256 of the sequence markers (OpenSSL)
 
 file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/dataset/*.cpp)
+# The statistics need the class table (viper_core) and the report's plots (viper_report): a library
+# of their own, below.
+list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(dataset_statistics|statistics_[a-z]+)\\.cpp$")
 add_library(viper_dataset ${VIPER_DATASET_SOURCES})
 target_include_directories(viper_dataset PUBLIC ${PROJECT_SOURCE_DIR}/include)
 # The float16 loops vectorise only at -O3, and only when GCC 12 may execute the float operations
@@ -37,6 +40,25 @@ target_link_libraries(export_flow viper_dataset viper_conversions ${catkin_LIBRA
 set_target_properties(export_flow PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 install(TARGETS export_flow RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+# viper_dataset_statistics: a finished dataset's statistics, their CSV, PNG and Markdown report (ROS-free),
+# and the dataset_statistics command (generate --merge writes them too).
+add_library(viper_dataset_statistics src/dataset/dataset_statistics.cpp src/dataset/statistics_report.cpp
+  src/dataset/statistics_plots.cpp)
+target_include_directories(viper_dataset_statistics PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_link_libraries(viper_dataset_statistics PUBLIC viper_dataset viper_core PRIVATE viper_report)
+set_target_properties(viper_dataset_statistics PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+add_executable(dataset_statistics tools/dataset_statistics.cpp)
+target_include_directories(dataset_statistics SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+target_link_libraries(dataset_statistics viper_dataset_statistics ${catkin_LIBRARIES})
+target_compile_definitions(dataset_statistics PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+set_target_properties(dataset_statistics PROPERTIES
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+install(TARGETS viper_dataset_statistics dataset_statistics
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 if(TARGET bench_flow_files)
   target_link_libraries(bench_flow_files viper_dataset)
@@ -74,6 +96,16 @@ if(TARGET test_viper_images)
   target_include_directories(test_viper_images SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
   target_link_libraries(test_viper_images opencv_core opencv_imgcodecs)
 endif()
+# test/dataset/test_dataset_statistics.cpp: the statistics of a dataset it writes, their figures read
+# back; test_generate_statistics.cpp: generate --merge on the tiny plan, counted again by the test.
+foreach(t test_dataset_statistics test_generate_statistics)
+  if(TARGET ${t})
+    target_include_directories(${t} SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+    target_link_libraries(${t} viper_dataset_statistics opencv_imgcodecs)
+    target_compile_definitions(${t} PRIVATE VIPER_CLASS_TABLE="${PROJECT_SOURCE_DIR}/config/viper_classes.csv"
+      VIPER_DATASET_STATISTICS="$<TARGET_FILE:dataset_statistics>")
+  endif()
+endforeach()
 
 # viper_layout_ros: layout <-> messages, the exporter, the player and the live exporter (nodes + nodelets).
 add_library(viper_layout_ros
@@ -115,6 +147,7 @@ target_include_directories(viper_to_bag PRIVATE ${PROJECT_SOURCE_DIR}/tools)
 target_include_directories(export_viper PRIVATE ${PROJECT_SOURCE_DIR}/tools)
 target_include_directories(generate PRIVATE ${PROJECT_SOURCE_DIR}/tools)
 target_compile_definitions(generate PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+target_link_libraries(generate viper_dataset_statistics)  # written by --merge
 # Where the class table is found when the package is not on ROS_PACKAGE_PATH.
 target_compile_definitions(viper_to_bag PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 target_compile_definitions(export_viper PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
@@ -195,11 +228,16 @@ if(CATKIN_ENABLE_TESTING)
     add_dependencies(test_generate generate world_raw_bag)
   endif()
 
-  # generate --plan on the tiny preset: the world under capture, whole and sharded.
+  # generate --plan on the tiny preset: the world under capture, whole and sharded (and merged with its
+  # statistics: test_generate_statistics).
+  foreach(t test_generate_plan test_generate_statistics)
+    if(TARGET ${t})
+      target_compile_definitions(${t} PRIVATE VIPER_GENERATE="$<TARGET_FILE:generate>")
+      add_dependencies(${t} generate dataset_statistics viper_capture viper_intercept world)
+    endif()
+  endforeach()
   if(TARGET test_generate_plan)
     target_link_libraries(test_generate_plan PkgConfig::YAMLCPP)
-    target_compile_definitions(test_generate_plan PRIVATE VIPER_GENERATE="$<TARGET_FILE:generate>")
-    add_dependencies(test_generate_plan generate viper_capture viper_intercept world)
   endif()
 
   # Geographically disjoint splits: the world's routes of the viper preset and the tiny plan generated

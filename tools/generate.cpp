@@ -9,6 +9,7 @@
 #include "viper/dataset/viper_layout.h"
 #include "viper/ros/dataset/export_roles.h"
 #include "viper/ros/dataset/sequence_generator.h"
+#include "dataset_statistics_run.h"
 #include "viper_progress.h"
 
 #include <ros/package.h>
@@ -36,7 +37,8 @@ const char* kUsage =
     "ROOT/SPLIT/SEQ.done (frame count and sha256 of every file). A finished sequence (its marker checks\n"
     "out) is skipped unless --force; an unfinished one is redone.\n"
     "--merge: checks every planned sequence is finished, then writes ROOT/MANIFEST.sha256 and\n"
-    "ROOT/manifest.md (refuses, naming what is missing, otherwise: exit 2).\n"
+    "ROOT/manifest.md (refuses, naming what is missing, otherwise: exit 2), then the dataset's statistics:\n"
+    "ROOT/statistics.md and ROOT/statistics/ (dataset_statistics computes them again).\n"
     "--plan: every sequence of the plan (or shard I of N: every N-th from the I-th; SLURM_ARRAY_TASK_ID\n"
     "and SLURM_ARRAY_TASK_COUNT when set), each the built-in world under capture with the sequence's\n"
     "condition, ego mode, seed, length and size (and the plan's city and the sequence's region),\n"
@@ -228,7 +230,8 @@ int main(int argc, char** argv) {
       }
       std::cout << "generate: " << o.sequence.root << ": " << m.sequences << " sequences, " << m.frames << " frames, "
                 << m.files << " files: MANIFEST.sha256 and manifest.md written\n";
-      return 0;
+      return viper_tools::writeDatasetStatistics("generate", o.sequence.root, viper::dataset::planSequences(plan),
+                                                 class_table, plan.name);
     } catch (const std::exception& e) {
       std::cerr << "generate: " << e.what() << "\n";
       return 2;

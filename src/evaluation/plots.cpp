@@ -36,6 +36,18 @@ std::string tickLabel(double v, double step) {
   return buf;
 }
 
+// `text` turned upright (reading upwards), on white.
+cv::Mat upright(const std::string& text, double scale) {
+  int base = 0;
+  const cv::Size ts = cv::getTextSize(text, kFont, scale, 1, &base);
+  cv::Mat label(ts.height + base + 4, ts.width + 4, CV_8UC3, kWhite);
+  cv::putText(label, text, {2, ts.height + 2}, kFont, scale, kBlack, 1, cv::LINE_AA);
+  cv::rotate(label, label, cv::ROTATE_90_COUNTERCLOCKWISE);
+  return label;
+}
+
+}  // namespace
+
 void writePng(const cv::Mat& image, const std::string& path) {
   bool ok = false;
   try {
@@ -45,6 +57,8 @@ void writePng(const cv::Mat& image, const std::string& path) {
   }
   if (!ok) throw std::runtime_error(path + ": cannot write the PNG");
 }
+
+namespace {
 
 std::vector<const ConditionSummary*> columns(const EvaluationSummary& s) {
   std::vector<const ConditionSummary*> c;
@@ -57,7 +71,13 @@ std::vector<const ConditionSummary*> columns(const EvaluationSummary& s) {
 
 cv::Mat renderLinePlot(const LinePlot& plot, int width, int height) {
   cv::Mat img(height, width, CV_8UC3, kWhite);
-  const int left = 70, right = 20, top = 40, bottom = 55;
+  std::vector<cv::Mat> categories;
+  int bottom = 55;
+  for (const std::string& name : plot.x_tick_labels) {
+    categories.push_back(upright(name, 0.4));
+    bottom = std::max(bottom, categories.back().rows + 36);
+  }
+  const int left = 70, right = 20, top = 40;
   const cv::Rect area(left, top, width - left - right, height - top - bottom);
   double y_min = plot.y_min, y_max = plot.y_max;
   if (!(y_max > y_min)) {
@@ -75,7 +95,13 @@ cv::Mat renderLinePlot(const LinePlot& plot, int width, int height) {
 
   // Grid and ticks.
   const double xs = tickStep(x_max - x_min, 10), ys = tickStep(y_max - y_min, 8);
-  for (double x = std::ceil(x_min / xs) * xs; x <= x_max + 1e-9 * xs; x += xs) {
+  for (size_t i = 0; i < categories.size(); ++i) {
+    const cv::Point p = to_px(static_cast<double>(i), y_min);
+    const cv::Rect where(p.x - categories[i].cols / 2, area.y + area.height + 4, categories[i].cols, categories[i].rows);
+    if (where.x >= 0 && where.x + where.width <= width && where.y + where.height <= height)
+      categories[i].copyTo(img(where));
+  }
+  for (double x = std::ceil(x_min / xs) * xs; categories.empty() && x <= x_max + 1e-9 * xs; x += xs) {
     const cv::Point p = to_px(x, y_min);
     cv::line(img, {p.x, area.y}, {p.x, area.y + area.height}, kGrid, 1);
     const std::string t = tickLabel(x, xs);
@@ -100,19 +126,26 @@ cv::Mat renderLinePlot(const LinePlot& plot, int width, int height) {
   ts = cv::getTextSize(plot.x_label, kFont, 0.5, 1, &base);
   cv::putText(img, plot.x_label, {area.x + (area.width - ts.width) / 2, height - 12}, kFont, 0.5, kBlack, 1,
               cv::LINE_AA);
-  ts = cv::getTextSize(plot.y_label, kFont, 0.5, 1, &base);
-  cv::Mat label(ts.height + base + 4, ts.width + 4, CV_8UC3, kWhite);
-  cv::putText(label, plot.y_label, {2, ts.height + 2}, kFont, 0.5, kBlack, 1, cv::LINE_AA);
-  cv::rotate(label, label, cv::ROTATE_90_COUNTERCLOCKWISE);
+  const cv::Mat label = upright(plot.y_label, 0.5);
   const int ly = std::max(0, area.y + (area.height - label.rows) / 2);
   if (ly + label.rows <= height && label.cols + 4 <= left) label.copyTo(img(cv::Rect(4, ly, label.cols, label.rows)));
 
-  // Lines, clipped to the plot area.
+  // Lines or bars, clipped to the plot area.
   cv::Mat inner = img(area);
   const cv::Point offset(area.x, area.y);
+  const double group_px = 0.8 * area.width / (x_max - x_min);  // the bars of one x
   for (size_t i = 0; i < plot.series.size(); ++i) {
     const PlotSeries& s = plot.series[i];
     const cv::Scalar color = kPalette[i % (sizeof(kPalette) / sizeof(kPalette[0]))];
+    const double bar_px = group_px / static_cast<double>(plot.series.size());
+    for (size_t j = 0; plot.bars && j < std::min(s.x.size(), s.y.size()); ++j) {
+      if (!std::isfinite(s.x[j]) || !std::isfinite(s.y[j])) continue;
+      const cv::Point top_px = to_px(s.x[j], s.y[j]) - offset, base_px = to_px(s.x[j], std::max(y_min, 0.0)) - offset;
+      const int x0 = static_cast<int>(std::lround(top_px.x - group_px / 2 + bar_px * static_cast<double>(i)));
+      cv::rectangle(inner, cv::Rect(cv::Point(x0, top_px.y), cv::Point(x0 + std::max(1, static_cast<int>(bar_px)), base_px.y)),
+                    color, cv::FILLED);
+    }
+    if (plot.bars) continue;
     bool have_prev = false;
     cv::Point prev;
     for (size_t j = 0; j < std::min(s.x.size(), s.y.size()); ++j) {

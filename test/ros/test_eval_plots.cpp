@@ -46,6 +46,29 @@ TEST(EvalPlots, NonFiniteValuesBreakTheLine) {
   EXPECT_FALSE(rowsOfFirstColour(img, 70 + 710 * 7 / 8).empty());
 }
 
+TEST(EvalPlots, BarsStandOnZeroUpToTheirValueAndCategoriesMakeRoom) {
+  LinePlot plot;
+  plot.x_min = -0.5, plot.x_max = 1.5, plot.y_min = 0, plot.y_max = 100;
+  plot.bars = true;
+  plot.series.push_back({"bars", {0.0, 1.0}, {50.0, 100.0}});
+  cv::Mat img = renderLinePlot(plot, 800, 500);
+  // Area x 70..780, y 40..445: x = 0 at column 70 + 710 / 4, x = 1 at 70 + 710 * 3 / 4.
+  auto rows = rowsOfFirstColour(img, 70 + 710 / 4);
+  ASSERT_FALSE(rows.empty());
+  EXPECT_NEAR(rows.front(), 40 + 405 / 2.0, 2.0) << "top at 50";
+  EXPECT_NEAR(rows.back(), 445, 2.0) << "from 0";
+  rows = rowsOfFirstColour(img, 70 + 710 * 3 / 4);
+  ASSERT_FALSE(rows.empty());
+  EXPECT_NEAR(rows.front(), 40, 2.0) << "top at 100";
+  EXPECT_TRUE(rowsOfFirstColour(img, 70 + 710 / 2).empty()) << "nothing between the bars";
+
+  plot.x_tick_labels = {"a long category name", "b"};
+  img = renderLinePlot(plot, 800, 500);
+  rows = rowsOfFirstColour(img, 70 + 710 / 4);
+  ASSERT_FALSE(rows.empty());
+  EXPECT_LT(rows.back(), 445 - 50) << "the upright names take room below the area";
+}
+
 TEST(EvalPlots, ReportWritesBothFiguresOnlyWithData) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "viper_test_eval_plots";
   std::filesystem::remove_all(dir);

@@ -141,6 +141,10 @@ struct LinePlot {
   double y_min = 0.0, y_max = 1.0;  ///< y_max <= y_min: from the data (0 to its maximum, padded)
   bool markers = false;             ///< a dot at every point (for few points)
   bool legend_bottom = false;       ///< legend in the bottom right corner instead of the top right
+  /// Categories instead of numeric x ticks: label i is written upright under x = i.
+  std::vector<std::string> x_tick_labels;
+  /// Series as bars side by side around each x (1 apart), from 0, instead of lines.
+  bool bars = false;
   std::vector<PlotSeries> series;
 };
 

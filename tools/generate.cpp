@@ -7,6 +7,7 @@
 #include "viper/dataset/dataset_manifest.h"
 #include "viper/dataset/dataset_plan.h"
 #include "viper/dataset/viper_layout.h"
+#include "viper/ground_truth/oracle_labels.h"
 #include "viper/ros/dataset/export_roles.h"
 #include "viper/ros/dataset/sequence_generator.h"
 #include "dataset_statistics_run.h"
@@ -42,7 +43,7 @@ const char* kUsage =
     "--plan: every sequence of the plan (or shard I of N: every N-th from the I-th; SLURM_ARRAY_TASK_ID\n"
     "and SLURM_ARRAY_TASK_COUNT when set), each the built-in world under capture with the sequence's\n"
     "condition, ego mode, seed, length and size (and the plan's city and the sequence's region),\n"
-    "generated as above (labels: the world's by default).\n"
+    "generated as above (labels: from the world's own oracle of the run, unless --labels).\n"
     "--writer-threads: threads that encode the layout's PNG and npz files beside the ground truth\n"
     "(default: one per CPU this process may use, at most 4; 0: none). The files are the same either way.\n"
     "Exit code: 0 written or already finished, 1 problems reported (the rest written), 2 error.\n";
@@ -119,8 +120,9 @@ std::string parse(int argc, char** argv, Options& o) {
 }  // namespace
 
 // One sequence from the frames `open()` gives; returns the exit code.
+// `labels()` is asked after `open()`: a planned sequence's labels come from its own run.
 int oneSequence(const Options& o, const viper::SequenceSettings& settings, const std::string& class_table,
-                const std::string& labels, const std::string& source,
+                const std::function<viper::LabelTable()>& labels, const std::string& source,
                 const std::function<std::unique_ptr<viper::RawFrames>()>& open) {
   const std::string name = settings.split + "/" + settings.seq;
   std::optional<viper::SequenceGenerator> generator;
@@ -130,13 +132,14 @@ int oneSequence(const Options& o, const viper::SequenceSettings& settings, const
     viper::SequenceSettings s = settings;
     s.layout.palette = viper::classPalette(class_table);
     viper::dataset::viperFramePath(s.root, s.split, "img", s.seq, 0, "png");  // checks the names
-    generator.emplace(s, viper::LabelTable::load(labels), std::move(classes));
+    generator.emplace(s, viper::LabelTable(), classes);
     if (!o.force && generator->finished()) {
       std::cout << "generate: " << name << " is finished (" << generator->markerPath().string()
                 << " checks out); --force redoes it\n";
       return 0;
     }
     input = open();
+    generator.emplace(s, labels(), std::move(classes));
   } catch (const std::exception& e) {
     std::cerr << "generate: " << name << ": " << e.what() << "\n";
     return 2;
@@ -208,7 +211,8 @@ int main(int argc, char** argv) {
   const std::string package = share.empty() ? std::string(VIPER_SOURCE_DIR) : share;
   const std::string class_table = o.class_table.empty() ? package + "/config/viper_classes.csv" : o.class_table;
   if (o.plan.empty())
-    return oneSequence(o, o.sequence, class_table, o.labels, o.input, [&] { return viper::openRawFrames(o.input); });
+    return oneSequence(o, o.sequence, class_table, [&] { return viper::LabelTable::load(o.labels); }, o.input,
+                       [&] { return viper::openRawFrames(o.input); });
 
   viper::dataset::DatasetPlan plan;
   uint32_t index = 0, count = 1;
@@ -241,7 +245,6 @@ int main(int argc, char** argv) {
     std::cerr << "generate: " << shard_error << "\n";
     return 2;
   }
-  const std::string labels = o.labels.empty() ? package + "/config/labels/world_labels.yaml" : o.labels;
   // capture and world sit beside this command.
   const std::filesystem::path bin = std::filesystem::read_symlink("/proc/self/exe").parent_path();
   const std::filesystem::path captures = std::filesystem::path(o.sequence.root) / ".captures";
@@ -255,6 +258,10 @@ int main(int argc, char** argv) {
     s.seq = q.id;
     const std::filesystem::path vcap = captures / (q.split + "_" + q.id + ".vcap");
     const std::filesystem::path log = captures / (q.split + "_" + q.id + ".log");
+    // Without --labels, the world's own oracle of the run labels the meshes it drew (each
+    // sequence's town, or part of the city, has meshes of its own).
+    const std::filesystem::path oracle = captures / (q.split + "_" + q.id + ".oracle");
+    const std::string oracle_option = o.labels.empty() ? " --oracle " + oracle.string() : "";
     // A plan's city: the route stays in the sequence's region, the scenery is the city's.
     const std::string city = plan.city ? " --city-seed " + std::to_string(plan.city->seed) + " --region " +
                                              plan.regionOf(q).text()
@@ -266,16 +273,26 @@ int main(int argc, char** argv) {
           "/config/profiles/world.yaml --condition " + q.condition + " --fps " + std::to_string(plan.fps) + " -- " +
           (bin / "world").string() + " --condition " + q.condition + " --ego " + q.ego + " --seed " +
           std::to_string(q.seed) + " --frames " + std::to_string(q.frames) + " --width " + std::to_string(q.width) +
-          " --height " + std::to_string(q.height) + " --fps " + std::to_string(plan.fps) + city + " > " + log.string() +
+          " --height " + std::to_string(q.height) + " --fps " + std::to_string(plan.fps) + city + oracle_option + " > " + log.string() +
           " 2>&1";
       if (std::system(command.c_str()) != 0)
         throw std::runtime_error("the world under capture failed; its output is in " + log.string());
       return std::make_unique<viper::CaptureRawFrames>(vcap.string());
     };
+    auto labels = [&] {
+      if (!o.labels.empty()) return viper::LabelTable::load(o.labels);
+      size_t frames = 0;
+      viper::LabelTable table = viper::labelTableFromOracle(vcap.string(), oracle.string(), &frames);
+      std::filesystem::remove(oracle);
+      std::cout << "generate: " << q.split << "/" << q.id << ": " << table.size() << " mesh labels from the world's oracle ("
+                << frames << " frames)\n";
+      return table;
+    };
     const int code = oneSequence(o, s, class_table, labels, "the world (" + q.condition + ", " + q.ego + ", seed " +
                                  std::to_string(q.seed) + ")", open);
     std::error_code ec;
     std::filesystem::remove(vcap, ec);
+    std::filesystem::remove(oracle, ec);
     if (code != 2) std::filesystem::remove(log, ec);
     worst = std::max(worst, code);
   }

@@ -2,7 +2,6 @@
 // program's oracle. This stands in for the once-per-asset human annotation of VIPER: each mesh key
 // gets the class its draws most often had (a wheel shared by cars and buses gets one label, as an
 // annotator would give it). Ground-truth nodes then use only the table, never the oracle.
-#include "viper/capture/capture_stream.h"
 #include "viper/ground_truth/oracle_labels.h"
 
 #include <iostream>
@@ -17,24 +16,10 @@ int main(int argc, char** argv) {
     return help ? 0 : 2;
   }
   try {
-    const viper::Oracle oracle = viper::readOracle(argv[2]);
-    std::map<uint64_t, const viper::OracleFrame*> by_number;
-    for (const auto& f : oracle.frames) by_number[f.number] = &f;
-
-    viper::CaptureReader reader(argv[1]);
-    viper::CaptureFrame frame;
-    viper::OracleLabeler labeler;
-    while (reader.next(frame) == viper::CaptureReader::Status::kFrame) {
-      auto it = by_number.find(frame.number);
-      if (it != by_number.end()) labeler.add(frame, *it->second);
-    }
-    if (labeler.framesAdded() == 0) {
-      std::cerr << "make_label_table: no frame of " << argv[1] << " is in the oracle " << argv[2] << "\n";
-      return 1;
-    }
-    const viper::LabelTable table = labeler.table();
+    size_t frames = 0;
+    const viper::LabelTable table = viper::labelTableFromOracle(argv[1], argv[2], &frames);
     table.save(argv[3]);
-    std::cout << "make_label_table: " << table.size() << " mesh labels from " << labeler.framesAdded() << " frames -> " << argv[3]
+    std::cout << "make_label_table: " << table.size() << " mesh labels from " << frames << " frames -> " << argv[3]
               << "\n";
   } catch (const std::exception& e) {
     std::cerr << "make_label_table: " << e.what() << "\n";

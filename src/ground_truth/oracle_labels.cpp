@@ -1,5 +1,7 @@
 #include "viper/ground_truth/oracle_labels.h"
 
+#include "viper/capture/capture_stream.h"
+
 #include <stdexcept>
 #include <string>
 
@@ -24,6 +26,23 @@ LabelTable OracleLabeler::table() const {
     if (best != 0) table.setMesh(key, static_cast<uint8_t>(best));
   }
   return table;
+}
+
+LabelTable labelTableFromOracle(const std::string& capture_path, const std::string& oracle_path, size_t* frames_added) {
+  const Oracle oracle = readOracle(oracle_path);
+  std::map<uint64_t, const OracleFrame*> by_number;
+  for (const auto& f : oracle.frames) by_number[f.number] = &f;
+  CaptureReader reader(capture_path);
+  CaptureFrame frame;
+  OracleLabeler labeler;
+  while (reader.next(frame) == CaptureReader::Status::kFrame) {
+    const auto it = by_number.find(frame.number);
+    if (it != by_number.end()) labeler.add(frame, *it->second);
+  }
+  if (labeler.framesAdded() == 0)
+    throw std::runtime_error("no frame of " + capture_path + " is in the oracle " + oracle_path);
+  if (frames_added) *frames_added = labeler.framesAdded();
+  return labeler.table();
 }
 
 }  // namespace viper

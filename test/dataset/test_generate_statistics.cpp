@@ -45,6 +45,7 @@ std::map<std::string, uint64_t> sumBySplit(const std::string& csv_path, bool tim
 // What the test finds in the files of one split.
 struct Counted {
   uint64_t images = 0, instances = 0, vehicles = 0;
+  uint64_t pixels = 0, unlabeled = 0;  // class 0 in the inst files' R channel
 };
 
 Counted countSplit(const fs::path& split, const viper::ClassTable& classes) {
@@ -59,6 +60,8 @@ Counted countSplit(const fs::path& split, const viper::ClassTable& classes) {
     for (int y = 0; y < bgr.rows; ++y)
       for (int x = 0; x < bgr.cols; ++x) {
         const cv::Vec3b p = bgr.at<cv::Vec3b>(y, x);  // B, G, R: class R, id 256 G + B
+        ++c.pixels;
+        c.unlabeled += p[2] == 0;
         if ((p[1] | p[0]) != 0 && classes.at(p[2]).instance_eval) instances.insert(p[2] << 16 | p[1] << 8 | p[0]);
       }
     ++c.images;
@@ -114,6 +117,8 @@ TEST(GenerateStatistics, MergeWritesStatisticsThatAgreeWithTheFiles) {
     EXPECT_EQ(per_image.at(split), c.instances) << split << ": instances per image, summed";
     EXPECT_EQ(per_class.at(split), c.instances) << split << ": instances per class, summed";
     EXPECT_EQ(vehicles.at(split), c.vehicles) << split;
+    // Every sequence is labelled from the world's own oracle of its run (each has meshes of its own).
+    EXPECT_LT(c.unlabeled, c.pixels / 100) << split << ": " << c.unlabeled << " of " << c.pixels << " pixels unlabeled";
   }
 
   // Computed again, with and without the plan.

@@ -7,6 +7,7 @@
 #include "viper/ground_truth/oracle.h"
 
 #include <map>
+#include <string>
 
 namespace viper {
 
@@ -25,5 +26,11 @@ class OracleLabeler {
   std::map<uint64_t, std::map<int, uint64_t>> votes_;
   size_t frames_ = 0;
 };
+
+/// The label table of one capture of a program and the program's oracle of the same run: every
+/// frame of the capture that the oracle has is added. Throws std::runtime_error naming the file
+/// when either cannot be read or no frame of the capture is in the oracle.
+LabelTable labelTableFromOracle(const std::string& capture_path, const std::string& oracle_path,
+                                size_t* frames_added = nullptr);
 
 }  // namespace viper

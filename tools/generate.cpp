@@ -15,7 +15,10 @@
 
 #include <ros/package.h>
 
+#include <sys/resource.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -117,13 +120,34 @@ std::string parse(int argc, char** argv, Options& o) {
   return viper::exportOptionsProblem(s.layout, "viper", "draws");
 }
 
+// The wall time and the CPU time of the children waited for (a program under capture) from its
+// construction to addTo().
+class ChildClock {
+ public:
+  ChildClock() : wall0_(std::chrono::steady_clock::now()), cpu0_(childrenCpu()) {}
+  void addTo(viper::StageTimes& times, const std::string& stage) const {
+    times.add(stage, childrenCpu() - cpu0_,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0_).count());
+  }
+
+ private:
+  static double childrenCpu() {
+    rusage u{};
+    getrusage(RUSAGE_CHILDREN, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  }
+  std::chrono::steady_clock::time_point wall0_;
+  double cpu0_;
+};
+
 }  // namespace
 
 // One sequence from the frames `open()` gives; returns the exit code.
 // `labels()` is asked after `open()`: a planned sequence's labels come from its own run.
 int oneSequence(const Options& o, const viper::SequenceSettings& settings, const std::string& class_table,
                 const std::function<viper::LabelTable()>& labels, const std::string& source,
-                const std::function<std::unique_ptr<viper::RawFrames>()>& open) {
+                const std::function<std::unique_ptr<viper::RawFrames>()>& open,
+                const viper::StageTimes& before = viper::StageTimes()) {
   const std::string name = settings.split + "/" + settings.seq;
   std::optional<viper::SequenceGenerator> generator;
   std::unique_ptr<viper::RawFrames> input;
@@ -165,7 +189,12 @@ int oneSequence(const Options& o, const viper::SequenceSettings& settings, const
   std::cout << "generate: " << name << ": " << result.frames << " frames (" << result.dropped << " dropped, "
             << result.problems.size() << " problems, " << result.warnings.size() << " warnings) from " << source
             << " into " << settings.root << "; marker " << result.marker.string() << "\n";
-  if (!result.skipped) std::cout << "generate: " << name << ": where the time went\n" << result.stages.table(result.frames);
+  if (!result.skipped) {
+    // What came before the frames (the program under capture, its labels) heads the table.
+    viper::StageTimes all = before;
+    for (const viper::StageTimes::Stage& st : result.stages.stages()) all.add(st.name, st.cpu_s, st.wall_s);
+    std::cout << "generate: " << name << ": where the time went\n" << all.table(result.frames);
+  }
   return result.problems.empty() ? 0 : 1;
 }
 
@@ -258,6 +287,7 @@ int main(int argc, char** argv) {
     s.seq = q.id;
     const std::filesystem::path vcap = captures / (q.split + "_" + q.id + ".vcap");
     const std::filesystem::path log = captures / (q.split + "_" + q.id + ".log");
+    viper::StageTimes before;  // the world under capture and its labels, before the frames
     // Without --labels, the world's own oracle of the run labels the meshes it drew (each
     // sequence's town, or part of the city, has meshes of its own).
     const std::filesystem::path oracle = captures / (q.split + "_" + q.id + ".oracle");
@@ -275,12 +305,15 @@ int main(int argc, char** argv) {
           std::to_string(q.seed) + " --frames " + std::to_string(q.frames) + " --width " + std::to_string(q.width) +
           " --height " + std::to_string(q.height) + " --fps " + std::to_string(plan.fps) + city + oracle_option + " > " + log.string() +
           " 2>&1";
-      if (std::system(command.c_str()) != 0)
-        throw std::runtime_error("the world under capture failed; its output is in " + log.string());
+      const ChildClock clock;
+      const int rc = std::system(command.c_str());
+      clock.addTo(before, "world+capture");
+      if (rc != 0) throw std::runtime_error("the world under capture failed; its output is in " + log.string());
       return std::make_unique<viper::CaptureRawFrames>(vcap.string());
     };
     auto labels = [&] {
       if (!o.labels.empty()) return viper::LabelTable::load(o.labels);
+      viper::StageTimer t(&before, "labels");
       size_t frames = 0;
       viper::LabelTable table = viper::labelTableFromOracle(vcap.string(), oracle.string(), &frames);
       std::filesystem::remove(oracle);
@@ -289,7 +322,7 @@ int main(int argc, char** argv) {
       return table;
     };
     const int code = oneSequence(o, s, class_table, labels, "the world (" + q.condition + ", " + q.ego + ", seed " +
-                                 std::to_string(q.seed) + ")", open);
+                                 std::to_string(q.seed) + ")", open, before);
     std::error_code ec;
     std::filesystem::remove(vcap, ec);
     std::filesystem::remove(oracle, ec);

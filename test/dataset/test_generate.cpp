@@ -130,4 +130,33 @@ TEST(Generate, UnwritableOutputIsAnErrorWithoutMarker) {
   EXPECT_NE(usage.output.find("usage: generate"), std::string::npos);
 }
 
+// A full disk, as a file-size limit (ulimit -f, SIGXFSZ ignored: writes fail with EFBIG as they
+// would with ENOSPC): an error naming the file that could not be written, exit 2, no marker, and
+// what was written before it stays in the partial sequence.
+TEST(Generate, FullDiskIsAnErrorNamingTheFile) {
+  struct Case {
+    const char* outputs;
+    int limit_kib;
+    const char* file;  // what fails first
+    const char* root;
+  };
+  for (const Case& c : {Case{"layout,bag", 4096, "/train/bag/001.bag: cannot write bag", "/full_bag"},
+                        Case{"layout", 100, "/train/img/001/001_00000.png: cannot write PNG", "/full_layout"}}) {
+    const std::string root = tempDir("viper_generate_") + c.root;
+    const std::string log = root + ".log";
+    const int rc = run("sh -c \"trap '' XFSZ; ulimit -f " + std::to_string(c.limit_kib) + "; exec " + VIPER_GENERATE +
+                       " --input " + kRawBag + " --labels " + VIPER_WORLD_LABELS + " --out " + root + " --outputs " +
+                       c.outputs + "\" > " + log + " 2>&1");
+    const std::string out = readFile(log);
+    EXPECT_EQ(rc, 2) << c.outputs << ": " << out;
+    EXPECT_NE(out.find(root + "/.partial/train_001" + c.file), std::string::npos) << c.outputs << ": " << out;
+    EXPECT_NE(out.find("File too large"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(root + "/train/001.done")) << c.outputs;
+  }
+  // The bag fills up after some frames: their layout files were written whole before it.
+  const std::string partial = tempDir("viper_generate_") + "/full_bag/.partial/train_001/train/img/001/001_00000.png";
+  EXPECT_TRUE(fs::exists(partial));
+  EXPECT_EQ(readFile(partial).rfind("IEND"), readFile(partial).size() - 8) << "a whole PNG";
+}
+
 }  // namespace

@@ -236,6 +236,37 @@ TEST(CaptureRun, ForwardsExitCodeAndRejectsBadProfiles) {
   EXPECT_NE(run(std::string(VIPER_CAPTURE_EXE) + " -- true 2> /dev/null"), 0);  // --output missing
 }
 
+// A full disk (a file-size limit, SIGXFSZ ignored) while the program runs: the program runs to its
+// end undisturbed (exit 0; its own output goes to /dev/null, which the limit does not cover), the stream keeps every frame written before the one that did not fit, and
+// capture exits 74 (EX_IOERR) naming the file, so the capture is not taken for a complete one.
+TEST(CaptureRun, AFullDiskStopsTheCaptureNotTheProgram) {
+  const std::string d = tempDir() + "/full";
+  const int frames = 30;
+  ASSERT_EQ(run(capture(d + "_whole.vcap") + program("direct", d + "_whole.rgba", frames)), 0);
+  const auto whole = readFrames(d + "_whole.vcap");
+  ASSERT_EQ(whole.size(), size_t(frames));
+  const std::string bytes = readFile(d + "_whole.vcap");
+  const std::string limit = std::to_string(bytes.size() / 2 / 1024);  // KiB: about half the frames
+  const int rc = run("sh -c \"trap '' XFSZ; ulimit -f " + limit + "; exec " + capture(d + ".vcap") +
+                     program("direct", "/dev/null", frames) + "\" 2> " + d + "_err.txt");
+  const std::string err = readFile(d + "_err.txt");
+  EXPECT_EQ(rc, 74) << "74 only when the program itself exited 0: " << err;
+  EXPECT_NE(err.find("capture: " + d + ".vcap: writing frame"), std::string::npos) << err;
+  EXPECT_NE(err.find("File too large"), std::string::npos) << err;
+  // The frames before the failure read back whole, then the damage is reported.
+  std::vector<CaptureFrame> kept;
+  CaptureReader reader(d + ".vcap");
+  CaptureFrame f;
+  EXPECT_THROW(
+      {
+        while (reader.next(f) == CaptureReader::Status::kFrame) kept.push_back(f);
+      },
+      viper::CaptureFormatError);
+  ASSERT_GT(kept.size(), 0u);
+  EXPECT_LT(kept.size(), size_t(frames));
+  for (size_t i = 0; i < kept.size(); ++i) EXPECT_TRUE(kept[i].color_rgb == whole[i].color_rgb) << "frame " << i;
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();

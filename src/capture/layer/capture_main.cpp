@@ -1,7 +1,10 @@
 // `capture [options] -- PROGRAM ARGS...`: runs an OpenGL program with the viper interceptor
-// preloaded and writes a capture stream. Exit status: the program's (128 + signal if killed).
+// preloaded and writes a capture stream. Exit status: the program's (128 + signal if killed), or 74
+// when the program succeeded but the capture could not be written (a full disk): the layer says so
+// through a pipe (VIPER_CAPTURE_STATUS_FD) and the stream ends with the last frame written whole.
 #include "viper/capture/capture_profile.h"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -32,7 +35,9 @@ int usage(const char* argv0, const char* problem) {
                "           per frame (default: the monotonic clock at each buffer swap)\n"
                "  --skip-frames N: show but do not write the first N frames (menus, loading screens)\n"
                "  --start-on-scene: write from the first frame in which a recorded draw has the\n"
-               "           camera's view and projection matrices (the profile's scene programs)\n",
+               "           camera's view and projection matrices (the profile's scene programs)\n"
+               "exit status: the program's (128 + signal if killed), or 74 (EX_IOERR) if it succeeded but the capture\n"
+               "could not be written (e.g. a full disk; the stream keeps the frames written before)\n",
                argv0);
   return 2;
 }
@@ -137,6 +142,15 @@ int main(int argc, char** argv) {
   else unsetenv("VIPER_CAPTURE_SKIP");
   setenv("VIPER_CAPTURE_START_ON_SCENE", start_on_scene ? "1" : "0", 1);
 
+  // The layer's report of a capture that failed while the program ran (read without blocking:
+  // the program's own children may keep the write end open).
+  int status_pipe[2] = {-1, -1};
+  if (pipe(status_pipe) == 0) {
+    fcntl(status_pipe[0], F_SETFD, FD_CLOEXEC);
+    fcntl(status_pipe[0], F_SETFL, O_NONBLOCK);
+    setenv("VIPER_CAPTURE_STATUS_FD", std::to_string(status_pipe[1]).c_str(), 1);
+  }
+
   g_child = fork();
   if (g_child < 0) {
     std::perror("capture: fork");
@@ -156,7 +170,16 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  std::string failure;
+  if (status_pipe[0] >= 0) {
+    close(status_pipe[1]);
+    char buffer[4096];
+    ssize_t n;
+    while ((n = read(status_pipe[0], buffer, sizeof buffer)) > 0) failure.append(buffer, static_cast<size_t>(n));
+  }
+  if (!failure.empty())
+    std::fprintf(stderr, "capture: %s: %s", output.c_str(), failure.c_str());
+  if (WIFEXITED(status)) return WEXITSTATUS(status) == 0 && !failure.empty() ? 74 : WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return 1;
 }

@@ -2,11 +2,28 @@
 
 #include "finish_frame.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 namespace viper {
 namespace capture {
+namespace {
+
+// The capture launcher passes a pipe (VIPER_CAPTURE_STATUS_FD) and reports what arrives there once
+// the program has exited, so a capture that failed is not taken for a complete one.
+void tellLauncher(const std::string& text) {
+  const char* fd = std::getenv("VIPER_CAPTURE_STATUS_FD");
+  if (fd == nullptr || *fd == 0) return;
+  const std::string line = text + "\n";
+  const ssize_t written = ::write(std::atoi(fd), line.data(), line.size());
+  (void)written;  // nobody to tell otherwise: the message is on stderr already
+}
+
+}  // namespace
 
 FrameSink::FrameSink(const std::string& path, const CaptureHeader& header)
     : writer_(new CaptureWriter(path, header, 1)), thread_([this] { run(); }) {}
@@ -37,10 +54,16 @@ void FrameSink::close() {
     changed_.notify_all();
   }
   if (thread_.joinable()) thread_.join();
+  if (failed_ && dropped_after_failure_ > 0)
+    std::fprintf(stderr, "[viper capture] %llu later frames were not written\n",
+                 static_cast<unsigned long long>(dropped_after_failure_));
   try {
     writer_->close();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "[viper capture] closing the stream failed: %s\n", e.what());
+    if (!failed_) {  // after a failed frame, the end marker cannot be written either
+      std::fprintf(stderr, "[viper capture] closing the stream failed: %s\n", e.what());
+      tellLauncher(std::string("closing the capture stream failed: ") + e.what());
+    }
   }
 }
 
@@ -67,13 +90,20 @@ void FrameSink::run() {
         image_pool_.pop_back();
       }
     }
-    finishFrame(item.raw, item.frame);
-    try {
-      writer_->write(item.frame);
-      busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "[viper capture] writing frame %llu failed: %s\n",
-                   static_cast<unsigned long long>(item.frame.number), e.what());
+    if (failed_) {
+      ++dropped_after_failure_;
+    } else {
+      finishFrame(item.raw, item.frame);
+      try {
+        writer_->write(item.frame);
+        busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      } catch (const std::exception& e) {
+        failed_ = true;
+        const std::string text = "writing frame " + std::to_string(item.frame.number) + " failed: " + e.what() +
+                                 "; the capture stops there (the frames before it are intact), the program goes on";
+        std::fprintf(stderr, "[viper capture] %s\n", text.c_str());
+        tellLauncher(text);
+      }
     }
     std::lock_guard<std::mutex> lock(mutex_);
     if (raw_pool_.size() < 4) raw_pool_.push_back(std::move(item.raw));

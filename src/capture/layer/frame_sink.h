@@ -47,6 +47,10 @@ class FrameSink {
   std::vector<RawImages> raw_pool_;
   std::vector<CaptureFrame> image_pool_;  // frames holding only image vectors to reuse
   bool closing_ = false;
+  // The first frame that could not be written (a full disk) stops the capture: a torn chunk ends
+  // the stream there, the frames before it stay intact, and the program goes on.
+  bool failed_ = false;
+  uint64_t dropped_after_failure_ = 0;
   double busy_s_ = 0.0;
   std::thread thread_;
 };

@@ -45,6 +45,8 @@ if(CATKIN_ENABLE_TESTING)
   # GL test program: knows what it draws where (test/capture/test_scene_layout.h).
   add_executable(viper_gl_test_program test/capture/gl_test_program.cpp)
   target_include_directories(viper_gl_test_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
+  target_include_directories(viper_gl_test_program PRIVATE ${PROJECT_SOURCE_DIR})  # gl_common/sanitizer_options.h
+  target_include_directories(viper_gl_test_program PRIVATE ${PROJECT_SOURCE_DIR})
   target_link_libraries(viper_gl_test_program PRIVATE PkgConfig::EGL PkgConfig::GL ${X11_LIBRARIES} ${CMAKE_DL_LIBS})
 
   # GL 4.5 test program that draws as engines do (test/capture/engine_scene.h).

@@ -8,6 +8,7 @@
 
 #include "gl_common/headless_egl_context.h"
 #include "gl_common/ppm.h"
+#include "gl_common/sanitizer_options.h"
 #include "viper/ground_truth/oracle.h"
 
 #include <chrono>

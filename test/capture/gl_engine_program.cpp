@@ -18,6 +18,7 @@
 #include <GL/glcorearb.h>
 
 #include "egl_pbuffer.h"
+#include "gl_common/sanitizer_options.h"
 
 #include <cstdio>
 #include <cstdlib>

@@ -26,6 +26,7 @@
 #include <GL/glext.h>
 
 #include "egl_pbuffer.h"
+#include "gl_common/sanitizer_options.h"
 
 #include <cstdio>
 #include <cstdlib>

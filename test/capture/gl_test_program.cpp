@@ -10,6 +10,7 @@
 // instead of the renderbuffer, after a shadow-map-like pass (the quad into a 64x64 depth-only
 // framebuffer object) that a capture must leave out.
 #include "test_scene_layout.h"  // Eigen before X11 (X11 defines Success)
+#include "gl_common/sanitizer_options.h"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>

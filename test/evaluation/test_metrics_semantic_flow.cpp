@@ -53,14 +53,17 @@ TEST(SemanticConfusion, HandComputedIoU) {
   EXPECT_TRUE(std::isnan(conf.iou(0)));
 }
 
-TEST(SemanticConfusion, ClassesAbsentFromGroundTruthDoNotEnterTheMean) {
+// Issue #19: cityscapesScripts averages every scored class with a true positive, false positive or
+// false negative; a class predicted but absent from the ground truth has IoU 0 and counts.
+TEST(SemanticConfusion, ClassPredictedButAbsentFromGroundTruthCountsAsZero) {
   SemanticConfusion conf({false, true, true, true});
-  const std::vector<uint8_t> gt = {1, 1};
-  const std::vector<uint8_t> pr = {1, 3};  // class 3 predicted but never in ground truth
+  const std::vector<uint8_t> gt = {1, 1, 0};
+  const std::vector<uint8_t> pr = {1, 3, 2};  // class 3 predicted but never in ground truth; 2 only on unscored
   conf.add(gt.data(), pr.data(), gt.size());
-  EXPECT_DOUBLE_EQ(conf.iou(3), 0.0);
-  EXPECT_TRUE(std::isnan(conf.iou(2)));
-  EXPECT_DOUBLE_EQ(conf.meanIou(), 0.5);
+  EXPECT_DOUBLE_EQ(conf.iou(1), 0.5);  // TP 1, FN 1
+  EXPECT_DOUBLE_EQ(conf.iou(3), 0.0);  // FP 1
+  EXPECT_TRUE(std::isnan(conf.iou(2)));  // a prediction on an unscored pixel is no false positive
+  EXPECT_DOUBLE_EQ(conf.meanIou(), (0.5 + 0.0) / 2);
 }
 
 TEST(SemanticConfusion, EmptyAndMerge) {

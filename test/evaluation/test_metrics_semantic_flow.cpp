@@ -1,4 +1,5 @@
 #include "viper/ground_truth/class_table.h"
+#include "viper/evaluation/evaluation.h"
 #include "viper/evaluation/flow_metrics.h"
 #include "viper/evaluation/semantic_metrics.h"
 
@@ -134,6 +135,53 @@ TEST(FlowErrorAccumulator, AllInvalidGroundTruthGivesNaN) {
   EXPECT_TRUE(std::isnan(acc.wauc()));
   EXPECT_TRUE(std::isnan(acc.averageEndpointError()));
   EXPECT_TRUE(std::isnan(acc.outlierPercent()));
+}
+
+// KITTI's interpolateBackground, step by step on a 5x4 image: the inner gap of row 0 takes the
+// per-component minimum of its neighbours, row ends copy the row's first and last vector; row 1
+// has none and lies between rows with vectors, which KITTI leaves missing (its column pass only
+// extends the top and the bottom); row 3 copies row 2 from above.
+TEST(FillMissingFlow, AsTheKittiDevkit) {
+  const float N = kNaN;
+  std::vector<float> uv = {1, 5, N, N, N, 0, 3, 2, N, N,   // row 0
+                           N, N, N, N, N, N, N, N, N, N,   // row 1
+                           N, 0, 7, 1, N, N, N, N, N, N,   // row 2
+                           N, N, N, N, N, N, N, N, N, N};  // row 3
+  fillMissingFlow(uv.data(), 5, 4);
+  const std::vector<float> row0 = {1, 5, 1, 2, 1, 2, 3, 2, 3, 2}, row2(10, 0);
+  EXPECT_EQ(std::vector<float>(uv.begin(), uv.begin() + 10), row0);
+  for (int i = 10; i < 20; ++i) EXPECT_TRUE(std::isnan(uv[i])) << i;
+  for (int y : {2, 3})
+    for (int x = 0; x < 5; ++x) {
+      EXPECT_EQ(uv[2 * (y * 5 + x)], 7) << x << "," << y;
+      EXPECT_EQ(uv[2 * (y * 5 + x) + 1], 1) << x << "," << y;
+    }
+  std::vector<float> none(8, N);
+  fillMissingFlow(none.data(), 2, 2);  // nothing to fill from
+  for (float f : none) EXPECT_TRUE(std::isnan(f));
+  EXPECT_THROW(fillMissingFlow(nullptr, 2, 2), std::invalid_argument);
+}
+
+// The option through the flow metric: a missing vector between (1, 0) and (3, 0) is an invalid
+// outlier by default (EPE 2/5 over the other pixels, Fl 1/6) and (1, 0) with flow_fill_missing
+// (EPE 2/6, no outlier, nothing invalid).
+TEST(FillMissingFlow, OptionOfTheFlowMetric) {
+  const ClassTable classes = ClassTable::load("config/viper_classes.csv");
+  const std::vector<float> gt = {1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0};
+  const std::vector<float> pred = {1, 0, kNaN, kNaN, 3, 0, 1, 0, 1, 0, 1, 0};
+  for (bool fill : {false, true}) {
+    EvaluationOptions options;
+    options.flow_fill_missing = fill;
+    Evaluation e(classes, options);
+    EvalFrame f;
+    f.condition = "day", f.width = 3, f.height = 2, f.gt_flow = gt.data(), f.pred_flow = pred.data();
+    e.add("flow", f);
+    const MetricScores& s = e.summarize().all.scoresOf("flow");
+    EXPECT_DOUBLE_EQ(s.values.at("epe_px"), fill ? 2.0 / 6 : 2.0 / 5) << fill;
+    EXPECT_DOUBLE_EQ(s.values.at("outlier_percent"), fill ? 0.0 : 100.0 / 6) << fill;
+    EXPECT_DOUBLE_EQ(s.values.at("invalid"), fill ? 0.0 : 1.0) << fill;
+  }
+  EXPECT_TRUE(std::isnan(pred[2])) << "the prediction itself is left as it is";
 }
 
 }  // namespace

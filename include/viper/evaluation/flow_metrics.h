@@ -51,4 +51,11 @@ class FlowErrorAccumulator {
   uint64_t hist_[kHistBins + 1] = {};  // the last bin takes errors >= 5 px, so that adding needs no branch
 };
 
+/// Fills the missing vectors (a non-finite u or v) of a width x height flow image in place, as the
+/// KITTI devkit does before it scores an estimate (io_flow.h, FlowImage::interpolateBackground):
+/// in each row, a gap between two vectors takes their per-component minimum and the row's ends
+/// copy its first and last vector; then in each column the ends copy its first and last vector. A
+/// frame without any vector stays missing. Throws std::invalid_argument on a null image.
+void fillMissingFlow(float* uv, uint32_t width, uint32_t height);
+
 }  // namespace viper

@@ -34,6 +34,9 @@ struct EvaluationOptions {
   size_t odometry_step_frames = 10;
   /// Ground-truth instances smaller than this are ignored (Cityscapes: 100 px).
   int min_instance_px = 100;
+  /// Fill the missing vectors of a dense flow prediction before it is scored, as the KITTI devkit
+  /// does (fillMissingFlow); false: a missing vector is an invalid prediction (an outlier).
+  bool flow_fill_missing = false;
   /// Thresholds (px) at which flow inlier curves are sampled for tables and plots.
   std::vector<double> curve_thresholds_px = defaultCurveThresholds();
   /// 0, 0.05, ..., 5 px.

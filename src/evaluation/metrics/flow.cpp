@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace viper {
 namespace {
@@ -90,7 +91,10 @@ MetricLayout flowLayout(bool sparse, const std::vector<double>& thresholds) {
 class FlowMetric : public Metric {
  public:
   FlowMetric(const MetricContext& c, bool sparse)
-      : thresholds_(c.options.curve_thresholds_px), sparse_(sparse), layout_(flowLayout(sparse, thresholds_)) {}
+      : thresholds_(c.options.curve_thresholds_px),
+        sparse_(sparse),
+        fill_missing_(c.options.flow_fill_missing),
+        layout_(flowLayout(sparse, thresholds_)) {}
   std::string name() const override { return layout_.key; }
   const MetricLayout& layout() const override { return layout_; }
   MetricInputs inputs() const override { return kGtFlow | (sparse_ ? kPredSparseFlow : kPredFlow); }
@@ -115,7 +119,14 @@ class FlowMetric : public Metric {
   uint64_t addDense(const EvalFrame& f) {
     FlowState& s = by_condition_[f.condition];
     const uint64_t before = s.all.scoredPixels();
-    FlowErrorAccumulator::addBoth(s.all, s.noc, f.gt_flow, f.pred_flow, f.gt_flow_visible, f.pixels());
+    const float* pred = f.pred_flow;
+    std::vector<float> filled;
+    if (fill_missing_ && pred != nullptr) {
+      filled.assign(pred, pred + 2 * f.pixels());
+      fillMissingFlow(filled.data(), f.width, f.height);
+      pred = filled.data();
+    }
+    FlowErrorAccumulator::addBoth(s.all, s.noc, f.gt_flow, pred, f.gt_flow_visible, f.pixels());
     ++s.frames;
     ++frames_;
     return s.all.scoredPixels() - before;
@@ -155,7 +166,7 @@ class FlowMetric : public Metric {
   }
 
   std::vector<double> thresholds_;
-  bool sparse_;
+  bool sparse_, fill_missing_;
   MetricLayout layout_;
   std::map<std::string, FlowState> by_condition_;
   uint64_t frames_ = 0;

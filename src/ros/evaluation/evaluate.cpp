@@ -63,6 +63,7 @@ bool Evaluate::start() {
     ROS_ERROR("%s: ~min_instance_px must be >= 0 (got %d); using 100", me.c_str(), options.min_instance_px);
     options.min_instance_px = 100;
   }
+  private_nh_.param("flow_fill_missing", options.flow_fill_missing, false);
   std::vector<double> lengths;
   if (private_nh_.getParam("odometry_segment_lengths_m", lengths)) {
     bool ok = !lengths.empty();

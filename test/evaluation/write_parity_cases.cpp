@@ -223,8 +223,13 @@ void writeCase(const std::filesystem::path& dir, const std::vector<Frame>& frame
 }  // namespace
 
 int main(int argc, char** argv) {
+  const char* usage = "usage: write_parity_cases OUT_DIR VIPER_ROOT (the cityscapesScripts parity cases; see docs/evaluate.md)\n";
+  if (argc == 2 && std::string(argv[1]) == "--help") {
+    std::cout << usage;
+    return 0;
+  }
   if (argc != 3) {
-    std::cerr << "usage: write_parity_cases OUT_DIR VIPER_ROOT\n";
+    std::cerr << usage;
     return 2;
   }
   try {

@@ -22,6 +22,7 @@ for 3D boxes only, is stubbed when it is absent (Debian does not package it).
 """
 import argparse
 import csv
+import importlib
 import math
 import os
 import sys
@@ -44,7 +45,7 @@ def stub_pyquaternion():
     evaluations); Debian has no package of it, so an absent one is replaced by a module whose
     Quaternion fails if anything calls it."""
     try:
-        import pyquaternion  # noqa: F401
+        importlib.import_module("pyquaternion")
     except ImportError:
         module = types.ModuleType("pyquaternion")
 

@@ -9,7 +9,7 @@
 # Needs a built workspace sourced first (source devel/setup.bash), python3-numpy and python3-pil.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-[ $# -ge 1 ] && [ $# -le 2 ] || { echo "usage: $0 CITYSCAPES_CHECKOUT [OUT_DIR]" >&2; exit 2; }
+if [ $# -lt 1 ] || [ $# -gt 2 ]; then echo "usage: $0 CITYSCAPES_CHECKOUT [OUT_DIR]" >&2; exit 2; fi
 checkout=$1 out=${2:-$here/test/evaluation/data/cityscapes_parity}
 command -v catkin_find >/dev/null || { echo "$0: source devel/setup.bash first" >&2; exit 2; }
 work=$(mktemp -d)

@@ -6,8 +6,10 @@ Usage: cityscapes_parity.py CITYSCAPES_CHECKOUT CASES_DIR OUT_CSV [--classes con
 CITYSCAPES_CHECKOUT: a checkout of github.com/mcordts/cityscapesScripts (not part of this package;
 fetch it yourself). CASES_DIR: what `write_parity_cases` writes (one folder per case: cls/, inst/,
 pred_cls/, pred_inst/; committed as test/evaluation/data/cityscapes_parity). OUT_CSV gets
-`case,metric,class_id,value`: metric iou per scored class and mean_iou
-(evalPixelLevelSemanticLabeling.evaluateImgLists: classScores, averageScoreClasses), ap and ap50
+`case,metric,class_id,value`: metric iou per scored class and mean_iou, iiou per instance class
+and mean_iiou (evalPixelLevelSemanticLabeling.evaluateImgLists: classScores, averageScoreClasses,
+classInstScores, averageScoreInstClasses; its average instance sizes set to the case's, as the
+package takes them from what it has seen), ap and ap50
 per instance class and mean_ap, mean_ap50 (evalInstanceLevelSemanticLabeling.evaluateImgLists:
 averages), values in 0..1 as repr (every digit), "nan" for NaN. test_cityscapes_parity compares
 the package's scores of the same cases with it.
@@ -103,18 +105,26 @@ def score_case(case_dir, work, pixel, instance, classes):
     if not frames:
         sys.exit("{}: no frames in cls/".format(case_dir))
     gt_labels, gt_instances, pred_labels, pred_lists = [], [], [], []
+    sizes = {}  # class id -> sizes of its instances, every frame
     for name in frames:
         labels_path = os.path.join(work, name + "_gtFine_labelIds.png")
         ids_path = os.path.join(work, name + "_gtFine_instanceIds.png")
         Image.open(os.path.join(case_dir, "cls", name + ".png")).convert("L").save(labels_path)
-        Image.fromarray(cityscapes_instance_ids(os.path.join(case_dir, "cls", name + ".png"),
-                                                os.path.join(case_dir, "inst", name + ".png"))).save(ids_path)
+        ids = cityscapes_instance_ids(os.path.join(case_dir, "cls", name + ".png"),
+                                      os.path.join(case_dir, "inst", name + ".png"))
+        Image.fromarray(ids).save(ids_path)
+        for i, size in zip(*np.unique(ids[ids > 1000], return_counts=True)):
+            sizes.setdefault(int(i) // 1000, []).append(int(size))
         gt_labels.append(labels_path)
         gt_instances.append(ids_path)
         pred_labels.append(os.path.join(case_dir, "pred_cls", name + ".png"))
         pred_lists.append(os.path.abspath(os.path.join(case_dir, "pred_inst", name + ".txt")))
 
-    pixel.args.evalInstLevelScore = False
+    # iIoU weighs an instance by the average size of its class: Cityscapes takes them from its
+    # training set, the package from the instances it has seen, so the average of the case's.
+    names = {cid: name for cid, name, _, _ in classes}
+    pixel.args.avgClassSize = {names[c]: sum(v) / len(v) for c, v in sizes.items()}
+    pixel.args.evalInstLevelScore = True
     pixel.args.JSONOutput = False
     pixel.args.quiet = True
     semantic = pixel.evaluateImgLists(pred_labels, gt_labels, pixel.args)
@@ -135,9 +145,11 @@ def score_case(case_dir, work, pixel, instance, classes):
         if scored:
             rows.append(("iou", cid, semantic["classScores"][name]))
         if inst and scored:
+            rows.append(("iiou", cid, semantic["classInstScores"][name]))
             rows.append(("ap", cid, averages["classes"][name]["ap"]))
             rows.append(("ap50", cid, averages["classes"][name]["ap50%"]))
     rows.append(("mean_iou", -1, semantic["averageScoreClasses"]))
+    rows.append(("mean_iiou", -1, semantic["averageScoreInstClasses"]))
     rows.append(("mean_ap", -1, averages["allAp"]))
     rows.append(("mean_ap50", -1, averages["allAp50%"]))
     return rows

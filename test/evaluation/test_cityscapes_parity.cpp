@@ -1,7 +1,7 @@
 // Parity with cityscapesScripts (issue #19): the cases of test/evaluation/data/cityscapes_parity
 // (written by write_parity_cases), scored here through Evaluation as the evaluate node scores
 // them, against reference.csv, the scores cityscapesScripts' own evaluation gave for the same
-// files (scripts/cityscapes_parity.py). Every class IoU, class AP and AP50 and the three means
+// files (scripts/cityscapes_parity.py). Every class IoU, iIoU, AP and AP50 and the four means
 // must agree to rounding.
 #include "viper/dataset/viper_images.h"
 #include "viper/evaluation/evaluation.h"
@@ -61,7 +61,11 @@ EvaluationSummary scoreCase(const fs::path& dir, const ClassTable& classes) {
     const dataset::Image8 cls = dataset::readViperClassImage(dir / "cls" / png);
     const dataset::Image8 pred = dataset::readViperClassImage(dir / "pred_cls" / png);
     const std::vector<int32_t> ids = dataset::viperInstanceIds(dataset::readViperInstanceImage(dir / "inst" / png));
-    e.addSemantic("parity", cls.data.data(), pred.data.data(), cls.pixels());
+    EvalFrame f;
+    f.condition = "parity", f.width = cls.width, f.height = cls.height;
+    f.gt_semantic = cls.data.data(), f.gt_instance_ids = ids.data(), f.pred_semantic = pred.data.data();
+    e.add("semantic", f);
+    e.add("semantic_iiou", f);
     std::vector<PredictedInstance> predictions;
     std::ifstream list(dir / "pred_inst" / (name.string() + ".txt"));
     std::string mask;
@@ -88,14 +92,17 @@ TEST(CityscapesParity, EveryCaseScoresAsTheReference) {
     SCOPED_TRACE("case " + name);
     ASSERT_EQ(reference.count(name), 1u) << "reference.csv has no rows of this case";
     const ConditionSummary& all = scoreCase(kCases / name, classes).all;
-    const MetricScores &semantic = all.scoresOf("semantic"), &instances = all.scoresOf("instances");
+    const MetricScores &semantic = all.scoresOf("semantic"), &iiou = all.scoresOf("semantic_iiou"),
+                       &instances = all.scoresOf("instances");
     int numbers = 0;
     for (const Row& row : reference.at(name)) {
       double ours = std::nan("");
       if (row.metric == "iou") ours = semantic.per_class.at("iou_percent").at(row.class_id);
       else if (row.metric == "ap") ours = instances.per_class.at("ap_percent").at(row.class_id);
       else if (row.metric == "ap50") ours = instances.per_class.at("ap50_percent").at(row.class_id);
+      else if (row.metric == "iiou") ours = iiou.per_class.at("iiou_percent").at(row.class_id);
       else if (row.metric == "mean_iou") ours = semantic.values.at("mean_iou");
+      else if (row.metric == "mean_iiou") ours = iiou.values.at("mean_iiou");
       else if (row.metric == "mean_ap") ours = instances.values.at("ap");
       else if (row.metric == "mean_ap50") ours = instances.values.at("ap50");
       else ADD_FAILURE() << "unknown metric " << row.metric;

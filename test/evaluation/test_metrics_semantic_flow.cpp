@@ -113,6 +113,35 @@ TEST(FlowErrorAccumulator, WaucMatchesNumericIntegralOfTheCurve) {
   EXPECT_NEAR(acc.wauc(), 100.0 * num / den, 1e-3);
 }
 
+// WaucMode::kSampled against its definition taken literally (Spring's getWAUC: for each threshold
+// i/20 px count the errors <= it, weight 1 - (i-1)/100), on errors that lie exactly on thresholds
+// (0.25 = 5/20, 0.5, 1, 2.5, 5), between them, past 5 px, and an invalid prediction. By hand for
+// 0, 1, 2.5 and 6 px: weights from threshold 1, 20 and 50 on sum to 50.5, 33.21 and 13.26.
+TEST(FlowErrorAccumulator, SampledWaucAsItsDefinition) {
+  const std::vector<float> errors = {0, 0.25f, 0.5f, 1, 1.3f, 2.5f, 4.99f, 5, 5.5f, kNaN};
+  std::vector<float> gt, pr;
+  for (float e : errors) gt.insert(gt.end(), {2, 1}), pr.insert(pr.end(), {2 + e, 1});
+  FlowErrorAccumulator sampled(WaucMode::kSampled), integral;
+  sampled.add(gt.data(), pr.data(), nullptr, errors.size());
+  integral.add(gt.data(), pr.data(), nullptr, errors.size());
+  double sum = 0.0, weights = 0.0;
+  for (int i = 1; i <= 100; ++i) {
+    const double w = 1.0 - (i - 1) / 100.0, threshold = i / 20.0;
+    int within = 0;
+    for (float e : errors) within += static_cast<double>(2 + e) - 2 <= threshold;  // NaN: never
+    sum += w * within, weights += w;
+  }
+  EXPECT_NEAR(sampled.wauc(), 100.0 * sum / (weights * errors.size()), 1e-12);
+  EXPECT_GT(sampled.wauc(), integral.wauc()) << "the samples never lie under the integral";
+  EXPECT_EQ(sampled.averageEndpointError(), integral.averageEndpointError());
+
+  FlowErrorAccumulator hand(WaucMode::kSampled);
+  const std::vector<float> g = {10, 0, 10, 0, 10, 0, 10, 0}, p = {10, 0, 11, 0, 10, 2.5f, 4, 0};
+  hand.add(g.data(), p.data(), nullptr, 4);
+  EXPECT_NEAR(hand.wauc(), 100.0 * (50.5 + 33.21 + 13.26 + 0) / (4 * 50.5), 1e-9);
+  EXPECT_THROW(hand.merge(integral), std::invalid_argument);
+}
+
 TEST(FlowErrorAccumulator, MaskAndInvalidPredictions) {
   const std::vector<float> gt = {1, 1, 1, 1, 1, 1};
   const std::vector<float> pr = {1, 1, kNaN, 0, 9, 9};
@@ -181,6 +210,14 @@ TEST(FillMissingFlow, OptionOfTheFlowMetric) {
     EXPECT_DOUBLE_EQ(s.values.at("outlier_percent"), fill ? 0.0 : 100.0 / 6) << fill;
     EXPECT_DOUBLE_EQ(s.values.at("invalid"), fill ? 0.0 : 1.0) << fill;
   }
+  EvaluationOptions sampled;
+  sampled.flow_wauc = WaucMode::kSampled;
+  Evaluation e(classes, sampled);
+  e.addFlow("day", gt.data(), nullptr, pred.data(), 6);  // errors 0 (x4) and 2 px; one invalid
+  // Within every threshold, within those from 2 px (i = 40) on whose weights sum to 61 - 42.09 = 18.91, none.
+  const MetricScores& scores = e.summarize().all.scoresOf("flow");
+  EXPECT_NEAR(scores.values.at("wauc"), 100.0 * (4 * 50.5 + 18.91) / (6 * 50.5), 1e-9);
+  EXPECT_EQ(scores.values.at("noc_wauc"), scores.values.at("wauc")) << "no mask: every pixel is visible";
   EXPECT_TRUE(std::isnan(pred[2])) << "the prediction itself is left as it is";
 }
 

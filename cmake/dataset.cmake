@@ -12,6 +12,8 @@ file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/data
 # The statistics need the class table (viper_core) and the report's plots (viper_report): a library
 # of their own, below.
 list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(dataset_statistics|statistics_[a-z]+)\\.cpp$")
+# The submission files use Eigen and viper_core (poses in KITTI axes): a library of their own, below.
+list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(viper_submission|submission_poses)\\.cpp$")
 add_library(viper_dataset ${VIPER_DATASET_SOURCES})
 target_include_directories(viper_dataset PUBLIC ${PROJECT_SOURCE_DIR}/include)
 # The float16 loops vectorise only at -O3, and only when GCC 12 may execute the float operations
@@ -56,6 +58,18 @@ target_compile_definitions(dataset_statistics PRIVATE VIPER_SOURCE_DIR="${PROJEC
 set_target_properties(dataset_statistics PROPERTIES
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 install(TARGETS viper_dataset_statistics dataset_statistics
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+# viper_submission: VIPER's submission files (ROS-free; the poses in KITTI axes take the optical frame
+# from viper_core).
+add_library(viper_submission src/dataset/viper_submission.cpp src/dataset/submission_poses.cpp)
+target_include_directories(viper_submission PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_link_libraries(viper_submission PUBLIC viper_dataset viper_core)
+set_target_properties(viper_submission PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+install(TARGETS viper_submission
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -63,13 +63,21 @@ install(TARGETS viper_dataset_statistics dataset_statistics
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 # viper_submission: VIPER's submission files (ROS-free; the poses in KITTI axes take the optical frame
-# from viper_core).
+# from viper_core), and the viper_submission command that writes them from a bag
+# of predictions (docs/evaluate.md, "Submission files").
 add_library(viper_submission src/dataset/viper_submission.cpp src/dataset/submission_poses.cpp)
 target_include_directories(viper_submission PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_link_libraries(viper_submission PUBLIC viper_dataset viper_core)
 set_target_properties(viper_submission PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS viper_submission
+add_executable(viper_submission_tool tools/viper_submission.cpp)
+set_target_properties(viper_submission_tool PROPERTIES OUTPUT_NAME viper_submission
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+target_include_directories(viper_submission_tool SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+  ${class_loader_INCLUDE_DIRS})
+target_link_libraries(viper_submission_tool viper_submission viper_evaluate_ros viper_conversions ${catkin_LIBRARIES})
+add_dependencies(viper_submission_tool viper_generate_messages_cpp)
+install(TARGETS viper_submission viper_submission_tool
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
@@ -93,6 +101,16 @@ if(CATKIN_ENABLE_TESTING)
         VIPER_EXPORT_FLOW="$<TARGET_FILE:export_flow>")
     endif()
   endforeach()
+  # test/dataset/test_viper_submission.cpp: generate's ground truth of the test bag, a bag of predictions
+  # made from it, the viper_submission command on it, its files read back.
+  if(TARGET test_viper_submission)
+    target_include_directories(test_viper_submission SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+      ${class_loader_INCLUDE_DIRS})
+    target_link_libraries(test_viper_submission viper_submission viper_conversions ${catkin_LIBRARIES})
+    target_compile_definitions(test_viper_submission PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+      VIPER_GENERATE="$<TARGET_FILE:generate>" VIPER_SUBMISSION="$<TARGET_FILE:viper_submission_tool>")
+    add_dependencies(test_viper_submission viper_submission_tool generate viper_generate_messages_cpp)
+  endif()
   if(TARGET test_export_flow)
     target_include_directories(test_export_flow SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
       ${class_loader_INCLUDE_DIRS})

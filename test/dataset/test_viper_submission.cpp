@@ -115,9 +115,15 @@ class SubmissionTest : public ::testing::Test {
 
   static void writePredictions(const std::string& path) {
     rosbag::Bag bag(path, rosbag::bagmode::Write);
-    for (const auto& [stamp, f] : truth_) {
+    for (auto it = truth_.begin(); it != truth_.end(); ++it) {
+      const auto& [stamp, f] = *it;
       std_msgs::Header header;
       header.stamp = stamp;
+      if (f.flow) {  // stamped with the pair's second image, as opencv_apps does (--flow-stamp second)
+        std_msgs::Header second;
+        second.stamp = std::next(it)->first;
+        bag.write("/perception/flow_second", second.stamp, viper::toFlowMsg(*f.flow, second));
+      }
       bag.write("/perception/semantic", stamp, viper::toImageMsg(f.semantic, header, "mono8"));
       bag.write("/perception/instances", stamp, instancesOf(f));
       if (f.flow) bag.write("/perception/flow", stamp, viper::toFlowMsg(*f.flow, header));
@@ -228,6 +234,24 @@ TEST_F(SubmissionTest, FlowFilesHoldTheFlowOfEachPair) {
           << path << " value " << i;
   }
   EXPECT_EQ(files, truth_.size() - 1);
+}
+
+TEST_F(SubmissionTest, FlowStampedWithTheSecondImageNamesTheFirst) {
+  const std::string out = *dir_ / "flow_second";
+  std::string output;
+  ASSERT_EQ(runCommand(std::string(VIPER_SUBMISSION) + " --bag " + (*dir_ / "predictions.bag") + " --frames " + gt_bag_ +
+                           " --out " + out + " --flow /perception/flow_second --flow-stamp second" +
+                           " --semantic /none --instances /none --odom /none",
+                       output),
+            0)
+      << output;
+  EXPECT_FALSE(std::filesystem::exists(out + "/cls"));
+  for (uint64_t frame = 0; frame + 1 < truth_.size(); ++frame) {
+    const std::string name = submissionFrameName(1, frame) + ".flo";
+    EXPECT_EQ(viper_dataset_test::readBytes(out + "/flow/" + name), viper_dataset_test::readBytes(file("flow", name)))
+        << name;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out + "/flow/" + submissionFrameName(1, truth_.size() - 1) + ".flo"));
 }
 
 TEST_F(SubmissionTest, OdometryIsTheCameraInKittiAxesRelativeToItsFirstPose) {

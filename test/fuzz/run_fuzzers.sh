@@ -5,7 +5,8 @@
 # (VIPER_FUZZ_SEEDS) and the inputs that once failed (test/fuzz/regressions/TARGET), with the
 # dictionary test/fuzz/dict/TARGET.dict where there is one.
 # Usage: test/fuzz/run_fuzzers.sh [--runs N] [--work DIR] [SECONDS] [TARGET...]
-#   TARGET: a name of test/fuzz/CMakeLists.txt's viper_fuzzer() lines (default: all), e.g. npy.
+#   TARGET: a name of test/fuzz/CMakeLists.txt's viper_fuzzer() lines (default: all), e.g. npy;
+#   SECONDS may be left out before a TARGET.
 # Prints one line per target, "fuzz TARGET: PASSED (N runs in S s)" or "fuzz TARGET: FAILED (...)";
 # exits 0 if all passed, 1 if one failed, 2 if the targets could not be built. A failed target's
 # log and crashing input stay in the work folder (default: a new folder under /tmp).
@@ -20,8 +21,8 @@ while [ $# -gt 0 ]; do
     *) break ;;
   esac
 done
-seconds=${1:-10}
-[ $# -gt 0 ] && shift
+seconds=10
+if [[ "${1:-}" =~ ^[0-9]+$ ]]; then seconds=$1; shift; fi
 all=$(sed -n 's/^viper_fuzzer(\([a-z_]*\) .*/\1/p' "$repo/test/fuzz/CMakeLists.txt")
 targets=${*:-$all}
 for t in $targets; do

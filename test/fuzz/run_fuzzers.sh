@@ -9,7 +9,8 @@
 #   SECONDS may be left out before a TARGET.
 # Prints one line per target, "fuzz TARGET: PASSED (N runs in S s)" or "fuzz TARGET: FAILED (...)";
 # exits 0 if all passed, 1 if one failed, 2 if the targets could not be built. A failed target's
-# log and crashing input stay in the work folder (default: a new folder under /tmp).
+# log and crashing input stay in the work folder (default: a new folder under /tmp, removed when
+# every target passed).
 set -u
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 runs=""
@@ -28,7 +29,8 @@ targets=${*:-$all}
 for t in $targets; do
   if ! grep -qx "$t" <<< "$all"; then echo "fuzz: unknown target '$t' (targets: $(echo $all))"; exit 2; fi
 done
-work=${work:-$(mktemp -d /tmp/viper_fuzz.XXXXXX)}
+own_work=0
+[ -z "$work" ] && { work=$(mktemp -d /tmp/viper_fuzz.XXXXXX); own_work=1; }
 mkdir -p "$work"
 build="$repo/build/fuzz"
 
@@ -81,4 +83,6 @@ for t in $targets; do
     failed=1
   fi
 done
+# A folder of our own is removed when every target passed; a failure's log and input stay.
+[ $failed -eq 0 ] && [ $own_work -eq 1 ] && rm -rf "$work"
 exit $failed

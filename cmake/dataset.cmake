@@ -3,10 +3,7 @@
 # viper_dataset: ROS-free readers and writers of dataset files (VIPER's release layout, its .npz
 # flow, Middlebury .flo, its PNG/JPEG images and CSV files), and the export_flow command that fills
 # that layout from a bag.
-pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
-pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
-pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)  # the PNG and npz writers' deflate
-pkg_check_modules(LIBCRYPTO REQUIRED IMPORTED_TARGET libcrypto)  # SHA-256 of the sequence markers (OpenSSL)
+# (Their libraries are found in cmake/core_dependencies.cmake.)
 
 file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/dataset/*.cpp)
 # The statistics need the class table (viper_core) and the report's plots (viper_report): a library
@@ -24,7 +21,7 @@ target_compile_options(viper_dataset PRIVATE -O3 -fno-trapping-math)
 target_include_directories(viper_dataset SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
 find_package(Threads REQUIRED)  # WriteQueue's workers
 target_link_libraries(viper_dataset PUBLIC Threads::Threads)
-target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBDEFLATE PkgConfig::LIBPNG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
+target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBDEFLATE PkgConfig::LIBPNG PkgConfig::LIBJPEG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
 set_target_properties(viper_dataset PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 install(TARGETS viper_dataset

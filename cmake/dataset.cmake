@@ -3,15 +3,14 @@
 # viper_dataset: ROS-free readers and writers of dataset files (VIPER's release layout, its .npz
 # flow, Middlebury .flo, its PNG/JPEG images and CSV files), and the export_flow command that fills
 # that layout from a bag.
-pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
-pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
-pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)  # the PNG and npz writers' deflate
-pkg_check_modules(LIBCRYPTO REQUIRED IMPORTED_TARGET libcrypto)  # SHA-256 of the sequence markers (OpenSSL)
+# (Their libraries are found in cmake/core_dependencies.cmake.)
 
 file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/dataset/*.cpp)
 # The statistics need the class table (viper_core) and the report's plots (viper_report): a library
 # of their own, below.
 list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(dataset_statistics|statistics_[a-z]+)\\.cpp$")
+# The submission files use Eigen and viper_core (poses in KITTI axes): a library of their own, below.
+list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(viper_submission|submission_poses)\\.cpp$")
 add_library(viper_dataset ${VIPER_DATASET_SOURCES})
 target_include_directories(viper_dataset PUBLIC ${PROJECT_SOURCE_DIR}/include)
 # The float16 loops vectorise only at -O3, and only when GCC 12 may execute the float operations
@@ -22,7 +21,7 @@ target_compile_options(viper_dataset PRIVATE -O3 -fno-trapping-math)
 target_include_directories(viper_dataset SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
 find_package(Threads REQUIRED)  # WriteQueue's workers
 target_link_libraries(viper_dataset PUBLIC Threads::Threads)
-target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBDEFLATE PkgConfig::LIBPNG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
+target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBZIP PkgConfig::LIBDEFLATE PkgConfig::LIBPNG PkgConfig::LIBJPEG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
 set_target_properties(viper_dataset PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 install(TARGETS viper_dataset
@@ -60,6 +59,26 @@ install(TARGETS viper_dataset_statistics dataset_statistics
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
+# viper_submission: VIPER's submission files (ROS-free; the poses in KITTI axes take the optical frame
+# from viper_core), and the viper_submission command that writes them from a bag
+# of predictions (docs/evaluate.md, "Submission files").
+add_library(viper_submission src/dataset/viper_submission.cpp src/dataset/submission_poses.cpp)
+target_include_directories(viper_submission PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_link_libraries(viper_submission PUBLIC viper_dataset viper_core)
+set_target_properties(viper_submission PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+add_executable(viper_submission_tool tools/viper_submission.cpp)
+set_target_properties(viper_submission_tool PROPERTIES OUTPUT_NAME viper_submission
+  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+target_include_directories(viper_submission_tool SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+  ${class_loader_INCLUDE_DIRS})
+target_link_libraries(viper_submission_tool viper_submission viper_evaluate_ros viper_conversions ${catkin_LIBRARIES})
+add_dependencies(viper_submission_tool viper_generate_messages_cpp)
+install(TARGETS viper_submission viper_submission_tool
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
 if(TARGET bench_flow_files)
   target_link_libraries(bench_flow_files viper_dataset)
 endif()
@@ -79,6 +98,19 @@ if(CATKIN_ENABLE_TESTING)
         VIPER_EXPORT_FLOW="$<TARGET_FILE:export_flow>")
     endif()
   endforeach()
+  # test/dataset/test_viper_submission.cpp: generate's ground truth of the test bag, a bag of predictions
+  # made from it, the viper_submission command on it, its files read back.
+  if(TARGET test_viper_submission)
+    target_include_directories(test_viper_submission SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+      ${class_loader_INCLUDE_DIRS})
+    target_link_libraries(test_viper_submission viper_submission viper_conversions ${catkin_LIBRARIES})
+    target_compile_definitions(test_viper_submission PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+      VIPER_GENERATE="$<TARGET_FILE:generate>" VIPER_SUBMISSION="$<TARGET_FILE:viper_submission_tool>")
+    add_dependencies(test_viper_submission viper_submission_tool generate viper_generate_messages_cpp)
+  endif()
+  if(TARGET test_viper_submission_files)
+    target_link_libraries(test_viper_submission_files viper_submission)
+  endif()
   if(TARGET test_export_flow)
     target_include_directories(test_export_flow SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
       ${class_loader_INCLUDE_DIRS})

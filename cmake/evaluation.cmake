@@ -54,6 +54,15 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/evaluate_corrupted.test DEPENDENCIES ${_evaluate_test_deps})
   add_rostest(test/ros/evaluate_bad_input.test DEPENDENCIES evaluate_bad_input_tester evaluate)
   roslaunch_add_file_check(launch/evaluate.launch bag:=raw.bag label_table:=labels.yaml)
+
+  # Parity with cityscapesScripts (docs/evaluate.md): write_parity_cases writes the inputs (committed
+  # under test/evaluation/data/cityscapes_parity), scripts/cityscapes_parity.py runs the reference
+  # on them into reference.csv, test_cityscapes_parity scores them here and compares.
+  add_executable(write_parity_cases test/evaluation/write_parity_cases.cpp)
+  target_link_libraries(write_parity_cases viper_dataset)
+  set_target_properties(write_parity_cases PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  catkin_add_gtest(test_cityscapes_parity test/evaluation/test_cityscapes_parity.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_link_libraries(test_cityscapes_parity viper_dataset viper_core gtest_main)
 endif()
 
 # Reference baselines for the benchmark (docs/baselines.md): flow_baseline (OpenCV dense optical

@@ -1,6 +1,7 @@
 #include "viper/dataset/viper_images.h"
 
 #include "deflate_writers.h"
+#include "jpeg_size.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -22,8 +23,18 @@
 namespace viper::dataset {
 namespace {
 
-// Largest side accepted from a file header: a damaged header must not make us allocate terabytes.
+// Largest side and size accepted from a file header: a damaged header must not make us allocate
+// gigabytes (a 791-byte JPEG declaring 30000 x 30000 pixels asked for 2.7 GB before this limit).
 constexpr uint32_t kMaxSide = 32768;
+constexpr uint64_t kMaxPixels = uint64_t(1) << 27;  // e.g. 16384 x 8192; VIPER's frames have 2^21
+
+// Empty if an image of this size may be read, else why not.
+std::string sizeProblem(uint64_t width, uint64_t height) {
+  if (width == 0 || height == 0 || width > kMaxSide || height > kMaxSide || width * height > kMaxPixels)
+    return "declares " + std::to_string(width) + "x" + std::to_string(height) + " pixels (at most " +
+           std::to_string(kMaxSide) + " a side and " + std::to_string(kMaxPixels) + " in all; damaged header?)";
+  return {};
+}
 
 std::vector<uint8_t> readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -107,6 +118,11 @@ Image8 decodePng(const std::string& path, const std::vector<uint8_t>& bytes, Png
                            : color == PNG_COLOR_TYPE_PALETTE    ? "palette"
                            : color == PNG_COLOR_TYPE_RGB        ? "RGB"
                                                                 : "RGBA";
+  const std::string size_problem = sizeProblem(width, height);
+  if (!size_problem.empty()) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw std::runtime_error(path + ": PNG " + size_problem);
+  }
   uint32_t channels = 3;
   switch (kind) {
     case PngKind::kClassIds:
@@ -179,6 +195,14 @@ Image8 decodeJpeg(const std::string& path, const std::vector<uint8_t>& bytes) {
   for (size_t i = bytes.size() - tail; i + 1 < bytes.size(); ++i)
     if (bytes[i] == 0xFF && bytes[i + 1] == 0xD9) has_end = true;
   if (!has_end) throw std::runtime_error(path + ": truncated JPEG (no end-of-image marker)");
+  JpegSize size;
+  try {
+    size = readJpegSize(bytes.data(), bytes.size());
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path + ": corrupt JPEG: " + e.what());
+  }
+  const std::string size_problem = sizeProblem(size.width, size.height);
+  if (!size_problem.empty()) throw std::runtime_error(path + ": JPEG " + size_problem);
   cv::Mat bgr;
   try {
     bgr = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<uint8_t*>(bytes.data())),

@@ -19,6 +19,33 @@ bool isOutlier(double e, float gu, float gv) {
   return e > 3.0 && e > 0.05 * std::hypot(static_cast<double>(gu), static_cast<double>(gv));
 }
 
+// WaucMode::kSampled: the first threshold i/20 px (i = 1..100) that an error is within, as i - 1;
+// 100 for none. Exact at the thresholds (e <= i / 20.0, as numpy compares), not only to rounding.
+int sampledBin(double e) {
+  if (!(e <= 5.0)) return 100;
+  int i = std::max(1, static_cast<int>(std::ceil(e * 20.0)));
+  if (i > 1 && e <= (i - 1) / 20.0) --i;  // e * 20 rounded up past a threshold e is within
+  else if (!(e <= i / 20.0)) ++i;         // or down below one it is not
+  return i - 1;
+}
+
+// WaucMode::kSampled's histograms (`all`: every pixel, `masked`: where the mask is non-zero; either
+// may be null), in a pass of their own and out of line, so that the main loop, the default, pays
+// nothing for them. An invalid prediction is within no threshold: it adds to no bin. The endpoint
+// error as the main loop computes it.
+[[gnu::noinline]] void addSampled(uint64_t* all, uint64_t* masked, const float* gt, const float* pred,
+                                  const uint8_t* mask, size_t n) {
+  for (size_t i = 0; i < n; ++i) {
+    const float* g = gt + 2 * i;
+    const float* p = pred + 2 * i;
+    if (!std::isfinite(g[0]) || !std::isfinite(g[1]) || !std::isfinite(p[0]) || !std::isfinite(p[1])) continue;
+    const double du = static_cast<double>(p[0]) - g[0], dv = static_cast<double>(p[1]) - g[1];
+    const int bin = sampledBin(std::sqrt(du * du + dv * dv));
+    if (all != nullptr) ++all[bin];
+    if (masked != nullptr && (mask == nullptr || mask[i] != 0)) ++masked[bin];
+  }
+}
+
 // An accumulator's counters in locals for the pixel loop (the member sums would be reloaded after
 // every histogram store). The sums continue from the accumulator's, in pixel order, so that the
 // result is the same to the last bit as adding pixel by pixel.
@@ -81,6 +108,11 @@ void FlowErrorAccumulator::accumulate(FlowErrorAccumulator* unmasked, FlowErrorA
     if (to_a) a.error(e, w * w, bin, outlier);
     if (to_b) b.error(e, w * w, bin, outlier);
   }
+  auto sampled = [](FlowErrorAccumulator* acc) {
+    return acc != nullptr && acc->mode_ == WaucMode::kSampled ? acc->sampled_hist_ : nullptr;
+  };
+  uint64_t *sampled_a = sampled(unmasked), *sampled_b = sampled(masked);
+  if (sampled_a != nullptr || sampled_b != nullptr) addSampled(sampled_a, sampled_b, gt, pred, mask, n);
   auto store = [](const Tally& t, FlowErrorAccumulator* acc) {
     if (acc == nullptr) return;
     acc->scored_ = t.scored, acc->invalid_pred_ = t.invalid, acc->outliers_ = t.outliers;
@@ -91,6 +123,8 @@ void FlowErrorAccumulator::accumulate(FlowErrorAccumulator* unmasked, FlowErrorA
 }
 
 void FlowErrorAccumulator::merge(const FlowErrorAccumulator& o) {
+  if (o.mode_ != mode_) throw std::invalid_argument("FlowErrorAccumulator::merge: the WAUC modes differ");
+  for (int b = 0; b <= kSampledThresholds; ++b) sampled_hist_[b] += o.sampled_hist_[b];
   scored_ += o.scored_;
   invalid_pred_ += o.invalid_pred_;
   outliers_ += o.outliers_;
@@ -100,7 +134,15 @@ void FlowErrorAccumulator::merge(const FlowErrorAccumulator& o) {
 }
 
 double FlowErrorAccumulator::wauc() const {
-  return scored_ == 0 ? std::numeric_limits<double>::quiet_NaN() : 100.0 * wauc_sum_ / scored_;
+  if (scored_ == 0) return std::numeric_limits<double>::quiet_NaN();
+  if (mode_ == WaucMode::kIntegral) return 100.0 * wauc_sum_ / scored_;
+  // A pixel of bin b is within the thresholds b + 1 .. 100, whose weights sum to `tail`.
+  double weighted = 0.0, tail = 0.0;
+  for (int b = kSampledThresholds - 1; b >= 0; --b) {
+    tail += 1.0 - b / 100.0;
+    weighted += tail * static_cast<double>(sampled_hist_[b]);
+  }
+  return 100.0 * weighted / (tail * static_cast<double>(scored_));
 }
 
 double FlowErrorAccumulator::averageEndpointError() const {

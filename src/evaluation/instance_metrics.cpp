@@ -35,7 +35,10 @@ double averagePrecision(const std::vector<double>& scores, const std::vector<uin
     precision.push_back(tp / (tp + fp));
     recall.push_back(tp + fn > 0 ? tp / (tp + fn) : 0.0);
   }
-  precision.push_back(precision.back());
+  // The curve's artificial end point: precision 1 at recall 0 (cityscapesScripts), whatever the
+  // precision at the top score. With every prediction tied at one score, the curve is this point
+  // and the one of that score.
+  precision.push_back(1.0);
   recall.push_back(0.0);
   double ap = 0.0;
   const size_t m = recall.size();
@@ -148,15 +151,21 @@ InstanceOverlaps InstanceApAccumulator::overlaps(const int32_t* gt_ids, const ui
     if (b.mask == nullptr && b.width > 0 && b.height > 0)
       throw std::invalid_argument("InstanceApAccumulator::overlaps: prediction " + std::to_string(p) + " has no mask");
   }
-  uint8_t is_void[256] = {};
-  for (size_t c = 0; c < void_class_.size(); ++c) is_void[c] = void_class_[c];
+  // Cityscapes reads void and groups from the instance-id image: a pixel of an instance is never
+  // void; one without an instance id is void if its class is not scored, and belongs to its
+  // class's group region if that class is an instance class.
+  uint8_t is_void[256] = {}, is_group[256] = {};
+  for (size_t c = 0; c < void_class_.size(); ++c) is_void[c] = void_class_[c], is_group[c] = evaluated_[c];
+  // Key of a pixel's region: its instance id, -1 - class for a group, 0 for none.
+  auto key = [&](int32_t id, uint8_t cls) -> int32_t { return id > 0 ? id : is_group[cls] ? -1 - cls : 0; };
 
   // Ground truth: runs of one (id, class) are votes for the instance's class.
   DenseIds dense;
   std::vector<std::vector<std::pair<int, uint64_t>>> votes;  // per dense index: (class, pixels)
   auto vote = [&](int32_t id, uint8_t cls, uint64_t count) {
-    if (id <= 0 || count == 0) return;
-    const uint32_t d = dense.index(id);
+    const int32_t k = key(id, cls);
+    if (k == 0 || count == 0) return;
+    const uint32_t d = dense.index(k);
     if (d == votes.size()) votes.emplace_back();
     for (auto& v : votes[d])
       if (v.first == cls) {
@@ -191,7 +200,8 @@ InstanceOverlaps InstanceApAccumulator::overlaps(const int32_t* gt_ids, const ui
   out.ground_truth.resize(num_gt);
   for (size_t g = 0; g < num_gt; ++g) {
     InstanceOverlaps::GroundTruth& gt = out.ground_truth[g];
-    gt.id = sorted[g].first;
+    gt.id = std::max(sorted[g].first, 0);
+    gt.group = sorted[g].first < 0;
     uint64_t best = 0;
     for (const auto& v : votes[sorted[g].second]) {
       gt.pixels += v.second;
@@ -202,7 +212,8 @@ InstanceOverlaps InstanceApAccumulator::overlaps(const int32_t* gt_ids, const ui
   // Predictions: pixels per (instance slot, void) in a small table; slot 0 is no instance.
   std::vector<uint64_t> counts(2 * (num_gt + 1), 0);
   auto slot = [&](int32_t id, uint8_t cls) {
-    return 2 * static_cast<size_t>(id > 0 ? dense.index(id) + 1 : 0) + is_void[cls];
+    const int32_t k = key(id, cls);
+    return 2 * static_cast<size_t>(k != 0 ? dense.index(k) + 1 : 0) + (id <= 0 && is_void[cls]);
   };
   out.predictions.resize(predictions.size());
   for (size_t p = 0; p < predictions.size(); ++p) {
@@ -255,7 +266,7 @@ void InstanceApAccumulator::add(const InstanceOverlaps& frame) {
     std::vector<uint32_t> class_gts;
     std::fill(column.begin(), column.end(), -1);
     for (uint32_t g = 0; g < gts.size(); ++g)
-      if (gts[g].class_id == static_cast<int>(c) && !ignored[g]) {
+      if (gts[g].class_id == static_cast<int>(c) && !ignored[g] && !gts[g].group) {
         column[g] = static_cast<int32_t>(class_gts.size());
         class_gts.push_back(g);
       }
@@ -307,9 +318,11 @@ void InstanceApAccumulator::add(const InstanceOverlaps& frame) {
           const InstanceOverlaps::GroundTruth& g = gts[w.first];
           if (g.class_id != static_cast<int>(c)) continue;  // predictions only meet their own class
           if (iou(w.second, g.pixels, pred.pixels) > th) {
-            found = true;  // also when that ground truth is too small to count
+            found = true;  // also when that ground truth is a group or too small to count
             break;
           }
+          // A small group counts twice, as cityscapesScripts does.
+          if (g.group) ignore += w.second;
           if (ignored[w.first]) ignore += w.second;
         }
         if (!found && static_cast<double>(ignore) / pred.pixels <= th) {

@@ -11,8 +11,7 @@ SemanticConfusion::SemanticConfusion(std::vector<bool> evaluated)
     : evaluated_(std::move(evaluated)),
       tp_(evaluated_.size(), 0),
       fp_(evaluated_.size(), 0),
-      fn_(evaluated_.size(), 0),
-      gt_count_(evaluated_.size(), 0) {
+      fn_(evaluated_.size(), 0) {
   if (evaluated_.empty() || evaluated_.size() > 256)
     throw std::invalid_argument("SemanticConfusion: class mask must have 1..256 entries");
 }
@@ -53,7 +52,6 @@ void SemanticConfusion::add(const uint8_t* gt, const uint8_t* pred, size_t n) {
         const uint64_t count = uint64_t{h0[bin]} + h1[bin] + h2[bin] + h3[bin];
         if (count == 0) continue;
         scored_ += count;
-        gt_count_[g] += count;
         if (p == g) {
           tp_[g] += count;
         } else {
@@ -72,7 +70,6 @@ void SemanticConfusion::merge(const SemanticConfusion& other) {
     tp_[c] += other.tp_[c];
     fp_[c] += other.fp_[c];
     fn_[c] += other.fn_[c];
-    gt_count_[c] += other.gt_count_[c];
   }
   scored_ += other.scored_;
 }
@@ -88,8 +85,9 @@ double SemanticConfusion::meanIou() const {
   double sum = 0.0;
   int n = 0;
   for (size_t c = 0; c < evaluated_.size(); ++c) {
-    if (!evaluated_[c] || gt_count_[c] == 0) continue;
-    sum += iou(static_cast<int>(c));
+    const double v = iou(static_cast<int>(c));
+    if (std::isnan(v)) continue;
+    sum += v;
     ++n;
   }
   return n == 0 ? std::numeric_limits<double>::quiet_NaN() : sum / n;

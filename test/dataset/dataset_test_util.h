@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -33,6 +36,18 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+/// Runs `command` in a shell, stdin from /dev/null; returns its exit code (-1 if it did not exit),
+/// its stdout and stderr appended to `out`.
+inline int runCommand(const std::string& command, std::string& out) {
+  FILE* p = popen((command + " 2>&1 < /dev/null").c_str(), "r");
+  if (p == nullptr) return -1;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, p)) > 0) out.append(buffer, n);
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
 
 inline std::vector<uint8_t> readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

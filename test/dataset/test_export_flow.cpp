@@ -25,14 +25,7 @@ using namespace viper::dataset;
 using viper_dataset_test::TempDir;
 
 int runExport(const std::string& args, std::string& out) {
-  const std::string command = std::string(VIPER_EXPORT_FLOW) + " " + args + " 2>&1 < /dev/null";
-  FILE* p = popen(command.c_str(), "r");
-  if (p == nullptr) return -1;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, p)) > 0) out.append(buffer, n);
-  const int status = pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return viper_dataset_test::runCommand(std::string(VIPER_EXPORT_FLOW) + " " + args, out);
 }
 
 // A width x height flow that differs per frame, with NaN pixels, one out-of-range value and

@@ -27,14 +27,7 @@ using viper_dataset_test::writeBytes;
 
 // Runs `args` with the system python and the interop script; returns the exit code, output in `out`.
 int runNumpy(const std::string& args, std::string& out) {
-  const std::string command = std::string(VIPER_PYTHON) + " " + VIPER_NUMPY_INTEROP_SCRIPT + " " + args + " 2>&1";
-  FILE* p = popen(command.c_str(), "r");
-  if (p == nullptr) return -1;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, p)) > 0) out.append(buffer, n);
-  const int status = pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return viper_dataset_test::runCommand(std::string(VIPER_PYTHON) + " " + VIPER_NUMPY_INTEROP_SCRIPT + " " + args, out);
 }
 
 float fromBits(uint32_t x) {

@@ -5,6 +5,7 @@
 
 #include "dataset_test_util.h"
 
+#include <boost/crc.hpp>
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -177,6 +178,31 @@ TEST(ViperImages, DamagedFilesThrowNamingTheFile) {
   bytes = readBytes(dir / "good.jpg");
   writeBytes(dir / "cut.jpg", std::vector<uint8_t>(bytes.begin(), bytes.begin() + bytes.size() / 2));
   expectErrorNaming([&] { readViperColorImage(dir / "cut.jpg"); }, {dir / "cut.jpg", "truncated JPEG"}, "jpeg cut");
+}
+
+// Found while fuzzing readViperColorImage (the viper_images target): a 791-byte JPEG, the
+// package's own with its frame header saying 30000 x 30000, made OpenCV allocate 2.7 GB and
+// decode gray; a PNG header can say the same (with its CRC right). Both are refused from the header.
+TEST(ViperImages, RegressionFuzzHugeDeclaredSizeIsRefusedBeforeDecoding) {
+  TempDir dir;
+  const std::string jpeg = "test/fuzz/regressions/viper_images/jpeg_declares_30000x30000.jpg";
+  ASSERT_LT(readBytes(jpeg).size(), 1000u);
+  expectErrorNaming([&] { readViperColorImage(jpeg); }, {jpeg, "JPEG declares 30000x30000 pixels"}, "jpeg");
+
+  writeViperColorImage(dir / "small.png", makeImage(4, 4, 3, 5));
+  std::vector<uint8_t> png = readBytes(dir / "small.png");
+  // IHDR is the first chunk: length (4), "IHDR" (4), width and height (4 each) at byte 16, CRC at 29.
+  for (int k = 0; k < 4; ++k) png[16 + k] = png[20 + k] = static_cast<uint8_t>(20000u >> (24 - 8 * k));
+  boost::crc_32_type crc;
+  crc.process_bytes(png.data() + 12, 17);
+  for (int k = 0; k < 4; ++k) png[29 + k] = static_cast<uint8_t>(crc.checksum() >> (24 - 8 * k));
+  writeBytes(dir / "huge.png", png);
+  for (auto* read : {&readViperColorImage, &readViperClassImage, &readViperInstanceImage})
+    expectErrorNaming([&] { read(dir / "huge.png"); }, {dir / "huge.png", "PNG declares 20000x20000 pixels"}, "png");
+
+  // The limit refuses nothing VIPER writes: 1920 x 1080 still reads.
+  writeViperColorImage(dir / "hd.jpg", smoothImage(1920, 1080));
+  EXPECT_EQ(readViperColorImage(dir / "hd.jpg").pixels(), 1920u * 1080u);
 }
 
 TEST(ViperImages, RandomDamageEitherThrowsOrGivesTheRightSize) {

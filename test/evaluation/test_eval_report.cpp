@@ -94,11 +94,11 @@ Evaluation example() {
   Evaluation e(classes(), smallOdometry());
   // Semantic, day: road 4 px (3 right, 1 called car), car 3 px (2 right, 1 called tree), one
   // unlabeled px (ignored). Road IoU 3/4, car IoU 2/(2+1+1) = 1/2; tree has only a false positive
-  // (IoU 0, no ground truth: not in the mean); sky is predicted on an ignored pixel only (NaN).
-  // Mean = 62.5.
+  // (IoU 0: in the mean, as in cityscapesScripts); sky is predicted on an ignored pixel only (NaN,
+  // not in the mean). Mean = (75 + 50 + 0) / 3.
   const std::vector<uint8_t> gt_day = {3, 3, 3, 3, 24, 24, 24, 0}, pred_day = {3, 3, 3, 24, 24, 24, 7, 2};
   e.addSemantic("day", gt_day.data(), pred_day.data(), gt_day.size());
-  // Rain: road 2 px, car 2 px, all right: 100. Over all: road 5/(5+1) and car 4/(4+1+1).
+  // Rain: road 2 px, car 2 px, all right: 100. Over all: road 5/(5+1), car 4/(4+1+1) and tree 0.
   const std::vector<uint8_t> gt_rain = {3, 3, 24, 24};
   e.addSemantic("rain", gt_rain.data(), gt_rain.data(), gt_rain.size());
 
@@ -166,11 +166,11 @@ TEST(Evaluation, WorkedExampleNumbers) {
   EXPECT_DOUBLE_EQ(perClass(day, "semantic", "iou_percent")[kCar], 50.0);
   EXPECT_DOUBLE_EQ(perClass(day, "semantic", "iou_percent")[kTree], 0.0);
   EXPECT_TRUE(std::isnan(perClass(day, "semantic", "iou_percent")[2]));
-  EXPECT_DOUBLE_EQ(value(day, "semantic", "mean_iou"), 62.5);
+  EXPECT_DOUBLE_EQ(value(day, "semantic", "mean_iou"), 125.0 / 3);
   EXPECT_DOUBLE_EQ(value(rain, "semantic", "mean_iou"), 100.0);
   EXPECT_DOUBLE_EQ(perClass(all, "semantic", "iou_percent")[kRoad], 100.0 * (5.0 / 6));
   EXPECT_DOUBLE_EQ(perClass(all, "semantic", "iou_percent")[kCar], 100.0 * (4.0 / 6));
-  EXPECT_DOUBLE_EQ(value(all, "semantic", "mean_iou"), (100.0 * (5.0 / 6) + 100.0 * (4.0 / 6)) / 2);
+  EXPECT_DOUBLE_EQ(value(all, "semantic", "mean_iou"), (100.0 * (5.0 / 6) + 100.0 * (4.0 / 6) + 0.0) / 3);
   EXPECT_EQ(count(day, "semantic", "pixels"), 7u);
   EXPECT_EQ(all.scoresOf("semantic").frames, 2u);
 
@@ -231,7 +231,7 @@ TEST(EvalReport, SummaryCsv) {
   ASSERT_EQ(l.size(), 4u) << csv;
   EXPECT_EQ(l[0].substr(0, 49), "condition,semantic_frames,mean_iou,instance_frame");
   const std::string third = csvNumber(100.0 / 3);
-  EXPECT_EQ(l[1], "day,1,62.5,1,75,100,1," + csvNumber(100.0 * 1.25 / 3) + "," + csvNumber(12.5 / 3) + "," + third +
+  EXPECT_EQ(l[1], "day,1," + csvNumber(100.0 * ((0.75 + 0.5 + 0.0) / 3)) + ",1,75,100,1," + csvNumber(100.0 * 1.25 / 3) + "," + csvNumber(12.5 / 3) + "," + third +
                       ",62.5,1.25,0,1,4,62.5,1.25,0,100,0,0,4,3,3," + csvNumber((50.0 + 37.5 + 50.0) / 3) + ",0");
   EXPECT_EQ(l[2], "rain,1,100,1,0,0,0,,,,,,,0,0,,,,,,,2,0.5,0,,");
   EXPECT_EQ(l[3].substr(0, 4), "all,");
@@ -244,7 +244,7 @@ TEST(EvalReport, PerClassCsv) {
   EXPECT_TRUE(hasLine(sem, "day,3,road,75")) << sem;
   EXPECT_TRUE(hasLine(sem, "day,7,tree,0")) << sem;
   EXPECT_TRUE(hasLine(sem, "day,24,car,50")) << sem;
-  EXPECT_TRUE(hasLine(sem, "day,-1,mean,62.5")) << sem;
+  EXPECT_TRUE(hasLine(sem, "day,-1,mean," + csvNumber(100.0 * ((0.75 + 0.5 + 0.0) / 3)))) << sem;
   EXPECT_TRUE(hasLine(sem, "rain,-1,mean,100")) << sem;
   EXPECT_TRUE(hasLine(sem, "all,3,road," + csvNumber(100.0 * (5.0 / 6)))) << sem;
   EXPECT_FALSE(sem.find(",sky,") != std::string::npos) << "sky has nothing to score";
@@ -295,16 +295,16 @@ TEST(EvalReport, Markdown) {
   EXPECT_TRUE(hasLine(md, "| condition | mIoU % | AP % | AP50 % | flow EPE px | flow WAUC % | flow Fl % | "
                           "sparse EPE px | sparse WAUC % | VO translation % | VO rotation deg/m |"))
       << md;
-  EXPECT_TRUE(hasLine(md, "| day | 62.50 | 75.00 | 100.00 | 4.167 | 41.67 | 33.33 | 1.250 | 62.50 | 45.83 | 0.0000 |"))
+  EXPECT_TRUE(hasLine(md, "| day | 41.67 | 75.00 | 100.00 | 4.167 | 41.67 | 33.33 | 1.250 | 62.50 | 45.83 | 0.0000 |"))
       << md;
   EXPECT_TRUE(hasLine(md, "| rain | 100.00 | 0.00 | 0.00 | - | - | - | - | - | - | - |")) << md;
-  EXPECT_TRUE(hasLine(md, "| **all** | 75.00 | 50.00 | 75.00 | 4.167 | 41.67 | 33.33 | 1.250 | 62.50 | 45.83 | 0.0000 |"))
+  EXPECT_TRUE(hasLine(md, "| **all** | 50.00 | 50.00 | 75.00 | 4.167 | 41.67 | 33.33 | 1.250 | 62.50 | 45.83 | 0.0000 |"))
       << md;
   // Per-class IoU: rows for scored classes present anywhere, then the mean.
   EXPECT_TRUE(hasLine(md, "| class | day | rain | all |")) << md;
   EXPECT_TRUE(hasLine(md, "| road | 75.00 | 100.00 | 83.33 |")) << md;
   EXPECT_TRUE(hasLine(md, "| tree | 0.00 | - | 0.00 |")) << md;
-  EXPECT_TRUE(hasLine(md, "| **mean** | **62.50** | **100.00** | **75.00** |")) << md;
+  EXPECT_TRUE(hasLine(md, "| **mean** | **41.67** | **100.00** | **50.00** |")) << md;
   EXPECT_TRUE(hasLine(md, "| bus | 50.00 | - | 50.00 |")) << md;
   EXPECT_TRUE(hasLine(md, "| day | dense | noc | 1 | 2 | 62.50 | 1.250 | 0.00 | 0 |")) << md;
   EXPECT_TRUE(hasLine(md, "| **all** | sparse | all | 1 | 2 | 62.50 | 1.250 | 0.00 | 0 |")) << md;
@@ -317,7 +317,7 @@ TEST(EvalReport, Markdown) {
 TEST(EvalReport, ScoresYaml) {
   const std::string y = scoresYaml(example().summarize());
   EXPECT_EQ(lines(y)[0], "all:");
-  EXPECT_TRUE(hasLine(y, "  semantic: {frames: 2, mean_iou: 75}")) << y;
+  EXPECT_TRUE(hasLine(y, "  semantic: {frames: 2, mean_iou: 50}")) << y;
   EXPECT_TRUE(hasLine(y, "  instances: {frames: 2, ap: 50, ap50: 75}")) << y;
   EXPECT_TRUE(hasLine(y, "  \"rain\":")) << y;
   EXPECT_TRUE(hasLine(y, "    odometry: {poses: 2, path_m: 0.5, segments: 0, translation_percent: .nan, "

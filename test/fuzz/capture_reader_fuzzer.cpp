@@ -1,10 +1,24 @@
 // libFuzzer target: arbitrary bytes as a capture stream and as a bare frame payload.
 // Nothing may crash, leak or read out of bounds; malformed input must end in an exception.
+// Seeds: a valid two-frame stream and a bare payload, both from the package's writer.
+#include "fuzz_support.h"
+#include "seed_frame.h"
 #include "viper/capture/capture_stream.h"
 
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+
+void viper::fuzz::writeSeeds(const std::string& dir) {
+  viper::CaptureHeader header;
+  header.program = "seed";
+  {
+    viper::CaptureWriter writer(dir + "/stream.vcap", header, 1);
+    writer.write(viper::fuzz::seedFrame(0));
+    writer.write(viper::fuzz::seedFrame(1));
+  }
+  writeBytes(dir + "/payload.bin", viper::encodeFramePayload(viper::fuzz::seedFrame(2)));
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // Checksums guard the stream's payloads, so the decoder is also fed the bytes directly.

@@ -33,15 +33,16 @@ struct FlowExpect {
 // Expected semantic scores: confusion over ground-truth pixels of scored classes.
 struct SemanticExpect {
   std::vector<uint64_t> tp = std::vector<uint64_t>(256), fp = std::vector<uint64_t>(256),
-                        fn = std::vector<uint64_t>(256), gt = std::vector<uint64_t>(256);
+                        fn = std::vector<uint64_t>(256);
   void merge(const SemanticExpect& o) {
-    for (int c = 0; c < 256; ++c) tp[c] += o.tp[c], fp[c] += o.fp[c], fn[c] += o.fn[c], gt[c] += o.gt[c];
+    for (int c = 0; c < 256; ++c) tp[c] += o.tp[c], fp[c] += o.fp[c], fn[c] += o.fn[c];
   }
-  double meanIou(size_t classes) const {
+  // Over the scored classes with any TP, FP or FN (cityscapesScripts).
+  double meanIou(const std::vector<bool>& scored) const {
     double sum = 0;
     int k = 0;
-    for (size_t c = 0; c < classes; ++c)
-      if (gt[c] > 0) sum += static_cast<double>(tp[c]) / (tp[c] + fp[c] + fn[c]), ++k;
+    for (size_t c = 0; c < scored.size(); ++c)
+      if (scored[c] && tp[c] + fp[c] + fn[c] > 0) sum += static_cast<double>(tp[c]) / (tp[c] + fp[c] + fn[c]), ++k;
     return 100.0 * sum / k;
   }
 };

@@ -36,7 +36,9 @@ using ClassPalette = std::vector<std::array<uint8_t, 3>>;
 /// Reads a camera image (`img`): a PNG of any color type and bit depth (palette and gray are
 /// expanded, alpha dropped, 16 bits reduced to 8) or a JPEG (.jpg, .jpeg). Returns 3 channels,
 /// RGB. Throws std::runtime_error starting with `path` if the file is missing, is neither PNG nor
-/// JPEG, or is truncated or corrupt (libpng's or OpenCV's reason is included).
+/// JPEG, or is truncated or corrupt (libpng's or OpenCV's reason is included). Every reader here
+/// refuses, from the file's header and before decoding, an image over 32768 pixels a side or 2^27
+/// pixels in all (a damaged header must not make it allocate gigabytes).
 Image8 readViperColorImage(const std::string& path);
 
 /// Writes an RGB image (3 channels) as PNG, or as JPEG when `path` ends in .jpg / .jpeg (lossy).

@@ -30,11 +30,14 @@ struct BoxedInstance {
 /// added to several accumulators (e.g. one per condition and one over all).
 struct InstanceOverlaps {
   /// A ground-truth instance: its id, its majority class (of equal counts the lower class id) and
-  /// its size in pixels.
+  /// its size in pixels. Or a group region (`group`, id 0): every pixel of one instance class
+  /// without an instance id (Cityscapes' "cargroup"), never matched, ignored by its class's
+  /// predictions.
   struct GroundTruth {
     int32_t id = 0;
     int class_id = 0;
     uint64_t pixels = 0;
+    bool group = false;
   };
   /// A prediction: its pixels, those of them on void ground truth, and its intersection with each
   /// ground-truth instance it meets (index into `ground_truth` in ascending order, pixels > 0).
@@ -44,23 +47,26 @@ struct InstanceOverlaps {
     uint64_t pixels = 0, void_pixels = 0;
     std::vector<std::pair<uint32_t, uint64_t>> with_gt;
   };
-  std::vector<GroundTruth> ground_truth;  ///< in ascending id
+  std::vector<GroundTruth> ground_truth;  ///< the groups (in descending class), then instances in ascending id
   std::vector<Prediction> predictions;    ///< in the order given
 };
 
 /// Accumulates matches over frames and computes average precision per class.
 ///
-/// Protocol (Cityscapes `evalInstanceLevelSemanticLabeling`): a prediction matches a ground-truth
-/// instance of its class when their IoU exceeds the threshold; of several matches of one ground
-/// truth the best-scored is a true positive and the rest are false positives; ground truth under
-/// `min_region_px` pixels is ignored; an unmatched prediction is a false positive unless more than
-/// the threshold's share of it lies on void pixels or ignored ground truth; AP is the step-wise
-/// integral of the precision-recall curve.
+/// Protocol (cityscapesScripts `evalInstanceLevelSemanticLabeling.py`, docs/evaluate.md): a
+/// prediction matches a ground-truth instance of its class when their IoU exceeds the threshold; of
+/// several matches of one ground truth the best-scored is a true positive and the rest are false
+/// positives; ground truth under `min_region_px` pixels and group regions (pixels of an evaluated
+/// class without an instance id) are never matched; a prediction whose IoU with one of them exceeds
+/// the threshold is dropped, and an unmatched prediction is a false positive unless more than the
+/// threshold's share of it lies on void pixels, its class's group or small ground truth; AP is the
+/// step-wise integral of the precision-recall curve closed by the point (recall 0, precision 1).
 class InstanceApAccumulator {
  public:
-  /// `evaluated[c]`: whether class c is scored (ClassTable::instanceEvalMask()).
-  /// `void_class[c]`: whether ground-truth pixels of class c are void (not scored at all,
-  /// e.g. ClassTable's classes with class_eval = 0).
+  /// `evaluated[c]`: whether class c is scored (ClassTable::instanceEvalMask()); its pixels
+  /// without an instance id are its group region.
+  /// `void_class[c]`: whether ground-truth pixels of class c without an instance id (id <= 0) are
+  /// void (ClassTable's classes with class_eval = 0); pixels of an instance are never void.
   InstanceApAccumulator(std::vector<bool> evaluated, std::vector<bool> void_class, int min_region_px = 100);
 
   /// Adds one frame. `gt_instance_ids`: per pixel instance id (0 = none), `gt_class_ids`: per pixel

@@ -4,6 +4,7 @@
 // Adding a metric: docs/design.md ("Adding to it").
 #pragma once
 
+#include "viper/evaluation/flow_metrics.h"
 #include "viper/evaluation/instance_metrics.h"
 #include "viper/ground_truth/class_table.h"
 
@@ -34,6 +35,12 @@ struct EvaluationOptions {
   size_t odometry_step_frames = 10;
   /// Ground-truth instances smaller than this are ignored (Cityscapes: 100 px).
   int min_instance_px = 100;
+  /// Fill the missing vectors of a dense flow prediction before it is scored, as the KITTI devkit
+  /// does (fillMissingFlow); false: a missing vector is an invalid prediction (an outlier).
+  bool flow_fill_missing = false;
+  /// How flow WAUC weighs the inlier curve: its integral (default) or its samples at 100
+  /// thresholds (Spring's reading of VIPER's definition; docs/evaluate.md).
+  WaucMode flow_wauc = WaucMode::kIntegral;
   /// Thresholds (px) at which flow inlier curves are sampled for tables and plots.
   std::vector<double> curve_thresholds_px = defaultCurveThresholds();
   /// 0, 0.05, ..., 5 px.

@@ -23,7 +23,9 @@ class SemanticConfusion {
   /// Intersection over union of class c: TP / (TP + FP + FN). NaN if c is not evaluated or appears
   /// neither in ground truth nor prediction.
   double iou(int c) const;
-  /// Mean of iou(c) over evaluated classes that appear in the ground truth. NaN if there are none.
+  /// Mean of iou(c) over evaluated classes with a value: every class with a true positive, false
+  /// positive or false negative, so a class predicted but absent from the ground truth counts as 0
+  /// (cityscapesScripts `getScoreAverage`). NaN if there are none.
   double meanIou() const;
   /// Ground-truth pixels that were scored.
   uint64_t scoredPixels() const { return scored_; }
@@ -31,7 +33,7 @@ class SemanticConfusion {
 
  private:
   std::vector<bool> evaluated_;
-  std::vector<uint64_t> tp_, fp_, fn_, gt_count_;
+  std::vector<uint64_t> tp_, fp_, fn_;
   uint64_t scored_ = 0;
 };
 

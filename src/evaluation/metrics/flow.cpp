@@ -4,11 +4,13 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace viper {
 namespace {
 
 struct FlowState {
+  explicit FlowState(WaucMode mode) : all(mode), noc(mode) {}
   FlowErrorAccumulator all, noc;
   uint64_t frames = 0, vectors = 0;
 };
@@ -90,7 +92,11 @@ MetricLayout flowLayout(bool sparse, const std::vector<double>& thresholds) {
 class FlowMetric : public Metric {
  public:
   FlowMetric(const MetricContext& c, bool sparse)
-      : thresholds_(c.options.curve_thresholds_px), sparse_(sparse), layout_(flowLayout(sparse, thresholds_)) {}
+      : thresholds_(c.options.curve_thresholds_px),
+        sparse_(sparse),
+        fill_missing_(c.options.flow_fill_missing),
+        wauc_mode_(c.options.flow_wauc),
+        layout_(flowLayout(sparse, thresholds_)) {}
   std::string name() const override { return layout_.key; }
   const MetricLayout& layout() const override { return layout_; }
   MetricInputs inputs() const override { return kGtFlow | (sparse_ ? kPredSparseFlow : kPredFlow); }
@@ -100,11 +106,11 @@ class FlowMetric : public Metric {
   uint64_t add(const EvalFrame& f) override { return sparse_ ? addSparse(f) : addDense(f); }
 
   void summarize(EvaluationSummary& s) const override {
-    static const FlowState kNone;
-    FlowState all;
+    const FlowState none(wauc_mode_);
+    FlowState all(wauc_mode_);
     for (ConditionSummary& out : s.conditions) {
       const auto it = by_condition_.find(out.condition);
-      const FlowState& f = it != by_condition_.end() ? it->second : kNone;
+      const FlowState& f = it != by_condition_.end() ? it->second : none;
       fill(f, out);
       all.all.merge(f.all), all.noc.merge(f.noc), all.frames += f.frames, all.vectors += f.vectors;
     }
@@ -113,9 +119,16 @@ class FlowMetric : public Metric {
 
  private:
   uint64_t addDense(const EvalFrame& f) {
-    FlowState& s = by_condition_[f.condition];
+    FlowState& s = by_condition_.try_emplace(f.condition, wauc_mode_).first->second;
     const uint64_t before = s.all.scoredPixels();
-    FlowErrorAccumulator::addBoth(s.all, s.noc, f.gt_flow, f.pred_flow, f.gt_flow_visible, f.pixels());
+    const float* pred = f.pred_flow;
+    std::vector<float> filled;
+    if (fill_missing_ && pred != nullptr) {
+      filled.assign(pred, pred + 2 * f.pixels());
+      fillMissingFlow(filled.data(), f.width, f.height);
+      pred = filled.data();
+    }
+    FlowErrorAccumulator::addBoth(s.all, s.noc, f.gt_flow, pred, f.gt_flow_visible, f.pixels());
     ++s.frames;
     ++frames_;
     return s.all.scoredPixels() - before;
@@ -136,7 +149,7 @@ class FlowMetric : public Metric {
       pred.push_back(static_cast<float>(v.u)), pred.push_back(static_cast<float>(v.v));
       vis.push_back(f.gt_flow_visible == nullptr ? 1 : f.gt_flow_visible[i]);
     }
-    FlowState& s = by_condition_[f.condition];
+    FlowState& s = by_condition_.try_emplace(f.condition, wauc_mode_).first->second;
     const uint64_t before = s.all.scoredPixels();
     FlowErrorAccumulator::addBoth(s.all, s.noc, gt.data(), pred.data(), vis.data(), vis.size());
     s.vectors += flow.size();
@@ -155,7 +168,8 @@ class FlowMetric : public Metric {
   }
 
   std::vector<double> thresholds_;
-  bool sparse_;
+  bool sparse_, fill_missing_;
+  WaucMode wauc_mode_;
   MetricLayout layout_;
   std::map<std::string, FlowState> by_condition_;
   uint64_t frames_ = 0;

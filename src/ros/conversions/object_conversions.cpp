@@ -4,6 +4,9 @@
 
 #include <Eigen/SVD>
 
+#include <algorithm>
+#include <cstdint>
+#include <limits>
 
 namespace viper {
 
@@ -41,6 +44,12 @@ ObjectArray toObjectArrayMsg(const std::vector<TrackedObject>& objects, const Cl
   return msg;
 }
 
+namespace {
+
+int clampedToInt(uint64_t v) { return static_cast<int>(std::min<uint64_t>(v, std::numeric_limits<int>::max())); }
+
+}  // namespace
+
 std::vector<TrackedObject> fromObjectArrayMsg(const ObjectArray& msg) {
   std::vector<TrackedObject> out;
   out.reserve(msg.objects.size());
@@ -53,9 +62,10 @@ std::vector<TrackedObject> fromObjectArrayMsg(const ObjectArray& msg) {
     o.draws = m.draws;
     o.pixel_count = m.pixel_count;
     if (m.pixel_count > 0) {
-      o.x_min = static_cast<int>(m.box_2d.x_offset), o.y_min = static_cast<int>(m.box_2d.y_offset);
-      o.x_max = o.x_min + static_cast<int>(m.box_2d.width) - 1;
-      o.y_max = o.y_min + static_cast<int>(m.box_2d.height) - 1;
+      // The message's offsets and sizes are unsigned 32-bit: summed in 64 bits and cut at INT_MAX.
+      o.x_min = clampedToInt(m.box_2d.x_offset), o.y_min = clampedToInt(m.box_2d.y_offset);
+      o.x_max = clampedToInt(uint64_t(m.box_2d.x_offset) + m.box_2d.width) - 1;
+      o.y_max = clampedToInt(uint64_t(m.box_2d.y_offset) + m.box_2d.height) - 1;
     }
     o.world = fromPoseMsg(m.world_pose).matrix().cast<float>();
     out.push_back(std::move(t));

@@ -63,6 +63,13 @@ bool Evaluate::start() {
     ROS_ERROR("%s: ~min_instance_px must be >= 0 (got %d); using 100", me.c_str(), options.min_instance_px);
     options.min_instance_px = 100;
   }
+  private_nh_.param("flow_fill_missing", options.flow_fill_missing, false);
+  const std::string wauc = private_nh_.param<std::string>("flow_wauc", "integral");
+  if (wauc == "sampled") {
+    options.flow_wauc = WaucMode::kSampled;
+  } else if (wauc != "integral") {
+    ROS_ERROR("%s: ~flow_wauc must be integral or sampled (got '%s'); using integral", me.c_str(), wauc.c_str());
+  }
   std::vector<double> lengths;
   if (private_nh_.getParam("odometry_segment_lengths_m", lengths)) {
     bool ok = !lengths.empty();

@@ -1,6 +1,12 @@
 #include "viper/ros/conversions/object_conversions.h"
 
+#include <ros/serialization.h>
+
 #include <gtest/gtest.h>
+
+#include <climits>
+#include <fstream>
+#include <iterator>
 
 namespace viper {
 namespace {
@@ -89,6 +95,41 @@ TEST(ObjectConversions, ObjectsRoundTrip) {
     }
     EXPECT_LT((b.world - a.world).cwiseAbs().maxCoeff(), 1e-6f) << b.world;
   }
+}
+
+// A box's corner is its offset + size - 1, summed in 64 bits and cut at INT_MAX.
+void expectBoxOfMessage(const Object& m, const FrameObject& o) {
+  const auto corner = [](uint32_t offset, uint32_t size) { return std::min<int64_t>(int64_t(offset) + size, INT_MAX) - 1; };
+  EXPECT_EQ(o.x_min, std::min<int64_t>(m.box_2d.x_offset, INT_MAX));
+  EXPECT_EQ(o.y_min, std::min<int64_t>(m.box_2d.y_offset, INT_MAX));
+  EXPECT_EQ(o.x_max, corner(m.box_2d.x_offset, m.box_2d.width));
+  EXPECT_EQ(o.y_max, corner(m.box_2d.y_offset, m.box_2d.height));
+}
+
+// Found by the object_messages fuzzer: a 2D box whose offset + size passes INT_MAX overflowed int
+// (undefined behaviour; a box with a negative corner in practice).
+TEST(ObjectConversions, RegressionFuzzBoxBeyondIntMaxIsCut) {
+  std::ifstream in("test/fuzz/regressions/object_messages/box_2d_overflow.bin", std::ios::binary);
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(bytes.empty());
+  ObjectArray msg;
+  ros::serialization::IStream stream(bytes.data(), static_cast<uint32_t>(bytes.size()));
+  ros::serialization::deserialize(stream, msg);
+  ASSERT_FALSE(msg.objects.empty());
+  Object far;
+  far.pixel_count = 1;
+  far.box_2d.x_offset = 0xfffffff0u, far.box_2d.width = 0x20;
+  far.box_2d.y_offset = 5, far.box_2d.height = 0xffffffffu;
+  msg.objects.push_back(far);
+  const std::vector<TrackedObject> objects = fromObjectArrayMsg(msg);
+  ASSERT_EQ(objects.size(), msg.objects.size());
+  for (size_t i = 0; i < objects.size(); ++i) {
+    SCOPED_TRACE("object " + std::to_string(i));
+    if (msg.objects[i].pixel_count > 0) expectBoxOfMessage(msg.objects[i], objects[i].object);
+  }
+  EXPECT_EQ(objects.back().object.x_min, INT_MAX);
+  EXPECT_EQ(objects.back().object.x_max, INT_MAX - 1);
+  EXPECT_EQ(objects.back().object.y_max, INT_MAX - 1);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@ ObjectArray toObjectArrayMsg(const std::vector<TrackedObject>& objects, const Cl
                              const std_msgs::Header& header);
 /// Back to the objects: track id, class (is_thing = a track id above 0), draws, pixel count, 2D
 /// box and the world matrix of `world_pose` (a rigid transform: the message keeps no scale).
+/// Box corners beyond INT_MAX (offset + size of the unsigned message box) are cut at INT_MAX.
 /// Resource keys and 3D boxes are not in the message and stay empty.
 std::vector<TrackedObject> fromObjectArrayMsg(const ObjectArray& msg);
 

@@ -1,0 +1,13 @@
+# The libraries the ROS-free libraries (viper_core, viper_dataset) build on, found once for the
+# catkin build (CMakeLists.txt) and for the fuzz targets' own clang build (test/fuzz/CMakeLists.txt).
+find_package(Eigen3 REQUIRED)
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
+pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
+pkg_check_modules(YAMLCPP REQUIRED IMPORTED_TARGET yaml-cpp)
+pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
+pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
+pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)  # the PNG and npz writers' deflate
+pkg_check_modules(LIBJPEG REQUIRED IMPORTED_TARGET libjpeg)  # a JPEG's size before OpenCV decodes it
+pkg_check_modules(LIBCRYPTO REQUIRED IMPORTED_TARGET libcrypto)  # SHA-256 of the sequence markers (OpenSSL)

@@ -171,8 +171,11 @@ Image8 decodePng(const std::string& path, const std::vector<uint8_t>& bytes, Png
   return std::move(ctx.image);
 }
 
+// Label images (class ids, instances) deflate one level higher: libdeflate's level 1 is slower
+// than its level 2 on their long runs and writes more (an instance image of the world at 1920x1080:
+// 15.5 against 9.6 ms, 21.4 against 19.6 KB), while camera images are the other way round.
 void encodePng(const std::string& path, const Image8& image, detail::PngColor color, const ClassPalette* palette,
-               const ImageWriteOptions& options) {
+               const ImageWriteOptions& options, bool labels) {
   if (options.png_compression_level < 0 || options.png_compression_level > 9)
     throw std::invalid_argument("PNG compression level must be 0..9, got " +
                                 std::to_string(options.png_compression_level));
@@ -181,8 +184,9 @@ void encodePng(const std::string& path, const Image8& image, detail::PngColor co
     full.assign(256, {{0, 0, 0}});
     std::copy_n(palette->begin(), std::min<size_t>(256, palette->size()), full.begin());
   }
+  const int level = options.png_compression_level;
   detail::writeFileAtomically(path, detail::pngBytes(image.data.data(), image.width, image.height, color, full,
-                                                     options.png_compression_level),
+                                                     labels && level > 0 ? level + 1 : level),
                               "PNG");
 }
 
@@ -244,7 +248,7 @@ Image8 readViperColorImage(const std::string& path) {
 void writeViperColorImage(const std::string& path, const Image8& rgb, const ImageWriteOptions& options) {
   checkImage(rgb, 3, "writeViperColorImage");
   if (isJpegPath(path)) encodeJpeg(path, rgb, options.jpeg_quality);
-  else encodePng(path, rgb, detail::PngColor::kRgb, nullptr, options);
+  else encodePng(path, rgb, detail::PngColor::kRgb, nullptr, options, false);
 }
 
 Image8 readViperClassImage(const std::string& path) {
@@ -257,8 +261,8 @@ Image8 readViperClassImage(const std::string& path) {
 void writeViperClassImage(const std::string& path, const Image8& class_ids, const ClassPalette& palette,
                           const ImageWriteOptions& options) {
   checkImage(class_ids, 1, "writeViperClassImage");
-  if (palette.empty()) encodePng(path, class_ids, detail::PngColor::kGray, nullptr, options);
-  else encodePng(path, class_ids, detail::PngColor::kPalette, &palette, options);
+  if (palette.empty()) encodePng(path, class_ids, detail::PngColor::kGray, nullptr, options, true);
+  else encodePng(path, class_ids, detail::PngColor::kPalette, &palette, options, true);
 }
 
 Image8 readViperInstanceImage(const std::string& path) {
@@ -270,7 +274,7 @@ Image8 readViperInstanceImage(const std::string& path) {
 
 void writeViperInstanceImage(const std::string& path, const Image8& instances, const ImageWriteOptions& options) {
   checkImage(instances, 3, "writeViperInstanceImage");
-  encodePng(path, instances, detail::PngColor::kRgb, nullptr, options);
+  encodePng(path, instances, detail::PngColor::kRgb, nullptr, options, true);
 }
 
 std::vector<int32_t> viperInstanceIds(const Image8& instances) {

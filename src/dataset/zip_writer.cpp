@@ -3,6 +3,7 @@
 #include <libdeflate.h>
 
 #include <limits>
+#include <map>
 #include <memory>
 #include <stdexcept>
 
@@ -45,9 +46,16 @@ void commonFields(std::vector<uint8_t>& out, const Written& w, const std::string
 
 std::vector<uint8_t> zipBytes(const std::vector<ZipEntry>& entries, int level) {
   if (entries.size() > 0xffff) throw std::invalid_argument("more than 65535 zip entries need zip64");
-  std::unique_ptr<libdeflate_compressor, decltype(&libdeflate_free_compressor)> compressor(
-      level > 0 ? libdeflate_alloc_compressor(level) : nullptr, libdeflate_free_compressor);
-  if (level > 0 && !compressor) throw std::runtime_error("libdeflate could not allocate a compressor");
+  // This thread's compressor tables and deflate buffer, kept: fresh megabytes a file cost page faults.
+  thread_local std::map<int, std::unique_ptr<libdeflate_compressor, decltype(&libdeflate_free_compressor)>> compressors;
+  thread_local std::vector<uint8_t> data;
+  libdeflate_compressor* compressor = nullptr;
+  if (level > 0) {
+    auto& c = compressors.try_emplace(level, nullptr, libdeflate_free_compressor).first->second;
+    if (!c) c.reset(libdeflate_alloc_compressor(level));
+    if (!c) throw std::runtime_error("libdeflate could not allocate a compressor");
+    compressor = c.get();
+  }
   std::vector<uint8_t> out;
   std::vector<Written> written;
   for (const ZipEntry& e : entries) {
@@ -57,20 +65,21 @@ std::vector<uint8_t> zipBytes(const std::vector<ZipEntry>& entries, int level) {
     w.crc = libdeflate_crc32(0, e.bytes.data(), e.bytes.size());
     w.size = static_cast<uint32_t>(e.bytes.size());
     w.method = level > 0 ? 8 : 0;
-    std::vector<uint8_t> data;
+    const uint8_t* payload = e.bytes.data();
+    size_t payload_size = e.bytes.size();
     if (level > 0) {
-      data.resize(libdeflate_deflate_compress_bound(compressor.get(), e.bytes.size()));
-      data.resize(libdeflate_deflate_compress(compressor.get(), e.bytes.data(), e.bytes.size(), data.data(), data.size()));
-      if (data.empty()) throw std::runtime_error("libdeflate could not compress zip entry '" + e.name + "'");
+      data.resize(libdeflate_deflate_compress_bound(compressor, e.bytes.size()));
+      payload_size = libdeflate_deflate_compress(compressor, e.bytes.data(), e.bytes.size(), data.data(), data.size());
+      if (payload_size == 0) throw std::runtime_error("libdeflate could not compress zip entry '" + e.name + "'");
+      payload = data.data();
     }
-    const std::vector<uint8_t>& payload = level > 0 ? data : e.bytes;
-    if (out.size() > kMax32 || payload.size() > kMax32) throw std::invalid_argument("zip archive beyond 4 GiB needs zip64");
-    w.compressed = static_cast<uint32_t>(payload.size());
+    if (out.size() > kMax32 || payload_size > kMax32) throw std::invalid_argument("zip archive beyond 4 GiB needs zip64");
+    w.compressed = static_cast<uint32_t>(payload_size);
     w.offset = static_cast<uint32_t>(out.size());
     put32(out, 0x04034b50);
     commonFields(out, w, e.name);
     out.insert(out.end(), e.name.begin(), e.name.end());
-    out.insert(out.end(), payload.begin(), payload.end());
+    out.insert(out.end(), payload, payload + payload_size);
     written.push_back(w);
   }
   if (out.size() > kMax32) throw std::invalid_argument("zip archive beyond 4 GiB needs zip64");

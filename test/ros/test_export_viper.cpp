@@ -2,6 +2,7 @@
 // reported and skipped while the rest is exported (exit 1), a clean bag exports completely (exit
 // 0), camera rows come from odometry + camera_info without a draw list, and a topic of the wrong
 // type, a missing bag or bad options are errors (exit 2).
+#include "viper/dataset/viper_images.h"
 #include "viper/dataset/viper_layout.h"
 #include "viper/dataset/viper_sequence.h"
 #include "viper/ros/conversions/image_conversions.h"
@@ -17,6 +18,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <random>
 
 namespace {
 
@@ -28,9 +30,12 @@ struct CommandResult {
   std::string output;
 };
 
-CommandResult exportViper(const std::string& args) {
+// With `limit_kib`, under a file-size limit (SIGXFSZ ignored: a write fails as on a full disk).
+CommandResult exportViper(const std::string& args, int limit_kib = 0) {
   CommandResult r;
-  FILE* p = popen((std::string(VIPER_EXPORT_VIPER) + " " + args + " 2>&1").c_str(), "r");
+  std::string command = std::string(VIPER_EXPORT_VIPER) + " " + args;
+  if (limit_kib > 0) command = "sh -c \"trap '' XFSZ; ulimit -f " + std::to_string(limit_kib) + "; exec " + command + "\"";
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
   char buffer[4096];
   size_t n;
   while ((n = fread(buffer, 1, sizeof buffer, p)) > 0) r.output.append(buffer, n);
@@ -138,6 +143,33 @@ TEST_F(ExportViper, ErrorsEndWithExitCode2) {
   r = exportViper("--bag " + path("wrong.bag") + " --out " + path("out") + " --topic color");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("--topic takes ROLE=TOPIC"), std::string::npos) << r.output;
+}
+
+// A full disk: the frames before the one that does not fit are written whole, the error names the
+// file, the exit code is 2.
+TEST_F(ExportViper, FullDiskNamesTheFileAndKeepsTheFramesBefore) {
+  {
+    rosbag::Bag bag(path("gt.bag"), rosbag::bagmode::Write);
+    const uint32_t w = 320, h = 240;
+    std::mt19937 rng(7);
+    for (int f = 0; f < 4; ++f) {
+      // Flat frames deflate to a few hundred bytes; noise does not fit under the limit.
+      std::vector<uint8_t> rgb(w * h * 3, 90);
+      if (f == 2)
+        for (uint8_t& v : rgb) v = static_cast<uint8_t>(rng());
+      bag.write("/capture/color/image_raw", header(f).stamp, imageMsg(header(f), w, h, "rgb8", 3, rgb.data()));
+    }
+  }
+  const CommandResult r = exportViper("--bag " + path("gt.bag") + " --out " + path("out") + " --camera none", 100);
+  EXPECT_EQ(r.code, 2) << r.output;
+  const std::string failed = path("out") + "/train/img/001/001_00002.png";
+  EXPECT_NE(r.output.find(failed + ": cannot write PNG: File too large"), std::string::npos) << r.output;
+  for (int f = 0; f < 2; ++f) {
+    const dataset::Image8 img = dataset::readViperColorImage(path("out") + "/train/img/001/001_0000" + std::to_string(f) + ".png");
+    EXPECT_EQ(img.width, 320u);
+    EXPECT_EQ(img.data[0], 90);
+  }
+  EXPECT_FALSE(fs::exists(failed)) << "no half-written file under the final name";
 }
 
 }  // namespace

@@ -86,7 +86,11 @@ std::string parse(int argc, char** argv, Options& o) {
       else if (arg == "--frames") s.max_frames = std::stoull(v);
       else if (arg == "--img-format") s.layout.image_extension = v;
       else if (arg == "--jpeg-quality") s.layout.images.jpeg_quality = std::stoi(v);
-      else if (arg == "--writer-threads") s.layout.writer_threads = static_cast<unsigned>(std::stoul(v));
+      else if (arg == "--writer-threads") {
+        const int n = std::stoi(v);
+        if (n < 0 || n > 64) return "--writer-threads must be 0..64, got " + v;
+        s.layout.writer_threads = static_cast<unsigned>(n);
+      }
       else if (arg == "--png-level") s.layout.images.png_compression_level = std::stoi(v);
       else if (arg == "--deflate-level") s.layout.zip.deflate_level = std::stoi(v);
       else if (arg == "--class-table") o.class_table = v;

@@ -110,15 +110,10 @@ const char* statisticName(Statistic s) {
   return "?";
 }
 
-const char* statisticTitle(Statistic s) {
-  switch (s) {
-    case Statistic::kClassesPerImage: return "classes per image";
-    case Statistic::kInstancesPerImage: return "instances per image";
-    case Statistic::kInstancesPerClass: return "instances per class";
-    case Statistic::kVehiclesByDistance: return "vehicles by distance";
-    case Statistic::kPixelsPerClass: return "pixels per class";
-  }
-  return "?";
+std::string statisticTitle(Statistic s) {
+  std::string title = statisticName(s);
+  std::replace(title.begin(), title.end(), '_', ' ');
+  return title;
 }
 
 bool binsAreClasses(Statistic s) { return s == Statistic::kInstancesPerClass || s == Statistic::kPixelsPerClass; }

@@ -16,6 +16,7 @@ double threadCpuSeconds() {
 }  // namespace
 
 WriteQueue::WriteQueue(unsigned threads, size_t max_pending) : max_pending_(std::max<size_t>(1, max_pending)) {
+  if (threads == 0) throw std::invalid_argument("a write queue needs at least one thread");
   for (unsigned i = 0; i < threads; ++i) workers_.emplace_back(&WriteQueue::work, this);
 }
 
@@ -30,11 +31,6 @@ WriteQueue::~WriteQueue() {
 }
 
 void WriteQueue::submit(Job job) {
-  if (workers_.empty()) {
-    std::string note = job();
-    if (!note.empty()) notes_.push_back(std::move(note));
-    return;
-  }
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [&] { return jobs_.size() < max_pending_ || !error_.empty(); });
   if (!error_.empty()) throw std::runtime_error(error_);

@@ -1,6 +1,6 @@
 // WriteQueue, the writer threads of generate's layout and bag: every job runs, one thread keeps
 // the order, a failed job's error (naming its file) reaches the caller, notes are kept, the queue
-// never holds more than its bound, and without threads a job runs at once.
+// never holds more than its bound; it needs a thread.
 #include "viper/dataset/write_queue.h"
 
 #include <gtest/gtest.h>
@@ -91,16 +91,8 @@ TEST(WriteQueue, SubmitWaitsWhileTheQueueIsFull) {
   q.drain();
 }
 
-TEST(WriteQueue, WithoutThreadsAJobRunsAtOnce) {
-  WriteQueue q(0, 1);
-  bool ran = false;
-  q.submit([&ran] {
-    ran = true;
-    return std::string("note");
-  });
-  EXPECT_TRUE(ran);
-  EXPECT_EQ(q.check(), std::vector<std::string>{"note"});
-  EXPECT_THROW(q.submit([]() -> std::string { throw std::runtime_error("x.png: cannot write"); }), std::runtime_error);
+TEST(WriteQueue, NeedsAThreadAndDefaultsToTheCpus) {
+  EXPECT_THROW(WriteQueue(0, 1), std::invalid_argument);
   EXPECT_GE(WriteQueue::defaultThreads(), 1u);
   EXPECT_LE(WriteQueue::defaultThreads(), 4u);
 }

@@ -34,7 +34,7 @@ enum class Statistic {
 const std::vector<Statistic>& allStatistics();
 /// File-name stem and title: "classes_per_image", ...
 const char* statisticName(Statistic statistic);
-const char* statisticTitle(Statistic statistic);
+std::string statisticTitle(Statistic statistic);  ///< the name with spaces
 /// Whether the statistic's bins are class ids.
 bool binsAreClasses(Statistic statistic);
 

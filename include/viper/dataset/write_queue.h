@@ -2,8 +2,8 @@
 // are independent, and encoding them (deflate) costs more than computing the ground truth. Jobs
 // run in any order on `threads` workers; submit blocks while `max_pending` jobs wait (back-pressure,
 // so memory stays bounded). A job's exception is kept with the file's path and thrown by the next
-// check(), drain() or submit(), so a file that cannot be written is never silently lost. With 0
-// threads every job runs inside submit(), as a plain call would. docs/dataset_generation.md#speed.
+// check(), drain() or submit(), so a file that cannot be written is never silently lost. Callers
+// that want no threads call their job themselves. docs/dataset_generation.md#speed.
 #pragma once
 
 #include <condition_variable>
@@ -22,13 +22,14 @@ class WriteQueue {
   /// A job writes one file; it may return a note (something about the file that is not an error).
   using Job = std::function<std::string()>;
 
+  /// Throws std::invalid_argument for 0 threads.
   WriteQueue(unsigned threads, size_t max_pending);
   /// Waits for every job (their errors are dropped here: call drain() first to see them).
   ~WriteQueue();
   WriteQueue(const WriteQueue&) = delete;
   WriteQueue& operator=(const WriteQueue&) = delete;
 
-  /// Queues a job (runs it at once without threads). Throws the first failed job's error.
+  /// Queues a job. Throws the first failed job's error.
   void submit(Job job);
   /// Throws std::runtime_error with the first failed job's message, if any; returns the notes of
   /// the jobs done since the last call.
@@ -37,7 +38,7 @@ class WriteQueue {
   std::vector<std::string> drain();
 
   unsigned threads() const { return static_cast<unsigned>(workers_.size()); }
-  /// CPU seconds the workers spent in jobs so far (0 without threads: the caller's own time).
+  /// CPU seconds the workers spent in jobs so far.
   double workerCpuSeconds();
 
   /// One worker per CPU of this process's affinity mask (what Slurm or taskset grant), at most

@@ -171,9 +171,9 @@ Image8 decodePng(const std::string& path, const std::vector<uint8_t>& bytes, Png
   return std::move(ctx.image);
 }
 
-// Label images (class ids, instances) deflate one level higher: libdeflate's level 1 is slower
-// than its level 2 on their long runs and writes more (an instance image of the world at 1920x1080:
-// 15.5 against 9.6 ms, 21.4 against 19.6 KB), while camera images are the other way round.
+// Label images (class ids, instances) deflate one level higher: on their long runs libdeflate's
+// level 1 is slower than its level 2 and writes more, while camera images are the other way round
+// (the layout writers' CPU in scripts/measure_generate.sh's stage table fell with this).
 void encodePng(const std::string& path, const Image8& image, detail::PngColor color, const ClassPalette* palette,
                const ImageWriteOptions& options, bool labels) {
   if (options.png_compression_level < 0 || options.png_compression_level > 9)

@@ -79,17 +79,23 @@ sinfo -h -o %T | grep -qE "idle|mixed" || { echo "test_slurm: the node did not c
 echo "== one process"
 "$bin/generate" --plan "$T/tiny.yaml" --out "$T/one" > "$T/one.log" 2>&1
 
-wait_for() {  # job id: until it has left the queue
+wait_for() {  # job id: until none of its tasks is in the queue
+  # The whole queue, one line per array task: a squeue that fails (slurmctld busy on a loaded
+  # machine) is asked again, never taken for an empty queue.
+  local queue
   for _ in $(seq 300); do
-    [ -z "$(squeue -h -j "$1" 2> /dev/null)" ] && return 0
+    if queue=$(squeue -h -r -o %F 2> /dev/null); then
+      grep -qx "$1" <<< "$queue" || return 0
+    fi
     sleep 1
   done
   echo "test_slurm: job $1 did not finish" >&2; exit 1
 }
-same() {  # two dataset folders: the same files, byte for byte
+same() {  # two dataset folders: the same files, byte for byte (the differences printed)
   (cd "$1" && find . -type f | sort | xargs sha256sum) > "$T/a.sums"
   (cd "$2" && find . -type f | sort | xargs sha256sum) > "$T/b.sums"
-  diff -q "$T/a.sums" "$T/b.sums" > /dev/null
+  diff "$T/a.sums" "$T/b.sums" | head -20 >&2
+  cmp -s "$T/a.sums" "$T/b.sums"
 }
 
 echo "== scripts/slurm/submit.sh: an array of 3 tasks, 2 at a time, then the merge job after it"

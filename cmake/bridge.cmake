@@ -17,7 +17,8 @@ add_library(viper_ros
 )
 target_include_directories(viper_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
-target_link_libraries(viper_ros PUBLIC viper_conversions viper_core ${catkin_LIBRARIES})
+# viper_dataset (cmake/dataset.cmake) for its bag file writer (BagWriter, raw bags).
+target_link_libraries(viper_ros PUBLIC viper_conversions viper_core viper_dataset ${catkin_LIBRARIES})
 add_dependencies(viper_ros viper_generate_messages_cpp)
 set_target_properties(viper_ros PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 
@@ -119,5 +120,11 @@ if(CATKIN_ENABLE_TESTING)
       VIPER_TEST_CAPTURE_OK="${PROJECT_BINARY_DIR}/test_data/bridge_ok.vcap"
       VIPER_TEST_CAPTURE_TRUNCATED="${PROJECT_BINARY_DIR}/test_data/bridge_truncated.vcap")
     add_dependencies(test_capture_to_bag capture_to_bag viper_ros_test_captures)
+  endif()
+  # BagWriter's files against rosbag's C++ and Python readers and rosbag reindex.
+  catkin_add_gtest(test_bag_writer test/ros/test_bag_writer.cpp)
+  if(TARGET test_bag_writer)
+    target_include_directories(test_bag_writer SYSTEM PRIVATE ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
+    target_link_libraries(test_bag_writer viper_ros gtest_main)
   endif()
 endif()

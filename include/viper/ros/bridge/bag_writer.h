@@ -1,17 +1,19 @@
 // Writes messages into a bag as a recorder of their publishers would: one connection per topic with
 // the publisher's connection header (latched where the publisher latches), header.seq numbered per
 // topic as a publisher numbers its messages, each message at its header stamp. Used by
-// capture_to_bag (raw bags) and generate (ground-truth bags).
+// capture_to_bag (raw bags) and generate (ground-truth bags). The file is written by
+// dataset::BagFileWriter (each message serialised once, straight into its chunk; chunks that do
+// not compress stored as they are); rosbag reads it as its own.
 #pragma once
+
+#include "viper/dataset/bag_file_writer.h"
 
 #include <ros/message_traits.h>
 #include <ros/serialization.h>
-#include <rosbag/bag.h>
+#include <ros/time.h>
 
-#include <boost/make_shared.hpp>
+#include <boost/shared_ptr.hpp>
 
-#include <cerrno>
-#include <cstring>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -22,22 +24,12 @@ namespace viper {
 class BagWriter {
  public:
   /// Opens (truncates) `path`; `compression` is none, lz4 or bz2; `callerid` names the publisher
-  /// in the connection headers. Throws rosbag::BagException if the file cannot be opened.
+  /// in the connection headers. Throws std::runtime_error naming the file if it cannot be written,
+  /// std::invalid_argument for another compression.
   BagWriter(const std::string& path, const std::string& compression, const std::string& callerid)
-      : bag_(std::make_unique<rosbag::Bag>()), path_(path), callerid_(callerid) {
-    bag_->open(path, rosbag::bagmode::Write);
-    if (compression == "lz4") bag_->setCompression(rosbag::compression::LZ4);
-    else if (compression == "bz2") bag_->setCompression(rosbag::compression::BZ2);
-  }
-  /// Closes the bag if close() was not called. A bag that cannot be closed (a full disk) is left
-  /// as it is: rosbag would throw again from its destructor, which ends the process.
-  ~BagWriter() {
-    try {
-      if (bag_) bag_->close();
-    } catch (const std::exception&) {
-      (void)bag_.release();
-    }
-  }
+      : bag_(path, options(compression)), callerid_(callerid) {}
+  /// Closes the bag if close() was not called (errors are then lost: call close()).
+  ~BagWriter() = default;
   BagWriter(const BagWriter&) = delete;
   BagWriter& operator=(const BagWriter&) = delete;
 
@@ -47,48 +39,43 @@ class BagWriter {
     msg->header.seq = seq_[topic]++;
     writeAt(topic, msg->header.stamp, msg, latched);
   }
-  /// Writes `msg` (any message) on `topic` at `time`, as it is.
+  /// Writes `msg` (any message) on `topic` at `time`, as it is. Throws std::runtime_error naming
+  /// the bag if it cannot be written.
   template <typename M>
   void writeAt(const std::string& topic, const ros::Time& time, const boost::shared_ptr<M>& msg, bool latched = false) {
-    auto& header = headers_[topic];
-    if (!header) {
-      header = boost::make_shared<ros::M_string>();
-      (*header)["callerid"] = callerid_;
-      (*header)["latching"] = latched ? "1" : "0";
-      (*header)["md5sum"] = ros::message_traits::md5sum(*msg);
-      (*header)["message_definition"] = ros::message_traits::definition(*msg);
-      (*header)["topic"] = topic;
-      (*header)["type"] = ros::message_traits::datatype(*msg);
+    auto known = connections_.find(topic);
+    if (known == connections_.end()) {
+      const std::map<std::string, std::string> fields = {
+          {"callerid", callerid_},
+          {"latching", latched ? "1" : "0"},
+          {"md5sum", ros::message_traits::md5sum(*msg)},
+          {"message_definition", ros::message_traits::definition(*msg)},
+          {"topic", topic},
+          {"type", ros::message_traits::datatype(*msg)}};
+      known = connections_.emplace(topic, bag_.addConnection(topic, fields)).first;
     }
-    try {
-      bag_->write(topic, time, msg, header);
-    } catch (const rosbag::BagException& e) {
-      throw std::runtime_error(failure(e));
-    }
+    const uint32_t size = ros::serialization::serializationLength(*msg);
+    uint8_t* out = bag_.beginMessage(known->second, time.sec, time.nsec, size);
+    ros::serialization::OStream stream(out, size);
+    ros::serialization::serialize(stream, *msg);
     ++messages_;
-    bytes_ += ros::serialization::serializationLength(*msg);
+    bytes_ += size;
   }
 
   /// Throws std::runtime_error naming the bag if what is left cannot be written.
-  void close() {
-    try {
-      bag_->close();
-    } catch (const rosbag::BagException& e) {
-      throw std::runtime_error(failure(e));
-    }
-  }
+  void close() { bag_.close(); }
   uint64_t messages() const { return messages_; }
   uint64_t bytes() const { return bytes_; }
 
  private:
-  // rosbag says "Problem writing data to disk"; the system's reason is still in errno.
-  std::string failure(const rosbag::BagException& e) const {
-    return path_ + ": cannot write bag: " + e.what() + " (" + std::strerror(errno) + ")";
+  static dataset::BagFileOptions options(const std::string& compression) {
+    dataset::BagFileOptions o;
+    o.compression = dataset::bagCompressionFromName(compression);
+    return o;
   }
-  std::unique_ptr<rosbag::Bag> bag_;
-  std::string path_;
+  dataset::BagFileWriter bag_;
   std::string callerid_;
-  std::map<std::string, boost::shared_ptr<ros::M_string>> headers_;
+  std::map<std::string, uint32_t> connections_;
   std::map<std::string, uint32_t> seq_;
   uint64_t messages_ = 0;
   uint64_t bytes_ = 0;

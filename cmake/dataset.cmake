@@ -244,6 +244,12 @@ if(CATKIN_ENABLE_TESTING)
   if(TARGET tests)
     add_dependencies(tests world_raw_bag)
   endif()
+  # The capture stage's test of reading frames without their images, on this real capture (its target
+  # world_raw_bag makes it).
+  catkin_add_gtest(test_capture_without_images test/capture/test_capture_without_images.cpp)
+  target_link_libraries(test_capture_without_images viper_core gtest_main PkgConfig::ZSTD)
+  target_compile_definitions(test_capture_without_images PRIVATE VIPER_WORLD_CAPTURE="${VIPER_WORLD_ROUNDTRIP_CAPTURE}")
+  add_dependencies(test_capture_without_images world_raw_bag)
   # (Its own small .test file: the test's name is made of its arguments, and these paths would make it
   # longer than a file name may be.)
   add_rostest(test/ros/viper_layout_roundtrip_world.test

@@ -96,13 +96,22 @@ void CaptureWriter::write(const CaptureFrame& frame) {
   if (w.payload.size() > kMaxRawPayloadBytes)
     throw std::runtime_error("capture stream " + w.path + ": frame " + std::to_string(frame.number) +
                              " payload of " + std::to_string(w.payload.size()) + " bytes exceeds the 1 GiB limit");
-  const size_t bound = ZSTD_compressBound(w.payload.size());
+  // One zstd frame per part of the payload (head, images, rest), so that a reader can skip the images.
+  const PayloadParts parts = payloadParts(frame);
+  size_t bound = 0;
+  for (size_t part : parts.bytes) bound += ZSTD_compressBound(part);
   w.chunk.reserveDiscard(kChunkHeaderSize + bound);
-  const size_t compressed = ZSTD_compressCCtx(w.cctx, w.chunk.data() + kChunkHeaderSize, bound,
-                                              w.payload.data(), w.payload.size(), w.level);
-  if (ZSTD_isError(compressed))
-    throw std::runtime_error("capture stream " + w.path + ": zstd compression of frame " +
-                             std::to_string(frame.number) + " failed: " + ZSTD_getErrorName(compressed));
+  size_t compressed = 0;
+  const char* in = w.payload.data();
+  for (size_t part : parts.bytes) {
+    const size_t n = ZSTD_compressCCtx(w.cctx, w.chunk.data() + kChunkHeaderSize + compressed, bound - compressed,
+                                       in, part, w.level);
+    if (ZSTD_isError(n))
+      throw std::runtime_error("capture stream " + w.path + ": zstd compression of frame " +
+                               std::to_string(frame.number) + " failed: " + ZSTD_getErrorName(n));
+    compressed += n;
+    in += part;
+  }
   w.writeChunk(kChunkFrame, frame.number, compressed, w.payload.size());
   ++w.frames;
 }

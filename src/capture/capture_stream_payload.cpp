@@ -22,11 +22,14 @@ size_t vectorBytes(const std::vector<T>& v) {
   return 8 + v.size() * sizeof(T);
 }
 
-size_t encodedSize(const CaptureFrame& f) {
-  size_t n = 8 + 8 + 4 + f.condition.size() + 4 + 4;
-  n += vectorBytes(f.color_rgb) + vectorBytes(f.depth_window) + vectorBytes(f.draw_ids) +
-       vectorBytes(f.primitive_ids);
-  n += 4;
+size_t headSize(const CaptureFrame& f) { return 8 + 8 + 4 + f.condition.size() + 4 + 4; }
+
+size_t imagesSize(const CaptureFrame& f) {
+  return vectorBytes(f.color_rgb) + vectorBytes(f.depth_window) + vectorBytes(f.draw_ids) + vectorBytes(f.primitive_ids);
+}
+
+size_t restSize(const CaptureFrame& f) {
+  size_t n = 4;
   for (const DrawRecord& d : f.draws)
     n += kDrawFixedSize + d.texture_keys.size() * 8 + d.deformed_clip_xyzw.size() * 4;
   n += 4;  // unrecorded_draws
@@ -35,6 +38,8 @@ size_t encodedSize(const CaptureFrame& f) {
     n += kMeshFixedSize + m.positions_xyz.size() * 4 + m.indices.size() * 4;
   return n;
 }
+
+size_t encodedSize(const CaptureFrame& f) { return headSize(f) + imagesSize(f) + restSize(f); }
 
 class Encoder {
  public:
@@ -160,6 +165,10 @@ void decodeDraw(Decoder& in, DrawRecord& d, uint32_t version) {
 }
 
 }  // namespace
+
+capture_format::PayloadParts capture_format::payloadParts(const CaptureFrame& f) {
+  return PayloadParts{{headSize(f), imagesSize(f), restSize(f)}};
+}
 
 void encodeFramePayload(const CaptureFrame& f, std::string& out) {
   out.resize(encodedSize(f));

@@ -53,7 +53,32 @@ struct CaptureReader::Impl {
   bool readExact(char* dst, size_t n) { return std::fread(dst, 1, n, file) == n; }
 
   void readHeader();
-  Status readChunk(CaptureFrame& frame, bool follow);
+  Status readChunk(CaptureFrame& frame, bool follow, bool images);
+  void decodeParts(uint64_t start, const std::string& which, uint64_t csize, uint64_t rsize, CaptureFrame& frame,
+                   bool images);
+
+  void decompress(uint64_t start, const std::string& which, const char* src, size_t src_size, char* dst,
+                  size_t dst_size) {
+    const size_t got = ZSTD_decompressDCtx(dctx, dst, dst_size, src, src_size);
+    if (ZSTD_isError(got)) fail(start, which + "zstd decompression failed: " + ZSTD_getErrorName(got));
+    if (got != dst_size)
+      fail(start, which + "decompressed to " + std::to_string(got) + " bytes, expected " + std::to_string(dst_size));
+  }
+
+  void decode(uint64_t start, const std::string& which, const char* data, size_t size, CaptureFrame& frame) {
+    try {
+      decodeFramePayload(data, size, frame, header.version);
+    } catch (const std::runtime_error& e) {
+      fail(start, which + e.what());
+    }
+  }
+
+  static void clearImages(CaptureFrame& frame) {
+    frame.color_rgb.clear();
+    frame.depth_window.clear();
+    frame.draw_ids.clear();
+    frame.primitive_ids.clear();
+  }
 };
 
 void CaptureReader::Impl::readHeader() {
@@ -93,7 +118,57 @@ void CaptureReader::Impl::readHeader() {
   offset = bytes.size();
 }
 
-CaptureReader::Status CaptureReader::Impl::readChunk(CaptureFrame& frame, bool follow) {
+// The three zstd frames of a version 3 payload (head, images, rest) are found by their frame headers
+// and block headers alone (ZSTD_findFrameCompressedSize decompresses nothing). Every part is checked
+// the same way whether or not its images are wanted: the checksum of the compressed bytes covers
+// the skipped images, so damage there is still reported at this chunk.
+void CaptureReader::Impl::decodeParts(uint64_t start, const std::string& which, uint64_t csize, uint64_t rsize,
+                                      CaptureFrame& frame, bool images) {
+  const char* src = compressed.data();
+  size_t begin[kPayloadParts], size[kPayloadParts];
+  uint64_t content[kPayloadParts];
+  size_t at = 0;
+  uint64_t total = 0;
+  for (int k = 0; k < kPayloadParts; ++k) {
+    const std::string part = "zstd frame " + std::to_string(k + 1) + " of " + std::to_string(kPayloadParts) + ": ";
+    if (at == csize) fail(start, which + part + "missing");
+    const size_t n = ZSTD_findFrameCompressedSize(src + at, csize - at);
+    if (ZSTD_isError(n)) fail(start, which + part + ZSTD_getErrorName(n));
+    const unsigned long long c = ZSTD_getFrameContentSize(src + at, n);
+    if (c >= ZSTD_CONTENTSIZE_ERROR) fail(start, which + part + "declares no valid size");
+    if (c > rsize - total)
+      fail(start, which + part + "declares " + std::to_string(c) + " bytes, more than the chunk header's " +
+                      std::to_string(rsize) + " in all");
+    begin[k] = at, size[k] = n, content[k] = c;
+    at += n;
+    total += c;
+  }
+  if (at != csize) fail(start, which + std::to_string(csize - at) + " bytes after the payload's zstd frames");
+  if (total != rsize)
+    fail(start, which + "zstd frames declare " + std::to_string(total) + " bytes, chunk header says " +
+                    std::to_string(rsize));
+  if (images) {
+    raw.reserveDiscard(rsize);
+    size_t out = 0;
+    for (int k = 0; k < kPayloadParts; ++k) {
+      decompress(start, which, src + begin[k], size[k], raw.data() + out, content[k]);
+      out += content[k];
+    }
+    decode(start, which, raw.data(), rsize, frame);
+    return;
+  }
+  // The payload without its images: the images part replaced by four empty vectors, decoded by the
+  // same bounds-checked decoder as a whole payload.
+  const size_t head = content[0], rest = content[2];
+  const size_t bytes = head + kEmptyImagesBytes + rest;
+  raw.reserveDiscard(bytes);
+  decompress(start, which, src + begin[0], size[0], raw.data(), head);
+  std::memset(raw.data() + head, 0, kEmptyImagesBytes);
+  decompress(start, which, src + begin[2], size[2], raw.data() + head + kEmptyImagesBytes, rest);
+  decode(start, which, raw.data(), bytes, frame);
+}
+
+CaptureReader::Status CaptureReader::Impl::readChunk(CaptureFrame& frame, bool follow, bool images) {
   const uint64_t start = offset;
   const uint64_t size = fileSize();
   const uint64_t avail = size > start ? size - start : 0;
@@ -142,20 +217,19 @@ CaptureReader::Status CaptureReader::Impl::readChunk(CaptureFrame& frame, bool f
     fail(start, which + "truncated: short read of the payload");
   }
   if (XXH3_64bits(compressed.data(), csize) != getU64(h + 32)) fail(start, which + "payload checksum mismatch");
-  const unsigned long long content = ZSTD_getFrameContentSize(compressed.data(), csize);
-  if (content != rsize)
-    fail(start, which + "zstd frame declares " +
-                    (content >= ZSTD_CONTENTSIZE_ERROR ? std::string("no valid size") : std::to_string(content)) +
-                    ", chunk header says " + std::to_string(rsize) + " bytes");
-  raw.reserveDiscard(rsize);
-  const size_t got = ZSTD_decompressDCtx(dctx, raw.data(), rsize, compressed.data(), csize);
-  if (ZSTD_isError(got)) fail(start, which + "zstd decompression failed: " + ZSTD_getErrorName(got));
-  if (got != rsize)
-    fail(start, which + "decompressed to " + std::to_string(got) + " bytes, expected " + std::to_string(rsize));
-  try {
-    decodeFramePayload(raw.data(), rsize, frame, header.version);
-  } catch (const std::runtime_error& e) {
-    fail(start, which + e.what());
+  if (header.version >= 3) {
+    decodeParts(start, which, csize, rsize, frame, images);
+  } else {
+    // Versions 1 and 2 compress the payload as one zstd frame: the images cannot be skipped.
+    const unsigned long long content = ZSTD_getFrameContentSize(compressed.data(), csize);
+    if (content != rsize)
+      fail(start, which + "zstd frame declares " +
+                      (content >= ZSTD_CONTENTSIZE_ERROR ? std::string("no valid size") : std::to_string(content)) +
+                      ", chunk header says " + std::to_string(rsize) + " bytes");
+    raw.reserveDiscard(rsize);
+    decompress(start, which, compressed.data(), csize, raw.data(), rsize);
+    decode(start, which, raw.data(), rsize, frame);
+    if (!images) clearImages(frame);
   }
   if (frame.number != number)
     fail(start, which + "payload holds frame number " + std::to_string(frame.number));
@@ -187,7 +261,12 @@ const CaptureHeader& CaptureReader::header() const { return impl_->header; }
 
 CaptureReader::Status CaptureReader::next(CaptureFrame& frame, bool follow) {
   if (impl_->ended) return Status::kEnd;
-  return impl_->readChunk(frame, follow);
+  return impl_->readChunk(frame, follow, true);
+}
+
+CaptureReader::Status CaptureReader::nextWithoutImages(CaptureFrame& frame, bool follow) {
+  if (impl_->ended) return Status::kEnd;
+  return impl_->readChunk(frame, follow, false);
 }
 
 uint64_t CaptureReader::offset() const { return impl_->offset; }

@@ -35,7 +35,8 @@ LabelTable labelTableFromOracle(const std::string& capture_path, const std::stri
   CaptureReader reader(capture_path);
   CaptureFrame frame;
   OracleLabeler labeler;
-  while (reader.next(frame) == CaptureReader::Status::kFrame) {
+  // Only the draw lists are voted on: the images, most of a frame's bytes, are not decompressed.
+  while (reader.nextWithoutImages(frame) == CaptureReader::Status::kFrame) {
     const auto it = by_number.find(frame.number);
     if (it != by_number.end()) labeler.add(frame, *it->second);
   }

@@ -144,9 +144,9 @@ TEST(CaptureStream, RejectsNewerVersionBadMagicAndDamagedHeader) {
   const std::string good = test::readBytes(tmp.path);
 
   std::string newer = good;
-  newer[8] = 3;  // version field, little-endian u32 at byte 8
+  newer[8] = 4;  // version field, little-endian u32 at byte 8
   test::writeBytes(tmp.path, newer);
-  expectHeaderError(tmp.path, "version 3 (this reader reads versions 1 to 2)");
+  expectHeaderError(tmp.path, "version 4 (this reader reads versions 1 to 3)");
 
   std::string magic = good;
   magic[0] = 'X';

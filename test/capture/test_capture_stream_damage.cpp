@@ -1,5 +1,6 @@
 // Truncated and corrupted streams: every frame before the damage comes back intact, the damage is
-// reported as a CaptureFormatError naming the file, frame and chunk offset, and nothing crashes.
+// reported as a CaptureFormatError naming the file, frame and chunk offset, and nothing crashes;
+// the same whether frames are read whole or without their images.
 #include "test_capture_stream_frames.h"
 
 #include <cstdint>
@@ -33,18 +34,32 @@ struct SmallStream {
   std::string bytes;
 };
 
+// How a test reads: whole frames (next) or without their images (nextWithoutImages), which must
+// report damage the same way although it does not decompress the images.
+enum class Read { kWhole, kWithoutImages };
+
+CaptureReader::Status readNext(CaptureReader& reader, CaptureFrame& frame, bool follow, Read read) {
+  return read == Read::kWhole ? reader.next(frame, follow) : reader.nextWithoutImages(frame, follow);
+}
+
+CaptureFrame expected(uint64_t number, Read read) {
+  const CaptureFrame frame = makeFrame(number, 16, 12);
+  return read == Read::kWhole ? frame : test::withoutImages(frame);
+}
+
 // Reads `bytes` (in memory, named like the stream's file) until an error; checks that exactly the
 // frames before chunk `damaged` came back intact and that the error names the file and the damaged
 // chunk's offset. Returns the error message.
-std::string readUntilError(const SmallStream& s, std::string bytes, int damaged, bool follow) {
+std::string readUntilError(const SmallStream& s, std::string bytes, int damaged, bool follow,
+                           Read read = Read::kWhole) {
   CaptureReader reader(fmemopen(&bytes[0], bytes.size(), "rb"), s.tmp.path);
   CaptureFrame frame;
   for (int i = 0; i < damaged; ++i) {
-    EXPECT_EQ(reader.next(frame, follow), CaptureReader::Status::kFrame) << "frame " << i;
-    expectFrameEq(frame, makeFrame(uint64_t(i), 16, 12));
+    EXPECT_EQ(readNext(reader, frame, follow, read), CaptureReader::Status::kFrame) << "frame " << i;
+    expectFrameEq(frame, expected(uint64_t(i), read));
   }
   try {
-    const CaptureReader::Status status = reader.next(frame, follow);
+    const CaptureReader::Status status = readNext(reader, frame, follow, read);
     ADD_FAILURE() << "damage in chunk " << damaged << " not reported, status " << int(status);
     return {};
   } catch (const CaptureFormatError& e) {
@@ -69,8 +84,10 @@ TEST(CaptureStreamDamage, TruncationAtEveryByteIsReportedAfterTheIntactFrames) {
     }
     // The chunk that starts at or before the cut and does not fit is the damaged one.
     const int k = s.chunkOf(cut);
-    const std::string what = readUntilError(s, s.bytes.substr(0, cut), k, false);
-    EXPECT_NE(what.find("truncated"), std::string::npos) << what;
+    for (Read read : {Read::kWhole, Read::kWithoutImages}) {
+      const std::string what = readUntilError(s, s.bytes.substr(0, cut), k, false, read);
+      EXPECT_NE(what.find("truncated"), std::string::npos) << what << (read == Read::kWhole ? "" : " (without images)");
+    }
     if (::testing::Test::HasFailure()) return;  // one failing cut tells enough
   }
 }
@@ -114,10 +131,13 @@ TEST(CaptureStreamDamage, EveryFlippedByteIsDetectedInItsChunk) {
         continue;
       }
       const bool follow = at % 2 == 1;  // corruption is an error in follow mode too, never "pending"
-      const std::string what = readUntilError(s, damaged, k, follow);
-      const bool in_frame_payload = k < kFrames && at >= s.chunks[k] + 48;
-      if (in_frame_payload) {
-        EXPECT_NE(what.find("frame " + std::to_string(k) + ":"), std::string::npos) << what;
+      // A flip in the images is found by the payload's checksum when they are not decompressed.
+      for (Read read : {Read::kWhole, Read::kWithoutImages}) {
+        const std::string what = readUntilError(s, damaged, k, follow, read);
+        const bool in_frame_payload = k < kFrames && at >= s.chunks[k] + 48;
+        if (in_frame_payload) {
+          EXPECT_NE(what.find("frame " + std::to_string(k) + ":"), std::string::npos) << what;
+        }
       }
       if (::testing::Test::HasFailure()) return;
     }

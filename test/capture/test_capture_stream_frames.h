@@ -118,6 +118,15 @@ inline void expectFrameEq(const CaptureFrame& a, const CaptureFrame& b) {
   }
 }
 
+/// `frame` as CaptureReader::nextWithoutImages returns it: the four images empty.
+inline CaptureFrame withoutImages(CaptureFrame frame) {
+  frame.color_rgb.clear();
+  frame.depth_window.clear();
+  frame.draw_ids.clear();
+  frame.primitive_ids.clear();
+  return frame;
+}
+
 /// A fresh path under the temp dir, unique per process and tag; removed by the destructor.
 struct TempPath {
   explicit TempPath(const std::string& tag)

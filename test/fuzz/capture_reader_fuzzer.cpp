@@ -36,7 +36,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     viper::CaptureReader reader(file, "fuzz-input");
     for (int i = 0; i < 64; ++i) {
-      const viper::CaptureReader::Status status = reader.next(frame, i % 2 == 1);
+      // Whole frames and frames without images (which skips the images' zstd frame) in turn.
+      const bool follow = i % 2 == 1;
+      const viper::CaptureReader::Status status =
+          i % 4 < 2 ? reader.next(frame, follow) : reader.nextWithoutImages(frame, follow);
       if (status == viper::CaptureReader::Status::kEnd) break;
       if (status == viper::CaptureReader::Status::kFrame) viper::validateFrame(frame);
     }

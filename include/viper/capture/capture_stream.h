@@ -12,9 +12,11 @@
 
 namespace viper {
 
-/// Current stream format version written by CaptureWriter.
-constexpr uint32_t kCaptureFormatVersion = 2;
-/// Oldest format version CaptureReader still reads (version 1 frames have no gaps).
+/// Current stream format version written by CaptureWriter (3: a payload's images in a zstd frame of
+/// their own, which CaptureReader::nextWithoutImages skips).
+constexpr uint32_t kCaptureFormatVersion = 3;
+/// Oldest format version CaptureReader still reads (version 1 frames have no gaps; versions 1 and 2
+/// compress a payload as one zstd frame).
 constexpr uint32_t kOldestReadableCaptureFormatVersion = 1;
 
 /// Thrown for any unreadable part of a stream. what() names the file, the frame number (if known)
@@ -58,7 +60,8 @@ void decodeFramePayload(const char* data, size_t size, CaptureFrame& frame,
 class CaptureWriter {
  public:
   /// Opens (truncates) `path`. Throws std::runtime_error if it cannot be opened.
-  /// `zstd_level` 1 is fast; higher compresses more.
+  /// `zstd_level` 1 is fast; higher compresses more; negative levels are zstd's faster ones
+  /// (larger files).
   CaptureWriter(const std::string& path, const CaptureHeader& header, int zstd_level = 1);
   ~CaptureWriter();  ///< Writes the end marker if close() was not called.
   CaptureWriter(const CaptureWriter&) = delete;
@@ -107,6 +110,11 @@ class CaptureReader {
   /// A corrupted chunk (bad checksum, bad payload) throws CaptureFormatError naming the frame and
   /// offset; every frame before it was already returned intact.
   Status next(CaptureFrame& frame, bool follow = false);
+  /// Like next(), but leaves the four images of `frame` empty (color_rgb, depth_window, draw_ids,
+  /// primitive_ids): for readers that need only the draws and meshes. From version 3 the images'
+  /// bytes are checksummed but not decompressed (most of a frame's cost); from older versions the
+  /// whole payload is decompressed. Damage is reported exactly as by next().
+  Status nextWithoutImages(CaptureFrame& frame, bool follow = false);
 
   /// Byte offset of the next chunk to read.
   uint64_t offset() const;

@@ -25,8 +25,8 @@ void tellLauncher(const std::string& text) {
 
 }  // namespace
 
-FrameSink::FrameSink(const std::string& path, const CaptureHeader& header)
-    : writer_(new CaptureWriter(path, header, 1)), thread_([this] { run(); }) {}
+FrameSink::FrameSink(const std::string& path, const CaptureHeader& header, int zstd_level)
+    : writer_(new CaptureWriter(path, header, zstd_level)), thread_([this] { run(); }) {}
 
 FrameSink::~FrameSink() { close(); }
 

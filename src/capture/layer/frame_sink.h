@@ -20,8 +20,9 @@ namespace capture {
 /// bounds memory and keeps the stream complete).
 class FrameSink {
  public:
-  /// Opens the stream. Throws std::runtime_error if the file cannot be opened.
-  FrameSink(const std::string& path, const CaptureHeader& header);
+  /// Opens the stream, compressed at `zstd_level` (CaptureWriter's). Throws std::runtime_error if
+  /// the file cannot be opened.
+  FrameSink(const std::string& path, const CaptureHeader& header, int zstd_level);
   ~FrameSink();  ///< Drains the queue and closes the stream.
 
   void push(CaptureFrame frame, RawImages raw);

@@ -53,7 +53,9 @@ Interceptor::Interceptor() {
     CaptureHeader header;
     header.program = envOr("VIPER_CAPTURE_PROGRAM", "");
     header.profile = profile_.source;
-    sink_.reset(new FrameSink(output_path_, header));
+    // The capture launcher's --zstd-level (checked there); 1 when preloaded by hand.
+    const int zstd_level = static_cast<int>(std::strtol(envOr("VIPER_CAPTURE_ZSTD_LEVEL", "1").c_str(), nullptr, 10));
+    sink_.reset(new FrameSink(output_path_, header, zstd_level));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "[viper capture] capture disabled: %s\n", e.what());
     return;

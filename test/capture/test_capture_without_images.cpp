@@ -1,0 +1,197 @@
+// CaptureReader::nextWithoutImages on a real capture of the world made at build time: the same
+// frames, draws, mesh keys and meshes as whole frames, images empty and never decompressed, damage
+// reported as by next(); and on version 2 streams, whose payload is one zstd frame.
+#include "test_capture_stream_frames.h"
+
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+#define ZSTD_STATIC_LINKING_ONLY  // ZSTD_frameHeaderSize
+#include <zstd.h>
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace viper {
+namespace {
+
+using test::expectFrameEq;
+using test::withoutImages;
+
+const std::string kWorldCapture = VIPER_WORLD_CAPTURE;
+
+uint64_t getU64(const std::string& b, size_t at) {
+  uint64_t v;
+  std::memcpy(&v, b.data() + at, 8);
+  return v;
+}
+void putU64(std::string& b, size_t at, uint64_t v) { std::memcpy(&b[at], &v, 8); }
+
+// Offsets of a stream's chunks (the end marker's last), walked by their headers.
+std::vector<size_t> chunkOffsets(const std::string& b) {
+  uint32_t fields;
+  std::memcpy(&fields, b.data() + 12, 4);
+  std::vector<size_t> chunks;
+  for (size_t at = 16 + fields + 8; at + 48 <= b.size(); at += 48 + getU64(b, at + 16)) chunks.push_back(at);
+  return chunks;
+}
+
+// Gives the chunk at `at` the payload `payload` (compressed, `raw` bytes decompressed) and its checksums.
+void replacePayload(std::string& b, size_t at, const std::string& payload, uint64_t raw) {
+  const uint64_t old_size = getU64(b, at + 16);
+  b.replace(at + 48, old_size, payload);
+  putU64(b, at + 16, payload.size());
+  putU64(b, at + 24, raw);
+  putU64(b, at + 32, XXH3_64bits(payload.data(), payload.size()));
+  putU64(b, at + 40, XXH3_64bits(b.data() + at, 40));
+}
+
+// Fills the content of every compressed block of the zstd frame at `frame` with 0xff, keeping the
+// frame and block headers (so the frame is still found and its size known without decompressing
+// it): no longer decompressible (the first such block's literals header asks for a Huffman table
+// from an earlier block that has none). Returns the number of blocks changed.
+int breakCompressedBlocks(char* frame, size_t size) {
+  size_t at = ZSTD_frameHeaderSize(frame, size);
+  int changed = 0;
+  for (;;) {
+    const uint32_t h = uint8_t(frame[at]) | uint8_t(frame[at + 1]) << 8 | uint32_t(uint8_t(frame[at + 2])) << 16;
+    const uint32_t type = (h >> 1) & 3, block = h >> 3;  // 0 raw, 1 one byte repeated, 2 compressed
+    at += 3;
+    if (type == 2) std::memset(frame + at, 0xff, block), ++changed;
+    at += type == 1 ? 1 : block;
+    if (h & 1) return changed;  // the last block
+  }
+}
+
+std::vector<CaptureFrame> readAll(const std::string& path, bool images) {
+  CaptureReader reader(path);
+  std::vector<CaptureFrame> frames;
+  CaptureFrame frame;
+  while ((images ? reader.next(frame) : reader.nextWithoutImages(frame)) == CaptureReader::Status::kFrame)
+    frames.push_back(frame);
+  return frames;
+}
+
+TEST(CaptureWithoutImages, WorldCaptureGivesTheSameFramesDrawsAndMeshesAsWholeFrames) {
+  ASSERT_EQ(CaptureReader(kWorldCapture).header().version, kCaptureFormatVersion)
+      << "a capture of this build: its images are a zstd frame of their own";
+  const std::vector<CaptureFrame> whole = readAll(kWorldCapture, true);
+  const std::vector<CaptureFrame> drawn = readAll(kWorldCapture, false);
+  ASSERT_EQ(whole.size(), 20u);
+  ASSERT_EQ(drawn.size(), whole.size());
+  size_t draws = 0, meshes = 0;
+  for (size_t i = 0; i < whole.size(); ++i) {
+    SCOPED_TRACE("frame " + std::to_string(whole[i].number));
+    ASSERT_FALSE(whole[i].color_rgb.empty());
+    EXPECT_TRUE(drawn[i].color_rgb.empty() && drawn[i].depth_window.empty() && drawn[i].draw_ids.empty() &&
+                drawn[i].primitive_ids.empty());
+    expectFrameEq(drawn[i], withoutImages(whole[i]));  // number, time, size, every draw's keys, meshes
+    draws += whole[i].draws.size();
+    meshes += whole[i].new_meshes.size();
+  }
+  EXPECT_GT(draws, 20u * 10) << "a town has many draws a frame";
+  EXPECT_GT(meshes, 10u);
+}
+
+TEST(CaptureWithoutImages, ImagesAreSkippedNotDecompressed) {
+  // The images' zstd frame of one chunk made undecodable, its checksums made to match: a whole read
+  // stops there, a read without images does not notice (it never decompresses them).
+  std::string b = test::readBytes(kWorldCapture);
+  const std::vector<size_t> chunks = chunkOffsets(b);
+  ASSERT_GT(chunks.size(), 5u);
+  const size_t at = chunks[3];
+  const std::string payload = b.substr(at + 48, getU64(b, at + 16));
+  const size_t head = ZSTD_findFrameCompressedSize(payload.data(), payload.size());
+  ASSERT_FALSE(ZSTD_isError(head));
+  const size_t images = ZSTD_findFrameCompressedSize(payload.data() + head, payload.size() - head);
+  ASSERT_FALSE(ZSTD_isError(images));
+  ASSERT_GT(images, 1000u);
+  std::string broken = payload;
+  ASSERT_GT(breakCompressedBlocks(&broken[head], images), 0) << "the images are compressed";
+  replacePayload(b, at, broken, getU64(b, at + 24));
+  test::TempPath tmp("world_broken_images");
+  test::writeBytes(tmp.path, b);
+
+  CaptureReader whole(tmp.path);
+  CaptureFrame frame;
+  for (int i = 0; i < 3; ++i) ASSERT_EQ(whole.next(frame), CaptureReader::Status::kFrame);
+  EXPECT_THROW(whole.next(frame), CaptureFormatError) << "the whole read decompresses the broken images";
+
+  const std::vector<CaptureFrame> expected = readAll(kWorldCapture, false);
+  const std::vector<CaptureFrame> drawn = readAll(tmp.path, false);
+  ASSERT_EQ(drawn.size(), expected.size());
+  for (size_t i = 0; i < drawn.size(); ++i) expectFrameEq(drawn[i], expected[i]);
+}
+
+TEST(CaptureWithoutImages, TruncatedWorldCaptureReportsTheDamageAfterTheIntactFrames) {
+  const std::string b = test::readBytes(kWorldCapture);
+  const std::vector<size_t> chunks = chunkOffsets(b);
+  ASSERT_GT(chunks.size(), 8u);
+  const std::vector<CaptureFrame> whole = readAll(kWorldCapture, true);
+  // Cuts inside a chunk header, inside the images, just before the next chunk, and the end marker lost.
+  const size_t k = 7;
+  for (size_t cut : {chunks[k] + 20, chunks[k] + 48 + (chunks[k + 1] - chunks[k]) / 2, chunks[k + 1] - 1}) {
+    SCOPED_TRACE("cut at byte " + std::to_string(cut));
+    test::TempPath tmp("world_truncated");
+    test::writeBytes(tmp.path, b.substr(0, cut));
+    CaptureReader reader(tmp.path);
+    CaptureFrame frame;
+    for (size_t i = 0; i < k; ++i) {
+      ASSERT_EQ(reader.nextWithoutImages(frame), CaptureReader::Status::kFrame);
+      expectFrameEq(frame, withoutImages(whole[i]));
+    }
+    try {
+      reader.nextWithoutImages(frame);
+      ADD_FAILURE() << "truncation not reported";
+    } catch (const CaptureFormatError& e) {
+      EXPECT_EQ(e.file(), tmp.path);
+      EXPECT_EQ(e.offset(), chunks[k]);
+      EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+    }
+  }
+  test::TempPath tmp("world_no_end");
+  test::writeBytes(tmp.path, b.substr(0, chunks.back()));
+  CaptureReader reader(tmp.path);
+  CaptureFrame frame;
+  for (size_t i = 0; i < whole.size(); ++i) ASSERT_EQ(reader.nextWithoutImages(frame), CaptureReader::Status::kFrame);
+  EXPECT_THROW(reader.nextWithoutImages(frame), CaptureFormatError);
+}
+
+TEST(CaptureWithoutImages, Version2StreamsAreReadBothWays) {
+  // A stream of this writer turned into version 2: the header's version, each payload recompressed
+  // as the one zstd frame version 2 has.
+  test::TempPath tmp("version2");
+  test::writeStream(tmp.path, 3, 16, 12);
+  std::string b = test::readBytes(tmp.path);
+  const uint32_t version = 2;
+  std::memcpy(&b[8], &version, 4);
+  uint32_t fields;
+  std::memcpy(&fields, b.data() + 12, 4);
+  putU64(b, 16 + fields, XXH3_64bits(b.data(), 16 + fields));
+  std::vector<size_t> chunks = chunkOffsets(b);
+  for (size_t c = chunks.size() - 1; c-- > 0;) {  // from the last frame: offsets before it stay valid
+    const size_t at = chunks[c];
+    const std::string three = b.substr(at + 48, getU64(b, at + 16));
+    std::string raw(getU64(b, at + 24), '\0');
+    ASSERT_EQ(ZSTD_decompress(&raw[0], raw.size(), three.data(), three.size()), raw.size());
+    std::string one(ZSTD_compressBound(raw.size()), '\0');
+    one.resize(ZSTD_compress(&one[0], one.size(), raw.data(), raw.size(), 1));
+    replacePayload(b, at, one, raw.size());
+  }
+  test::writeBytes(tmp.path, b);
+  CaptureReader whole(tmp.path), drawn(tmp.path);
+  EXPECT_EQ(whole.header().version, 2u);
+  CaptureFrame a, d;
+  for (uint64_t i = 0; i < 3; ++i) {
+    ASSERT_EQ(whole.next(a), CaptureReader::Status::kFrame);
+    ASSERT_EQ(drawn.nextWithoutImages(d), CaptureReader::Status::kFrame);
+    expectFrameEq(a, test::makeFrame(i, 16, 12));
+    expectFrameEq(d, withoutImages(test::makeFrame(i, 16, 12)));
+  }
+  EXPECT_EQ(whole.next(a), CaptureReader::Status::kEnd);
+  EXPECT_EQ(drawn.nextWithoutImages(d), CaptureReader::Status::kEnd);
+}
+
+}  // namespace
+}  // namespace viper

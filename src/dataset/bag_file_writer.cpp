@@ -1,5 +1,7 @@
 #include "viper/dataset/bag_file_writer.h"
 
+#include "direct_file.h"
+
 #include <bzlib.h>
 #include <lz4.h>
 #include <lz4frame.h>
@@ -93,19 +95,12 @@ BagCompression bagCompressionFromName(const std::string& name) {
 }
 
 BagFileWriter::BagFileWriter(const std::string& path, const BagFileOptions& options)
-    : path_(path), options_(options) {
-  file_ = std::fopen(path.c_str(), "wb");
-  if (file_ == nullptr) fail(std::strerror(errno));
-  try {
-    put(kVersion, sizeof(kVersion) - 1);
-    // The file header record (two lengths and 4096 bytes of header and padding), written again with
-    // the index's position on close().
-    const std::vector<uint8_t> header(kFileHeaderLength + 8, ' ');
-    put(header.data(), header.size());
-  } catch (...) {
-    std::fclose(file_);
-    throw;
-  }
+    : path_(path), options_(options), file_(std::make_unique<detail::DirectFile>(path, "cannot write bag")) {
+  put(kVersion, sizeof(kVersion) - 1);
+  // The file header record (two lengths and 4096 bytes of header and padding), written again with
+  // the index's position on close().
+  const std::vector<uint8_t> header(kFileHeaderLength + 8, ' ');
+  put(header.data(), header.size());
 }
 
 BagFileWriter::~BagFileWriter() {
@@ -113,7 +108,6 @@ BagFileWriter::~BagFileWriter() {
     close();
   } catch (const std::exception&) {
   }
-  if (file_ != nullptr) std::fclose(file_);  // close() failed half-way
 }
 
 uint32_t BagFileWriter::addConnection(const std::string& topic, const std::map<std::string, std::string>& fields) {
@@ -141,7 +135,7 @@ uint8_t* BagFileWriter::beginMessage(uint32_t connection, uint32_t sec, uint32_t
     chunk_open_ = true;
     chunk_.clear();
     chunk_index_.clear();
-    current_ = ChunkInfo{offset_, sec, nsec, sec, nsec, {}};
+    current_ = ChunkInfo{file_->size(), sec, nsec, sec, nsec, {}};
   }
   Connection& c = connections_[connection];
   if (!c.in_bag) {  // the first message of a connection: its record goes before it (rosbag does so)
@@ -189,7 +183,7 @@ void BagFileWriter::closeChunk() {
     prefs.frameInfo.contentChecksumFlag = LZ4F_contentChecksumEnabled;
     compressed_.resize(LZ4F_compressFrameBound(chunk_.size(), &prefs));
     const size_t n = LZ4F_compressFrame(compressed_.data(), compressed_.size(), chunk_.data(), chunk_.size(), &prefs);
-    if (LZ4F_isError(n)) fail(std::string("LZ4: ") + LZ4F_getErrorName(n));
+    if (LZ4F_isError(n)) throw std::runtime_error(path_ + ": cannot write bag: LZ4: " + LZ4F_getErrorName(n));
     data = compressed_.data(), data_size = n, compression = "lz4";
   } else if (options_.compression == BagCompression::kBz2) {
     unsigned int n = static_cast<unsigned int>(chunk_.size() + chunk_.size() / 100 + 600);
@@ -197,7 +191,7 @@ void BagFileWriter::closeChunk() {
     const int rc = BZ2_bzBuffToBuffCompress(reinterpret_cast<char*>(compressed_.data()), &n,
                                             reinterpret_cast<char*>(chunk_.data()),
                                             static_cast<unsigned int>(chunk_.size()), 9, 0, 30);
-    if (rc != BZ_OK) fail("bzip2 error " + std::to_string(rc));
+    if (rc != BZ_OK) throw std::runtime_error(path_ + ": cannot write bag: bzip2 error " + std::to_string(rc));
     data = compressed_.data(), data_size = n, compression = "bz2";
   }
   if (compression == "none") ++stored_chunks_;
@@ -226,11 +220,11 @@ void BagFileWriter::closeChunk() {
 
 void BagFileWriter::close() {
   if (closed_) return;
+  closed_ = true;
   finishMessage();
   closeChunk();
-  closed_ = true;
   // The index: every connection, then every chunk's info; then the file header pointing at it.
-  const uint64_t index_position = offset_;
+  const uint64_t index_position = file_->size();
   std::vector<uint8_t> index;
   for (uint32_t id = 0; id < connections_.size(); ++id)
     if (connections_[id].in_bag) writeConnectionRecord(index, id);
@@ -259,19 +253,9 @@ void BagFileWriter::close() {
   std::vector<uint8_t> record;
   appendRecordStart(record, header, kFileHeaderLength - static_cast<uint32_t>(header.bytes().size()));
   record.resize(record.size() + kFileHeaderLength - header.bytes().size(), ' ');
-  if (std::fseek(file_, sizeof(kVersion) - 1, SEEK_SET) != 0) fail(std::strerror(errno));
-  if (std::fwrite(record.data(), 1, record.size(), file_) != record.size()) fail(std::strerror(errno));
-  std::FILE* f = file_;
-  file_ = nullptr;
-  if (std::fclose(f) != 0) fail(std::strerror(errno));
+  file_->finish(sizeof(kVersion) - 1, record.data(), record.size());
 }
 
-void BagFileWriter::put(const void* bytes, size_t size) {
-  if (size == 0) return;
-  if (std::fwrite(bytes, 1, size, file_) != size) fail(std::strerror(errno));
-  offset_ += size;
-}
-
-void BagFileWriter::fail(const std::string& why) const { throw std::runtime_error(path_ + ": cannot write bag: " + why); }
+void BagFileWriter::put(const void* bytes, size_t size) { file_->append(bytes, size); }
 
 }  // namespace viper::dataset

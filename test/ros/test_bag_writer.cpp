@@ -16,6 +16,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <random>
 #include <vector>
@@ -116,6 +118,21 @@ TEST(BagWriter, RosbagReadsEveryMessageWithEachCompression) {
     const std::vector<Written> written = writeBag(path, compression);
     expectSameMessages(path, written);
   }
+}
+
+// The file is written around the page cache (O_DIRECT) where the file system allows it; tmpfs
+// refuses O_DIRECT, and the same bytes are then written through the cache.
+TEST(BagWriter, SameBagOnAFileSystemWithoutDirectWrites) {
+  if (!std::filesystem::is_directory("/dev/shm")) GTEST_SKIP() << "no /dev/shm (tmpfs) here";
+  const std::string on_disk = tempDir("viper_bag_writer_") + "/disk.bag";
+  const std::string on_tmpfs = "/dev/shm/viper_test_bag_writer_" + std::to_string(::getpid()) + ".bag";
+  writeBag(on_disk, "lz4");
+  const std::vector<Written> written = writeBag(on_tmpfs, "lz4");
+  expectSameMessages(on_tmpfs, written);
+  const std::string a = readFile(on_disk), b = readFile(on_tmpfs);
+  std::filesystem::remove(on_tmpfs);
+  EXPECT_EQ(a.size(), b.size());
+  EXPECT_TRUE(a == b) << "the same bytes either way";
 }
 
 TEST(BagWriter, Lz4BagStoresWhatDoesNotCompressAndPythonReadsIt) {

@@ -9,7 +9,6 @@
 #pragma once
 
 #include <cstdint>
-#include <cstdio>
 #include <map>
 #include <memory>
 #include <new>
@@ -18,6 +17,10 @@
 #include <vector>
 
 namespace viper::dataset {
+
+namespace detail {
+class DirectFile;
+}
 
 enum class BagCompression { kNone, kLz4, kBz2 };
 
@@ -99,12 +102,10 @@ class BagFileWriter {
   template <typename Bytes>
   void writeConnectionRecord(Bytes& out, uint32_t id) const;
   void put(const void* bytes, size_t size);
-  [[noreturn]] void fail(const std::string& why) const;
 
   std::string path_;
   BagFileOptions options_;
-  std::FILE* file_ = nullptr;
-  uint64_t offset_ = 0;  // bytes written to the file
+  std::unique_ptr<detail::DirectFile> file_;  // written around the page cache where it can be
   std::vector<Connection> connections_;
   ChunkBytes chunk_;  // the open chunk, uncompressed
   ChunkBytes compressed_;

@@ -1,5 +1,6 @@
 #include "viper/dataset/write_queue.h"
 
+#include <pthread.h>
 #include <sched.h>
 #include <time.h>
 
@@ -15,9 +16,13 @@ double threadCpuSeconds() {
 }
 }  // namespace
 
-WriteQueue::WriteQueue(unsigned threads, size_t max_pending) : max_pending_(std::max<size_t>(1, max_pending)) {
+WriteQueue::WriteQueue(unsigned threads, size_t max_pending, const std::string& name)
+    : max_pending_(std::max<size_t>(1, max_pending)) {
   if (threads == 0) throw std::invalid_argument("a write queue needs at least one thread");
-  for (unsigned i = 0; i < threads; ++i) workers_.emplace_back(&WriteQueue::work, this);
+  for (unsigned i = 0; i < threads; ++i) {
+    workers_.emplace_back(&WriteQueue::work, this);
+    pthread_setname_np(workers_.back().native_handle(), name.substr(0, 15).c_str());
+  }
 }
 
 WriteQueue::~WriteQueue() {

@@ -22,8 +22,9 @@ class WriteQueue {
   /// A job writes one file; it may return a note (something about the file that is not an error).
   using Job = std::function<std::string()>;
 
-  /// Throws std::invalid_argument for 0 threads.
-  WriteQueue(unsigned threads, size_t max_pending);
+  /// Throws std::invalid_argument for 0 threads. The threads are named `name` (at most 15
+  /// characters: what top -H and perf show).
+  WriteQueue(unsigned threads, size_t max_pending, const std::string& name = "viper-writer");
   /// Waits for every job (their errors are dropped here: call drain() first to see them).
   ~WriteQueue();
   WriteQueue(const WriteQueue&) = delete;

@@ -139,7 +139,7 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
 
   // With writer threads, the bag is written by one more, in frame order (one thread, a queue).
   std::unique_ptr<dataset::WriteQueue> bag_writer;
-  if (bag && settings_.layout.writer_threads > 0) bag_writer = std::make_unique<dataset::WriteQueue>(1, 2);
+  if (bag && settings_.layout.writer_threads > 0) bag_writer = std::make_unique<dataset::WriteQueue>(1, 2, "viper-bag");
 
   GroundTruthPipeline pipeline(labels_, classes_, settings_.ground_truth);
   std::map<ros::Time, uint64_t> frame_of;  // header stamp -> frame number in the sequence

@@ -29,7 +29,7 @@ ViperExporter::ViperExporter(const ViperExportOptions& options) : options_(optio
     throw std::invalid_argument("depth range must satisfy 0 < near < far");
   // A few frames' files in flight at most: each waiting job holds a decoded image.
   if (options_.writer_threads > 0)
-    writes_ = std::make_unique<dataset::WriteQueue>(options_.writer_threads, 4 * options_.writer_threads);
+    writes_ = std::make_unique<dataset::WriteQueue>(options_.writer_threads, 4 * options_.writer_threads, "viper-layout");
 }
 
 ViperExportStats ViperExporter::stats() const {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 namespace {
 
@@ -151,6 +152,33 @@ TEST(Float16, ArrayConversionCountsOverflow) {
   EXPECT_EQ(back[2], -std::numeric_limits<float>::infinity());
   EXPECT_TRUE(std::isnan(back[4]));
   EXPECT_EQ(back[5], 65504.0f);
+}
+
+// The flow writer's conversion (F16C on this machine's CPU) gives floatToHalf's bits for every kind
+// of value, split from 32FC2 pairs, with the same overflow count.
+TEST(Float16, PairsToHalvesMatchesFloatToHalf) {
+  std::vector<float> uv;
+  for (float f : {0.0f, -0.0f, 1.0f, -2.5f, 65504.0f, 65519.99f, 65520.0f, -70000.0f, 1e-8f, -3e-5f, 5.96e-8f, 2.98e-8f,
+                  std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), std::nanf(""),
+                  fromBits(0xffc01234u), fromBits(0x7f801fffu), fromBits(0x387fe000u), fromBits(0x33000000u)})
+    uv.push_back(f);
+  uint32_t state = 12345;
+  while (uv.size() < 2 * 1003) {  // random bit patterns; an odd count of pixels leaves a tail
+    state = state * 1664525u + 1013904223u;
+    uv.push_back(fromBits(state));
+  }
+  const size_t n = uv.size() / 2;
+  std::vector<uint16_t> u(n), v(n);
+  const size_t overflowed = viper::dataset::pairsToHalves(uv.data(), n, u.data(), v.data());
+  size_t expected_overflow = 0;
+  for (size_t i = 0; i < n; ++i) {
+    ASSERT_EQ(u[i], floatToHalf(uv[2 * i])) << "u " << i << " 0x" << std::hex << bitsOf(uv[2 * i]);
+    ASSERT_EQ(v[i], floatToHalf(uv[2 * i + 1])) << "v " << i << " 0x" << std::hex << bitsOf(uv[2 * i + 1]);
+    uint16_t h;
+    expected_overflow += viper::dataset::floatsToHalves(&uv[2 * i], 1, &h) + viper::dataset::floatsToHalves(&uv[2 * i + 1], 1, &h);
+  }
+  EXPECT_EQ(overflowed, expected_overflow);
+  EXPECT_GT(expected_overflow, 100u) << "random bits overflow often: the count is exercised";
 }
 
 }  // namespace

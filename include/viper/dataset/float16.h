@@ -61,6 +61,11 @@ inline float halfToFloat(uint16_t h) {
 /// +-inf (and so became invalid flow in VIPER's convention).
 size_t floatsToHalves(const float* in, size_t n, uint16_t* out);
 
+/// Splits n interleaved pairs (u0 v0 u1 v1 ..., a 32FC2 flow image) into halves u[i], v[i] (see
+/// floatToHalf; the same bits). Uses x86's F16C where the CPU has it. Returns how many finite
+/// inputs overflowed to +-inf.
+size_t pairsToHalves(const float* uv, size_t n, uint16_t* u, uint16_t* v);
+
 /// Converts n halves to floats (see halfToFloat).
 void halvesToFloats(const uint16_t* in, size_t n, float* out);
 

@@ -20,15 +20,18 @@ namespace viper::dataset {
 
 namespace {
 
-// Reads `path` front to back into `digest`. Around the page cache (O_DIRECT) where the file system
-// allows: a sequence's files (tens of MB a frame, the bag written around the cache too) are not
-// read again soon, and pulling them into the cache costs more kernel CPU than the hash on a VM
-// whose memory is full of cache (direct_file.h). The next piece is read while one is hashed (the
-// disk and the CPU at work at once: a shard's marker stage otherwise waits on the disk as long as
-// it hashes).
+// Reads `path` front to back into `digest`. A big file (the bag, written around the page cache)
+// is read around the cache too (O_DIRECT) where the file system allows: it is not read again soon,
+// and pulling it into the cache costs more kernel CPU than the hash on a VM whose memory is full of
+// cache (direct_file.h). The next piece is read while one is hashed (the disk and the CPU at work
+// at once: a shard's marker stage otherwise waits on the disk as long as it hashes).
 void digestFile(const std::filesystem::path& path, EVP_MD_CTX* digest) {
   constexpr size_t kAlign = 4096, kBuffer = 8u << 20;
-  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_DIRECT);
+  // Small files (the layout's, a few MB, written through the cache moments ago) are read from the
+  // cache: reading them directly would first wait for their dirty pages to reach the disk.
+  std::error_code size_error;
+  const bool big = std::filesystem::file_size(path, size_error) >= kBuffer && !size_error;
+  int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | (big ? O_DIRECT : 0));
   if (fd < 0 && errno == EINVAL) fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw std::runtime_error("cannot read " + path.string() + " for its checksum: " + std::strerror(errno));
   const std::unique_ptr<int, void (*)(int*)> closer(&fd, [](int* f) { ::close(*f); });

@@ -327,6 +327,12 @@ if(CATKIN_ENABLE_TESTING)
 endif()
 
 # bench/bench_viper_layout.cpp (built by cmake/bench.cmake when Google Benchmark is there).
+# bench/bench_bag_writer.cpp: rosbag against BagFileWriter on a ground-truth bag's messages.
+if(TARGET bench_bag_writer)
+  target_include_directories(bench_bag_writer SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
+    ${class_loader_INCLUDE_DIRS})
+  target_link_libraries(bench_bag_writer viper_dataset ${catkin_LIBRARIES})
+endif()
 if(TARGET bench_viper_layout)
   target_link_libraries(bench_viper_layout viper_layout_ros)
 endif()

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# bench_bag_writer on real ground truth: FRAMES frames of the world at WIDTH x HEIGHT under capture,
+# labelled from its oracle and generated into a ground-truth bag (generate --outputs bag), whose
+# messages rosbag and BagFileWriter then write again (bench/bench_bag_writer.cpp).
+# Usage: source devel/setup.bash; scripts/bench_bag_writer.sh [--frames 10] [--width 1920] [--height 1080]
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+frames=10 width=1920 height=1080
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --frames) frames=$2 ;; --width) width=$2 ;; --height) height=$2 ;;
+    *) sed -n '2,5p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
+  esac
+  shift 2
+done
+bin="$here/devel/lib/viper"
+[ -x "$bin/bench_bag_writer" ] || { echo "bench_bag_writer: build first (needs libbenchmark-dev)" >&2; exit 2; }
+work=$(mktemp -d /tmp/viper_bench_bag_writer.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+"$bin/capture" --output "$work/w.vcap" --profile "$here/config/profiles/world.yaml" --condition day --fps 15 -- \
+  "$bin/world" --condition day --ego drive --seed 3 --frames "$frames" --width "$width" --height "$height" --fps 15 \
+  --oracle "$work/w.oracle" > "$work/capture.log" 2>&1
+"$bin/make_label_table" "$work/w.vcap" "$work/w.oracle" "$work/labels.yaml" > /dev/null
+"$bin/generate" --input "$work/w.vcap" --labels "$work/labels.yaml" --out "$work/D" --outputs bag > "$work/generate.log" 2>&1
+VIPER_BENCH_BAG="$work/D/train/bag/001.bag" "$bin/bench_bag_writer"

@@ -298,6 +298,10 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
   add_rostest(test/ros/bag_player.test ARGS bag:=${VIPER_WORLD_RAW_BAG} nodelet:=true
     DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
+  # The live exporters (viper_exporter node, export_viper --live) on a full disk.
+  viper_add_tester(viper_exporter_full_disk_tester test/ros/viper_exporter_full_disk_tester.cpp viper_dataset)
+  add_rostest(test/ros/viper_exporter_full_disk.test ARGS bin:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}
+    DEPENDENCIES viper_exporter_full_disk_tester viper_exporter export_viper)
   # With ~loop it plays the bag again and again, stamps continuing: on that bag (times = stamps) and on
   # the committed test bag (recorded: its bag times span less than its stamps).
   viper_add_tester(bag_player_loop_tester test/ros/bag_player_loop_tester.cpp viper_layout_ros)

@@ -26,10 +26,19 @@ auto stop(T& node, int) -> decltype(node.stop(), void()) {
 }
 template <typename T>
 void stop(T&, long) {}
+template <typename T>
+auto exitCode(const T& node, int) -> decltype(node.exitCode()) {
+  return node.exitCode();
+}
+template <typename T>
+int exitCode(const T&, long) {
+  return 0;
+}
 
 }  // namespace node_shell
 
-/// The body of a node's main: init, start (exit code 1 if the configuration is impossible), spin.
+/// The body of a node's main: init, start (exit code 1 if the configuration is impossible), spin;
+/// then stop, and the node's exitCode() where it has one.
 template <typename T>
 int runNode(int argc, char** argv, const char* name) {
   ros::init(argc, argv, name);
@@ -40,7 +49,7 @@ int runNode(int argc, char** argv, const char* name) {
   }
   ros::spin();
   node_shell::stop(node, 0);
-  return 0;
+  return node_shell::exitCode(node, 0);
 }
 
 /// Nodelet shell around a node class T.

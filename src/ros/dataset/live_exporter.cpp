@@ -20,7 +20,7 @@ LiveExporter::LiveExporter(const ros::NodeHandle& nh, const ros::NodeHandle& pri
     : nh_(nh), private_nh_(private_nh), from_parameters_(true) {}
 
 LiveExporter::LiveExporter(const ros::NodeHandle& nh, const LiveExportConfig& config)
-    : nh_(nh), private_nh_("~"), from_parameters_(false), config_(config) {}
+    : nh_(nh), private_nh_("~"), from_parameters_(false), config_(config), own_process_(true) {}
 
 LiveExporter::~LiveExporter() { finish(); }
 
@@ -89,6 +89,16 @@ bool LiveExporter::readParameters() {
   for (ExportRole& r : config_.roles)
     if (!r.topic.empty() && r.topic[0] == '/') r.topic.erase(0, 1);
   return true;
+}
+
+bool LiveExporter::start(bool is_node) {
+  own_process_ = is_node;
+  return start();
+}
+
+int LiveExporter::exitCode() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return failed_ ? 2 : 0;
 }
 
 bool LiveExporter::start() {
@@ -190,17 +200,22 @@ void LiveExporter::run(const std::string& topic, const ros::Time& stamp, uint64_
       ROS_ERROR_THROTTLE(5, "viper_exporter: %s at stamp %s (frame %lu): %s", topic.c_str(), stampText(stamp).c_str(),
                          static_cast<unsigned long>(frame), problem.c_str());
   } catch (const std::exception& e) {  // a file that cannot be written
-    ROS_FATAL("viper_exporter: %s; the export stops", e.what());
-    failed_ = true;
+    fail(e.what());
   }
+}
+
+void LiveExporter::fail(const std::string& why) {
+  ROS_FATAL("viper_exporter: %s; the export stops%s", why.c_str(),
+            own_process_ ? " and the process ends (exit code 2)" : "");
+  failed_ = true;
+  if (own_process_) ros::requestShutdown();
 }
 
 void LiveExporter::flush(uint64_t frame) {
   try {
     for (const std::string& n : exporter_->flushUpTo(frame)) ROS_WARN_THROTTLE(5, "viper_exporter: %s", n.c_str());
   } catch (const std::exception& e) {
-    ROS_FATAL("viper_exporter: %s; the export stops", e.what());
-    failed_ = true;
+    fail(e.what());
   }
 }
 

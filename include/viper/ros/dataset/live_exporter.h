@@ -42,6 +42,13 @@ class LiveExporter {
   /// Reads and checks the settings (the node's parameters), creates the exporter, subscribes and
   /// offers ~finish. False after a ROS_FATAL naming what to fix.
   bool start();
+  /// The node shell's start: `is_node` (a process of its own, as export_viper --live is too) ends
+  /// the process when a file cannot be written (a full disk), with finish()'s exit code 2; a
+  /// nodelet stops exporting and stays loaded.
+  bool start(bool is_node);
+  /// The node's exit status: 2 once a file could not be written, else 0 (skipped messages are
+  /// reported in the log and by ~finish, not by the status of a node).
+  int exitCode() const;
   /// Completes every frame, closes the camera file and stops listening. Returns the exit code of
   /// export_viper: 0 everything exported, 1 messages skipped or dropped, 2 a file could not be
   /// written. Later calls return the same.
@@ -64,6 +71,7 @@ class LiveExporter {
   void onMessage(const std::string& topic, const ros::Time& stamp, const ExportDispatch& dispatch);
   void run(const std::string& topic, const ros::Time& stamp, uint64_t frame, const ExportDispatch& dispatch);
   void flush(uint64_t frame);
+  void fail(const std::string& why);  // a file could not be written
   bool onFinish(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
 
   ros::NodeHandle nh_, private_nh_;
@@ -80,6 +88,7 @@ class LiveExporter {
   size_t dropped_ = 0;
   uint64_t received_ = 0;
   bool failed_ = false, finished_ = false;
+  bool own_process_ = false;  // a write failure ends the process (ros::requestShutdown)
   int exit_code_ = 0;
 };
 

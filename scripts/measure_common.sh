@@ -28,3 +28,24 @@ play_bag() {
   exec 9>"$work/play.in"
 }
 stop_bag() { ros_tool rosnode kill /bag_player >/dev/null 2>&1 || true; }
+
+# replay.launch on a master of its own (port chosen at random) with the arguments given, then the
+# output_counter nodelet in its manager (its ~report_file is $work/counts.txt; COUNTER_ARGS adds
+# parameters), and $manager set to the manager's pid. Logs: $work/launch.log, $work/counter.log.
+# Usage: start_pipeline [replay.launch ARG:=VALUE ...]
+start_pipeline() {
+  local port=$(( 20000 + RANDOM % 20000 ))
+  export ROS_MASTER_URI="http://localhost:$port" ROS_HOME="$work/ros_home"
+  "$py" "$(command -v roslaunch)" -p "$port" viper replay.launch "$@" >"$work/launch.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 150); do
+    ros_tool rosnode list 2>/dev/null | grep -q ground_truth/odometry && break
+    sleep 0.2
+  done
+  # shellcheck disable=SC2086
+  rosrun nodelet nodelet load viper/output_counter /viper_manager __name:=output_counter __ns:=ground_truth \
+    _report_file:="$work/counts.txt" _idle_s:=5 ${COUNTER_ARGS:-} >"$work/counter.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 100); do ros_tool rosnode list 2>/dev/null | grep -q /ground_truth/output_counter && break; sleep 0.2; done
+  manager=$(ros_tool rosnode info /viper_manager 2>/dev/null | sed -n 's/^Pid: //p')
+}

@@ -43,20 +43,7 @@ if [ "$source" != capture ]; then
   replay_args=()
   [ "$source" = bag ] && replay_args=(bag:="$work/raw.bag" rate:="$rate" start_delay:=8)
 fi
-port=$(( 20000 + RANDOM % 20000 ))
-export ROS_MASTER_URI="http://localhost:$port" ROS_HOME="$work/ros_home"
-"$py" "$(command -v roslaunch)" -p "$port" viper replay.launch label_table:="$here/config/labels/world_labels.yaml" flow:="$flow" queue_size:="$queue" \
-  "${replay_args[@]}" >"$work/launch.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 150); do
-  ros_tool rosnode list 2>/dev/null | grep -q ground_truth/odometry && break
-  sleep 0.2
-done
-rosrun nodelet nodelet load viper/output_counter /viper_manager __name:=output_counter __ns:=ground_truth \
-  _report_file:="$work/counts.txt" _idle_s:=5 >"$work/counter.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 100); do ros_tool rosnode list 2>/dev/null | grep -q /ground_truth/output_counter && break; sleep 0.2; done
-manager=$(ros_tool rosnode info /viper_manager 2>/dev/null | sed -n 's/^Pid: //p')
+start_pipeline label_table:="$here/config/labels/world_labels.yaml" flow:="$flow" queue_size:="$queue" "${replay_args[@]}"
 ticks() { awk '{print $14 + $15}' "/proc/$manager/stat"; }
 before=$(ticks)
 echo "measure_pipeline: playing (${SECONDS} s)"

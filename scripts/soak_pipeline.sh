@@ -35,8 +35,6 @@ cleanup_keep() {
   rm -rf "$work"
 }
 
-port=$(( 20000 + RANDOM % 20000 ))
-export ROS_MASTER_URI="http://localhost:$port" ROS_HOME="$work/ros_home"
 if [ "$source" = bag ]; then
   "$bin/capture" --output "$work/world.vcap" --profile "$here/config/profiles/world.yaml" --fps 15 \
     -- "$bin/world" --frames "$frames" --width "$width" --height "$height" > /dev/null
@@ -54,18 +52,7 @@ else
   replay_args=(capture:="$work/live.vcap" follow:=true start_delay:=8)
   echo "soak_pipeline: capture_bridge following the world's live ${width}x${height} capture for $minutes min"
 fi
-"$py" "$(command -v roslaunch)" -p "$port" viper replay.launch label_table:="$here/config/labels/world_labels.yaml" \
-  "${replay_args[@]}" > "$work/launch.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 150); do
-  ros_tool rosnode list 2> /dev/null | grep -q ground_truth/odometry && break
-  sleep 0.2
-done
-rosrun nodelet nodelet load viper/output_counter /viper_manager __name:=output_counter __ns:=ground_truth \
-  _report_file:="$work/counts.txt" _idle_s:=5 _report_period_s:=10 > "$work/counter.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 100); do ros_tool rosnode list 2> /dev/null | grep -q /ground_truth/output_counter && break; sleep 0.2; done
-manager=$(ros_tool rosnode info /viper_manager 2> /dev/null | sed -n 's/^Pid: //p')
+COUNTER_ARGS="_report_period_s:=10" start_pipeline label_table:="$here/config/labels/world_labels.yaml" "${replay_args[@]}"
 [ -n "$manager" ] || { echo "soak_pipeline: no /viper_manager" >&2; tail -20 "$work/launch.log" >&2; exit 1; }
 
 echo "seconds,rss_mb,draws" > "$work/rss.csv"

@@ -4,6 +4,7 @@
 #include <initializer_list>
 
 #if defined(__x86_64__)
+#include <cpuid.h>
 #include <immintrin.h>
 #endif
 
@@ -49,7 +50,11 @@ __attribute__((target("avx2,f16c"))) size_t pairsToHalvesF16c(const float* uv, s
 
 size_t pairsToHalves(const float* uv, size_t n, uint16_t* u, uint16_t* v) {
 #if defined(__x86_64__)
-  static const bool f16c = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("f16c");
+  // F16C is CPUID leaf 1, ECX bit 29 (clang's __builtin_cpu_supports does not know "f16c").
+  static const bool f16c = [] {
+    unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+    return __builtin_cpu_supports("avx2") && __get_cpuid(1, &eax, &ebx, &ecx, &edx) && (ecx & (1u << 29)) != 0;
+  }();
   if (f16c) return pairsToHalvesF16c(uv, n, u, v);
 #endif
   return pairsToHalvesPortable(uv, n, u, v, 0);

@@ -13,7 +13,7 @@ target_include_directories(viper_core PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_compile_options(viper_core PRIVATE -O3)
 target_include_directories(viper_core SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR})
 # Deliberately no OpenCV and no ROS: the capture layer preloads this library into foreign programs.
-target_link_libraries(viper_core PRIVATE PkgConfig::ZSTD PkgConfig::XXHASH PkgConfig::YAMLCPP)
+target_link_libraries(viper_core PRIVATE PkgConfig::ZSTD PkgConfig::LIBLZ4 PkgConfig::XXHASH PkgConfig::YAMLCPP)
 install(TARGETS viper_core
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
@@ -23,7 +23,8 @@ if(CATKIN_ENABLE_TESTING)
   # Unit tests of the core, by stage (the stages' folders also hold tests that run programs:
   # capture.cmake, ground_truth.cmake).
   set(VIPER_CORE_TESTS
-    capture/test_capture_profile capture/test_capture_stream capture/test_capture_stream_damage
+    capture/test_capture_profile capture/test_capture_stream capture/test_capture_stream_codec
+    capture/test_capture_stream_damage
     capture/test_resource_census capture/test_shader_rewrite
     ground_truth/test_capture_invariants ground_truth/test_boxes ground_truth/test_camera_model
     ground_truth/test_ego_motion ground_truth/test_flow ground_truth/test_instance_pipeline

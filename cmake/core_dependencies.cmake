@@ -10,6 +10,6 @@ pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
 pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)  # the PNG and npz writers' deflate
 pkg_check_modules(LIBJPEG REQUIRED IMPORTED_TARGET libjpeg)  # a JPEG's size before OpenCV decodes it
-pkg_check_modules(LIBLZ4 REQUIRED IMPORTED_TARGET liblz4)  # LZ4 frames of the bags written by BagFileWriter
+pkg_check_modules(LIBLZ4 REQUIRED IMPORTED_TARGET liblz4)  # LZ4 frames of the bags written by BagFileWriter, LZ4 blocks of lz4 captures
 find_package(BZip2 REQUIRED)  # and their bz2 chunks
 pkg_check_modules(LIBCRYPTO REQUIRED IMPORTED_TARGET libcrypto)  # SHA-256 of the sequence markers (OpenSSL)

@@ -240,16 +240,28 @@ if(CATKIN_ENABLE_TESTING)
     COMMAND capture_to_bag ${VIPER_WORLD_ROUNDTRIP_CAPTURE} --output ${VIPER_WORLD_RAW_BAG}
     DEPENDS capture_to_bag ${VIPER_WORLD_ROUNDTRIP_CAPTURE}
     COMMENT "Converting the world capture into a raw bag")
+  # The same run captured with --codec lz4 (the world is deterministic at a fixed --fps): the reading
+  # test compares its frames with the zstd capture's.
+  set(VIPER_WORLD_LZ4_CAPTURE ${PROJECT_BINARY_DIR}/test_data/world_roundtrip_lz4.vcap)
+  add_custom_command(OUTPUT ${VIPER_WORLD_LZ4_CAPTURE}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/test_data
+    COMMAND $<TARGET_FILE:viper_capture> --codec lz4 --output ${VIPER_WORLD_LZ4_CAPTURE}
+            --profile ${PROJECT_SOURCE_DIR}/config/profiles/world.yaml --condition day --fps 15
+            -- $<TARGET_FILE:world> --condition day --ego drive --frames 20 --width 480 --height 270
+    DEPENDS viper_capture viper_intercept world
+    COMMENT "Capturing the world with LZ4 for the capture reading test")
   add_custom_target(world_raw_bag DEPENDS ${VIPER_WORLD_RAW_BAG})
+  add_custom_target(world_lz4_capture DEPENDS ${VIPER_WORLD_LZ4_CAPTURE})
   if(TARGET tests)
-    add_dependencies(tests world_raw_bag)
+    add_dependencies(tests world_raw_bag world_lz4_capture)
   endif()
-  # The capture stage's test of reading frames without their images, on this real capture (its target
-  # world_raw_bag makes it).
+  # The capture stage's test of reading frames without their images, on this real capture and its LZ4
+  # twin (the targets world_raw_bag and world_lz4_capture make them).
   catkin_add_gtest(test_capture_without_images test/capture/test_capture_without_images.cpp)
   target_link_libraries(test_capture_without_images viper_core gtest_main PkgConfig::ZSTD)
-  target_compile_definitions(test_capture_without_images PRIVATE VIPER_WORLD_CAPTURE="${VIPER_WORLD_ROUNDTRIP_CAPTURE}")
-  add_dependencies(test_capture_without_images world_raw_bag)
+  target_compile_definitions(test_capture_without_images PRIVATE VIPER_WORLD_CAPTURE="${VIPER_WORLD_ROUNDTRIP_CAPTURE}"
+    VIPER_WORLD_LZ4_CAPTURE="${VIPER_WORLD_LZ4_CAPTURE}")
+  add_dependencies(test_capture_without_images world_raw_bag world_lz4_capture)
   # (Its own small .test file: the test's name is made of its arguments, and these paths would make it
   # longer than a file name may be.)
   add_rostest(test/ros/viper_layout_roundtrip_world.test

@@ -43,7 +43,8 @@ struct Summary {
     std::cout << "file:        " << reader.path() << " (" << reader.offset() << " bytes read)\n"
               << "program:     " << reader.header().program << "\n"
               << "profile:     " << reader.header().profile << "\n"
-              << "version:     " << reader.header().version << "\n"
+              << "version:     " << reader.header().version << " (" << viper::captureCodecName(reader.header().codec)
+              << ")\n"
               << "frames:      " << frames;
     if (frames > 0) {
       std::cout << " (numbers " << first_frame << ".." << last_frame << ", "

@@ -329,8 +329,10 @@ int main(int argc, char** argv) {
                                        : "";
     auto open = [&]() -> std::unique_ptr<viper::RawFrames> {
       std::filesystem::create_directories(captures);
+      // The capture is read back once and removed: LZ4 writes and reads it several times faster than
+      // zstd, for a larger temporary file (docs/dataset_generation.md#speed).
       const std::string command =
-          (bin / "capture").string() + " --output " + vcap.string() + " --profile " + package +
+          (bin / "capture").string() + " --codec lz4 --output " + vcap.string() + " --profile " + package +
           "/config/profiles/world.yaml --condition " + q.condition + " --fps " + std::to_string(plan.fps) + " -- " +
           (bin / "world").string() + " --condition " + q.condition + " --ego " + q.ego + " --seed " +
           std::to_string(q.seed) + " --frames " + std::to_string(q.frames) + " --width " + std::to_string(q.width) +

@@ -1,10 +1,10 @@
 // CaptureFormatError and CaptureWriter: the writing side of the .vcap stream.
 #include "viper/capture/capture_stream.h"
 
+#include "capture_stream_codec.h"
 #include "capture_stream_format.h"
 
 #include <xxhash.h>
-#include <zstd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -21,8 +21,7 @@ CaptureFormatError::CaptureFormatError(const std::string& file, uint64_t offset,
 struct CaptureWriter::Impl {
   std::string path;
   std::FILE* file = nullptr;
-  int level = 1;
-  ZSTD_CCtx* cctx = nullptr;
+  std::unique_ptr<PartCodec> codec;
   uint64_t bytes = 0;
   uint64_t frames = 0;
   std::string payload;  // scratch, reused between frames
@@ -49,33 +48,42 @@ struct CaptureWriter::Impl {
 
   ~Impl() {
     if (file) std::fclose(file);
-    ZSTD_freeCCtx(cctx);
   }
 };
 
 CaptureWriter::CaptureWriter(const std::string& path, const CaptureHeader& header, int zstd_level)
     : impl_(new Impl) {
   impl_->path = path;
-  impl_->level = zstd_level;
-  impl_->cctx = ZSTD_createCCtx();
-  if (!impl_->cctx) throw std::runtime_error("capture stream " + path + ": cannot create zstd context");
+  try {
+    impl_->codec.reset(new PartCodec(header.codec, zstd_level));
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("capture stream " + path + ": " + e.what());
+  }
   impl_->file = std::fopen(path.c_str(), "wb");
   if (!impl_->file)
     throw std::runtime_error("cannot open capture stream " + path + " for writing: " + std::strerror(errno));
 
-  const uint32_t fields_size = static_cast<uint32_t>(8 + header.program.size() + header.profile.size());
+  // zstd streams stay version 3 (no codec field), readable by builds that know only versions 1 to 3;
+  // other codecs are version 4, which names the codec after the profile and which those builds reject.
+  const bool codec_field = header.codec != CaptureCodec::kZstd;
+  const uint32_t fields_size =
+      static_cast<uint32_t>(8 + header.program.size() + header.profile.size() + (codec_field ? 4 : 0));
   if (fields_size > kMaxHeaderFieldsSize)
     throw std::runtime_error("capture stream " + path + ": program/profile names are too long");
   std::string bytes(kFileHeaderFixedSize + fields_size + 8, '\0');
   char* p = &bytes[0];
   std::memcpy(p, kFileMagic, 8);
-  putU32(p + 8, kCaptureFormatVersion);
+  putU32(p + 8, codec_field ? kCodecCaptureFormatVersion : kCaptureFormatVersion);
   putU32(p + 12, fields_size);
   char* q = p + kFileHeaderFixedSize;
   for (const std::string* s : {&header.program, &header.profile}) {
     putU32(q, static_cast<uint32_t>(s->size()));
     std::memcpy(q + 4, s->data(), s->size());
     q += 4 + s->size();
+  }
+  if (codec_field) {
+    putU32(q, static_cast<uint32_t>(header.codec));
+    q += 4;
   }
   putU64(q, XXH3_64bits(p, kFileHeaderFixedSize + fields_size));
   impl_->writeAll(bytes.data(), bytes.size());
@@ -96,21 +104,15 @@ void CaptureWriter::write(const CaptureFrame& frame) {
   if (w.payload.size() > kMaxRawPayloadBytes)
     throw std::runtime_error("capture stream " + w.path + ": frame " + std::to_string(frame.number) +
                              " payload of " + std::to_string(w.payload.size()) + " bytes exceeds the 1 GiB limit");
-  // One zstd frame per part of the payload (head, images, rest), so that a reader can skip the images.
+  // Each part of the payload (head, images, rest) compressed on its own, so that a reader can skip the images.
   const PayloadParts parts = payloadParts(frame);
-  size_t bound = 0;
-  for (size_t part : parts.bytes) bound += ZSTD_compressBound(part);
+  const size_t bound = w.codec->bound(parts);
   w.chunk.reserveDiscard(kChunkHeaderSize + bound);
-  size_t compressed = 0;
-  const char* in = w.payload.data();
-  for (size_t part : parts.bytes) {
-    const size_t n = ZSTD_compressCCtx(w.cctx, w.chunk.data() + kChunkHeaderSize + compressed, bound - compressed,
-                                       in, part, w.level);
-    if (ZSTD_isError(n))
-      throw std::runtime_error("capture stream " + w.path + ": zstd compression of frame " +
-                               std::to_string(frame.number) + " failed: " + ZSTD_getErrorName(n));
-    compressed += n;
-    in += part;
+  size_t compressed;
+  try {
+    compressed = w.codec->compress(w.payload.data(), parts, w.chunk.data() + kChunkHeaderSize, bound);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("capture stream " + w.path + ": frame " + std::to_string(frame.number) + ": " + e.what());
   }
   w.writeChunk(kChunkFrame, frame.number, compressed, w.payload.size());
   ++w.frames;

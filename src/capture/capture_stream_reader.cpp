@@ -1,10 +1,10 @@
 // CaptureReader: reads and verifies a .vcap stream, optionally following a file still being written.
 #include "viper/capture/capture_stream.h"
 
+#include "capture_stream_codec.h"
 #include "capture_stream_format.h"
 
 #include <xxhash.h>
-#include <zstd.h>
 
 #include <sys/stat.h>
 
@@ -21,13 +21,12 @@ struct CaptureReader::Impl {
   CaptureHeader header;
   uint64_t offset = 0;
   bool ended = false;
-  ZSTD_DCtx* dctx = nullptr;
+  std::unique_ptr<PartCodec> codec;  // the header's codec
   ByteBuffer compressed;  // reused between frames
   ByteBuffer raw;
 
   ~Impl() {
     if (file) std::fclose(file);
-    ZSTD_freeDCtx(dctx);
   }
 
   [[noreturn]] void fail(uint64_t at, const std::string& what) const { throw CaptureFormatError(path, at, what); }
@@ -59,10 +58,11 @@ struct CaptureReader::Impl {
 
   void decompress(uint64_t start, const std::string& which, const char* src, size_t src_size, char* dst,
                   size_t dst_size) {
-    const size_t got = ZSTD_decompressDCtx(dctx, dst, dst_size, src, src_size);
-    if (ZSTD_isError(got)) fail(start, which + "zstd decompression failed: " + ZSTD_getErrorName(got));
-    if (got != dst_size)
-      fail(start, which + "decompressed to " + std::to_string(got) + " bytes, expected " + std::to_string(dst_size));
+    try {
+      codec->decompress(src, src_size, dst, dst_size);
+    } catch (const std::runtime_error& e) {
+      fail(start, which + e.what());
+    }
   }
 
   void decode(uint64_t start, const std::string& which, const char* data, size_t size, CaptureFrame& frame) {
@@ -91,9 +91,10 @@ void CaptureReader::Impl::readHeader() {
                 std::to_string(kFileHeaderFixedSize + 8) + " header bytes");
   header.version = getU32(fixed + 8);
   // The version comes before the checksum: a newer writer may lay out the rest differently.
-  if (header.version < kOldestReadableCaptureFormatVersion || header.version > kCaptureFormatVersion)
+  if (header.version < kOldestReadableCaptureFormatVersion || header.version > kNewestReadableCaptureFormatVersion)
     fail(0, "unsupported capture format version " + std::to_string(header.version) + " (this reader reads versions " +
-                std::to_string(kOldestReadableCaptureFormatVersion) + " to " + std::to_string(kCaptureFormatVersion) + ")");
+                std::to_string(kOldestReadableCaptureFormatVersion) + " to " +
+                std::to_string(kNewestReadableCaptureFormatVersion) + ")");
   const uint32_t fields_size = getU32(fixed + 12);
   if (fields_size > kMaxHeaderFieldsSize || fields_size < 8)
     fail(0, "header fields size " + std::to_string(fields_size) + " is out of range");
@@ -115,56 +116,50 @@ void CaptureReader::Impl::readHeader() {
     s->assign(q, n);
     q += n;
   }
+  // From version 4 the codec follows (versions 1 to 3 are zstd).
+  header.codec = CaptureCodec::kZstd;
+  if (header.version >= 4) {
+    if (end - q < 4) fail(0, "header fields end before the codec");
+    const uint32_t c = getU32(q);
+    if (c != static_cast<uint32_t>(CaptureCodec::kZstd) && c != static_cast<uint32_t>(CaptureCodec::kLz4))
+      fail(0, "unknown codec " + std::to_string(c) + " (this reader reads 1 = zstd, 2 = lz4)");
+    header.codec = static_cast<CaptureCodec>(c);
+  }
+  codec.reset(new PartCodec(header.codec));
   offset = bytes.size();
 }
 
-// The three zstd frames of a version 3 payload (head, images, rest) are found by their frame headers
-// and block headers alone (ZSTD_findFrameCompressedSize decompresses nothing). Every part is checked
-// the same way whether or not its images are wanted: the checksum of the compressed bytes covers
-// the skipped images, so damage there is still reported at this chunk.
+// The three parts of a version 3 or 4 payload (head, images, rest) are found by their headers alone
+// (zstd's frame and block headers, the LZ4 parts' size headers; nothing is decompressed). Every part is
+// checked the same way whether or not its images are wanted: the checksum of the compressed bytes
+// covers the skipped images, so damage there is still reported at this chunk.
 void CaptureReader::Impl::decodeParts(uint64_t start, const std::string& which, uint64_t csize, uint64_t rsize,
                                       CaptureFrame& frame, bool images) {
   const char* src = compressed.data();
-  size_t begin[kPayloadParts], size[kPayloadParts];
-  uint64_t content[kPayloadParts];
-  size_t at = 0;
-  uint64_t total = 0;
-  for (int k = 0; k < kPayloadParts; ++k) {
-    const std::string part = "zstd frame " + std::to_string(k + 1) + " of " + std::to_string(kPayloadParts) + ": ";
-    if (at == csize) fail(start, which + part + "missing");
-    const size_t n = ZSTD_findFrameCompressedSize(src + at, csize - at);
-    if (ZSTD_isError(n)) fail(start, which + part + ZSTD_getErrorName(n));
-    const unsigned long long c = ZSTD_getFrameContentSize(src + at, n);
-    if (c >= ZSTD_CONTENTSIZE_ERROR) fail(start, which + part + "declares no valid size");
-    if (c > rsize - total)
-      fail(start, which + part + "declares " + std::to_string(c) + " bytes, more than the chunk header's " +
-                      std::to_string(rsize) + " in all");
-    begin[k] = at, size[k] = n, content[k] = c;
-    at += n;
-    total += c;
+  CompressedPart part[kPayloadParts];
+  try {
+    codec->find(src, csize, rsize, part);
+  } catch (const std::runtime_error& e) {
+    fail(start, which + e.what());
   }
-  if (at != csize) fail(start, which + std::to_string(csize - at) + " bytes after the payload's zstd frames");
-  if (total != rsize)
-    fail(start, which + "zstd frames declare " + std::to_string(total) + " bytes, chunk header says " +
-                    std::to_string(rsize));
   if (images) {
     raw.reserveDiscard(rsize);
     size_t out = 0;
     for (int k = 0; k < kPayloadParts; ++k) {
-      decompress(start, which, src + begin[k], size[k], raw.data() + out, content[k]);
-      out += content[k];
+      decompress(start, which, src + part[k].begin, part[k].size, raw.data() + out, part[k].content);
+      out += part[k].content;
     }
     decode(start, which, raw.data(), rsize, frame);
     return;
   }
   // The payload without its images: the images part replaced by four empty vectors, decoded by the
   // same bounds-checked decoder as a whole payload.
-  const size_t head = content[0], rest = content[2];
+  const size_t head = part[0].content, rest = part[2].content;
   const size_t bytes = head + kEmptyImagesBytes + rest;
   raw.reserveDiscard(bytes);
-  decompress(start, which, src + begin[0], size[0], raw.data(), head);
+  decompress(start, which, src + part[0].begin, part[0].size, raw.data(), head);
   std::memset(raw.data() + head, 0, kEmptyImagesBytes);
-  decompress(start, which, src + begin[2], size[2], raw.data() + head + kEmptyImagesBytes, rest);
+  decompress(start, which, src + part[2].begin, part[2].size, raw.data() + head + kEmptyImagesBytes, rest);
   decode(start, which, raw.data(), bytes, frame);
 }
 
@@ -197,7 +192,7 @@ CaptureReader::Status CaptureReader::Impl::readChunk(CaptureFrame& frame, bool f
     return Status::kEnd;
   }
   if (type != kChunkFrame) fail(start, "unknown chunk type " + std::to_string(type));
-  if (rsize > kMaxRawPayloadBytes || csize > ZSTD_compressBound(kMaxRawPayloadBytes))
+  if (rsize > kMaxRawPayloadBytes || csize > codec->maxCompressed())
     fail(start, which + "payload sizes out of range (compressed " + std::to_string(csize) + ", raw " +
                     std::to_string(rsize) + ")");
   if (avail - kChunkHeaderSize < csize) {
@@ -241,8 +236,6 @@ CaptureReader::CaptureReader(const std::string& path) : impl_(new Impl) {
   impl_->path = path;
   impl_->file = std::fopen(path.c_str(), "rb");
   if (!impl_->file) throw std::runtime_error("cannot open capture stream " + path + ": " + std::strerror(errno));
-  impl_->dctx = ZSTD_createDCtx();
-  if (!impl_->dctx) throw std::runtime_error("capture stream " + path + ": cannot create zstd context");
   impl_->readHeader();
 }
 
@@ -250,8 +243,6 @@ CaptureReader::CaptureReader(std::FILE* file, const std::string& name) : impl_(n
   impl_->path = name;
   impl_->file = file;
   if (!impl_->file) throw std::runtime_error("capture stream " + name + ": no file given");
-  impl_->dctx = ZSTD_createDCtx();
-  if (!impl_->dctx) throw std::runtime_error("capture stream " + name + ": cannot create zstd context");
   impl_->readHeader();
 }
 

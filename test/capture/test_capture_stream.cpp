@@ -32,43 +32,54 @@ TEST(CaptureStream, RoundTripsSeveralFramesAndHeader) {
 }
 
 TEST(CaptureStream, RoundTripsEmptyFrameAndEmptyHeader) {
-  TempPath tmp("empty");
-  CaptureFrame empty;
-  empty.number = 7;
-  CaptureFrame no_pixels_with_draw = makeFrame(8, 0, 0);
-  no_pixels_with_draw.draws[0].texture_keys.clear();
-  {
-    CaptureWriter writer(tmp.path, CaptureHeader{});
-    writer.write(empty);
-    writer.write(no_pixels_with_draw);
-  }  // the destructor writes the end marker
-  CaptureReader reader(tmp.path);
-  EXPECT_EQ(reader.header().program, "");
-  EXPECT_EQ(reader.header().profile, "");
-  CaptureFrame frame = makeFrame(99);  // stale contents must be replaced, not merged
-  ASSERT_EQ(reader.next(frame), CaptureReader::Status::kFrame);
-  expectFrameEq(frame, empty);
-  ASSERT_EQ(reader.next(frame), CaptureReader::Status::kFrame);
-  expectFrameEq(frame, no_pixels_with_draw);
-  EXPECT_EQ(reader.next(frame), CaptureReader::Status::kEnd);
+  for (CaptureCodec codec : {CaptureCodec::kZstd, CaptureCodec::kLz4}) {
+    SCOPED_TRACE(captureCodecName(codec));
+    TempPath tmp("empty");
+    CaptureFrame empty;
+    empty.number = 7;
+    CaptureFrame no_pixels_with_draw = makeFrame(8, 0, 0);
+    no_pixels_with_draw.draws[0].texture_keys.clear();
+    {
+      CaptureHeader header;
+      header.codec = codec;
+      CaptureWriter writer(tmp.path, header);
+      writer.write(empty);
+      writer.write(no_pixels_with_draw);
+    }  // the destructor writes the end marker
+    CaptureReader reader(tmp.path);
+    EXPECT_EQ(reader.header().program, "");
+    EXPECT_EQ(reader.header().profile, "");
+    CaptureFrame frame = makeFrame(99);  // stale contents must be replaced, not merged
+    ASSERT_EQ(reader.next(frame), CaptureReader::Status::kFrame);
+    expectFrameEq(frame, empty);
+    ASSERT_EQ(reader.next(frame), CaptureReader::Status::kFrame);
+    expectFrameEq(frame, no_pixels_with_draw);
+    EXPECT_EQ(reader.next(frame), CaptureReader::Status::kEnd);
+  }
 }
 
 TEST(CaptureStream, RoundTripsFullHdFrame) {
-  TempPath tmp("fullhd");
-  const CaptureFrame big = makeFrame(3, 1920, 1080);
-  CaptureWriter writer(tmp.path, CaptureHeader{}, 1);
-  writer.write(big);
-  writer.write(makeFrame(4));
-  writer.close();
-  writer.close();  // idempotent
-  EXPECT_THROW(writer.write(big), std::runtime_error);
-  CaptureReader reader(tmp.path);
-  CaptureFrame frame;
-  ASSERT_EQ(reader.next(frame), CaptureReader::Status::kFrame);
-  expectFrameEq(frame, big);
-  ASSERT_EQ(reader.next(frame), CaptureReader::Status::kFrame);  // a smaller frame into reused buffers
-  expectFrameEq(frame, makeFrame(4));
-  EXPECT_EQ(reader.next(frame), CaptureReader::Status::kEnd);
+  for (CaptureCodec codec : {CaptureCodec::kZstd, CaptureCodec::kLz4}) {
+    SCOPED_TRACE(captureCodecName(codec));
+    TempPath tmp("fullhd");
+    const CaptureFrame big = makeFrame(3, 1920, 1080);
+    CaptureHeader header;
+    header.codec = codec;
+    CaptureWriter writer(tmp.path, header, 1);
+    writer.write(big);
+    writer.write(makeFrame(4));
+    writer.close();
+    writer.close();  // idempotent
+    EXPECT_THROW(writer.write(big), std::runtime_error);
+    EXPECT_LT(writer.bytesWritten(), encodeFramePayload(big).size() / 2) << "the images are compressed";
+    CaptureReader reader(tmp.path);
+    CaptureFrame frame;
+    ASSERT_EQ(reader.next(frame), CaptureReader::Status::kFrame);
+    expectFrameEq(frame, big);
+    ASSERT_EQ(reader.next(frame), CaptureReader::Status::kFrame);  // a smaller frame into reused buffers
+    expectFrameEq(frame, makeFrame(4));
+    EXPECT_EQ(reader.next(frame), CaptureReader::Status::kEnd);
+  }
 }
 
 TEST(CaptureStream, PayloadCodecRoundTripsAndRejectsTrailingBytes) {
@@ -144,9 +155,9 @@ TEST(CaptureStream, RejectsNewerVersionBadMagicAndDamagedHeader) {
   const std::string good = test::readBytes(tmp.path);
 
   std::string newer = good;
-  newer[8] = 4;  // version field, little-endian u32 at byte 8
+  newer[8] = 5;  // version field, little-endian u32 at byte 8
   test::writeBytes(tmp.path, newer);
-  expectHeaderError(tmp.path, "version 4 (this reader reads versions 1 to 3)");
+  expectHeaderError(tmp.path, "version 5 (this reader reads versions 1 to 4)");
 
   std::string magic = good;
   magic[0] = 'X';

@@ -1,6 +1,6 @@
 // Truncated and corrupted streams: every frame before the damage comes back intact, the damage is
 // reported as a CaptureFormatError naming the file, frame and chunk offset, and nothing crashes;
-// the same whether frames are read whole or without their images.
+// the same whether frames are read whole or without their images, and for every codec (zstd, LZ4).
 #include "test_capture_stream_frames.h"
 
 #include <cstdint>
@@ -18,8 +18,8 @@ constexpr int kFrames = 3;
 // A small stream of kFrames frames; `chunks` holds kFrames + 2 offsets: every chunk's start
 // (the last chunk is the end marker) and the file size.
 struct SmallStream {
-  explicit SmallStream(const std::string& tag) : tmp(tag) {
-    chunks = test::writeStream(tmp.path, kFrames, 16, 12);
+  SmallStream(const std::string& tag, CaptureCodec codec) : tmp(tag + "_" + captureCodecName(codec)) {
+    chunks = test::writeStream(tmp.path, kFrames, 16, 12, codec);
     bytes = test::readBytes(tmp.path);
     chunks.push_back(bytes.size());
   }
@@ -72,8 +72,11 @@ std::string readUntilError(const SmallStream& s, std::string bytes, int damaged,
   }
 }
 
-TEST(CaptureStreamDamage, TruncationAtEveryByteIsReportedAfterTheIntactFrames) {
-  SmallStream s("truncate");
+// Every test on a stream of each codec.
+class CaptureStreamDamage : public ::testing::TestWithParam<CaptureCodec> {};
+
+TEST_P(CaptureStreamDamage, TruncationAtEveryByteIsReportedAfterTheIntactFrames) {
+  SmallStream s("truncate", GetParam());
   ASSERT_LT(s.bytes.size(), 20000u) << "keep the stream small: every byte is a test case";
   for (size_t cut = 0; cut < s.bytes.size(); ++cut) {
     SCOPED_TRACE("cut at byte " + std::to_string(cut) + " of " + std::to_string(s.bytes.size()));
@@ -92,8 +95,8 @@ TEST(CaptureStreamDamage, TruncationAtEveryByteIsReportedAfterTheIntactFrames) {
   }
 }
 
-TEST(CaptureStreamDamage, FollowModeWaitsAtEveryCutAndContinuesAfterTheRestArrives) {
-  SmallStream s("follow");
+TEST_P(CaptureStreamDamage, FollowModeWaitsAtEveryCutAndContinuesAfterTheRestArrives) {
+  SmallStream s("follow", GetParam());
   std::vector<size_t> cuts;  // every chunk boundary and its neighbours, and a stride through all bytes
   for (int k = 0; k <= kFrames; ++k)
     for (uint64_t at : {s.chunks[k], s.chunks[k] + 1, s.chunks[k] + 47, s.chunks[k] + 48, s.chunks[k + 1] - 1})
@@ -118,8 +121,8 @@ TEST(CaptureStreamDamage, FollowModeWaitsAtEveryCutAndContinuesAfterTheRestArriv
   }
 }
 
-TEST(CaptureStreamDamage, EveryFlippedByteIsDetectedInItsChunk) {
-  SmallStream s("flip");
+TEST_P(CaptureStreamDamage, EveryFlippedByteIsDetectedInItsChunk) {
+  SmallStream s("flip", GetParam());
   for (size_t at = 0; at < s.bytes.size(); ++at) {
     for (const char mask : {'\x01', '\x80'}) {
       SCOPED_TRACE("byte " + std::to_string(at) + " xor " + std::to_string(int(uint8_t(mask))));
@@ -144,8 +147,8 @@ TEST(CaptureStreamDamage, EveryFlippedByteIsDetectedInItsChunk) {
   }
 }
 
-TEST(CaptureStreamDamage, GarbageAfterTheHeaderIsAnErrorNotACrash) {
-  SmallStream s("garbage");
+TEST_P(CaptureStreamDamage, GarbageAfterTheHeaderIsAnErrorNotACrash) {
+  SmallStream s("garbage", GetParam());
   std::string bytes = s.bytes.substr(0, s.chunks[0]);
   uint64_t state = 0x9e3779b97f4a7c15ull;
   for (int i = 0; i < 4096; ++i) {
@@ -157,6 +160,11 @@ TEST(CaptureStreamDamage, GarbageAfterTheHeaderIsAnErrorNotACrash) {
   CaptureFrame frame;
   EXPECT_THROW(reader.next(frame), CaptureFormatError);
 }
+
+INSTANTIATE_TEST_SUITE_P(Codecs, CaptureStreamDamage, ::testing::Values(CaptureCodec::kZstd, CaptureCodec::kLz4),
+                         [](const ::testing::TestParamInfo<CaptureCodec>& info) {
+                           return std::string(captureCodecName(info.param));
+                         });
 
 }  // namespace
 }  // namespace viper

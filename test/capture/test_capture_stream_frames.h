@@ -146,12 +146,14 @@ inline void writeBytes(const std::string& path, const std::string& bytes, bool a
   out.write(bytes.data(), std::streamsize(bytes.size()));
 }
 
-/// Writes `count` frames made by makeFrame and returns the offset of every chunk (the last one is
-/// the end marker's) as the writer's byte count before each write.
-inline std::vector<uint64_t> writeStream(const std::string& path, int count, uint32_t w = 64, uint32_t h = 48) {
+/// Writes `count` frames made by makeFrame, compressed by `codec`, and returns the offset of every
+/// chunk (the last one is the end marker's) as the writer's byte count before each write.
+inline std::vector<uint64_t> writeStream(const std::string& path, int count, uint32_t w = 64, uint32_t h = 48,
+                                         CaptureCodec codec = CaptureCodec::kZstd) {
   CaptureHeader header;
   header.program = "town";
   header.profile = "town_profile.yaml";
+  header.codec = codec;
   CaptureWriter writer(path, header, 3);
   std::vector<uint64_t> offsets;
   for (int i = 0; i < count; ++i) {

@@ -1,6 +1,7 @@
 // CaptureReader::nextWithoutImages on a real capture of the world made at build time: the same
 // frames, draws, mesh keys and meshes as whole frames, images empty and never decompressed, damage
-// reported as by next(); and on version 2 streams, whose payload is one zstd frame.
+// reported as by next(); the same run captured with LZ4 gives exactly the zstd capture's frames both
+// ways; and on version 2 streams, whose payload is one zstd frame.
 #include "test_capture_stream_frames.h"
 
 #define XXH_INLINE_ALL
@@ -20,6 +21,7 @@ using test::expectFrameEq;
 using test::withoutImages;
 
 const std::string kWorldCapture = VIPER_WORLD_CAPTURE;
+const std::string kWorldLz4Capture = VIPER_WORLD_LZ4_CAPTURE;
 
 uint64_t getU64(const std::string& b, size_t at) {
   uint64_t v;
@@ -73,6 +75,29 @@ std::vector<CaptureFrame> readAll(const std::string& path, bool images) {
   return frames;
 }
 
+// `broken`, the bytes of `capture` whose chunk `damaged` has undecodable images (its checksums
+// matching): a whole read stops at that chunk with `problem`, a read without images gives every frame
+// of the intact capture (it never decompresses the images).
+void expectOnlyTheWholeReadFails(const std::string& capture, const std::string& broken, size_t damaged,
+                                 const std::string& problem) {
+  test::TempPath tmp("world_broken_images");
+  test::writeBytes(tmp.path, broken);
+  CaptureReader whole(tmp.path);
+  CaptureFrame frame;
+  for (size_t i = 0; i < damaged; ++i) ASSERT_EQ(whole.next(frame), CaptureReader::Status::kFrame);
+  try {
+    whole.next(frame);
+    ADD_FAILURE() << "the whole read decompresses the broken images";
+  } catch (const CaptureFormatError& e) {
+    EXPECT_EQ(e.offset(), chunkOffsets(broken)[damaged]);
+    EXPECT_NE(std::string(e.what()).find(problem), std::string::npos) << e.what();
+  }
+  const std::vector<CaptureFrame> expected = readAll(capture, false);
+  const std::vector<CaptureFrame> drawn = readAll(tmp.path, false);
+  ASSERT_EQ(drawn.size(), expected.size());
+  for (size_t i = 0; i < drawn.size(); ++i) expectFrameEq(drawn[i], expected[i]);
+}
+
 TEST(CaptureWithoutImages, WorldCaptureGivesTheSameFramesDrawsAndMeshesAsWholeFrames) {
   ASSERT_EQ(CaptureReader(kWorldCapture).header().version, kCaptureFormatVersion)
       << "a capture of this build: its images are a zstd frame of their own";
@@ -110,25 +135,59 @@ TEST(CaptureWithoutImages, ImagesAreSkippedNotDecompressed) {
   std::string broken = payload;
   ASSERT_GT(breakCompressedBlocks(&broken[head], images), 0) << "the images are compressed";
   replacePayload(b, at, broken, getU64(b, at + 24));
-  test::TempPath tmp("world_broken_images");
-  test::writeBytes(tmp.path, b);
-
-  CaptureReader whole(tmp.path);
-  CaptureFrame frame;
-  for (int i = 0; i < 3; ++i) ASSERT_EQ(whole.next(frame), CaptureReader::Status::kFrame);
-  EXPECT_THROW(whole.next(frame), CaptureFormatError) << "the whole read decompresses the broken images";
-
-  const std::vector<CaptureFrame> expected = readAll(kWorldCapture, false);
-  const std::vector<CaptureFrame> drawn = readAll(tmp.path, false);
-  ASSERT_EQ(drawn.size(), expected.size());
-  for (size_t i = 0; i < drawn.size(); ++i) expectFrameEq(drawn[i], expected[i]);
+  expectOnlyTheWholeReadFails(kWorldCapture, b, 3, "frame 3: zstd decompression failed");
 }
 
-TEST(CaptureWithoutImages, TruncatedWorldCaptureReportsTheDamageAfterTheIntactFrames) {
-  const std::string b = test::readBytes(kWorldCapture);
+TEST(CaptureWithoutImages, Lz4WorldCaptureGivesExactlyTheZstdCapturesFrames) {
+  // Two captures of one deterministic run (cmake/dataset.cmake), one per codec.
+  CaptureReader lz4(kWorldLz4Capture);
+  ASSERT_EQ(lz4.header().codec, CaptureCodec::kLz4);
+  ASSERT_EQ(lz4.header().version, kCodecCaptureFormatVersion);
+  ASSERT_EQ(CaptureReader(kWorldCapture).header().codec, CaptureCodec::kZstd);
+  for (bool images : {true, false}) {
+    SCOPED_TRACE(images ? "whole" : "without images");
+    const std::vector<CaptureFrame> zstd_frames = readAll(kWorldCapture, images);
+    const std::vector<CaptureFrame> lz4_frames = readAll(kWorldLz4Capture, images);
+    ASSERT_EQ(zstd_frames.size(), 20u);
+    ASSERT_EQ(lz4_frames.size(), zstd_frames.size());
+    for (size_t i = 0; i < lz4_frames.size(); ++i) {
+      SCOPED_TRACE("frame " + std::to_string(i));
+      EXPECT_EQ(lz4_frames[i].color_rgb.empty(), !images);
+      // Payloads compared byte for byte: every field, every pixel.
+      EXPECT_TRUE(encodeFramePayload(lz4_frames[i]) == encodeFramePayload(zstd_frames[i]));
+      expectFrameEq(lz4_frames[i], zstd_frames[i]);
+    }
+  }
+  EXPECT_LT(test::readBytes(kWorldLz4Capture).size(), 3 * test::readBytes(kWorldCapture).size());
+}
+
+TEST(CaptureWithoutImages, Lz4ImagesAreSkippedNotDecompressed) {
+  // The images' LZ4 block of one chunk made undecodable behind an intact size header, its checksums
+  // made to match: a whole read stops there, a read without images does not notice.
+  std::string b = test::readBytes(kWorldLz4Capture);
+  const std::vector<size_t> chunks = chunkOffsets(b);
+  ASSERT_GT(chunks.size(), 5u);
+  const size_t at = chunks[3];
+  std::string payload = b.substr(at + 48, getU64(b, at + 16));
+  uint32_t head_block, images_block;
+  std::memcpy(&head_block, payload.data(), 4);
+  const size_t images = 8 + head_block;  // the images part: its size header, then its block
+  ASSERT_LT(images + 8, payload.size());
+  std::memcpy(&images_block, payload.data() + images, 4);
+  ASSERT_GT(images_block, 1000u);
+  ASSERT_LE(images + 8 + images_block, payload.size());
+  // 0xff tokens ask for literal runs longer than the block: malformed, whatever the decoder's path.
+  std::memset(&payload[images + 8], 0xff, images_block);
+  replacePayload(b, at, payload, getU64(b, at + 24));
+  expectOnlyTheWholeReadFails(kWorldLz4Capture, b, 3, "frame 3: lz4 decompression failed");
+}
+
+// A capture cut inside a chunk: every frame before it read without images, then "truncated" at it.
+void expectTruncationReported(const std::string& capture) {
+  const std::string b = test::readBytes(capture);
   const std::vector<size_t> chunks = chunkOffsets(b);
   ASSERT_GT(chunks.size(), 8u);
-  const std::vector<CaptureFrame> whole = readAll(kWorldCapture, true);
+  const std::vector<CaptureFrame> whole = readAll(capture, true);
   // Cuts inside a chunk header, inside the images, just before the next chunk, and the end marker lost.
   const size_t k = 7;
   for (size_t cut : {chunks[k] + 20, chunks[k] + 48 + (chunks[k + 1] - chunks[k]) / 2, chunks[k + 1] - 1}) {
@@ -156,6 +215,13 @@ TEST(CaptureWithoutImages, TruncatedWorldCaptureReportsTheDamageAfterTheIntactFr
   CaptureFrame frame;
   for (size_t i = 0; i < whole.size(); ++i) ASSERT_EQ(reader.nextWithoutImages(frame), CaptureReader::Status::kFrame);
   EXPECT_THROW(reader.nextWithoutImages(frame), CaptureFormatError);
+}
+
+TEST(CaptureWithoutImages, TruncatedWorldCaptureReportsTheDamageAfterTheIntactFrames) {
+  for (const std::string& capture : {kWorldCapture, kWorldLz4Capture}) {
+    SCOPED_TRACE(capture);
+    expectTruncationReported(capture);
+  }
 }
 
 TEST(CaptureWithoutImages, Version2StreamsAreReadBothWays) {

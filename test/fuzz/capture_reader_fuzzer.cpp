@@ -1,6 +1,7 @@
 // libFuzzer target: arbitrary bytes as a capture stream and as a bare frame payload.
 // Nothing may crash, leak or read out of bounds; malformed input must end in an exception.
-// Seeds: a valid two-frame stream and a bare payload, both from the package's writer.
+// Seeds: a valid two-frame stream of each codec (zstd, LZ4) and a bare payload, all from the
+// package's writer.
 #include "fuzz_support.h"
 #include "seed_frame.h"
 #include "viper/capture/capture_stream.h"
@@ -12,8 +13,9 @@
 void viper::fuzz::writeSeeds(const std::string& dir) {
   viper::CaptureHeader header;
   header.program = "seed";
-  {
-    viper::CaptureWriter writer(dir + "/stream.vcap", header, 1);
+  for (viper::CaptureCodec codec : {viper::CaptureCodec::kZstd, viper::CaptureCodec::kLz4}) {
+    header.codec = codec;
+    viper::CaptureWriter writer(dir + "/stream_" + viper::captureCodecName(codec) + ".vcap", header, 1);
     writer.write(viper::fuzz::seedFrame(0));
     writer.write(viper::fuzz::seedFrame(1));
   }
@@ -36,7 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     viper::CaptureReader reader(file, "fuzz-input");
     for (int i = 0; i < 64; ++i) {
-      // Whole frames and frames without images (which skips the images' zstd frame) in turn.
+      // Whole frames and frames without images (which skips the images' zstd frame or LZ4 part) in turn.
       const bool follow = i % 2 == 1;
       const viper::CaptureReader::Status status =
           i % 4 < 2 ? reader.next(frame, follow) : reader.nextWithoutImages(frame, follow);

@@ -1,4 +1,4 @@
-// The capture stream (.vcap): a versioned sequence of checksummed, zstd-compressed frame chunks.
+// The capture stream (.vcap): a versioned sequence of checksummed, compressed (zstd or LZ4) frame chunks.
 // The byte layout is documented in docs/capture_format.md.
 #pragma once
 
@@ -12,12 +12,29 @@
 
 namespace viper {
 
-/// Current stream format version written by CaptureWriter (3: a payload's images in a zstd frame of
-/// their own, which CaptureReader::nextWithoutImages skips).
+/// Stream format version CaptureWriter writes for zstd streams, the default (3: a payload's images
+/// in a zstd frame of their own, which CaptureReader::nextWithoutImages skips).
 constexpr uint32_t kCaptureFormatVersion = 3;
+/// Version CaptureWriter writes for streams of any other codec (4: version 3 with the codec named in
+/// the file header). zstd streams stay version 3, so that builds which read only 1 to 3 still read
+/// them; those builds reject an LZ4 stream by its version instead of misreading its payloads.
+constexpr uint32_t kCodecCaptureFormatVersion = 4;
+/// Newest format version CaptureReader reads.
+constexpr uint32_t kNewestReadableCaptureFormatVersion = 4;
 /// Oldest format version CaptureReader still reads (version 1 frames have no gaps; versions 1 and 2
 /// compress a payload as one zstd frame).
 constexpr uint32_t kOldestReadableCaptureFormatVersion = 1;
+
+/// How a stream's frame payloads are compressed (the file header's codec field from version 4).
+enum class CaptureCodec : uint32_t {
+  kZstd = 1,  ///< zstd frames at the writer's level: small files (the default)
+  kLz4 = 2,   ///< LZ4 blocks: larger (the world at 1080p: 2.6 MB a frame against 1.5), faster both ways
+              ///< (for temporary captures, such as generate's)
+};
+/// "zstd" or "lz4".
+const char* captureCodecName(CaptureCodec codec);
+/// Parses "zstd" or "lz4"; false for anything else.
+bool parseCaptureCodec(const std::string& name, CaptureCodec& codec);
 
 /// Thrown for any unreadable part of a stream. what() names the file, the frame number (if known)
 /// and the byte offset of the damaged chunk: "<file>: offset <offset>: <what>".
@@ -36,8 +53,12 @@ class CaptureFormatError : public std::runtime_error {
 
 /// The stream header: format version and free-form metadata about who wrote it.
 struct CaptureHeader {
-  /// Format version read from the file; the writer ignores it and always writes kCaptureFormatVersion.
+  /// Format version read from the file; the writer ignores it and writes kCaptureFormatVersion for
+  /// zstd, kCodecCaptureFormatVersion for any other codec.
   uint32_t version = kCaptureFormatVersion;
+  /// How the payloads are compressed: the writer compresses with it, the reader reports what it read
+  /// (zstd for versions 1 to 3).
+  CaptureCodec codec = CaptureCodec::kZstd;
   /// Name of the captured program and the capture profile used (informational).
   std::string program;
   std::string profile;
@@ -59,9 +80,9 @@ void decodeFramePayload(const char* data, size_t size, CaptureFrame& frame,
 /// without its checksum. Not thread-safe.
 class CaptureWriter {
  public:
-  /// Opens (truncates) `path`. Throws std::runtime_error if it cannot be opened.
-  /// `zstd_level` 1 is fast; higher compresses more; negative levels are zstd's faster ones
-  /// (larger files).
+  /// Opens (truncates) `path`, compressing with `header.codec`. Throws std::runtime_error if it
+  /// cannot be opened. `zstd_level` (zstd only) 1 is fast; higher compresses more; negative levels
+  /// are zstd's faster ones (larger files).
   CaptureWriter(const std::string& path, const CaptureHeader& header, int zstd_level = 1);
   ~CaptureWriter();  ///< Writes the end marker if close() was not called.
   CaptureWriter(const CaptureWriter&) = delete;
@@ -112,7 +133,7 @@ class CaptureReader {
   Status next(CaptureFrame& frame, bool follow = false);
   /// Like next(), but leaves the four images of `frame` empty (color_rgb, depth_window, draw_ids,
   /// primitive_ids): for readers that need only the draws and meshes. From version 3 the images'
-  /// bytes are checksummed but not decompressed (most of a frame's cost); from older versions the
+  /// bytes (zstd or LZ4) are checksummed but not decompressed (most of a frame's cost); from older versions the
   /// whole payload is decompressed. Damage is reported exactly as by next().
   Status nextWithoutImages(CaptureFrame& frame, bool follow = false);
 

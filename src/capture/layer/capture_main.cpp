@@ -3,6 +3,7 @@
 // when the program succeeded but the capture could not be written (a full disk): the layer says so
 // through a pipe (VIPER_CAPTURE_STATUS_FD) and the stream ends with the last frame written whole.
 #include "viper/capture/capture_profile.h"
+#include "viper/capture/capture_stream.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -28,7 +29,7 @@ int usage(const char* argv0, const char* problem) {
   if (problem) std::fprintf(stderr, "capture: %s\n", problem);
   std::fprintf(stderr,
                "usage: %s --output FILE.vcap [--profile PROFILE.yaml] [--condition TAG] [--frames N]\n"
-               "       [--fps F] [--skip-frames N] [--start-on-scene] [--zstd-level L]\n"
+               "       [--fps F] [--skip-frames N] [--start-on-scene] [--codec zstd|lz4] [--zstd-level L]\n"
                "       [--library libviper_intercept.so] -- PROGRAM [ARGS...]\n"
                "  --frames N: write N frames, then stop the program\n"
                "  --fps F: stamp frame n at n / F seconds, for programs that advance a fixed time step\n"
@@ -36,6 +37,9 @@ int usage(const char* argv0, const char* problem) {
                "  --skip-frames N: show but do not write the first N frames (menus, loading screens)\n"
                "  --start-on-scene: write from the first frame in which a recorded draw has the\n"
                "           camera's view and projection matrices (the profile's scene programs)\n"
+               "  --codec zstd|lz4: compression of the stream (default $VIPER_CAPTURE_CODEC, else zstd);\n"
+               "           lz4 writes larger files several times faster, for captures read once and removed\n"
+               "           (generate's)\n"
                "  --zstd-level L: zstd level of the stream, -131072 to 22 (default $VIPER_CAPTURE_ZSTD_LEVEL,\n"
                "           else 1: the world at 1920x1080 takes 1.5 MB a frame, 19 ms of the writer\n"
                "           thread; -7: 2.4 MB, 16 ms; 3: 1.4 MB, 25 ms)\n"
@@ -73,7 +77,7 @@ std::string absolute(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string output, profile, condition, frames, library, fps, skip, zstd_level;
+  std::string output, profile, condition, frames, library, fps, skip, codec, zstd_level;
   bool start_on_scene = false;
   int i = 1;
   for (; i < argc; ++i) {
@@ -96,6 +100,7 @@ int main(int argc, char** argv) {
     else if (a == "--fps") fps = v;
     else if (a == "--skip-frames") skip = v;
     else if (a == "--library") library = v;
+    else if (a == "--codec") codec = v;
     else if (a == "--zstd-level") zstd_level = v;
     else return usage(argv[0], ("unknown option " + a).c_str());
   }
@@ -116,6 +121,11 @@ int main(int argc, char** argv) {
     const double f = std::strtod(fps.c_str(), &end);
     if (*end || !(f > 0.0) || f > 1e6) return usage(argv[0], "--fps must be a positive number");
   }
+  if (codec.empty())
+    if (const char* env = std::getenv("VIPER_CAPTURE_CODEC")) codec = env;
+  viper::CaptureCodec parsed;
+  if (!codec.empty() && !viper::parseCaptureCodec(codec, parsed))
+    return usage(argv[0], "--codec (or VIPER_CAPTURE_CODEC) must be zstd or lz4");
   if (zstd_level.empty())
     if (const char* env = std::getenv("VIPER_CAPTURE_ZSTD_LEVEL")) zstd_level = env;
   if (!zstd_level.empty()) {
@@ -153,6 +163,8 @@ int main(int argc, char** argv) {
   if (!skip.empty()) setenv("VIPER_CAPTURE_SKIP", skip.c_str(), 1);
   else unsetenv("VIPER_CAPTURE_SKIP");
   setenv("VIPER_CAPTURE_START_ON_SCENE", start_on_scene ? "1" : "0", 1);
+  if (!codec.empty()) setenv("VIPER_CAPTURE_CODEC", codec.c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_CODEC");
   if (!zstd_level.empty()) setenv("VIPER_CAPTURE_ZSTD_LEVEL", zstd_level.c_str(), 1);
   else unsetenv("VIPER_CAPTURE_ZSTD_LEVEL");
 

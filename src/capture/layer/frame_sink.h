@@ -20,8 +20,8 @@ namespace capture {
 /// bounds memory and keeps the stream complete).
 class FrameSink {
  public:
-  /// Opens the stream, compressed at `zstd_level` (CaptureWriter's). Throws std::runtime_error if
-  /// the file cannot be opened.
+  /// Opens the stream, compressed by `header.codec` (at `zstd_level` for zstd; CaptureWriter's).
+  /// Throws std::runtime_error if the file cannot be opened.
   FrameSink(const std::string& path, const CaptureHeader& header, int zstd_level);
   ~FrameSink();  ///< Drains the queue and closes the stream.
 

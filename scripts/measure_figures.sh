@@ -43,3 +43,9 @@ for size in "1920 1080" "1280 720"; do
   echo "world ${1}x${2}: plain: $plain | captured: $captured" | tee -a "$out/world.txt"
   rm -f "$out/world_${2}p.vcap"
 done
+
+echo "== generate end to end at 1920x1080, both outputs (2 sequences of 300 frames, 2 shards)"
+bash "$here/scripts/measure_generate.sh" | tee "$out/generate.txt"
+
+echo "== bag writers: rosbag against BagFileWriter on 10 frames of 1080p ground truth"
+bash "$here/scripts/bench_bag_writer.sh" | tee "$out/bag_writer.txt"

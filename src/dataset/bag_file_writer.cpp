@@ -131,9 +131,7 @@ uint8_t* BagFileWriter::beginMessage(uint32_t connection, uint32_t sec, uint32_t
   if (connection >= connections_.size()) throw std::invalid_argument(path_ + ": no connection " + std::to_string(connection));
   if (sec == 0 && nsec == 0) throw std::invalid_argument(path_ + ": a message at time 0 (rosbag reads none before 0.000000001)");
   finishMessage();
-  if (!chunk_open_) {
-    chunk_open_ = true;
-    chunk_.clear();
+  if (chunk_.empty()) {
     chunk_index_.clear();
     current_ = ChunkInfo{file_->size(), sec, nsec, sec, nsec, {}};
   }
@@ -147,27 +145,24 @@ uint8_t* BagFileWriter::beginMessage(uint32_t connection, uint32_t sec, uint32_t
     current_.start_sec = sec, current_.start_nsec = nsec;
   if (sec > current_.end_sec || (sec == current_.end_sec && nsec > current_.end_nsec))
     current_.end_sec = sec, current_.end_nsec = nsec;
-  ++current_.counts[connection];
   chunk_index_[connection].push_back({sec, nsec, static_cast<uint32_t>(chunk_.size())});
   Header header;
   header.field("op", kOpMessageData).field("conn", connection).field("time", t);
   appendRecordStart(chunk_, header, size);
   const size_t at = chunk_.size();
-  if (chunk_.capacity() < at + size) chunk_.reserve(std::max(at + size, chunk_.capacity() * 2));
   chunk_.resize(at + size);  // filled by the caller (not zeroed first: ChunkBytes)
-  pending_end_ = chunk_.size();
+  message_open_ = true;
   return chunk_.data() + at;
 }
 
 void BagFileWriter::finishMessage() {
-  if (pending_end_ == 0) return;
-  pending_end_ = 0;
+  if (!message_open_) return;
+  message_open_ = false;
   if (chunk_.size() > options_.chunk_threshold) closeChunk();
 }
 
 void BagFileWriter::closeChunk() {
-  if (!chunk_open_) return;
-  chunk_open_ = false;
+  if (chunk_.empty()) return;
   // The chunk's data: compressed if it pays, else as it is.
   const uint8_t* data = chunk_.data();
   size_t data_size = chunk_.size();
@@ -194,7 +189,6 @@ void BagFileWriter::closeChunk() {
     if (rc != BZ_OK) throw std::runtime_error(path_ + ": cannot write bag: bzip2 error " + std::to_string(rc));
     data = compressed_.data(), data_size = n, compression = "bz2";
   }
-  if (compression == "none") ++stored_chunks_;
   std::vector<uint8_t> record;
   Header header;
   header.field("op", kOpChunk).text("compression", compression).field("size", static_cast<uint32_t>(chunk_.size()));
@@ -215,7 +209,9 @@ void BagFileWriter::closeChunk() {
     }
   }
   put(record.data(), record.size());
+  for (const auto& [conn, entries] : chunk_index_) current_.counts[conn] = static_cast<uint32_t>(entries.size());
   chunk_infos_.push_back(current_);
+  chunk_.clear();
 }
 
 void BagFileWriter::close() {

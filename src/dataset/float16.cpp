@@ -12,11 +12,19 @@ namespace viper::dataset {
 
 namespace {
 
+// Whether a finite float became an infinite half (overflow, invalid flow in VIPER's convention).
+inline size_t overflowedTo(float f, uint16_t h) {
+  uint32_t x;
+  std::memcpy(&x, &f, sizeof x);
+  return ((h & 0x7fffu) == 0x7c00u) & ((x & 0x7f800000u) != 0x7f800000u);
+}
+
 size_t pairsToHalvesPortable(const float* uv, size_t n, uint16_t* u, uint16_t* v, size_t from) {
   size_t overflowed = 0;
   for (size_t i = from; i < n; ++i) {
-    overflowed += floatsToHalves(uv + 2 * i, 1, u + i);
-    overflowed += floatsToHalves(uv + 2 * i + 1, 1, v + i);
+    u[i] = floatToHalf(uv[2 * i]);
+    v[i] = floatToHalf(uv[2 * i + 1]);
+    overflowed += overflowedTo(uv[2 * i], u[i]) + overflowedTo(uv[2 * i + 1], v[i]);
   }
   return overflowed;
 }
@@ -63,12 +71,8 @@ size_t pairsToHalves(const float* uv, size_t n, uint16_t* u, uint16_t* v) {
 size_t floatsToHalves(const float* in, size_t n, uint16_t* out) {
   size_t overflowed = 0;
   for (size_t i = 0; i < n; ++i) {
-    const uint16_t h = floatToHalf(in[i]);
-    out[i] = h;
-    uint32_t x;
-    std::memcpy(&x, &in[i], sizeof x);
-    // Infinite half from a finite float: exponent bits all ones in h, but not in the input.
-    overflowed += ((h & 0x7fffu) == 0x7c00u) & ((x & 0x7f800000u) != 0x7f800000u);
+    out[i] = floatToHalf(in[i]);
+    overflowed += overflowedTo(in[i], out[i]);
   }
   return overflowed;
 }

@@ -78,9 +78,6 @@ class BagFileWriter {
   void close();
 
   const std::string& path() const { return path_; }
-  /// Chunks written so far, and how many of them were stored without compression.
-  uint64_t chunks() const { return chunk_infos_.size(); }
-  uint64_t storedChunks() const { return stored_chunks_; }
 
  private:
   struct Connection {
@@ -94,7 +91,7 @@ class BagFileWriter {
   struct ChunkInfo {
     uint64_t position;
     uint32_t start_sec, start_nsec, end_sec, end_nsec;
-    std::map<uint32_t, uint32_t> counts;  // connection -> messages
+    std::map<uint32_t, uint32_t> counts;  // connection -> messages (set when the chunk closes)
   };
 
   void finishMessage();
@@ -107,14 +104,12 @@ class BagFileWriter {
   BagFileOptions options_;
   std::unique_ptr<detail::DirectFile> file_;  // written around the page cache where it can be
   std::vector<Connection> connections_;
-  ChunkBytes chunk_;  // the open chunk, uncompressed
+  ChunkBytes chunk_;  // the open chunk, uncompressed; empty: none open
   ChunkBytes compressed_;
-  bool chunk_open_ = false;
-  size_t pending_end_ = 0;  // the message being filled ends here in chunk_
+  bool message_open_ = false;  // beginMessage's space not yet taken as filled
   ChunkInfo current_{};
-  std::map<uint32_t, std::vector<IndexEntry>> chunk_index_;
+  std::map<uint32_t, std::vector<IndexEntry>> chunk_index_;  // the open chunk's messages
   std::vector<ChunkInfo> chunk_infos_;
-  uint64_t stored_chunks_ = 0;
   bool closed_ = false;
 };
 

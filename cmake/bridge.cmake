@@ -6,6 +6,7 @@ find_package(pluginlib REQUIRED)
 find_package(class_loader REQUIRED)
 add_library(viper_ros
   src/ros/bridge/replay_timing.cpp
+  src/ros/bridge/pace_gate.cpp
   src/ros/bridge/capture_bridge_options.cpp
   src/ros/bridge/capture_bridge.cpp
   src/ros/bridge/capture_bridge_nodelet.cpp

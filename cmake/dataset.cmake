@@ -310,6 +310,15 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
   add_rostest(test/ros/bag_player.test ARGS bag:=${VIPER_WORLD_RAW_BAG} nodelet:=true
     DEPENDENCIES capture_to_bag_tester bag_player viper_ros world_raw_bag)
+  # Back-pressure (~pace_topic): bag_player and capture_bridge at rate 0 feeding a slow consumer lose
+  # no frame when paced; unpaced, the same consumer loses frames.
+  viper_add_tester(back_pressure_tester test/ros/back_pressure_tester.cpp viper_ros)
+  add_rostest(test/ros/back_pressure.test ARGS bag:=${VIPER_WORLD_RAW_BAG}
+    DEPENDENCIES back_pressure_tester viper_ros world_raw_bag)
+  add_rostest(test/ros/back_pressure.test ARGS bag:=${VIPER_WORLD_RAW_BAG} paced:=false
+    DEPENDENCIES back_pressure_tester viper_ros world_raw_bag)
+  add_rostest(test/ros/back_pressure.test ARGS capture:=${VIPER_WORLD_ROUNDTRIP_CAPTURE}
+    DEPENDENCIES back_pressure_tester viper_ros world_raw_bag)
   # The live exporters (viper_exporter node, export_viper --live) on a full disk.
   viper_add_tester(viper_exporter_full_disk_tester test/ros/viper_exporter_full_disk_tester.cpp viper_dataset)
   add_rostest(test/ros/viper_exporter_full_disk.test ARGS bin:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}

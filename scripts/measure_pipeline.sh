@@ -7,15 +7,21 @@
 # (--source bag, the default: replay.launch bag:=, zero-copy) or by rosbag play --clock in its own
 # process, kept alive until the counts are in (--source rosbag), or the capture itself through
 # capture_bridge as a nodelet of the same manager (--source capture: replay.launch capture:=).
+# --throughput plays as fast as the pipeline takes instead: rate 0 with back-pressure (the player
+# sends a frame only while fewer than --in-flight frames are unfinished, output_counter's ~progress
+# saying which are finished), and reports the sustained frames/s from the first draw list to the
+# last output. --sweep R1,R2,... plays the same capture at each rate in turn and names the highest
+# with no frame lost.
 # Exits 1 if any output missed a frame.
 #
 # Usage: scripts/measure_pipeline.sh [--frames N (45)] [--width W (1920)] [--height H (1080)] [--no-flow]
 #                                    [--source bag|rosbag|capture (bag)] [--rate R (1.0: replay speed factor)]
 #                                    [--queue-size Q (30: the nodelets' input queues, replay.launch's queue_size)]
+#                                    [--throughput [--in-flight K (2)]] [--sweep R1,R2,...]
 # Needs a built workspace sourced first: source devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0
+frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=2 sweep=
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
@@ -25,10 +31,29 @@ while [ $# -gt 0 ]; do
     --queue-size) queue="$2"; shift 2 ;;
     --source) source="$2"; shift 2 ;;
     --rate) rate="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q]" >&2; exit 2 ;;
+    --throughput) throughput=true; rate=0; shift ;;
+    --in-flight) in_flight="$2"; shift 2 ;;
+    --sweep) sweep="$2"; shift 2 ;;
+    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...]" >&2; exit 2 ;;
   esac
 done
 case "$source" in bag|rosbag|capture) ;; *) echo "measure_pipeline: --source is bag, rosbag or capture" >&2; exit 2 ;; esac
+if [ "$throughput" = true ] && [ "$source" = rosbag ]; then
+  echo "measure_pipeline: --throughput needs a player with back-pressure: --source bag or capture" >&2; exit 2
+fi
+if [ -n "$sweep" ]; then  # one run per rate, each on a capture of its own; the highest rate with no loss
+  best=none
+  for r in ${sweep//,/ }; do
+    echo "measure_pipeline: --sweep: rate $r"
+    if "$0" --frames "$frames" --width "$width" --height "$height" --source "$source" --rate "$r" \
+        --queue-size "$queue" $([ "$flow" = true ] || echo --no-flow) | grep -E "^(machine|nodelet manager|sustained|measure_pipeline: (no frame|frames))"; then
+      best=$r
+    fi
+  done
+  echo "measure_pipeline: --sweep: highest rate with no frame lost: $best (of $sweep)"
+  [ "$best" != none ]
+  exit
+fi
 source "$here/scripts/measure_common.sh" measure_pipeline
 
 echo "measure_pipeline: capturing $frames frames of the world at ${width}x${height}"
@@ -36,13 +61,16 @@ echo "measure_pipeline: capturing $frames frames of the world at ${width}x${heig
   -- "$bin/world" --frames "$frames" --width "$width" --height "$height" >/dev/null
 echo "measure_pipeline: captured (${SECONDS} s)"
 # The bridge and the bag player wait 8 s after advertising: output_counter is loaded by then.
-replay_args=(capture:="$work/world.vcap" rate:="$rate" start_delay:=8)
+pace=()
+[ "$throughput" = true ] && pace=(pace_topic:=/ground_truth/output_counter/progress max_in_flight:="$in_flight")
+replay_args=(capture:="$work/world.vcap" rate:="$rate" start_delay:=8 "${pace[@]}")
 if [ "$source" != capture ]; then
   "$bin/capture_to_bag" --output "$work/raw.bag" "$work/world.vcap" >/dev/null
   echo "measure_pipeline: bag written (${SECONDS} s)"
   replay_args=()
-  [ "$source" = bag ] && replay_args=(bag:="$work/raw.bag" rate:="$rate" start_delay:=8)
+  [ "$source" = bag ] && replay_args=(bag:="$work/raw.bag" rate:="$rate" start_delay:=8 "${pace[@]}")
 fi
+[ "$flow" = true ] || export COUNTER_ARGS="_expect_flow:=false"
 start_pipeline label_table:="$here/config/labels/world_labels.yaml" flow:="$flow" queue_size:="$queue" "${replay_args[@]}"
 ticks() { awk '{print $14 + $15}' "/proc/$manager/stat"; }
 before=$(ticks)
@@ -60,6 +88,11 @@ for _ in $(seq 600); do [ -f "$work/counts.txt" ] && break; sleep 0.2; done
 after=$(ticks)
 echo "machine: $(nproc) cores; $frames frames ${width}x${height} at rate $rate; $played"
 echo "nodelet manager: $(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc) ms CPU per frame (at 15 Hz, 2 cores give 133 ms)"
+if [ "$throughput" = true ]; then
+  # From the first draw list to the last output of any topic (wall-clock seconds in counts.txt).
+  awk -v n="$frames" '$1 == "/capture/draws" {first = $3} {if ($4 > last) last = $4}
+    END {printf "sustained: %.1f frames/s (%d frames in %.2f s, at most %s frames in flight)\n", n / (last - first), n, last - first, "'"$in_flight"'"}' "$work/counts.txt"
+fi
 # Flow exists for every frame but one: forward flow of the last frame and backward flow of the first
 # have no other frame.
 status=0

@@ -42,7 +42,7 @@ std::string readBagPlayerOptions(const ros::NodeHandle& pnh, BagPlayerOptions& o
   if (!(o.rate >= 0.0)) return "~rate must be >= 0 (0: as fast as possible), got " + std::to_string(o.rate);
   if (!(o.start_delay_s >= 0.0)) return "~start_delay_s must be >= 0, got " + std::to_string(o.start_delay_s);
   if (o.queue_size < 1) return "~queue_size must be >= 1, got " + std::to_string(o.queue_size);
-  return {};
+  return readPaceOptions(pnh, o.pace);
 }
 
 BagPlayer::BagPlayer(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
@@ -91,8 +91,11 @@ bool BagPlayer::start(bool is_node) {
     return false;
   }
   if (options_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-  ROS_INFO("bag_player: playing '%s' (%zu topics) at rate %g%s", options_.bag.c_str(), pubs_.size(), options_.rate,
-           options_.loop ? ", looping" : "");
+  gate_ = std::make_unique<PaceGate>(nh_, options_.pace, "bag_player");
+  ROS_INFO("bag_player: playing '%s' (%zu topics) at rate %g%s%s", options_.bag.c_str(), pubs_.size(), options_.rate,
+           options_.loop ? ", looping" : "",
+           gate_->active() ? (", at most " + std::to_string(options_.pace.max_in_flight) + " frames ahead of '" +
+                              options_.pace.topic + "'").c_str() : "");
   thread_ = std::thread(&BagPlayer::run, this);
   return true;
 }
@@ -169,6 +172,8 @@ bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span
     for (const rosbag::MessageInstance& m : view) {
       if (stop_ || !ros::ok()) return false;
       const ros::Time t = m.getTime() + shift;
+      // A new frame (its messages share their time) waits for room in the pipeline.
+      if ((p.count == 0 || t > p.last) && !gate_->waitForRoom(stop_)) return false;
       if (p.count == 0) {
         p.first = t;
         p.wall_start = ros::WallTime::now();
@@ -184,7 +189,9 @@ bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span
       }
       p.last = t;
       span.times.add(m.getTime());
-      span.stamps.add(publish(m, shift));
+      const ros::Time stamp = publish(m, shift);
+      span.stamps.add(stamp);
+      if (!stamp.isZero()) gate_->sent(stamp + shift);
       published_ = ++p.count;
     }
     return true;
@@ -208,10 +215,12 @@ void BagPlayer::run() {
     ROS_INFO("bag_player: '%s' from the start again (pass %lu), times and header stamps %.3f s later",
              options_.bag.c_str(), static_cast<unsigned long>(pass + 1), shift.toSec());
   }
-  ROS_INFO("bag_player: done with '%s': %lu messages published in %.2f s (%.2f s of bag time)", options_.bag.c_str(),
+  ROS_INFO("bag_player: done with '%s': %lu messages published in %.2f s (%.2f s of bag time)%s", options_.bag.c_str(),
            static_cast<unsigned long>(progress.count),
            progress.count ? (ros::WallTime::now() - progress.wall_start).toSec() : 0.0,
-           progress.count ? (progress.last - progress.first).toSec() : 0.0);
+           progress.count ? (progress.last - progress.first).toSec() : 0.0,
+           gate_->active() ? (", held back " + std::to_string(gate_->waits()) + " times for " +
+                              std::to_string(gate_->waitedSeconds()) + " s in all").c_str() : "");
   if (is_node_ && options_.exit_when_done) ros::requestShutdown();
 }
 

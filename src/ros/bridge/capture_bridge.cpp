@@ -63,6 +63,7 @@ bool CaptureBridge::start(bool is_node) {
   draws_pub_ = nh_.advertise<DrawList>("draws", q);
   mesh_store_pub_ = nh_.advertise<MeshStore>("mesh_store", 1, /*latch=*/true);
   if (options_.publish_clock) clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", q);
+  gate_ = std::make_unique<PaceGate>(nh_, options_.pace, "capture_bridge");
 
   stop_ = false;
   thread_ = std::thread(&CaptureBridge::run, this);
@@ -200,7 +201,9 @@ bool CaptureBridge::publishPass(ReplayTiming& timing, bool& first_frame, ros::Wa
       const double wait_s = timing.dueAfterStart(stamp_s) - (ros::WallTime::now() - wall_start).toSec();
       if (!sleepFor(wait_s)) return false;
     }
+    if (!gate_->waitForRoom(stop_)) return false;
     publishFrame(frame, stamp_s);
+    gate_->sent(ros::Time(stamp_s));
   }
   return false;
 }

@@ -75,6 +75,12 @@ std::optional<CaptureBridgeOptions> loadCaptureBridgeOptions(const ros::NodeHand
     o.queue_size = 10;
   }
 
+  const std::string pace_problem = readPaceOptions(pnh, o.pace);
+  if (!pace_problem.empty()) {
+    ROS_FATAL("capture_bridge: %s: %s", ns.c_str(), pace_problem.c_str());
+    return std::nullopt;
+  }
+
   bool use_sim_time = false;
   ros::param::get("/use_sim_time", use_sim_time);
   if (use_sim_time && !o.publish_clock) {

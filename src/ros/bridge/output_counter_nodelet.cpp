@@ -7,11 +7,16 @@
 // "TOPIC COUNT FIRST_S LAST_S" (wall-clock seconds of the first and last message), and keeps running.
 // With ~report_period_s > 0 it also writes the file every so many seconds while messages come (for
 // scripts/soak_pipeline.sh, whose replay never goes idle).
+// It also publishes ~progress (std_msgs/Header): the newest stamp that every output has reached
+// (each has delivered that stamp or a later one; the flow outputs only with ~expect_flow, default
+// true), the finished frames a player's back-pressure waits for (pace_gate.h, measure_pipeline.sh
+// --throughput).
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
+#include <std_msgs/Header.h>
 #include <viper/Box3DArray.h>
 #include <viper/DrawList.h>
 #include <viper/ObjectArray.h>
@@ -37,33 +42,53 @@ class OutputCounterNodelet : public nodelet::Nodelet {
     pnh.param<std::string>("report_file", report_file_, "");
     pnh.param("idle_s", idle_s_, 5.0);
     pnh.param("report_period_s", period_s_, 0.0);
+    bool expect_flow = true;
+    pnh.param("expect_flow", expect_flow, true);
     if (report_file_.empty()) {
       NODELET_FATAL("output_counter: ~report_file is empty: give the file the counts are written to");
       return;
     }
-    const uint32_t q = 1000;
-    for (const char* t : {"semantic", "semantic_color", "instance_ids", "boundaries", "instances_viper", "semantic_overlay",
-                          "flow/forward", "flow/forward_visible", "flow/backward", "flow/backward_visible"})
-      subs_.push_back(nh.subscribe<sensor_msgs::Image>(t, q, [this, t](const sensor_msgs::ImageConstPtr&) { count(t); }));
-    subs_.push_back(nh.subscribe<ObjectArray>("objects", q, [this](const ObjectArray::ConstPtr&) { count("objects"); }));
-    subs_.push_back(nh.subscribe<Box3DArray>("boxes", q, [this](const Box3DArray::ConstPtr&) { count("boxes"); }));
-    subs_.push_back(nh.subscribe<Box3DArray>("boxes_optical", q, [this](const Box3DArray::ConstPtr&) { count("boxes_optical"); }));
-    subs_.push_back(nh.subscribe<nav_msgs::Odometry>("odom", q, [this](const nav_msgs::OdometryConstPtr&) { count("odom"); }));
-    subs_.push_back(nh.subscribe<DrawList>("/capture/draws", q, [this](const DrawList::ConstPtr&) { count("/capture/draws"); }));
+    progress_pub_ = pnh.advertise<std_msgs::Header>("progress", 100);
+    for (const char* t : {"semantic", "semantic_color", "instance_ids", "boundaries", "instances_viper", "semantic_overlay"})
+      subscribe<sensor_msgs::Image>(t, true);
+    for (const char* t : {"flow/forward", "flow/forward_visible", "flow/backward", "flow/backward_visible"})
+      subscribe<sensor_msgs::Image>(t, expect_flow);
+    subscribe<ObjectArray>("objects", true);
+    subscribe<Box3DArray>("boxes", true);
+    subscribe<Box3DArray>("boxes_optical", true);
+    subscribe<nav_msgs::Odometry>("odom", true);
+    subscribe<DrawList>("/capture/draws", false);
     // The overlay's other input: a source stopped mid-frame may have sent a frame's draws, not its color.
-    subs_.push_back(nh.subscribe<sensor_msgs::Image>("/capture/color/image_raw", q, [this](const sensor_msgs::ImageConstPtr&) {
-      count("/capture/color/image_raw");
-    }));
+    subscribe<sensor_msgs::Image>("/capture/color/image_raw", false);
     timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) { maybeReport(); });
   }
 
-  void count(const std::string& topic) {
+  // Counts `topic`; an output (`paced`) also takes part in ~progress.
+  template <typename M>
+  void subscribe(const std::string& topic, bool paced) {
+    if (paced) reached_[topic] = ros::Time();
+    subs_.push_back(getNodeHandle().subscribe<M>(topic, 1000, [this, topic](const boost::shared_ptr<const M>& m) {
+      count(topic, m->header.stamp);
+    }));
+  }
+
+  void count(const std::string& topic, const ros::Time& stamp) {
     std::lock_guard<std::mutex> lock(mutex_);
     Count& c = counts_[topic];
     c.last = ros::WallTime::now();
     if (c.n++ == 0) c.first = c.last;
     last_ = c.last;
     written_ = false;
+    const auto it = reached_.find(topic);
+    if (it == reached_.end() || stamp <= it->second) return;
+    it->second = stamp;
+    ros::Time all = stamp;  // the newest stamp every output has reached
+    for (const auto& [t, reached] : reached_) all = std::min(all, reached);
+    if (all <= progress_) return;
+    progress_ = all;
+    std_msgs::HeaderPtr h(new std_msgs::Header);
+    h->stamp = all;
+    progress_pub_.publish(h);
   }
 
   void maybeReport() {
@@ -91,6 +116,9 @@ class OutputCounterNodelet : public nodelet::Nodelet {
   double idle_s_ = 5.0, period_s_ = 0.0;
   ros::WallTime reported_;
   std::map<std::string, Count> counts_;
+  std::map<std::string, ros::Time> reached_;  // per output, the newest stamp delivered
+  ros::Time progress_;
+  ros::Publisher progress_pub_;
   ros::WallTime last_;
   bool written_ = false;
   std::mutex mutex_;

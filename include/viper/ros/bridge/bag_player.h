@@ -5,11 +5,14 @@
 // socket (460 MB/s for 1080p raw topics at 15 Hz). docs/capture_bridge.md#bag_player.
 #pragma once
 
+#include "viper/ros/bridge/pace_gate.h"
+
 #include <ros/ros.h>
 
 #include <algorithm>
 #include <atomic>
 #include <map>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -28,6 +31,7 @@ struct BagPlayerOptions {
   int queue_size = 100;        ///< ~queue_size: outgoing queue per topic
   bool exit_when_done = false; ///< ~exit_when_done: (node only) shut down after the last message
   bool loop = false;           ///< ~loop: start over at the end, times and header stamps continuing
+  PaceOptions pace;            ///< ~pace_topic, ~max_in_flight, ~pace_timeout_s: back-pressure (pace_gate.h)
 };
 
 /// Reads the options from private parameters; returns an empty string or what is wrong.
@@ -77,6 +81,7 @@ class BagPlayer {
   BagPlayerOptions options_;
   bool is_node_ = true;
   std::map<std::string, ros::Publisher> pubs_;  // by topic
+  std::unique_ptr<PaceGate> gate_;
   ros::Publisher clock_pub_;
   std::thread thread_;
   std::atomic<bool> stop_{false};

@@ -4,6 +4,7 @@
 
 #include "viper/capture/capture_frame.h"
 #include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/bridge/pace_gate.h"
 #include "viper/ros/bridge/replay_timing.h"
 
 #include <image_transport/image_transport.h>
@@ -35,6 +36,7 @@ struct CaptureBridgeOptions {
   std::string frame_id = "camera_optical";  ///< ~frame_id of every header
   int queue_size = 10;                ///< ~queue_size of every publisher
   bool exit_when_done = false;        ///< ~exit_when_done: (node only) shut down after the last frame
+  PaceOptions pace;                   ///< ~pace_topic, ~max_in_flight, ~pace_timeout_s: back-pressure (pace_gate.h)
 };
 
 /// Reads and validates the options once: impossible settings log ROS_FATAL with how to fix them and
@@ -81,6 +83,7 @@ class CaptureBridge {
   ros::Publisher color_info_pub_, depth_info_pub_, draws_pub_, mesh_store_pub_, clock_pub_;
 
   MeshStoreAccumulator mesh_store_;
+  std::unique_ptr<PaceGate> gate_;
 
   std::thread thread_;
   std::mutex mutex_;

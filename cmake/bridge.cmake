@@ -7,6 +7,7 @@ find_package(class_loader REQUIRED)
 add_library(viper_ros
   src/ros/bridge/replay_timing.cpp
   src/ros/bridge/pace_gate.cpp
+  src/ros/bridge/cpu_meter.cpp
   src/ros/bridge/capture_bridge_options.cpp
   src/ros/bridge/capture_bridge.cpp
   src/ros/bridge/capture_bridge_nodelet.cpp

@@ -71,7 +71,8 @@ if [ "$source" != capture ]; then
   [ "$source" = bag ] && replay_args=(bag:="$work/raw.bag" rate:="$rate" start_delay:=8 "${pace[@]}")
 fi
 [ "$flow" = true ] || export COUNTER_ARGS="_expect_flow:=false"
-start_pipeline label_table:="$here/config/labels/world_labels.yaml" flow:="$flow" queue_size:="$queue" "${replay_args[@]}"
+start_pipeline label_table:="$here/config/labels/world_labels.yaml" flow:="$flow" queue_size:="$queue" cpu_report_period:=1 \
+  "${replay_args[@]}"
 ticks() { awk '{print $14 + $15}' "/proc/$manager/stat"; }
 before=$(ticks)
 echo "measure_pipeline: playing (${SECONDS} s)"
@@ -87,7 +88,14 @@ for _ in $(seq 600); do [ -f "$work/counts.txt" ] && break; sleep 0.2; done
 [ "$source" = rosbag ] && stop_bag
 after=$(ticks)
 echo "machine: $(nproc) cores; $frames frames ${width}x${height} at rate $rate; $played"
-echo "nodelet manager: $(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc) ms CPU per frame (at 15 Hz, 2 cores give 133 ms)"
+manager_ms=$(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc)
+echo "nodelet manager: $manager_ms ms CPU per frame (at 15 Hz, 2 cores give 133 ms)"
+# Per nodelet: the last 'cpu:' line each logged (its callbacks' thread CPU, cpu_meter.h), from
+# rosout's log (the manager's own output is buffered until it exits).
+cat "$work"/ros_home/log/*/rosout.log | grep -ao 'cpu: [a-z_]* [0-9]* frames, [0-9.]* ms CPU a frame' |
+  awk '{ms[$2] = $5; n[$2] = $3} END {for (k in ms) print k, ms[k], n[k]}' | sort |
+  awk -v manager="$manager_ms" '{printf "  %-15s %6.1f ms CPU a frame (over %d frames)\n", $1, $2, $3; sum += $2}
+    END {printf "  %-15s %6.1f ms\n  %-15s %6.1f ms (ROS: queues, synchronisers, publishing)\n", "sum", sum, "rest of manager", manager - sum}'
 if [ "$throughput" = true ]; then
   # From the first draw list to the last output of any topic (wall-clock seconds in counts.txt).
   awk -v n="$frames" '$1 == "/capture/draws" {first = $3} {if ($4 > last) last = $4}

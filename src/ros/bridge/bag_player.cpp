@@ -169,9 +169,15 @@ bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span
   try {
     rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
     rosbag::View view(bag);
+    int64_t cpu_mark = CpuMeter::threadCpuNs();  // this thread's CPU, reading included, by frame
     for (const rosbag::MessageInstance& m : view) {
       if (stop_ || !ros::ok()) return false;
       const ros::Time t = m.getTime() + shift;
+      if (p.count == 0 || t > p.last) {
+        const int64_t now = CpuMeter::threadCpuNs();
+        cpu_.add(now - cpu_mark, p.count > 0);
+        cpu_mark = now;
+      }
       // A new frame (its messages share their time) waits for room in the pipeline.
       if ((p.count == 0 || t > p.last) && !gate_->waitForRoom(stop_)) return false;
       if (p.count == 0) {

@@ -151,6 +151,7 @@ bool CaptureBridge::publishPass(ReplayTiming& timing, bool& first_frame, ros::Wa
   std::unique_ptr<CaptureReader> reader;
   if (!openReader(reader)) return false;
   CaptureFrame frame;
+  int64_t cpu_mark = CpuMeter::threadCpuNs();  // this thread's CPU, reading included, by frame
   while (running()) {
     const uint64_t offset = reader->offset();
     CaptureReader::Status status;
@@ -204,6 +205,9 @@ bool CaptureBridge::publishPass(ReplayTiming& timing, bool& first_frame, ros::Wa
     if (!gate_->waitForRoom(stop_)) return false;
     publishFrame(frame, stamp_s);
     gate_->sent(ros::Time(stamp_s));
+    const int64_t now = CpuMeter::threadCpuNs();
+    cpu_.add(now - cpu_mark, true);
+    cpu_mark = now;
   }
   return false;
 }

@@ -41,6 +41,7 @@ std::string Boxes::topicOf(StepInput input) const {
 }
 
 void Boxes::onMeshStore(const MeshStore::ConstPtr& store) {
+  const CpuMeter::Scope cpu(cpu_, false);
   StepProblems problems;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -50,6 +51,7 @@ void Boxes::onMeshStore(const MeshStore::ConstPtr& store) {
 }
 
 void Boxes::onFrame(const ObjectArray::ConstPtr& objects, const DrawList::ConstPtr& draws) {
+  const CpuMeter::Scope cpu(cpu_, true);
   BoxesStep::Output out;
   StepProblems problems;
   {

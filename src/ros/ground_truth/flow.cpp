@@ -64,6 +64,7 @@ bool Flow::start() {
 }
 
 void Flow::onMeshStore(const MeshStore::ConstPtr& store) {
+  const CpuMeter::Scope cpu(cpu_, false);
   StepProblems problems;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -107,6 +108,7 @@ void Flow::onDrop(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, c
 
 void Flow::onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, const ImageConstPtr& draw_ids,
                    const ImageConstPtr& primitive_ids, const ObjectArray::ConstPtr& objects) {
+  const CpuMeter::Scope cpu(cpu_, true);
   FlowStep::Want want;
   want.forward = forward_pub_.getNumSubscribers() > 0 || forward_visible_pub_.getNumSubscribers() > 0;
   want.backward = backward_pub_.getNumSubscribers() > 0 || backward_visible_pub_.getNumSubscribers() > 0;

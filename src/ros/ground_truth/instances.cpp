@@ -86,6 +86,7 @@ std::string Instances::topicOf(StepInput input) const {
 }
 
 void Instances::onMeshStore(const MeshStore::ConstPtr& store) {
+  const CpuMeter::Scope cpu(cpu_, false);
   StepProblems problems;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -95,6 +96,7 @@ void Instances::onMeshStore(const MeshStore::ConstPtr& store) {
 }
 
 void Instances::onColor(const sensor_msgs::Image::ConstPtr& color) {
+  const CpuMeter::Scope cpu(cpu_, false);
   std::lock_guard<std::mutex> lock(mutex_);
   if (overlay_pub_.getNumSubscribers() == 0) return;
   auto semantic = pending_semantic_.find(color->header.stamp);
@@ -115,6 +117,7 @@ void Instances::publishOverlay(const sensor_msgs::Image& color, const std::vecto
 }
 
 void Instances::onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Image::ConstPtr& ids) {
+  const CpuMeter::Scope cpu(cpu_, true);
   std::lock_guard<std::mutex> lock(mutex_);
   InstancesStep::Want want;
   want.semantic = semantic_pub_.getNumSubscribers() > 0;

@@ -35,6 +35,7 @@ bool Odometry::start() {
 }
 
 void Odometry::onDraws(const DrawList::ConstPtr& draws) {
+  const CpuMeter::Scope cpu(cpu_, true);
   OdometryStep::Output out;
   StepProblems problems;
   const bool kept = step_->process(*draws, out, problems);

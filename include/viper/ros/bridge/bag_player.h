@@ -5,6 +5,7 @@
 // socket (460 MB/s for 1080p raw topics at 15 Hz). docs/capture_bridge.md#bag_player.
 #pragma once
 
+#include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/bridge/pace_gate.h"
 
 #include <ros/ros.h>
@@ -82,6 +83,7 @@ class BagPlayer {
   bool is_node_ = true;
   std::map<std::string, ros::Publisher> pubs_;  // by topic
   std::unique_ptr<PaceGate> gate_;
+  CpuMeter cpu_{"bag_player", pnh_};  // its thread's CPU a frame (cpu_meter.h)
   ros::Publisher clock_pub_;
   std::thread thread_;
   std::atomic<bool> stop_{false};

@@ -4,6 +4,7 @@
 
 #include "viper/capture/capture_frame.h"
 #include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/bridge/pace_gate.h"
 #include "viper/ros/bridge/replay_timing.h"
 
@@ -84,6 +85,7 @@ class CaptureBridge {
 
   MeshStoreAccumulator mesh_store_;
   std::unique_ptr<PaceGate> gate_;
+  CpuMeter cpu_{"capture_bridge", private_nh_};  // its thread's CPU a frame (cpu_meter.h)
 
   std::thread thread_;
   std::mutex mutex_;

@@ -4,6 +4,7 @@
 
 #include "viper/ground_truth/boxes.h"
 #include "viper/ground_truth/class_table.h"
+#include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/ground_truth/boxes_step.h"
 #include "viper/ros/ground_truth/step_log.h"
 
@@ -45,6 +46,7 @@ class Boxes {
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync_;
   ros::Subscriber mesh_store_sub_;
   ros::Publisher boxes_pub_, boxes_optical_pub_, markers_pub_;
+  CpuMeter cpu_{"boxes", nh_};  // per-frame CPU (cpu_meter.h)
 };
 
 }  // namespace viper

@@ -6,6 +6,7 @@
 #include "viper/ground_truth/boxes.h"
 #include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/flow.h"
+#include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/ground_truth/flow_step.h"
 #include "viper/ros/ground_truth/step_log.h"
 
@@ -69,6 +70,7 @@ class Flow {
   std::mutex mutex_;  // guards the step
   std::unique_ptr<FlowStep> step_;
   uint64_t frames_ = 0;
+  CpuMeter cpu_{"flow", nh_};  // per-frame CPU (cpu_meter.h)
 };
 
 }  // namespace viper

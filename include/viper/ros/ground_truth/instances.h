@@ -4,6 +4,7 @@
 
 #include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/instance_pipeline.h"
+#include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/ground_truth/instances_step.h"
 #include "viper/ros/ground_truth/step_log.h"
 
@@ -62,6 +63,7 @@ class Instances {
   ros::Publisher objects_pub_;
 
   uint64_t frames_ = 0;
+  CpuMeter cpu_{"instances", nh_};  // per-frame CPU (cpu_meter.h)
 };
 
 /// Reads the class table named by ~class_table, or the package's config/viper_classes.csv.

@@ -3,6 +3,7 @@
 // docs/ground_truth_nodes.md.
 #pragma once
 
+#include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/ground_truth/odometry_step.h"
 #include "viper/ros/ground_truth/step_log.h"
 
@@ -35,6 +36,7 @@ class Odometry {
   ros::Publisher odom_pub_, path_pub_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_;
+  CpuMeter cpu_{"odometry", nh_};  // per-frame CPU (cpu_meter.h)
 };
 
 }  // namespace viper

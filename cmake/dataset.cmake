@@ -319,6 +319,11 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDENCIES back_pressure_tester viper_ros world_raw_bag)
   add_rostest(test/ros/back_pressure.test ARGS capture:=${VIPER_WORLD_ROUNDTRIP_CAPTURE}
     DEPENDENCIES back_pressure_tester viper_ros world_raw_bag)
+  # Overload: the ground-truth nodelets fed far faster than they go lose frames visibly, never let
+  # flow span a gap, stay bounded in memory and recover.
+  viper_add_tester(overload_tester test/ros/overload_tester.cpp)
+  add_rostest(test/ros/overload.test ARGS bag:=${VIPER_WORLD_RAW_BAG}
+    DEPENDENCIES overload_tester viper_ground_truth_ros viper_flow_ros world_raw_bag)
   # The live exporters (viper_exporter node, export_viper --live) on a full disk.
   viper_add_tester(viper_exporter_full_disk_tester test/ros/viper_exporter_full_disk_tester.cpp viper_dataset)
   add_rostest(test/ros/viper_exporter_full_disk.test ARGS bin:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}

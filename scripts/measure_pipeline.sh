@@ -18,6 +18,7 @@
 #                                    [--source bag|rosbag|capture (bag)] [--rate R (1.0: replay speed factor)]
 #                                    [--queue-size Q (30: the nodelets' input queues, replay.launch's queue_size)]
 #                                    [--throughput [--in-flight K (2)]] [--sweep R1,R2,...]
+#                                    [--bag-compression lz4|none|bz2 (capture_to_bag's, lz4)]
 # Needs a built workspace sourced first: source devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -34,7 +35,8 @@ while [ $# -gt 0 ]; do
     --throughput) throughput=true; rate=0; shift ;;
     --in-flight) in_flight="$2"; shift 2 ;;
     --sweep) sweep="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...]" >&2; exit 2 ;;
+    --bag-compression) compression="$2"; shift 2 ;;
+    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...] [--bag-compression lz4|none|bz2]" >&2; exit 2 ;;
   esac
 done
 case "$source" in bag|rosbag|capture) ;; *) echo "measure_pipeline: --source is bag, rosbag or capture" >&2; exit 2 ;; esac
@@ -46,7 +48,7 @@ if [ -n "$sweep" ]; then  # one run per rate, each on a capture of its own; the 
   for r in ${sweep//,/ }; do
     echo "measure_pipeline: --sweep: rate $r"
     if "$0" --frames "$frames" --width "$width" --height "$height" --source "$source" --rate "$r" \
-        --queue-size "$queue" $([ "$flow" = true ] || echo --no-flow) | grep -E "^(machine|nodelet manager|sustained|measure_pipeline: (no frame|frames))"; then
+        --queue-size "$queue" --bag-compression "$compression" $([ "$flow" = true ] || echo --no-flow) | grep -E "^(machine|nodelet manager|sustained|measure_pipeline: (no frame|frames))"; then
       best=$r
     fi
   done
@@ -65,7 +67,7 @@ pace=()
 [ "$throughput" = true ] && pace=(pace_topic:=/ground_truth/output_counter/progress max_in_flight:="$in_flight")
 replay_args=(capture:="$work/world.vcap" rate:="$rate" start_delay:=8 "${pace[@]}")
 if [ "$source" != capture ]; then
-  "$bin/capture_to_bag" --output "$work/raw.bag" "$work/world.vcap" >/dev/null
+  "$bin/capture_to_bag" --output "$work/raw.bag" --compression "$compression" "$work/world.vcap" >/dev/null
   echo "measure_pipeline: bag written (${SECONDS} s)"
   replay_args=()
   [ "$source" = bag ] && replay_args=(bag:="$work/raw.bag" rate:="$rate" start_delay:=8 "${pace[@]}")
@@ -79,8 +81,8 @@ echo "measure_pipeline: playing (${SECONDS} s)"
 case "$source" in
   rosbag)
     play_bag --clock --rate="$rate" "$work/raw.bag"  # --delay=2: every subscriber connects first
-    played="bag $(du -h "$work/raw.bag" | cut -f1) played by rosbag play" ;;
-  bag) played="bag $(du -h "$work/raw.bag" | cut -f1) played by the bag_player nodelet" ;;
+    played="bag $(du -h "$work/raw.bag" | cut -f1) ($compression) played by rosbag play" ;;
+  bag) played="bag $(du -h "$work/raw.bag" | cut -f1) ($compression) played by the bag_player nodelet" ;;
   capture) played="capture $(du -h "$work/world.vcap" | cut -f1) through the bridge nodelet" ;;
 esac
 for _ in $(seq 600); do [ -f "$work/counts.txt" ] && break; sleep 0.2; done

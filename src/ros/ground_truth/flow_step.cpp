@@ -180,9 +180,14 @@ bool FlowStep::process(const DrawList& draws, const sensor_msgs::Image& depth, c
                                  static_cast<unsigned long>(prev.frame.number))});
       window_.clear();
     } else if (cur->frame.number != prev.frame.number + 1) {
+      // The warning is throttled: the running count says how many were lost in between.
+      const uint64_t lost = cur->frame.number - prev.frame.number - 1;
+      frames_lost_ += lost;
       problems.push_back({StepInput::kDraws, StepSeverity::kWarning, "gap",
-                          format(": frame %lu follows frame %lu: the frames between were dropped; the window starts "
-                                 "over", number, static_cast<unsigned long>(prev.frame.number))});
+                          format(": frame %lu follows frame %lu: %lu %s between dropped (%lu dropped so far); no flow "
+                                 "spans them, the window starts over", number,
+                                 static_cast<unsigned long>(prev.frame.number), static_cast<unsigned long>(lost),
+                                 lost == 1 ? "frame" : "frames", static_cast<unsigned long>(frames_lost_))});
       window_.clear();
     }
   }

@@ -80,6 +80,7 @@ class FlowStep {
   MeshRegistry meshes_;
   std::deque<HeldPtr> window_;  // oldest first; consecutive capture frames
   FlowField scratch_;           // reused between frames
+  uint64_t frames_lost_ = 0;    // frames missing between consecutive frames seen, in all
 };
 
 }  // namespace viper

@@ -77,8 +77,16 @@ std::string shapeText(const std::vector<uint64_t>& s) {
 
 ViperFlowWriteStats writeViperFlow(const std::string& path, const FlowImage& flow, const ZipWriteOptions& zip) {
   checkFlow(path, flow);
-  const size_t n = flow.pixels();
-  const std::vector<uint8_t> header = encodeNpyHeader("<f2", false, {flow.height, flow.width});
+  return writeViperFlow(path, flow.uv.data(), flow.width, flow.height, zip);
+}
+
+ViperFlowWriteStats writeViperFlow(const std::string& path, const float* uv, uint32_t width, uint32_t height,
+                                   const ZipWriteOptions& zip) {
+  if (width == 0 || height == 0)
+    throw std::invalid_argument(path + ": flow of " + std::to_string(width) + "x" + std::to_string(height) +
+                                ": a size is 0");
+  const size_t n = static_cast<size_t>(width) * height;
+  const std::vector<uint8_t> header = encodeNpyHeader("<f2", false, {height, width});
   ViperFlowWriteStats stats;
   std::vector<ZipEntry> entries(2);
   for (size_t channel = 0; channel < 2; ++channel) {
@@ -92,7 +100,7 @@ ViperFlowWriteStats writeViperFlow(const std::string& path, const FlowImage& flo
   static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "npy <f2 is little-endian");
   uint16_t* u = reinterpret_cast<uint16_t*>(entries[0].bytes.data() + header.size());
   uint16_t* v = reinterpret_cast<uint16_t*>(entries[1].bytes.data() + header.size());
-  stats.overflowed = pairsToHalves(flow.uv.data(), n, u, v);
+  stats.overflowed = pairsToHalves(uv, n, u, v);
   writeZip(path, entries, zip);
   return stats;
 }

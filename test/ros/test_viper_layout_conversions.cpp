@@ -245,7 +245,7 @@ TEST(ViperExporter, PairsPartsAndReportsWhatIsMissing) {
 
   // Bad messages are skipped with a reason.
   sensor_msgs::Image wrong = imageMsg(h, 2, 1, "rgb8", 3, std::vector<uint8_t>(6).data());
-  EXPECT_NE(e.addFlow(0, wrong, false).find("expected 32FC2"), std::string::npos);
+  EXPECT_NE(e.addFlow(0, boost::make_shared<sensor_msgs::Image>(wrong), false).find("expected 32FC2"), std::string::npos);
   EXPECT_NE(e.addColor(0, *semantic).find("expected rgb8"), std::string::npos);
 
   const std::vector<std::string> notes = e.finish();

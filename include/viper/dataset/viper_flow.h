@@ -26,6 +26,10 @@ struct ViperFlowWriteStats {
 /// 2 * width * height or a size is 0, std::runtime_error naming `path` if it cannot be written.
 ViperFlowWriteStats writeViperFlow(const std::string& path, const FlowImage& flow,
                                    const ZipWriteOptions& zip = ZipWriteOptions());
+/// The same from interleaved (u, v) values held elsewhere (a flow message's data, no copy):
+/// 2 * width * height floats at `uv`. Throws std::invalid_argument if a size is 0.
+ViperFlowWriteStats writeViperFlow(const std::string& path, const float* uv, uint32_t width, uint32_t height,
+                                   const ZipWriteOptions& zip = ZipWriteOptions());
 
 /// Reads a VIPER flow .npz: entries "u.npy" and "v.npy" (other entries are ignored), stored or
 /// deflated, each a 2-D array of float16 or float32 ('<f2', '>f2', '<f4', '>f4') in C or Fortran

@@ -38,8 +38,8 @@ ExportDispatch exportDispatch(const std::string& r, const sensor_msgs::ImageCons
   if (r == "semantic") return [m](ViperExporter& e, uint64_t f) { return e.addSemantic(f, m); };
   if (r == "instance_ids") return [m](ViperExporter& e, uint64_t f) { return e.addInstanceIds(f, m); };
   if (r == "instances_viper") return [m](ViperExporter& e, uint64_t f) { return e.addInstancesViper(f, *m); };
-  if (r == "flow") return [m](ViperExporter& e, uint64_t f) { return e.addFlow(f, *m, false); };
-  return [m](ViperExporter& e, uint64_t f) { return e.addFlow(f, *m, true); };
+  if (r == "flow") return [m](ViperExporter& e, uint64_t f) { return e.addFlow(f, m, false); };
+  return [m](ViperExporter& e, uint64_t f) { return e.addFlow(f, m, true); };
 }
 ExportDispatch exportDispatch(const std::string&, const Box3DArray::ConstPtr& m) {
   return [m](ViperExporter& e, uint64_t f) { return e.addBoxesOptical(f, m); };

@@ -92,7 +92,7 @@ class ViperExporter {
   /// rgb8 VIPER instance image -> inst, as it is.
   std::string addInstancesViper(uint64_t frame, const sensor_msgs::Image& msg);
   /// 32FC2 flow -> flow (forward) or flowbw (backward).
-  std::string addFlow(uint64_t frame, const sensor_msgs::Image& msg, bool backward);
+  std::string addFlow(uint64_t frame, const sensor_msgs::ImageConstPtr& msg, bool backward);
   /// Boxes in the camera optical frame (the boxes node's boxes_optical) -> bb.
   std::string addBoxesOptical(uint64_t frame, const Box3DArray::ConstPtr& msg);
   /// Objects with their 2D boxes (the instances node's objects), for bb.

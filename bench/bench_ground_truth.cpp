@@ -1,6 +1,7 @@
 // Per-frame cost of the ground-truth kernels at 1920x1080 with ~200 objects, on one core, next to
-// memcpy of the bytes each kernel touches: synthetic frames, and (with VIPER_BENCH_CAPTURE and
-// VIPER_BENCH_LABELS set, see scripts/measure_figures.sh) a real world capture.
+// memcpy of the bytes each kernel touches (of the class pictures and depth conversions: of their
+// output): synthetic frames, and (with VIPER_BENCH_CAPTURE and VIPER_BENCH_LABELS set, see
+// scripts/measure_figures.sh) a real world capture.
 // Run: rosrun viper bench_ground_truth
 #include "synthetic_frames.h"
 
@@ -8,6 +9,7 @@
 #include "viper/capture/capture_stream.h"
 #include "viper/ground_truth/flow.h"
 #include "viper/ground_truth/instance_pipeline.h"
+#include "viper/ground_truth/semantic_overlay.h"
 
 #include <benchmark/benchmark.h>
 
@@ -66,13 +68,18 @@ constexpr size_t kFlowBytesPerPixel = 4 + 4 + 4 + 4 + 8 + 1;
 
 void BM_MemcpyFlowBytes(benchmark::State& state) { copyBytes(state, 2 * size_t(kW) * kH * kFlowBytesPerPixel); }
 
-// The instruction path of flow named by a benchmark argument (0 widest, 1 AVX-512, 2 AVX2, 3 one
-// pixel at a time), shown in the benchmark's label as the path actually taken on this CPU.
+// The instruction path named by a benchmark argument (0 widest, 1 AVX-512, 2 AVX2, 3 one pixel at
+// a time, 4 AVX-512 VBMI), shown in the benchmark's label as the path actually taken on this CPU.
+Instructions instructionsArg(benchmark::State& state, int64_t arg) {
+  static const char* const names[] = {"widest", "avx512", "avx2", "scalar", "avx512vbmi"};
+  const auto requested = static_cast<Instructions>(arg);
+  state.SetLabel(names[static_cast<int>(instructionsUsed(requested))]);
+  return requested;
+}
+
 FlowOptions flowPath(benchmark::State& state, int64_t arg) {
-  static const char* const names[] = {"widest", "avx512", "avx2", "scalar"};
   FlowOptions options;
-  options.instructions = static_cast<FlowInstructions>(arg);
-  state.SetLabel(names[static_cast<int>(flowInstructionsUsed(options.instructions))]);
+  options.instructions = instructionsArg(state, arg);
   return options;
 }
 
@@ -95,6 +102,82 @@ void BM_FlowForwardAndBackward(benchmark::State& state) {
     benchmark::DoNotOptimize(bwd.uv.data());
   }
   state.SetBytesProcessed(state.iterations() * 2 * size_t(kW) * kH * kFlowBytesPerPixel);
+}
+
+// The class pictures (semantic_overlay.h) and depth conversions (camera_model.h) of a synthetic
+// frame: argument 0 the path (as flowPath), argument 1 the draws: 0 the synthetic frames' parts,
+// which alternate every 8 pixels, 1 whole objects (one draw a tile, rows of ~100 pixels, as in a
+// real capture). Next to memcpy of their output (rgb8, float).
+CaptureFrame pixelFrame(benchmark::State& state) {
+  CaptureFrame f = bench::syntheticFrame(kW, kH, kObjects, kParts, 0, nullptr);
+  if (state.range(1) == 1)
+    for (uint32_t& id : f.draw_ids) id = 1 + (id - 1) / kParts * kParts;
+  return f;
+}
+
+// Each draw's class, a fifth of them 0 (unlabeled): runs as long as the draws'.
+std::vector<uint8_t> classIds(const CaptureFrame& f) {
+  std::vector<uint8_t> ids(f.draw_ids.size());
+  for (size_t i = 0; i < ids.size(); ++i)
+    ids[i] = static_cast<uint8_t>(f.draw_ids[i] % 5 == 0 ? 0 : 1 + f.draw_ids[i] % 31);
+  return ids;
+}
+
+ClassTable benchClasses() { return ClassTable::load(VIPER_SOURCE_DIR "/config/viper_classes.csv"); }
+
+void BM_MemcpyRgbImage(benchmark::State& state) { copyBytes(state, size_t(kW) * kH * 3); }
+void BM_MemcpyFloatImage(benchmark::State& state) { copyBytes(state, size_t(kW) * kH * 4); }
+
+void BM_ColorizeClasses(benchmark::State& state) {
+  const Instructions path = instructionsArg(state, state.range(0));
+  const std::vector<uint8_t> ids = classIds(pixelFrame(state));
+  const ClassTable classes = benchClasses();
+  std::vector<uint8_t> rgb(3 * ids.size());
+  for (auto _ : state) {
+    colorizeClasses(ids.data(), ids.size(), classes, rgb.data(), path);
+    benchmark::DoNotOptimize(rgb.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetBytesProcessed(state.iterations() * rgb.size());
+}
+
+void BM_OverlayClasses(benchmark::State& state) {
+  const Instructions path = instructionsArg(state, state.range(0));
+  const std::vector<uint8_t> ids = classIds(pixelFrame(state));
+  const ClassTable classes = benchClasses();
+  std::vector<uint8_t> color(3 * ids.size()), rgb(3 * ids.size());
+  for (size_t i = 0; i < color.size(); ++i) color[i] = static_cast<uint8_t>(i * 7 + i / (3 * kW) * 13);
+  for (auto _ : state) {
+    overlayClasses(color.data(), ids.data(), ids.size(), classes, 0.5f, rgb.data(), path);
+    benchmark::DoNotOptimize(rgb.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetBytesProcessed(state.iterations() * rgb.size());
+}
+
+void BM_DepthMetres(benchmark::State& state) {
+  const Instructions path = instructionsArg(state, state.range(0));
+  const CaptureFrame f = pixelFrame(state);
+  const auto camera = chooseFrameCamera(f);
+  for (auto _ : state) {
+    const std::vector<float> m = depthMetres(f, &*camera, path);
+    benchmark::DoNotOptimize(m.data());
+  }
+  state.SetBytesProcessed(state.iterations() * f.pixelCount() * sizeof(float));
+}
+
+void BM_WindowDepthFromMetres(benchmark::State& state) {
+  const Instructions path = instructionsArg(state, state.range(0));
+  const CaptureFrame f = pixelFrame(state);
+  const auto camera = chooseFrameCamera(f);
+  const std::vector<float> m = depthMetres(f, &*camera);
+  size_t bad = 0;
+  for (auto _ : state) {
+    const std::vector<float> w = windowDepthFromMetres(f, m, &camera->projection, &bad, path);
+    benchmark::DoNotOptimize(w.data());
+  }
+  state.counters["bad_px"] = static_cast<double>(bad);
+  state.SetBytesProcessed(state.iterations() * f.pixelCount() * sizeof(float));
 }
 
 // The first `count` frames of the capture named by VIPER_BENCH_CAPTURE and the label table named
@@ -217,6 +300,14 @@ BENCHMARK(BM_FlowForwardAndBackward)->ArgsProduct({{0, 3}, {0, 2}})->Unit(benchm
 // {frame, path}: frames 1 -> 2 and 20 -> 21 of the capture, each path (AVX2 and one pixel at a time
 // for comparison with the widest).
 BENCHMARK(BM_FlowForwardAndBackwardCapture)->ArgsProduct({{1, 20}, {0, 2, 3}})->Unit(benchmark::kMillisecond);
+// {path, draws}: (AVX-512 VBMI,) AVX-512, AVX2, one pixel at a time; parts of 8 pixels and whole
+// objects.
+BENCHMARK(BM_MemcpyRgbImage)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ColorizeClasses)->ArgsProduct({{4, 1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OverlayClasses)->ArgsProduct({{4, 1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MemcpyFloatImage)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DepthMetres)->ArgsProduct({{1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WindowDepthFromMetres)->ArgsProduct({{1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace viper

@@ -7,7 +7,7 @@ if(benchmark_FOUND)
     get_filename_component(name ${b} NAME_WE)
     add_executable(${name} ${b})
     target_link_libraries(${name} benchmark::benchmark viper_core)
-    # bench_evaluate reads the package's class table.
+    # bench_evaluate and bench_ground_truth read the package's class table.
     target_compile_definitions(${name} PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
     set_target_properties(${name} PROPERTIES
       RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -1,5 +1,7 @@
 #include "viper/ground_truth/camera_model.h"
 
+#include "pixel_kernels.h"
+
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -99,7 +101,24 @@ std::optional<FrameCamera> chooseFrameCamera(const CaptureFrame& frame) {
   return *best;
 }
 
-std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* camera) {
+namespace {
+
+// Rows 2 and 3 of each draw's projection for the vector kernels (pixel_kernels.h), NaN where none.
+struct DepthTable {
+  std::vector<double> p22, p23, p32, p33;
+  explicit DepthTable(size_t size) : p22(size, kNaNd), p23(size, kNaNd), p32(size, kNaNd), p33(size, kNaNd) {}
+  void set(size_t slot, const std::array<double, 4>& r) {
+    p22[slot] = r[0], p23[slot] = r[1], p32[slot] = r[2], p33[slot] = r[3];
+  }
+  pixel_kernels::DepthRows rows() const {
+    return {p22.data(), p23.data(), p32.data(), p33.data(), static_cast<uint32_t>(p22.size())};
+  }
+  static constexpr double kNaNd = std::numeric_limits<double>::quiet_NaN();
+};
+
+}  // namespace
+
+std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* camera, Instructions instructions) {
   const size_t n = frame.pixelCount();
   std::vector<float> out(n, kNaN);
   if (frame.depth_window.size() != n) return out;
@@ -116,7 +135,17 @@ std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* cam
     }
   }
   const bool have_ids = frame.draw_ids.size() == n;
-  for (size_t i = 0; i < n; ++i) {
+  size_t done = 0;
+  const Instructions path = pixel_kernels::kernelPath(instructions);
+  if (path != Instructions::kScalar) {
+    DepthTable table(by_id.size());
+    for (size_t id = 0; id < by_id.size(); ++id)
+      if (by_id[id]) table.set(id, by_id[id]->rows());
+    done = pixel_kernels::depthMetres(path, have_ids ? frame.draw_ids.data() : nullptr, frame.depth_window.data(), n,
+                                      table.rows(), out.data());
+  }
+  // One pixel at a time: the reference, and the pixels after the kernels' blocks.
+  for (size_t i = done; i < n; ++i) {
     uint32_t id = have_ids ? frame.draw_ids[i] : 0;
     if (id >= by_id.size()) id = 0;
     const auto& lin = by_id[id];
@@ -126,7 +155,8 @@ std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* cam
 }
 
 std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,
-                                         const GlMatrix* fallback_projection, size_t* bad_depth_pixels) {
+                                         const GlMatrix* fallback_projection, size_t* bad_depth_pixels,
+                                         Instructions instructions) {
   const size_t n = frame.pixelCount();
   if (depth_m.size() != n || frame.draw_ids.size() != n)
     throw std::invalid_argument("windowDepthFromMetres: depth or draw ids do not hold " + std::to_string(n) +
@@ -146,7 +176,18 @@ std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::v
   // Per draw: pixels without usable depth, and with it. A draw with none at all is a background at
   // the far plane (a sky): its pixels have no surface, which is not an error.
   std::vector<uint32_t> bad(by_id.size(), 0), good(by_id.size(), 0);
-  for (size_t p = 0; p < n; ++p) {
+  size_t done = 0;
+  const Instructions path = pixel_kernels::kernelPath(instructions);
+  if (path != Instructions::kScalar) {
+    // Slot 0 stays NaN: the kernels count pixels of no draw there, and leave them at 1.
+    DepthTable table(by_id.size());
+    for (size_t id = 1; id < by_id.size(); ++id)
+      if (by_id[id].valid) table.set(id, {by_id[id].p22, by_id[id].p23, by_id[id].p32, by_id[id].p33});
+    done = pixel_kernels::windowDepth(path, frame.draw_ids.data(), depth_m.data(), n, table.rows(), out.data(),
+                                      good.data(), bad.data());
+  }
+  // One pixel at a time: the reference, and the pixels after the kernels' blocks.
+  for (size_t p = done; p < n; ++p) {
     const uint32_t id = frame.draw_ids[p];
     if (id == 0 || id >= by_id.size()) continue;
     const Rows& r = by_id[id];

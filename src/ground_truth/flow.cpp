@@ -45,21 +45,6 @@ void setRigidForms(DrawMapping& m, const Eigen::Matrix4d& M, const Eigen::RowVec
 
 }  // namespace
 
-FlowInstructions flowInstructionsUsed(FlowInstructions requested) {
-#ifdef VIPER_FLOW_X86
-  static const bool avx2 =
-      __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("popcnt");
-  static const bool avx512 = avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-                             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq");
-  if (requested == FlowInstructions::kWidest || requested == FlowInstructions::kAvx512)
-    return avx512 ? FlowInstructions::kAvx512 : avx2 ? FlowInstructions::kAvx2 : FlowInstructions::kScalar;
-  if (requested == FlowInstructions::kAvx2) return avx2 ? FlowInstructions::kAvx2 : FlowInstructions::kScalar;
-#else
-  (void)requested;
-#endif
-  return FlowInstructions::kScalar;
-}
-
 std::vector<int32_t> associateDraws(const CaptureFrame& a, const std::vector<int32_t>& a_ids, const CaptureFrame& b,
                                     const std::vector<int32_t>& b_ids) {
   std::map<std::pair<int32_t, uint64_t>, int32_t> by_object;
@@ -175,7 +160,7 @@ void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector
   for (int y = 0; y < static_cast<int>(a.height); ++y) {
     const double ndc_y = 1.0 - 2.0 * (y + 0.5) / a.height;
     int x = 0;
-#ifdef VIPER_FLOW_X86
+#ifdef VIPER_X86
     if (path == FlowInstructions::kAvx512) x = kernel.avx512Pixels(y, ndc_y, x, counts);
     if (path != FlowInstructions::kScalar) x = kernel.avx2Pixels(y, ndc_y, x, counts);
 #endif

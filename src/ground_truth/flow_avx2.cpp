@@ -1,7 +1,7 @@
 // The AVX2 + FMA block kernel of flow (flow_kernel.h): 8 pixels a step.
 #include "flow_kernel.h"
 
-#ifdef VIPER_FLOW_X86
+#ifdef VIPER_X86
 #include <immintrin.h>
 
 #include <algorithm>

@@ -3,7 +3,7 @@
 // full-width AVX-512 units it does twice the work per instruction; masks replace the blends.
 #include "flow_kernel.h"
 
-#ifdef VIPER_FLOW_X86
+#ifdef VIPER_X86
 #include <immintrin.h>
 
 // GCC 12's AVX-512 intrinsics initialise their undefined operands from themselves, which

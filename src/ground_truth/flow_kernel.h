@@ -4,6 +4,7 @@
 #pragma once
 
 #include "viper/ground_truth/flow.h"
+#include "x86_kernels.h"
 
 #include <Eigen/Core>
 
@@ -12,10 +13,6 @@
 #include <limits>
 #include <optional>
 #include <vector>
-
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define VIPER_FLOW_X86 1
-#endif
 
 namespace viper {
 namespace flow_detail {
@@ -267,7 +264,7 @@ struct FlowKernel {
     n.missing += blocks.missing + others.missing;
   }
 
-#ifdef VIPER_FLOW_X86
+#ifdef VIPER_X86
   // Pixels x0.. of row y in blocks of 8 (AVX2 + FMA) or 16 (AVX-512), as far as whole blocks go;
   // each returns where the rest of the row begins. Only for CPUs that have the instructions.
   int avx2Pixels(int y, double ndc_y, int x0, Counts& n) const;

@@ -3,10 +3,12 @@
 #include "viper/ground_truth/camera_model.h"
 
 #include "../common/gl_matrices.h"
+#include "../common/vector_paths.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace viper {
@@ -228,6 +230,152 @@ TEST(CameraModel, DepthImageUsesEachPixelsOwnDraw) {
   // Without a frame camera the draw lacking matrices has no depth either.
   EXPECT_TRUE(std::isnan(depthMetres(frame, nullptr)[2]));
   EXPECT_NEAR(depthMetres(frame, nullptr)[0], 10.0, 1e-3);
+}
+
+// Random projections for the vector paths of the depth conversions: perspective and orthographic,
+// arbitrary entries, and rows that make denominators 0 (P22 = P32 = 0 in depthMetres, or
+// P32 z + P33 = 0 at 2 m in windowDepthFromMetres), or that hold a NaN or an infinity.
+GlMatrix randomProjection(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<float> g(0.0f, 2.0f);
+  GlMatrix p =
+      glFrustum(-0.1 - u(rng), 0.1 + u(rng), -0.1 - u(rng), 0.1 + u(rng), 0.01 + u(rng), 10.0 + 1000.0 * u(rng));
+  switch (rng() % 7) {
+    case 0:
+      p = glOrtho(-1, 1, -1, 1, -u(rng), 1 + 100 * u(rng));
+      break;
+    case 1:
+      for (int i = 0; i < 16; ++i) p.data()[i] = g(rng);
+      break;
+    case 2:
+      p(2, 2) = p(3, 2) = 0.0f;
+      break;
+    case 3:
+      p(3, 2) = 1.0f, p(3, 3) = 2.0f;
+      break;
+    case 4:
+      p(2 + rng() % 2, 2 + rng() % 2) = rng() % 2 ? std::numeric_limits<float>::quiet_NaN() : -INFINITY;
+      break;
+    default:
+      break;
+  }
+  return p;
+}
+
+// One of the values `edge` or, half of the time, `usual`.
+template <typename Usual>
+float randomValue(std::mt19937& rng, const std::vector<float>& edge, Usual usual) {
+  return rng() % 2 ? usual() : edge[rng() % edge.size()];
+}
+
+// A frame of n pixels (one row) with `draws` draws, some without a projection, one with an index
+// out of range (depthMetres skips it), draw ids in runs (0, valid, out of range), and window depths
+// of every kind.
+CaptureFrame randomDepthFrame(std::mt19937& rng, size_t n, uint32_t draws) {
+  CaptureFrame f;
+  f.width = static_cast<uint32_t>(n), f.height = 1;
+  for (uint32_t i = 0; i < draws; ++i) {
+    DrawRecord d;
+    d.index = i == 3 ? draws + 5 : i;
+    d.matrix_flags = rng() % 3 ? kHasProjection | kHasView : 0;
+    d.projection = randomProjection(rng);
+    f.draws.push_back(d);
+  }
+  std::uniform_int_distribution<int> run(1, 40), long_run(100, 300);
+  while (f.draw_ids.size() < n) {
+    const uint32_t kind = rng() % 8;
+    const uint32_t id = kind == 0   ? 0
+                        : kind == 1 ? draws + 1 + rng() % 3
+                        : kind == 2 ? 0xffffffffu - rng() % 2
+                                    : 1 + rng() % std::max(draws, 1u);
+    for (int r = rng() % 10 ? run(rng) : long_run(rng); r > 0 && f.draw_ids.size() < n; --r) f.draw_ids.push_back(id);
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const std::vector<float> edge = {0.0f, -0.0f, 1.0f, 1.5f, -0.25f, nan, -nan, inf, -inf, 0.75f, 0.5f,
+                                   std::nextafter(1.0f, 0.0f), std::numeric_limits<float>::denorm_min(), 1e-30f};
+  std::uniform_real_distribution<float> d(0.9f, 1.0f);
+  for (size_t i = 0; i < n; ++i) f.depth_window.push_back(randomValue(rng, edge, [&] { return d(rng); }));
+  return f;
+}
+
+std::vector<float> randomMetres(std::mt19937& rng, size_t n) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const std::vector<float> edge = {0.0f, -0.0f, -5.0f, nan, -nan, inf, -inf, 1e38f, std::numeric_limits<float>::max(),
+                                   std::numeric_limits<float>::denorm_min(), 2.0f, 1e-30f, 1e-3f};
+  std::uniform_real_distribution<float> log10m(-2.0f, 3.5f);
+  std::vector<float> m;
+  for (size_t i = 0; i < n; ++i) m.push_back(randomValue(rng, edge, [&] { return std::pow(10.0f, log10m(rng)); }));
+  return m;
+}
+
+// Every vector path of depthMetres and windowDepthFromMetres gives the scalar path's bits (NaNs
+// included) and bad-depth count, at sizes around the blocks (8, 16 pixels).
+TEST(CameraModel, DepthVectorPathsGiveTheScalarBits) {
+  const std::vector<Instructions> paths = test::vectorPaths();
+  if (paths.empty()) GTEST_SKIP() << "no vector path on this CPU";
+  // Products of floats are exact in double, so that a fused multiply-add mostly rounds as the
+  // scalar code does; not where a tiny window depth d makes z_ndc = 2 d - 1 a double of many bits
+  // and P22 - z_ndc P32 cancels: there the depth would differ in float.
+  {
+    CaptureFrame f;
+    f.width = 64, f.height = 1;
+    DrawRecord d;
+    d.matrix_flags = kHasProjection;
+    d.projection = GlMatrix::Zero();
+    d.projection(2, 2) = 1.1f, d.projection(3, 2) = -1.1f, d.projection(2, 3) = 1.0f;
+    f.draws.push_back(d);
+    f.draw_ids.assign(64, 1);
+    for (int i = 0; i < 64; ++i) f.depth_window.push_back(std::ldexp(1.0f + i / 64.0f, -30 - i % 16));
+    const std::vector<float> want = depthMetres(f, nullptr, Instructions::kScalar);
+    EXPECT_GT(want[5], 1e9f);
+    for (Instructions path : paths)
+      EXPECT_EQ(test::firstDifference(want.data(), depthMetres(f, nullptr, path).data(), want.size()), -1)
+          << "cancelling depth, " << test::pathName(path);
+  }
+  std::mt19937 rng(11);
+  for (size_t n : {0, 1, 7, 8, 9, 15, 16, 17, 31, 33, 63, 65, 1000, 1921 * 3 + 5}) {
+    for (uint32_t draws : {0u, 1u, 6u, 300u}) {
+      for (int trial = 0; trial < 3; ++trial) {
+        CaptureFrame f = randomDepthFrame(rng, n, draws);
+        const FrameCamera camera{GlMatrix::Identity(), randomProjection(rng), 1};
+        const GlMatrix fallback = randomProjection(rng);
+        const std::vector<float> random_m = randomMetres(rng, n);
+        for (bool with_camera : {false, true}) {
+          const FrameCamera* cam = with_camera ? &camera : nullptr;
+          const std::vector<float> want = depthMetres(f, cam, Instructions::kScalar);
+          std::vector<uint32_t> ids;
+          std::swap(ids, f.draw_ids);
+          const std::vector<float> want_no_ids = depthMetres(f, cam, Instructions::kScalar);
+          std::swap(ids, f.draw_ids);
+          for (Instructions path : paths) {
+            const std::string what = std::string(test::pathName(path)) + " n " + std::to_string(n) + " draws " +
+                                     std::to_string(draws) + " camera " + std::to_string(with_camera);
+            const std::vector<float> got = depthMetres(f, cam, path);
+            ASSERT_EQ(got.size(), want.size());
+            EXPECT_EQ(test::firstDifference(want.data(), got.data(), n), -1) << "depthMetres " << what;
+            std::swap(ids, f.draw_ids);
+            const std::vector<float> got_no_ids = depthMetres(f, cam, path);
+            std::swap(ids, f.draw_ids);
+            EXPECT_EQ(test::firstDifference(want_no_ids.data(), got_no_ids.data(), n), -1)
+                << "depthMetres without ids " << what;
+          }
+          // Back: from random depths, and from the depth just computed (as the ROS nodes do).
+          for (const std::vector<float>* m : {&random_m, &want}) {
+            const GlMatrix* fb = with_camera ? &fallback : nullptr;
+            size_t want_bad = 0;
+            const std::vector<float> want_w = windowDepthFromMetres(f, *m, fb, &want_bad, Instructions::kScalar);
+            for (Instructions path : paths) {
+              size_t got_bad = 0;
+              const std::vector<float> got_w = windowDepthFromMetres(f, *m, fb, &got_bad, path);
+              EXPECT_EQ(test::firstDifference(want_w.data(), got_w.data(), n), -1)
+                  << "windowDepthFromMetres " << test::pathName(path) << " n " << n << " draws " << draws;
+              EXPECT_EQ(got_bad, want_bad) << test::pathName(path) << " n " << n << " draws " << draws;
+            }
+          }
+        }
+      }
+    }
+  }
 }
 
 TEST(CameraModel, OpticalFrameAxes) {

@@ -3,10 +3,12 @@
 #pragma once
 
 #include "viper/capture/capture_frame.h"
+#include "viper/ground_truth/instructions.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -49,6 +51,8 @@ class DepthLinearizer {
   /// Metres along the optical axis; NaN where `depth_window` >= 1 (no surface), < 0, not finite,
   /// or where the matrix maps it to a non-positive or non-finite distance.
   float toMetres(float depth_window) const;
+  /// The coefficients: P(2,2), P(2,3), P(3,2), P(3,3).
+  std::array<double, 4> rows() const { return {p22_, p23_, p32_, p33_}; }
 
  private:
   double p22_, p23_, p32_, p33_;
@@ -71,8 +75,10 @@ std::optional<FrameCamera> chooseFrameCamera(const CaptureFrame& frame);
 /// Converts the frame's window depth to metres along the optical axis (REP 118), NaN where there is
 /// no surface. Each pixel is linearised with the projection of the draw that owns it (that is the
 /// matrix its depth was produced with); pixels of no draw, or of a draw without a projection, use
-/// `camera`'s projection, or become NaN when `camera` is null. Returns width*height values.
-std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* camera);
+/// `camera`'s projection, or become NaN when `camera` is null. Returns width*height values. Every
+/// path of `instructions` gives the same bits.
+std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* camera,
+                               Instructions instructions = Instructions::kWidest);
 
 /// Converts depth in metres along the optical axis (REP 118) back to OpenGL window depth in [0, 1],
 /// the inverse of depthMetres(): each pixel with the projection of the draw that owns it (draws
@@ -82,8 +88,10 @@ std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* cam
 /// Returns the window depths and, in `bad_depth_pixels`, how many pixels of a draw had no usable
 /// depth, counting only draws that have usable depth elsewhere (a draw with none at all is a
 /// background at the far plane, such as a sky, and not an error). Throws std::invalid_argument when a size does not match the frame.
+/// Every path of `instructions` gives the same window depths and count.
 std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,
-                                         const GlMatrix* fallback_projection, size_t* bad_depth_pixels = nullptr);
+                                         const GlMatrix* fallback_projection, size_t* bad_depth_pixels = nullptr,
+                                         Instructions instructions = Instructions::kWidest);
 
 /// Rotation from OpenGL camera axes (x right, y up, looking down -z) to the optical frame
 /// (x right, y down, z forward): diag(1, -1, -1). p_optical = opticalFromGlCamera() * p_gl.

@@ -6,6 +6,7 @@
 
 #include "viper/ground_truth/boxes.h"
 #include "viper/capture/capture_frame.h"
+#include "viper/ground_truth/instructions.h"
 
 #include <cstdint>
 #include <vector>
@@ -38,19 +39,18 @@ struct FlowStats {
   size_t missing_geometry = 0;       ///< deformed draw without positions / mesh, or singular matrices
 };
 
-/// The instructions that compute a row's pixels in blocks. Every path gives the same flow: AVX-512
-/// and AVX2 bit for bit; one pixel at a time (kScalar, also used at the end of each row) differs
-/// from them by float rounding, as it fuses no multiply-adds.
-enum class FlowInstructions {
-  kWidest,  ///< the widest this CPU has
-  kAvx512,  ///< 16 pixels a step (AVX-512 F, BW, VL, DQ)
-  kAvx2,    ///< 8 pixels a step (AVX2, FMA)
-  kScalar,  ///< one pixel at a time
-};
+/// The instructions that compute a row's pixels in blocks (instructions.h). Every path gives the
+/// same flow: AVX-512 (16 pixels a step) and AVX2 (8) bit for bit; one pixel at a time (kScalar,
+/// also used at the end of each row) differs from them by float rounding, as it fuses no
+/// multiply-adds.
+using FlowInstructions = Instructions;
 
-/// The path computeFlow takes on this CPU when asked for `requested`: a path the CPU lacks falls
-/// back to the widest it has below it.
-FlowInstructions flowInstructionsUsed(FlowInstructions requested);
+/// The path computeFlow takes on this CPU when asked for `requested` (instructionsUsed; flow has no
+/// kAvx512Vbmi path of its own: that is kAvx512).
+inline FlowInstructions flowInstructionsUsed(FlowInstructions requested) {
+  const Instructions used = instructionsUsed(requested);
+  return used == Instructions::kAvx512Vbmi ? Instructions::kAvx512 : used;
+}
 
 /// Options of computeFlow.
 struct FlowOptions {

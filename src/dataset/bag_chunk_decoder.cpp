@@ -3,6 +3,7 @@
 #include <bzlib.h>
 #include <lz4frame.h>
 
+#include <algorithm>
 #include <limits>
 #include <new>
 
@@ -27,18 +28,47 @@ BagChunkDecoder::~BagChunkDecoder() { LZ4F_freeDecompressionContext(lz4_); }
 std::string BagChunkDecoder::decode(BagCompression compression, const uint8_t* in, size_t in_size, ChunkBytes& out,
                                     size_t size) {
   if (compression == BagCompression::kLz4) return decodeLz4(in, in_size, out, size);
-  if (compression != BagCompression::kBz2) return "not a compressed chunk";
-  if (in_size > std::numeric_limits<unsigned int>::max() || size > std::numeric_limits<unsigned int>::max())
-    return "larger than bzip2 takes";
-  out.resize(size);
-  unsigned int n = static_cast<unsigned int>(size);
-  const int rc = BZ2_bzBuffToBuffDecompress(reinterpret_cast<char*>(out.data()), &n,
-                                            const_cast<char*>(reinterpret_cast<const char*>(in)),
-                                            static_cast<unsigned int>(in_size), 0, 0);
-  if (rc == BZ_OUTBUFF_FULL) return "decompresses to more bytes than its header says (" + std::to_string(size) + ")";
-  if (rc != BZ_OK) return "bzip2 error " + std::to_string(rc);
-  if (n != size) return sizes(n, size);
-  return "";
+  if (compression == BagCompression::kBz2) return decodeBz2(in, in_size, out, size);
+  return "not a compressed chunk";
+}
+
+// Streamed into `out` as it grows, rather than BZ2_bzBuffToBuffDecompress into `size` bytes at
+// once: a damaged header's size (up to 4 GB) is then never allocated unless the data make it.
+std::string BagChunkDecoder::decodeBz2(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size) {
+  constexpr size_t kMaxPiece = std::numeric_limits<unsigned int>::max();
+  if (in_size > kMaxPiece) return "larger than bzip2 takes";
+  bz_stream stream{};
+  if (BZ2_bzDecompressInit(&stream, 0, 0) != BZ_OK) throw std::bad_alloc();
+  stream.next_in = const_cast<char*>(reinterpret_cast<const char*>(in));
+  stream.avail_in = static_cast<unsigned int>(in_size);
+  out.resize(std::min(size + 1, std::max<size_t>(8 * in_size, 1u << 20)));  // + 1: to see more than `size`
+  size_t written = 0;
+  std::string problem;
+  for (;;) {
+    if (written == out.size()) {
+      if (out.size() > size) {
+        problem = "decompresses to more bytes than its header says (" + std::to_string(size) + ")";
+        break;
+      }
+      out.resize(std::min(size + 1, 2 * out.size()));
+    }
+    stream.next_out = reinterpret_cast<char*>(out.data() + written);
+    stream.avail_out = static_cast<unsigned int>(std::min(out.size() - written, kMaxPiece));
+    const unsigned int in_left = stream.avail_in, out_left = stream.avail_out;
+    const int rc = BZ2_bzDecompress(&stream);
+    written += out_left - stream.avail_out;
+    if (rc == BZ_STREAM_END) {
+      if (written != size) problem = sizes(written, size);
+      else if (stream.avail_in != 0) problem = std::to_string(stream.avail_in) + " bytes after the bzip2 stream";
+      break;
+    }
+    if (rc != BZ_OK) problem = "bzip2 error " + std::to_string(rc);
+    else if (stream.avail_in == in_left && stream.avail_out == out_left)
+      problem = "the bzip2 stream is cut off after " + std::to_string(in_size) + " bytes";
+    if (!problem.empty()) break;
+  }
+  BZ2_bzDecompressEnd(&stream);
+  return problem;
 }
 
 std::string BagChunkDecoder::decodeLz4(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size) {

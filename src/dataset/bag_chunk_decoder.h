@@ -28,6 +28,7 @@ class BagChunkDecoder {
 
  private:
   std::string decodeLz4(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size);
+  std::string decodeBz2(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size);
 
   LZ4F_dctx_s* lz4_ = nullptr;  // kept: it holds a block's worth of buffers
 };

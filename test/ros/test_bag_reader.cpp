@@ -271,6 +271,19 @@ TEST(BagFileReader, ABagWithoutIndexNamesRosbagReindex) {
   }
 }
 
+// 30 texts of 1500 bytes on one topic, times rising, in 4 KB chunks.
+void writeTextBag(const std::string& path, rosbag::compression::CompressionType compression) {
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  bag.setCompression(compression);
+  bag.setChunkThreshold(4096);
+  std::mt19937 random(11);
+  for (uint32_t i = 0; i < 30; ++i) {
+    std_msgs::String s;
+    s.data = text(1500, random);
+    bag.write("/text", ros::Time(5, i * 1000u), s);
+  }
+}
+
 // A chunk's data with 16 bytes inverted (the third chunk of a bag of one topic, times rising): the
 // error names the chunk's offset, after the messages of the chunks before it, as many as rosbag gives.
 TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
@@ -279,17 +292,7 @@ TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
                                           std::pair{"bz2", rosbag::compression::BZ2}}) {
     SCOPED_TRACE(name);
     const std::string intact = dir + "/intact_" + name + ".bag", damaged = dir + "/damaged_" + name + ".bag";
-    {
-      rosbag::Bag bag(intact, rosbag::bagmode::Write);
-      bag.setCompression(compression);
-      bag.setChunkThreshold(4096);
-      std::mt19937 random(11);
-      for (uint32_t i = 0; i < 30; ++i) {
-        std_msgs::String s;
-        s.data = text(1500, random);
-        bag.write("/text", ros::Time(5, i * 1000u), s);
-      }
-    }
+    writeTextBag(intact, compression);
     std::string bytes = readFile(intact);
     // rosbag writes a chunk's header fields by name: compression first, after the record's and the
     // field's lengths.
@@ -313,6 +316,27 @@ TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
     for (size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(got[i] == all[i]) << "message " << i;
     std::cout << got.size() << " of " << all.size() << " messages, then: " << error << "\n";
   }
+}
+
+// The index's second entry pointing past its chunk (rosbag writes an index record's fields by name:
+// conn, count, op, ver; then its data's length and the entries, sec, nsec, offset).
+TEST(BagFileReader, AnIndexOffsetPastItsChunkIsNamed) {
+  const std::string dir = tempDir("viper_bag_reader_"), path = dir + "/offset.bag";
+  writeTextBag(dir + "/intact.bag", rosbag::compression::Uncompressed);
+  std::string bytes = readFile(dir + "/intact.bag");
+  const size_t op = bytes.find(std::string("op=\x04", 4)), chunk = bytes.find("compression=none") - 8;
+  ASSERT_NE(op, std::string::npos);
+  const uint32_t offset = 0xFFFFFF00u;
+  std::memcpy(bytes.data() + op + 4 + 4 + 8 + 4 + 12 + 8, &offset, 4);
+  writeFile(path, bytes);
+  std::string error;
+  const std::vector<Read> got = readWithReader(path, &error), all = readWithRosbag(dir + "/intact.bag");
+  EXPECT_NE(error.find(path + ": damaged chunk at byte " + std::to_string(chunk) + ": the record at offset " +
+                       std::to_string(offset)),
+            std::string::npos)
+      << error;
+  ASSERT_EQ(got.size(), 1u) << "the message before";
+  EXPECT_TRUE(got[0] == all[0]);
 }
 
 // Bytes flipped anywhere, or the file cut anywhere: the reader reads or throws std::runtime_error,

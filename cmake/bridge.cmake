@@ -123,10 +123,15 @@ if(CATKIN_ENABLE_TESTING)
       VIPER_TEST_CAPTURE_TRUNCATED="${PROJECT_BINARY_DIR}/test_data/bridge_truncated.vcap")
     add_dependencies(test_capture_to_bag capture_to_bag viper_ros_test_captures)
   endif()
-  # BagWriter's files against rosbag's C++ and Python readers and rosbag reindex.
-  catkin_add_gtest(test_bag_writer test/ros/test_bag_writer.cpp)
-  if(TARGET test_bag_writer)
-    target_include_directories(test_bag_writer SYSTEM PRIVATE ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
-    target_link_libraries(test_bag_writer viper_ros gtest_main)
-  endif()
+  # test_bag_writer: BagWriter's files against rosbag's C++ and Python readers and rosbag reindex.
+  # test_bag_reader: BagFileReader (bag_player's) against rosbag::View, on rosbag's and BagFileWriter's
+  # bags and the committed test bag.
+  foreach(t test_bag_writer test_bag_reader)
+    catkin_add_gtest(${t} test/ros/${t}.cpp)
+    if(TARGET ${t})
+      target_include_directories(${t} SYSTEM PRIVATE ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
+      target_link_libraries(${t} viper_ros gtest_main)
+      target_compile_definitions(${t} PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+    endif()
+  endforeach()
 endif()

@@ -363,6 +363,11 @@ if(TARGET bench_bag_writer)
     ${class_loader_INCLUDE_DIRS})
   target_link_libraries(bench_bag_writer viper_dataset ${catkin_LIBRARIES})
 endif()
+# bench/bench_bag_reader.cpp: rosbag::View against BagFileReader, reading a bag as bag_player does
+# (its messages typed: viper_ros brings the message headers and libraries).
+if(TARGET bench_bag_reader)
+  target_link_libraries(bench_bag_reader viper_ros)
+endif()
 if(TARGET bench_viper_layout)
   target_link_libraries(bench_viper_layout viper_layout_ros)
 endif()

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # bench_bag_writer on real ground truth: FRAMES frames of the world at WIDTH x HEIGHT under capture,
 # labelled from its oracle and generated into a ground-truth bag (generate --outputs bag), whose
-# messages rosbag and BagFileWriter then write again (bench/bench_bag_writer.cpp).
+# messages rosbag and BagFileWriter then write again (bench/bench_bag_writer.cpp); then
+# bench_bag_reader reads that bag and capture_to_bag's raw bag of the capture with rosbag::View and
+# with BagFileReader (bench/bench_bag_reader.cpp).
 # Usage: source devel/setup.bash; scripts/bench_bag_writer.sh [--frames 10] [--width 1920] [--height 1080]
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,3 +25,10 @@ trap 'rm -rf "$work"' EXIT
 "$bin/make_label_table" "$work/w.vcap" "$work/w.oracle" "$work/labels.yaml" > /dev/null
 "$bin/generate" --input "$work/w.vcap" --labels "$work/labels.yaml" --out "$work/D" --outputs bag > "$work/generate.log" 2>&1
 VIPER_BENCH_BAG="$work/D/train/bag/001.bag" "$bin/bench_bag_writer"
+# And reading (bench/bench_bag_reader.cpp: rosbag::View against BagFileReader, what bag_player uses):
+# that ground-truth bag, and the raw bag capture_to_bag makes of the same capture.
+"$bin/capture_to_bag" --output "$work/raw.bag" "$work/w.vcap" > /dev/null
+for bag in "$work/D/train/bag/001.bag" "$work/raw.bag"; do
+  echo "bench_bag_reader: $(basename "$bag") ($(du -h "$bag" | cut -f1), $frames frames)"
+  VIPER_BENCH_BAG="$bag" "$bin/bench_bag_reader"
+done

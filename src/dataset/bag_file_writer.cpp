@@ -1,5 +1,6 @@
 #include "viper/dataset/bag_file_writer.h"
 
+#include "bag_format.h"
 #include "direct_file.h"
 
 #include <bzlib.h>
@@ -15,15 +16,7 @@ namespace viper::dataset {
 
 namespace {
 
-// Record opcodes and the padded size of the file header record (rosbag's constants.h).
-constexpr uint8_t kOpMessageData = 0x02;
-constexpr uint8_t kOpFileHeader = 0x03;
-constexpr uint8_t kOpIndexData = 0x04;
-constexpr uint8_t kOpChunk = 0x05;
-constexpr uint8_t kOpChunkInfo = 0x06;
-constexpr uint8_t kOpConnection = 0x07;
-constexpr uint32_t kFileHeaderLength = 4096;
-constexpr char kVersion[] = "#ROSBAG V2.0\n";
+using namespace bag_format;
 
 template <typename T, typename Bytes>
 void append(Bytes& out, T value) {  // little endian, as the format wants (x86 and ARM)
@@ -58,8 +51,6 @@ class Header {
  private:
   std::vector<uint8_t> bytes_;
 };
-
-uint64_t packTime(uint32_t sec, uint32_t nsec) { return static_cast<uint64_t>(nsec) << 32 | sec; }
 
 // A record: header length, header, data length (data follows, written by the caller).
 template <typename Bytes>
@@ -96,7 +87,7 @@ BagCompression bagCompressionFromName(const std::string& name) {
 
 BagFileWriter::BagFileWriter(const std::string& path, const BagFileOptions& options)
     : path_(path), options_(options), file_(std::make_unique<detail::DirectFile>(path, "cannot write bag")) {
-  put(kVersion, sizeof(kVersion) - 1);
+  put(kVersion, kVersionLength);
   // The file header record (two lengths and 4096 bytes of header and padding), written again with
   // the index's position on close().
   const std::vector<uint8_t> header(kFileHeaderLength + 8, ' ');
@@ -249,7 +240,7 @@ void BagFileWriter::close() {
   std::vector<uint8_t> record;
   appendRecordStart(record, header, kFileHeaderLength - static_cast<uint32_t>(header.bytes().size()));
   record.resize(record.size() + kFileHeaderLength - header.bytes().size(), ' ');
-  file_->finish(sizeof(kVersion) - 1, record.data(), record.size());
+  file_->finish(kVersionLength, record.data(), record.size());
 }
 
 void BagFileWriter::put(const void* bytes, size_t size) { file_->append(bytes, size); }

@@ -1,5 +1,5 @@
 // rostest tester for the players' back-pressure (~pace_topic, pace_gate.h): a deliberately slow
-// consumer of /capture/draws (one message queued, ~work_s of work a frame) that reports each frame
+// consumer of /capture/draws (max_in_flight messages queued, ~work_s of work a frame) that reports each frame
 // it finished on /consumer/finished (std_msgs/Header). With the player paced by that topic at ~rate 0, every
 // frame of the source arrives, in order, and never more than ~max_in_flight frames ahead of what was
 // finished; without pacing (~paced false) the same consumer loses frames, which shows the test can
@@ -48,8 +48,11 @@ TEST(BackPressure, EveryFrameArrivesWhenPacedAndSomeAreLostWhenNot) {
   std::mutex mutex;
   std::vector<ros::Time> stamps;  // of the frames received, in order
   std::atomic<size_t> ahead_max{0};
-  // One message queued: a frame sent while the consumer works on another replaces what waits.
-  ros::Subscriber sub = nh.subscribe<viper::DrawList>("/capture/draws", 1, [&](const viper::DrawList::ConstPtr& m) {
+  // A queue of max_in_flight frames: the one being worked on is in flight too, and the next frame may
+  // arrive (the player sees this one finished) before the queue has handed out the one waiting. An
+  // unpaced player at rate 0 overruns it.
+  const uint32_t queue = static_cast<uint32_t>(max_in_flight);
+  ros::Subscriber sub = nh.subscribe<viper::DrawList>("/capture/draws", queue, [&](const viper::DrawList::ConstPtr& m) {
     ros::WallDuration(work_s).sleep();
     {
       std::lock_guard<std::mutex> lock(mutex);

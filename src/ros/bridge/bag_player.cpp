@@ -1,7 +1,7 @@
 #include "viper/ros/bridge/bag_player.h"
 
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
+#include "viper/dataset/bag_file_reader.h"
+
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -22,11 +22,7 @@ const char* const kCameraInfo = "sensor_msgs/CameraInfo";
 const char* const kDrawList = "viper/DrawList";
 const char* const kMeshStore = "viper/MeshStore";
 
-bool latched(const rosbag::ConnectionInfo& c) {
-  if (!c.header) return false;
-  const auto it = c.header->find("latching");
-  return it != c.header->end() && it->second == "1";
-}
+bool latched(const dataset::BagConnection& c) { return c.field("latching") == "1"; }
 
 }  // namespace
 
@@ -63,28 +59,29 @@ bool BagPlayer::start(bool is_node) {
               options_.bag.c_str(), std::filesystem::current_path(ec).c_str());
     return false;
   }
+  std::vector<dataset::BagConnection> connections;
   try {
-    rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
-    rosbag::View view(bag);
-    for (const rosbag::ConnectionInfo* c : view.getConnections()) {
-      if (pubs_.count(c->topic)) continue;
-      const uint32_t q = static_cast<uint32_t>(options_.queue_size);
-      const bool latch = latched(*c);
-      if (c->datatype == kImage) pubs_[c->topic] = nh_.advertise<sensor_msgs::Image>(c->topic, q, latch);
-      else if (c->datatype == kCameraInfo) pubs_[c->topic] = nh_.advertise<sensor_msgs::CameraInfo>(c->topic, q, latch);
-      else if (c->datatype == kDrawList) pubs_[c->topic] = nh_.advertise<DrawList>(c->topic, q, latch);
-      else if (c->datatype == kMeshStore) pubs_[c->topic] = nh_.advertise<MeshStore>(c->topic, q, latch);
-      else {
-        topic_tools::ShapeShifter shape;
-        shape.morph(c->md5sum, c->datatype, c->msg_def, latch ? "1" : "0");
-        pubs_[c->topic] = shape.advertise(nh_, c->topic, q, latch);
-      }
-    }
-  } catch (const rosbag::BagException& e) {
+    connections = dataset::BagFileReader(options_.bag).connections();
+  } catch (const std::exception& e) {
     ROS_FATAL("bag_player: cannot read '%s': %s (a truncated bag has no index: 'rosbag reindex' recovers "
               "the messages before the damage)",
               options_.bag.c_str(), e.what());
     return false;
+  }
+  for (const dataset::BagConnection& c : connections) {
+    if (c.messages == 0 || pubs_.count(c.topic)) continue;  // rosbag::View lists connections with messages
+    const uint32_t q = static_cast<uint32_t>(options_.queue_size);
+    const bool latch = latched(c);
+    const std::string& type = c.field("type");
+    if (type == kImage) pubs_[c.topic] = nh_.advertise<sensor_msgs::Image>(c.topic, q, latch);
+    else if (type == kCameraInfo) pubs_[c.topic] = nh_.advertise<sensor_msgs::CameraInfo>(c.topic, q, latch);
+    else if (type == kDrawList) pubs_[c.topic] = nh_.advertise<DrawList>(c.topic, q, latch);
+    else if (type == kMeshStore) pubs_[c.topic] = nh_.advertise<MeshStore>(c.topic, q, latch);
+    else {
+      topic_tools::ShapeShifter shape;
+      shape.morph(c.field("md5sum"), type, c.field("message_definition"), latch ? "1" : "0");
+      pubs_[c.topic] = shape.advertise(nh_, c.topic, q, latch);
+    }
   }
   if (pubs_.empty()) {
     ROS_FATAL("bag_player: '%s' holds no message", options_.bag.c_str());
@@ -116,11 +113,18 @@ bool BagPlayer::sleepUntil(const ros::WallTime& t) {
 
 namespace {
 
-// Publishes the typed message T of m with its header stamp `shift` later; returns the bag's stamp.
+// Publishes the typed message T of m, deserialised from its bytes in the bag's chunk, with its
+// header stamp `shift` later; returns the bag's stamp.
 template <typename T>
-ros::Time publishShifted(ros::Publisher& pub, const rosbag::MessageInstance& m, const ros::Duration& shift) {
-  const boost::shared_ptr<T> msg = m.instantiate<T>();
-  if (!msg) throw std::runtime_error("a " + m.getDataType() + " message on " + m.getTopic() + " does not deserialise");
+ros::Time publishShifted(ros::Publisher& pub, const dataset::BagMessage& m, const ros::Duration& shift) {
+  // A type of another definition does not deserialise as T (rosbag's instantiate<T> refuses it too).
+  if (m.connection->field("md5sum") != ros::message_traits::md5sum<T>())
+    throw std::runtime_error("a " + m.connection->field("type") + " message on " + m.connection->topic +
+                             " does not deserialise (md5sum " + m.connection->field("md5sum") + ", not " +
+                             ros::message_traits::md5sum<T>() + ")");
+  const boost::shared_ptr<T> msg = boost::make_shared<T>();
+  ros::serialization::IStream in(const_cast<uint8_t*>(m.data), m.size);
+  ros::serialization::deserialize(in, *msg);
   const ros::Time stamp = msg->header.stamp;
   if (!shift.isZero() && !stamp.isZero()) msg->header.stamp += shift;
   pub.publish(msg);
@@ -129,14 +133,20 @@ ros::Time publishShifted(ros::Publisher& pub, const rosbag::MessageInstance& m, 
 
 }  // namespace
 
-ros::Time BagPlayer::publish(const rosbag::MessageInstance& m, const ros::Duration& shift) {
-  ros::Publisher& pub = pubs_[m.getTopic()];
-  const std::string& type = m.getDataType();
+ros::Time BagPlayer::publish(const dataset::BagMessage& m, const ros::Duration& shift) {
+  ros::Publisher& pub = pubs_[m.connection->topic];
+  const std::string& type = m.connection->field("type");
   if (type == kImage) return publishShifted<sensor_msgs::Image>(pub, m, shift);
   if (type == kCameraInfo) return publishShifted<sensor_msgs::CameraInfo>(pub, m, shift);
   if (type == kDrawList) return publishShifted<DrawList>(pub, m, shift);
   if (type == kMeshStore) return publishShifted<MeshStore>(pub, m, shift);
-  pub.publish(m.instantiate<topic_tools::ShapeShifter>());
+  // Other types as they are: the bytes with the connection's type (as rosbag's ShapeShifter gets them).
+  const auto shape = boost::make_shared<topic_tools::ShapeShifter>();
+  shape->morph(m.connection->field("md5sum"), type, m.connection->field("message_definition"),
+               m.connection->field("latching"));
+  ros::serialization::IStream in(const_cast<uint8_t*>(m.data), m.size);
+  shape->read(in);
+  pub.publish(shape);
   return ros::Time();
 }
 
@@ -167,12 +177,13 @@ bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span
     return false;
   }
   try {
-    rosbag::Bag bag(options_.bag, rosbag::bagmode::Read);
-    rosbag::View view(bag);
+    dataset::BagFileReader bag(options_.bag);
     int64_t cpu_mark = CpuMeter::threadCpuNs();  // this thread's CPU, reading included, by frame
-    for (const rosbag::MessageInstance& m : view) {
+    dataset::BagMessage m;
+    while (bag.next(m)) {
       if (stop_ || !ros::ok()) return false;
-      const ros::Time t = m.getTime() + shift;
+      const ros::Time time(m.sec, m.nsec);
+      const ros::Time t = time + shift;
       if (p.count == 0 || t > p.last) {
         const int64_t now = CpuMeter::threadCpuNs();
         cpu_.add(now - cpu_mark, p.count > 0);
@@ -194,7 +205,7 @@ bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span
         clock_pub_.publish(clock);
       }
       p.last = t;
-      span.times.add(m.getTime());
+      span.times.add(time);
       const ros::Time stamp = publish(m, shift);
       span.stamps.add(stamp);
       if (!stamp.isZero()) gate_->sent(stamp + shift);

@@ -17,11 +17,11 @@
 #include <string>
 #include <thread>
 
-namespace rosbag {
-class MessageInstance;
-}
-
 namespace viper {
+
+namespace dataset {
+struct BagMessage;
+}
 
 /// What ~parameters configure.
 struct BagPlayerOptions {
@@ -75,7 +75,7 @@ class BagPlayer {
   bool playPass(const ros::Duration& shift, Progress& progress, PassSpan& span);
   // Publishes m with its header stamp `shift` later (typed messages; others as they are); returns
   // the message's header stamp (unshifted), zero for types without one.
-  ros::Time publish(const rosbag::MessageInstance& m, const ros::Duration& shift);
+  ros::Time publish(const dataset::BagMessage& m, const ros::Duration& shift);
   bool sleepUntil(const ros::WallTime& t);
 
   ros::NodeHandle nh_, pnh_;

@@ -1,0 +1,388 @@
+// The package's own bag reader (dataset::BagFileReader, bag_player's) against rosbag::View, on bags
+// written by rosbag's C++ writer and by BagFileWriter with each compression, several topics and
+// chunks that overlap in time, and on the committed test bag: every message comes back with its
+// topic, time, connection header and bytes, in rosbag's order. And the errors: a bag without its
+// index names `rosbag reindex`; a damaged chunk names its byte offset after every message before it
+// came back; damaged bags never crash the reader.
+#include "viper/dataset/bag_file_reader.h"
+
+#include "../common/process_util.h"
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/Image.h>
+#include <std_msgs/String.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <tuple>
+#include <vector>
+
+namespace {
+
+using viper::dataset::BagFileReader;
+using viper::test::readFile;
+using viper::test::tempDir;
+
+struct Read {
+  std::string topic;
+  uint32_t sec, nsec;
+  std::map<std::string, std::string> fields;
+  std::vector<uint8_t> bytes;
+  bool operator==(const Read& o) const {
+    return std::tie(topic, sec, nsec, fields, bytes) == std::tie(o.topic, o.sec, o.nsec, o.fields, o.bytes);
+  }
+  bool operator<(const Read& o) const {
+    return std::tie(sec, nsec, topic, fields, bytes) < std::tie(o.sec, o.nsec, o.topic, o.fields, o.bytes);
+  }
+};
+
+// rosbag's messages; `error`: what it threw where it could not read on (nullptr: fail the test).
+std::vector<Read> readWithRosbag(const std::string& path, std::string* error = nullptr) {
+  std::vector<Read> out;
+  try {
+    rosbag::Bag bag(path, rosbag::bagmode::Read);
+    for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+      Read r{m.getTopic(), m.getTime().sec, m.getTime().nsec, *m.getConnectionHeader(), std::vector<uint8_t>(m.size())};
+      ros::serialization::OStream s(r.bytes.data(), static_cast<uint32_t>(r.bytes.size()));
+      m.write(s);
+      out.push_back(std::move(r));
+    }
+  } catch (const std::exception& e) {
+    if (error == nullptr) ADD_FAILURE() << "rosbag: " << e.what();
+    else *error = e.what();
+  }
+  return out;
+}
+
+std::vector<Read> readWithReader(const std::string& path, std::string* error = nullptr) {
+  std::vector<Read> out;
+  try {
+    BagFileReader bag(path);
+    viper::dataset::BagMessage m;
+    while (bag.next(m))
+      out.push_back({m.connection->topic, m.sec, m.nsec, m.connection->fields, {m.data, m.data + m.size}});
+  } catch (const std::runtime_error& e) {
+    if (error == nullptr) ADD_FAILURE() << e.what();
+    else *error = e.what();
+  }
+  return out;
+}
+
+// How rosbag orders messages of equal time on different connections is up to its std::sort of
+// per-connection iterators; BagFileReader keeps file order. kExact where the two agree on a bag.
+enum class Ties { kExact, kAsMultiset };
+
+void expectSameMessages(const std::string& path, Ties ties) {
+  SCOPED_TRACE(path);
+  const std::vector<Read> expected = readWithRosbag(path), got = readWithReader(path);
+  ASSERT_EQ(got.size(), expected.size());
+  ASSERT_GT(got.size(), 0u);
+  size_t differently_ordered = 0;
+  for (size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(std::tie(got[i].sec, got[i].nsec), std::tie(expected[i].sec, expected[i].nsec)) << "message " << i;
+    differently_ordered += !(got[i] == expected[i]);
+  }
+  if (ties == Ties::kExact) {
+    EXPECT_EQ(differently_ordered, 0u) << "messages in another order than rosbag's";
+    return;
+  }
+  // The same messages at each time; each connection's in the same order.
+  std::vector<Read> a = got, b = expected;
+  std::stable_sort(a.begin(), a.end()), std::stable_sort(b.begin(), b.end());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(a[i] == b[i]) << "the messages at time " << a[i].sec << "." << a[i].nsec;
+  auto ofConnection = [](const std::vector<Read>& all, const Read& c) {
+    std::vector<Read> out;
+    for (const Read& r : all)
+      if (r.topic == c.topic && r.fields == c.fields) out.push_back(r);
+    return out;
+  };
+  for (const Read& r : expected) EXPECT_TRUE(ofConnection(got, r) == ofConnection(expected, r)) << r.topic;
+  std::cout << path << ": " << got.size() << " messages, " << differently_ordered
+            << " at a place where rosbag orders equal times otherwise\n";
+}
+
+std::string text(size_t n, std::mt19937& random) {
+  std::string s(n, ' ');
+  for (char& c : s) c = static_cast<char>('a' + random() % 26);
+  return s;
+}
+
+// A connection header as rosbag record stores one (rosbag's writer stores a given header as it is).
+template <typename M>
+boost::shared_ptr<ros::M_string> header(const std::string& callerid, bool latched) {
+  return boost::make_shared<ros::M_string>(ros::M_string{{"type", ros::message_traits::datatype<M>()},
+                                                         {"md5sum", ros::message_traits::md5sum<M>()},
+                                                         {"message_definition", ros::message_traits::definition<M>()},
+                                                         {"callerid", callerid},
+                                                         {"latching", latched ? "1" : "0"}});
+}
+
+// 40 frames of four topics by rosbag's writer in 4 KB chunks: an image and a text at each frame's
+// time (equal times), a second connection of the image topic (another callerid), a latched text, and
+// a topic written 0.35 s behind the others, so that chunks overlap in time.
+void writeWithRosbag(const std::string& path, rosbag::compression::CompressionType compression) {
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  bag.setCompression(compression);
+  bag.setChunkThreshold(4096);
+  std::mt19937 random(3);
+  for (uint32_t f = 0; f < 40; ++f) {
+    const ros::Time time(10 + f / 10, 100000000u * (f % 10));
+    sensor_msgs::Image image;
+    image.header.stamp = time;
+    image.width = 32, image.height = 16, image.encoding = "rgb8", image.step = 96;
+    image.data.resize(image.step * image.height);
+    for (size_t i = 0; i < image.data.size(); ++i) image.data[i] = static_cast<uint8_t>(f % 3 ? (i / 64) : random());
+    bag.write("/camera/image", time, image, header<sensor_msgs::Image>("/player", false));
+    std_msgs::String info;
+    info.data = "frame " + std::to_string(f) + text(100, random);
+    bag.write("/camera/info", time, info);
+    if (f % 5 == 0) bag.write("/camera/image", time, image, header<sensor_msgs::Image>("/second", false));
+    if (f % 7 == 0) bag.write("/latched", time, info, header<std_msgs::String>("/player", true));
+    if (f >= 4) bag.write("/late", time - ros::Duration(0.35), info);
+  }
+  bag.close();
+}
+
+// The same shape by BagFileWriter in 100 KB chunks: a 147 KB noise image (its chunks stored plain
+// with lz4), a flat image at the same time, and a text written 0.25 s behind.
+void writeWithBagFileWriter(const std::string& path, viper::dataset::BagCompression compression) {
+  viper::dataset::BagFileOptions options;
+  options.compression = compression;
+  options.chunk_threshold = 100 * 1024;
+  viper::dataset::BagFileWriter bag(path, options);
+  auto fields = [](const std::string& type, const std::string& md5, const std::string& definition) {
+    return std::map<std::string, std::string>{
+        {"type", type}, {"md5sum", md5}, {"message_definition", definition}, {"callerid", "/writer"}, {"latching", "0"}};
+  };
+  const auto image_fields = fields("sensor_msgs/Image", ros::message_traits::md5sum<sensor_msgs::Image>(),
+                                   ros::message_traits::definition<sensor_msgs::Image>());
+  const uint32_t noise = bag.addConnection("/noise", image_fields), flat = bag.addConnection("/flat", image_fields);
+  const uint32_t late = bag.addConnection(
+      "/late", fields("std_msgs/String", ros::message_traits::md5sum<std_msgs::String>(),
+                      ros::message_traits::definition<std_msgs::String>()));
+  std::mt19937 random(5);
+  auto put = [&](uint32_t connection, const ros::Time& t, const auto& message) {
+    const uint32_t size = ros::serialization::serializationLength(message);
+    ros::serialization::OStream s(bag.beginMessage(connection, t.sec, t.nsec, size), size);
+    ros::serialization::serialize(s, message);
+  };
+  for (uint32_t f = 0; f < 12; ++f) {
+    const ros::Time t = ros::Time(20, 0) + ros::Duration(0.1 * f);
+    sensor_msgs::Image image;
+    image.header.stamp = t;
+    image.width = 192, image.height = 192, image.encoding = "rgba8", image.step = 768;
+    image.data.resize(image.step * image.height);
+    for (uint8_t& b : image.data) b = static_cast<uint8_t>(random());
+    put(noise, t, image);
+    std::fill(image.data.begin(), image.data.end(), static_cast<uint8_t>(f));
+    put(flat, t, image);
+    std_msgs::String s;
+    s.data = text(500, random);
+    if (f >= 3) put(late, t - ros::Duration(0.25), s);
+  }
+  bag.close();
+}
+
+TEST(BagFileReader, ReadsRosbagsBagsAsRosbagDoes) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  for (const auto& [name, compression] : {std::pair{"none", rosbag::compression::Uncompressed},
+                                          std::pair{"lz4", rosbag::compression::LZ4},
+                                          std::pair{"bz2", rosbag::compression::BZ2}}) {
+    const std::string path = dir + "/rosbag_" + name + ".bag";
+    writeWithRosbag(path, compression);
+    expectSameMessages(path, Ties::kAsMultiset);
+  }
+}
+
+TEST(BagFileReader, ReadsBagFileWritersBagsAsRosbagDoes) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  for (const char* name : {"none", "lz4", "bz2"}) {
+    const std::string path = dir + "/viper_" + name + ".bag";
+    writeWithBagFileWriter(path, viper::dataset::bagCompressionFromName(name));
+    expectSameMessages(path, Ties::kAsMultiset);
+  }
+}
+
+TEST(BagFileReader, ReadsTheCommittedTestBagAsRosbagDoes) {
+  expectSameMessages(VIPER_SOURCE_DIR "/bags/test_scene_raw.bag", Ties::kExact);
+}
+
+TEST(BagFileReader, ConnectionsAreTheIndexsWithTheirHeaders) {
+  const std::string path = tempDir("viper_bag_reader_") + "/connections.bag";
+  writeWithRosbag(path, rosbag::compression::LZ4);
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  rosbag::View view(bag);
+  const BagFileReader reader(path);
+  ASSERT_EQ(reader.connections().size(), view.getConnections().size());
+  for (const rosbag::ConnectionInfo* c : view.getConnections()) {
+    const auto mine = std::find_if(reader.connections().begin(), reader.connections().end(),
+                                   [&](const viper::dataset::BagConnection& m) { return m.id == c->id; });
+    ASSERT_NE(mine, reader.connections().end()) << "connection " << c->id;
+    EXPECT_EQ(mine->topic, c->topic);
+    EXPECT_EQ(mine->fields, *c->header);
+    EXPECT_EQ(mine->field("type"), c->datatype);
+    EXPECT_EQ(mine->field("md5sum"), c->md5sum);
+    EXPECT_EQ(mine->field("message_definition"), c->msg_def);
+    EXPECT_EQ(mine->messages, rosbag::View(bag, [&](const rosbag::ConnectionInfo* o) { return o->id == c->id; }).size());
+    EXPECT_EQ(mine->field("latching") == "1", mine->topic == "/latched") << mine->topic;
+    EXPECT_EQ(mine->field("no such field"), "");
+  }
+  EXPECT_EQ(reader.messageCount(), view.size());
+}
+
+std::string withIndexPosition(std::string bytes, uint64_t* index_position) {
+  const size_t at = bytes.find("index_pos=");
+  EXPECT_NE(at, std::string::npos);
+  std::memcpy(index_position, bytes.data() + at + 10, 8);
+  std::memset(bytes.data() + at + 10, 0, 8);
+  return bytes;
+}
+
+void writeFile(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+
+// What a recorder that did not finish leaves: its chunks, and the file header's index position
+// still 0 (rosbag writes it on close); and a bag cut short before its index.
+TEST(BagFileReader, ABagWithoutIndexNamesRosbagReindex) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  writeWithRosbag(dir + "/whole.bag", rosbag::compression::LZ4);
+  uint64_t index_position = 0;
+  const std::string unfinished = withIndexPosition(readFile(dir + "/whole.bag"), &index_position);
+  ASSERT_GT(index_position, 0u);
+  writeFile(dir + "/unfinished.bag", unfinished.substr(0, index_position));
+  writeFile(dir + "/cut.bag", readFile(dir + "/whole.bag").substr(0, index_position));
+  EXPECT_THROW(rosbag::Bag(dir + "/unfinished.bag", rosbag::bagmode::Read), rosbag::BagUnindexedException);
+  for (const char* name : {"/unfinished.bag", "/cut.bag"}) {
+    const std::string path = dir + name;
+    try {
+      BagFileReader bag(path);
+      ADD_FAILURE() << path << ": no error";
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind(path + ": ", 0), 0u) << what;
+      EXPECT_NE(what.find("`rosbag reindex"), std::string::npos) << what;
+      std::cout << what << "\n";
+    }
+  }
+}
+
+// 30 texts of 1500 bytes on one topic, times rising, in 4 KB chunks.
+void writeTextBag(const std::string& path, rosbag::compression::CompressionType compression) {
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  bag.setCompression(compression);
+  bag.setChunkThreshold(4096);
+  std::mt19937 random(11);
+  for (uint32_t i = 0; i < 30; ++i) {
+    std_msgs::String s;
+    s.data = text(1500, random);
+    bag.write("/text", ros::Time(5, i * 1000u), s);
+  }
+}
+
+// A chunk's data with 16 bytes inverted (the third chunk of a bag of one topic, times rising): the
+// error names the chunk's offset, after the messages of the chunks before it, as many as rosbag gives.
+TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  for (const auto& [name, compression] : {std::pair{"lz4", rosbag::compression::LZ4},
+                                          std::pair{"bz2", rosbag::compression::BZ2}}) {
+    SCOPED_TRACE(name);
+    const std::string intact = dir + "/intact_" + name + ".bag", damaged = dir + "/damaged_" + name + ".bag";
+    writeTextBag(intact, compression);
+    std::string bytes = readFile(intact);
+    // rosbag writes a chunk's header fields by name: compression first, after the record's and the
+    // field's lengths.
+    size_t field = 0;
+    for (int k = 0; k < 3; ++k) field = bytes.find(std::string("compression=") + name, field + 1);
+    ASSERT_NE(field, std::string::npos);
+    const size_t chunk = field - 8;
+    uint32_t header_size;
+    std::memcpy(&header_size, bytes.data() + chunk, 4);
+    for (size_t i = chunk + 8 + header_size + 40; i < chunk + 8 + header_size + 56; ++i) bytes[i] = static_cast<char>(~bytes[i]);
+    writeFile(damaged, bytes);
+
+    std::string error, rosbag_error;
+    const std::vector<Read> got = readWithReader(damaged, &error);
+    const std::vector<Read> before = readWithRosbag(damaged, &rosbag_error), all = readWithRosbag(intact);
+    EXPECT_NE(error.find(damaged + ": damaged chunk at byte " + std::to_string(chunk) + ": "), std::string::npos) << error;
+    EXPECT_FALSE(rosbag_error.empty()) << "rosbag read the damaged chunk";
+    EXPECT_GT(got.size(), 0u);
+    EXPECT_EQ(got.size(), before.size()) << "as many messages as rosbag gives before the damage";
+    ASSERT_LT(got.size(), all.size());
+    for (size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(got[i] == all[i]) << "message " << i;
+    std::cout << got.size() << " of " << all.size() << " messages, then: " << error << "\n";
+  }
+}
+
+// The index's second entry pointing past its chunk (rosbag writes an index record's fields by name:
+// conn, count, op, ver; then its data's length and the entries, sec, nsec, offset).
+TEST(BagFileReader, AnIndexOffsetPastItsChunkIsNamed) {
+  const std::string dir = tempDir("viper_bag_reader_"), path = dir + "/offset.bag";
+  writeTextBag(dir + "/intact.bag", rosbag::compression::Uncompressed);
+  std::string bytes = readFile(dir + "/intact.bag");
+  const size_t op = bytes.find(std::string("op=\x04", 4)), chunk = bytes.find("compression=none") - 8;
+  ASSERT_NE(op, std::string::npos);
+  const uint32_t offset = 0xFFFFFF00u;
+  std::memcpy(bytes.data() + op + 4 + 4 + 8 + 4 + 12 + 8, &offset, 4);
+  writeFile(path, bytes);
+  std::string error;
+  const std::vector<Read> got = readWithReader(path, &error), all = readWithRosbag(dir + "/intact.bag");
+  EXPECT_NE(error.find(path + ": damaged chunk at byte " + std::to_string(chunk) + ": the record at offset " +
+                       std::to_string(offset)),
+            std::string::npos)
+      << error;
+  ASSERT_EQ(got.size(), 1u) << "the message before";
+  EXPECT_TRUE(got[0] == all[0]);
+}
+
+// Bytes flipped anywhere, or the file cut anywhere: the reader reads or throws std::runtime_error,
+// and never reads outside what it holds (run under a sanitizer to see that).
+TEST(BagFileReader, DamageAnywhereIsAnErrorNotACrash) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  writeWithRosbag(dir + "/small.bag", rosbag::compression::LZ4);
+  const std::string whole = readFile(dir + "/small.bag");
+  std::mt19937 random(1);
+  int errors = 0;
+  for (int i = 0; i < 300; ++i) {
+    std::string bytes = whole;
+    if (i % 3 == 0) {
+      bytes.resize(random() % bytes.size());
+    } else {
+      const size_t at = random() % bytes.size();
+      for (size_t k = at; k < std::min(bytes.size(), at + 1 + random() % 8); ++k) bytes[k] = static_cast<char>(random());
+    }
+    writeFile(dir + "/damaged.bag", bytes);
+    std::string error;
+    readWithReader(dir + "/damaged.bag", &error);
+    errors += !error.empty();
+  }
+  EXPECT_GT(errors, 100) << "most damage is noticed";
+}
+
+TEST(BagFileReader, EmptyBagsAndOtherFiles) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  rosbag::Bag(dir + "/rosbag_empty.bag", rosbag::bagmode::Write).close();
+  viper::dataset::BagFileWriter(dir + "/viper_empty.bag").close();
+  for (const char* name : {"/rosbag_empty.bag", "/viper_empty.bag"}) {
+    BagFileReader bag(dir + name);
+    viper::dataset::BagMessage m;
+    EXPECT_TRUE(bag.connections().empty());
+    EXPECT_EQ(bag.messageCount(), 0u);
+    EXPECT_FALSE(bag.next(m));
+  }
+  writeFile(dir + "/text.bag", "not a bag\n");
+  for (const std::string& path : {dir + "/text.bag", dir + "/missing.bag"}) {
+    try {
+      BagFileReader bag(path);
+      ADD_FAILURE() << path << ": no error";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+    }
+  }
+}
+
+}  // namespace

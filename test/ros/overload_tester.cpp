@@ -1,8 +1,8 @@
 // rostest tester for overload (overload.test): replay.launch's ground-truth nodelets with small input
 // queues, fed by this tester with a raw bag's frames, pass after pass with the stamps and frame
 // numbers continuing:
-//   1. lockstep (a frame sent once the previous one came out): the sustainable pace;
-//   2. overload: as fast as the tester can send (3.3-4.6 times that pace here): frames must be
+//   1. lockstep (a frame sent once the previous one came out of every node): the sustainable pace;
+//   2. overload: as fast as the tester can send (2.3-4.1 times that pace here): frames must be
 //      lost visibly (the flow node's throttled warning with the count), flow must never span a lost
 //      frame, and the manager must not grow without bound;
 //   3. lockstep again: every frame comes out of every node (it recovered; no deadlock).
@@ -149,11 +149,13 @@ TEST_F(OverloadTest, LosesFramesVisiblyNeverSpansAGapAndRecovers) {
     pubs["/capture/draws"].publish(f.draws);
     sent.push_back(stamp);
   };
-  // Lockstep: the frame's odometry and semantic image (and the flow of the frame before) came out.
+  // Lockstep: the next frame goes once this one came out of every node: its odometry, its semantic
+  // image and its flow from the frame before (but for the first frame of a run, which has none).
   auto lockstep = [&](size_t from, size_t to) {
     for (size_t k = from; k < to; ++k) {
       send(k);
-      while (!(has("/ground_truth/odom", sent[k]) && has("/ground_truth/semantic", sent[k])) &&
+      while (!(has("/ground_truth/odom", sent[k]) && has("/ground_truth/semantic", sent[k]) &&
+               (k == from || has("/ground_truth/flow/backward", sent[k]))) &&
              ros::WallTime::now() < deadline)
         ros::WallDuration(0.002).sleep();
     }
@@ -185,9 +187,10 @@ TEST_F(OverloadTest, LosesFramesVisiblyNeverSpansAGapAndRecovers) {
   std::ostringstream rates;
   rates << "paced " << 1.0 / paced_s << " frames/s, overload sent at " << 1.0 / burst_s << " frames/s";
   RecordProperty("rates", rates.str());
-  // Sent 3.3-4.6 times the lockstep pace on the 2-core development machine; a loaded machine slows
-  // both, so the check leaves room (the frames lost below are what shows the overload).
-  EXPECT_GE(paced_s / burst_s, 2.0) << "the overload was not even twice the sustainable pace: " << rates.str();
+  // Sent 2.3-4.1 times the lockstep pace on the 2-core development machine, depending on what else
+  // ran; a loaded machine slows both sides, so the check leaves room (the frames lost below are what
+  // shows the overload).
+  EXPECT_GE(paced_s / burst_s, 1.5) << "the overload was not even 1.5 times the sustainable pace: " << rates.str();
 
   // The overload lost frames, and said so with counts.
   size_t lost = 0;

@@ -75,6 +75,7 @@ foreach(module opencv_video opencv_calib3d)
 endforeach()
 
 add_library(viper_baselines_ros
+  src/ros/baselines/image_input.cpp
   src/ros/baselines/flow_baseline.cpp
   src/ros/baselines/vo_baseline.cpp
   src/ros/baselines/baselines_nodelets.cpp

@@ -27,7 +27,7 @@ PKGS=(
   xvfb imagemagick
   libzip-dev python3-numpy python3-pil libpng-dev libjpeg-dev libssl-dev libdeflate-dev liblz4-dev libbz2-dev
   libstd-srvs-dev python3-std-srvs libopencv-apps-dev ros-opencv-apps python3-opencv-apps python3-sensor-msgs
-  python3-yaml
+  libopencv-dnn-dev python3-yaml
 )
 
 build=1

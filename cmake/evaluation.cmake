@@ -144,4 +144,6 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/segmentation_baseline.test
     DEPENDENCIES segmentation_baseline_tester segmentation_test_layout segmentation_baseline viper_baselines_ros)
   roslaunch_add_file_check(launch/benchmark_baselines.launch capture:=world.vcap report_dir:=/tmp/report)
+  roslaunch_add_file_check(launch/benchmark_segmentation.launch capture:=world.vcap label_table:=labels.yaml
+    report_dir:=/tmp/report)
 endif()

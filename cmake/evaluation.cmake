@@ -68,33 +68,46 @@ endif()
 # Reference baselines for the benchmark (docs/baselines.md): flow_baseline (OpenCV dense optical
 # flow) and vo_baseline (monocular visual odometry), nodes + nodelets in viper_baselines_ros.
 # OpenCV's config (found in CMakeLists.txt) imports every installed module; these come with libopencv-dev.
-foreach(module opencv_video opencv_calib3d)
+foreach(module opencv_video opencv_calib3d opencv_dnn)
   if(NOT TARGET ${module})
-    message(FATAL_ERROR "baselines need ${module} (Debian: libopencv-dev)")
+    message(FATAL_ERROR "baselines need ${module} (Debian: libopencv-dev, libopencv-dnn-dev)")
   endif()
 endforeach()
 
+# viper_segmentation: the segmentation baseline's network (OpenCV DNN) and its instances, no ROS.
+add_library(viper_segmentation src/baselines/segmentation_model.cpp)
+target_include_directories(viper_segmentation PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_segmentation SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
+target_link_libraries(viper_segmentation PUBLIC viper_core opencv_core opencv_imgproc opencv_dnn)
+set_target_properties(viper_segmentation PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+
 add_library(viper_baselines_ros
+  src/ros/baselines/image_input.cpp
   src/ros/baselines/flow_baseline.cpp
   src/ros/baselines/vo_baseline.cpp
+  src/ros/baselines/segmentation_baseline.cpp
   src/ros/baselines/baselines_nodelets.cpp
 )
 target_include_directories(viper_baselines_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_baselines_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_baselines_ros PUBLIC viper_conversions viper_core ${catkin_LIBRARIES}
+target_link_libraries(viper_baselines_ros PUBLIC viper_segmentation viper_conversions viper_core ${catkin_LIBRARIES}
   opencv_core opencv_imgproc opencv_video opencv_calib3d)
+add_dependencies(viper_baselines_ros viper_generate_messages_cpp)
 set_target_properties(viper_baselines_ros PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 
-foreach(node flow_baseline vo_baseline)
+foreach(node flow_baseline vo_baseline segmentation_baseline)
   add_executable(${node} nodes/${node}_node.cpp)
   target_link_libraries(${node} viper_baselines_ros)
   set_target_properties(${node} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
-install(TARGETS viper_baselines_ros flow_baseline vo_baseline
+install(TARGETS viper_segmentation viper_baselines_ros flow_baseline vo_baseline segmentation_baseline
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+# The segmentation baseline's trained networks and their training logs (scripts/train_segmentation.py).
+install(DIRECTORY models DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
   # The committed raw bag through replay.launch + baselines.launch, fed and scored by baselines_tester.
@@ -102,5 +115,35 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/baselines.test
     DEPENDENCIES baselines_tester viper_baselines_ros viper_flow_ros viper_ground_truth_ros)
   roslaunch_add_file_check(launch/baselines.launch)
+
+  # The segmentation baseline's held-out frames: the test region of the city, three conditions,
+  # generated at build time (about 30 s) from test/evaluation/data/segmentation_test_plan.yaml.
+  set(VIPER_SEGMENTATION_TEST_LAYOUT ${PROJECT_BINARY_DIR}/test_data/segmentation)
+  set(_segmentation_plan ${PROJECT_SOURCE_DIR}/test/evaluation/data/segmentation_test_plan.yaml)
+  add_custom_command(OUTPUT ${VIPER_SEGMENTATION_TEST_LAYOUT}/test/003.done
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/test_data
+    COMMAND $<TARGET_FILE:generate> --plan ${_segmentation_plan} --out ${VIPER_SEGMENTATION_TEST_LAYOUT}
+            --outputs layout --img-format png --no-flow > ${PROJECT_BINARY_DIR}/test_data/segmentation.log
+    DEPENDS generate viper_capture viper_intercept world ${_segmentation_plan}
+    COMMENT "Generating the segmentation baseline's held-out frames")
+  add_custom_target(segmentation_test_layout DEPENDS ${VIPER_SEGMENTATION_TEST_LAYOUT}/test/003.done)
+  if(TARGET tests)
+    add_dependencies(tests segmentation_test_layout)
+  endif()
+  set(_segmentation_defs VIPER_SEGMENTATION_TEST_LAYOUT="${VIPER_SEGMENTATION_TEST_LAYOUT}"
+    VIPER_MODELS_DIR="${PROJECT_SOURCE_DIR}/models" VIPER_CLASSES_CSV="${PROJECT_SOURCE_DIR}/config/viper_classes.csv")
+  catkin_add_gtest(test_segmentation_model test/evaluation/test_segmentation_model.cpp)
+  target_link_libraries(test_segmentation_model viper_segmentation viper_dataset gtest_main)
+  target_compile_definitions(test_segmentation_model PRIVATE ${_segmentation_defs})
+  add_dependencies(test_segmentation_model segmentation_test_layout)
+  # The nodelet on those frames and on bad images, checked by segmentation_baseline_tester.
+  viper_add_tester(segmentation_baseline_tester test/ros/segmentation_baseline_tester.cpp viper_dataset
+    viper_core opencv_core opencv_imgproc)
+  target_include_directories(segmentation_baseline_tester SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+  target_compile_definitions(segmentation_baseline_tester PRIVATE ${_segmentation_defs})
+  add_rostest(test/ros/segmentation_baseline.test
+    DEPENDENCIES segmentation_baseline_tester segmentation_test_layout segmentation_baseline viper_baselines_ros)
   roslaunch_add_file_check(launch/benchmark_baselines.launch capture:=world.vcap report_dir:=/tmp/report)
+  roslaunch_add_file_check(launch/benchmark_segmentation.launch capture:=world.vcap label_table:=labels.yaml
+    report_dir:=/tmp/report)
 endif()

@@ -2,12 +2,14 @@
 # Installs every dependency of viper from Debian's packages (idempotent, as root) and builds the
 # package: CMake's build tree in build/, the catkin devel space in devel/ (outside build/, where
 # rosrun would not look for the commands).
-# Usage: scripts/setup.sh [--no-build] [--test-programs]
+# Usage: scripts/setup.sh [--no-build] [--test-programs] [--training]
 #   --test-programs: also what only the tests need: the third-party programs they capture
 #                    (SuperTuxKart, Minetest), apitrace (records it once, replays it the same every time),
 #                    Chromium and Playwright (npm) for the labelling page's browser test, Slurm and
 #                    munge for the dataset generator's cluster test (scripts/test_slurm.sh).
 #                    scripts/test.sh asks for them; a user who only captures their own program does not.
+#   --training:      also PyTorch (python3-torch), which only scripts/train_segmentation.py needs: the
+#                    segmentation baseline's node and tests run the committed ONNX networks with OpenCV.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 
@@ -25,6 +27,7 @@ PKGS=(
   xvfb imagemagick
   libzip-dev python3-numpy python3-pil libpng-dev libjpeg-dev libssl-dev libdeflate-dev liblz4-dev libbz2-dev
   libstd-srvs-dev python3-std-srvs libopencv-apps-dev ros-opencv-apps python3-opencv-apps python3-sensor-msgs
+  libopencv-dnn-dev python3-yaml
 )
 
 build=1
@@ -33,7 +36,8 @@ for arg in "$@"; do
   case "$arg" in
     --no-build) build=0 ;;
     --test-programs) PKGS+=(supertuxkart minetest apitrace chromium nodejs slurm-wlm munge); test_programs=1 ;;
-    *) echo "setup: unknown option '$arg' (known: --no-build, --test-programs)" >&2; exit 2 ;;
+    --training) PKGS+=(python3-torch) ;;
+    *) echo "setup: unknown option '$arg' (known: --no-build, --test-programs, --training)" >&2; exit 2 ;;
   esac
 done
 

@@ -1,34 +1,12 @@
 #include "viper/ros/baselines/flow_baseline.h"
 
-#include "viper/ros/conversions/image_conversions.h"
+#include "viper/ros/baselines/image_input.h"
 
-#include <opencv2/imgproc.hpp>
 #include <sensor_msgs/image_encodings.h>
 
 #include <cstring>
 
 namespace viper {
-
-bool grayFromImage(const sensor_msgs::Image& msg, cv::Mat& gray, std::string& error) {
-  namespace enc = sensor_msgs::image_encodings;
-  int channels = 0, code = -1;
-  if (msg.encoding == enc::RGB8) channels = 3, code = cv::COLOR_RGB2GRAY;
-  else if (msg.encoding == enc::BGR8) channels = 3, code = cv::COLOR_BGR2GRAY;
-  else if (msg.encoding == enc::RGBA8) channels = 4, code = cv::COLOR_RGBA2GRAY;
-  else if (msg.encoding == enc::BGRA8) channels = 4, code = cv::COLOR_BGRA2GRAY;
-  else if (msg.encoding == enc::MONO8) channels = 1;
-  else {
-    error = "unsupported encoding '" + msg.encoding + "' (want rgb8, bgr8, rgba8, bgra8 or mono8)";
-    return false;
-  }
-  // Checked here because a Mat over a short buffer would read past its end.
-  error = checkImage(msg, msg.encoding, 0, 0, ImageLayout::kAnyStep);
-  if (!error.empty()) return false;
-  const cv::Mat view(msg.height, msg.width, CV_8UC(channels), const_cast<uint8_t*>(msg.data.data()), msg.step);
-  if (channels == 1) view.copyTo(gray);
-  else cv::cvtColor(view, gray, code);
-  return true;
-}
 
 FlowBaseline::FlowBaseline(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
     : nh_(nh), private_nh_(private_nh) {}

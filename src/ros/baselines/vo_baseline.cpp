@@ -1,7 +1,7 @@
 #include "viper/ros/baselines/vo_baseline.h"
 
 #include "viper/ground_truth/ego_motion.h"
-#include "viper/ros/baselines/flow_baseline.h"
+#include "viper/ros/baselines/image_input.h"
 #include "viper/ros/conversions/pose_conversions.h"
 
 #include <opencv2/calib3d.hpp>

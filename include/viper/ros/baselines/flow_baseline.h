@@ -12,10 +12,6 @@
 
 namespace viper {
 
-/// Gray (mono8, own copy) of an image message: rgb8, bgr8, rgba8, bgra8 or mono8. Returns false and
-/// says why in `error` (unsupported encoding, zero size, step or data too short for the size).
-bool grayFromImage(const sensor_msgs::Image& msg, cv::Mat& gray, std::string& error);
-
 /// The flow_baseline node's class, shared by the node and the nodelet.
 /// Subscribes `image` (rgb8, bgr8, rgba8, bgra8 or mono8); publishes `flow` (32FC2, pixels, u right,
 /// v down) from frame f to f+1 with f's stamp and frame_id, when f+1 arrives.

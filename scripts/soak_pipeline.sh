@@ -68,7 +68,7 @@ done
 if [ "$source" = bag ]; then
   rosrun nodelet nodelet unload /bag_player /viper_manager > /dev/null 2>&1 || true
 else
-  rosrun nodelet nodelet unload /capture_bridge /viper_manager > /dev/null 2>&1 || true
+  rosrun nodelet nodelet unload /capture/capture_bridge /viper_manager > /dev/null 2>&1 || true
 fi
 rm -f "$work/counts.txt"
 for _ in $(seq 300); do [ -f "$work/counts.txt" ] && break; sleep 0.2; done

@@ -31,8 +31,22 @@ HeadlessEglContext::HeadlessEglContext(uint32_t width, uint32_t height) {
     platform_ = "default display (surfaceless failed: " + surfaceless_error + ")";
     return;
   }
+  const std::string default_error = fallback == EGL_NO_DISPLAY ? eglErrorText("eglGetDisplay") : error;
+  // A GPU driver without Mesa's platforms (NVIDIA's EGL without an X server): its first device.
+  const auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+  EGLDeviceEXT devices[4];
+  EGLint device_count = 0;
+  if (query_devices && query_devices(4, devices, &device_count) && device_count > 0) {
+    const EGLDisplay device = eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
+    if (device != EGL_NO_DISPLAY && tryDisplay(device, width, height, error)) {
+      platform_ = "device platform (surfaceless failed: " + surfaceless_error + ")";
+      return;
+    }
+  } else {
+    error = "no EGL device";
+  }
   throw std::runtime_error("no headless OpenGL 3.3 core context: surfaceless platform: " + surfaceless_error +
-                           "; default display: " + error);
+                           "; default display: " + default_error + "; device platform: " + error);
 }
 
 bool HeadlessEglContext::tryDisplay(EGLDisplay display, uint32_t width, uint32_t height, std::string& error) {

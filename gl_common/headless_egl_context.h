@@ -14,7 +14,8 @@ namespace gl_common {
 /// context. The surface is the default framebuffer (framebuffer 0) of the context.
 class HeadlessEglContext {
  public:
-  /// Tries Mesa's surfaceless platform first, then EGL_DEFAULT_DISPLAY. Throws std::runtime_error
+  /// Tries Mesa's surfaceless platform first, then EGL_DEFAULT_DISPLAY, then the first EGL device
+  /// (EGL_EXT_platform_device: a GPU driver without an X server). Throws std::runtime_error
   /// saying which step failed (with the EGL error code) if neither gives a context.
   HeadlessEglContext(uint32_t width, uint32_t height);
   ~HeadlessEglContext();
@@ -25,7 +26,7 @@ class HeadlessEglContext {
   /// watch). Throws std::runtime_error on failure.
   void swapBuffers();
 
-  /// Which platform was used ("surfaceless", or the default display and why surfaceless failed).
+  /// Which platform was used ("surfaceless", or the fallback and why surfaceless failed).
   const std::string& platform() const { return platform_; }
 
  private:

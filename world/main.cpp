@@ -70,6 +70,10 @@ int run(const viper::world::Options& o) {
     if (o.window) std::fprintf(stderr, "world: --window: no X11 display (or no X11 in this build), rendering headless\n");
     headless = std::make_unique<viper::gl_common::HeadlessEglContext>(uint32_t(o.width), uint32_t(o.height));
   }
+  if (o.benchmark)
+    std::printf("world benchmark: OpenGL %s on %s (%s)\n", reinterpret_cast<const char*>(glGetString(GL_VERSION)),
+                reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
+                headless ? headless->platform().c_str() : "X11 window");
   Renderer renderer;
   renderer.init(scene.meshes(), o.width, o.height);
   std::unique_ptr<viper::OracleWriter> oracle;

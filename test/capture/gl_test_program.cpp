@@ -1,9 +1,11 @@
 // Small OpenGL 3.3 core program for the capture tests: renders test_scene_layout.h into an EGL
 // pbuffer (or a GLX window), loading GL in one of several ways, and writes its own last frame.
 //   gl_test_program [--mode direct|eglproc|dlopen|glx] [--size WxH] [--frames N] [--out FILE]
-//                   [--load N] [--offscreen 0|1]
+//                   [--load N] [--offscreen 0|1] [--frame-ms T]
 // --out writes the program's own glReadPixels of its last frame (RGBA, bottom row first).
 // --load adds N small extra quads per frame (for overhead measurements). Prints frame_ms=AVG.
+// --frame-ms T paces frames to at least T ms each (sleeping after glFinish), as a game held to
+// its display's rate is: the overhead of a capture on a program with a frame budget.
 // --offscreen 1 renders the scene into a framebuffer object of its own (color texture, depth
 // renderbuffer) and composites it into the default framebuffer with a post effect (inverted
 // colors), as engines with post-processing do. --offscreen 2 does the same with a depth texture
@@ -26,6 +28,7 @@
 #include <cstring>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -55,7 +58,7 @@ namespace {
   X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D) X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)    \
   X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer) X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)      \
   X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                                              \
-  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)
+  X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus) X(PFNGLGETSTRINGPROC, GetString)
 
 struct Gl {
 #define DECL(type, name) type name = nullptr;
@@ -193,6 +196,7 @@ int main(int argc, char** argv) {
   namespace ts = viper::test_scene;
   std::string mode = "direct", out;
   int width = 160, height = 120, frames = 3, load = 0, offscreen = 0;
+  double frame_budget_ms = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--mode") mode = v;
@@ -200,6 +204,7 @@ int main(int argc, char** argv) {
     else if (a == "--frames") frames = std::atoi(v.c_str());
     else if (a == "--out") out = v;
     else if (a == "--load") load = std::atoi(v.c_str());
+    else if (a == "--frame-ms") frame_budget_ms = std::atof(v.c_str());
     else if (a == "--offscreen") offscreen = std::atoi(v.c_str());
     else die("unknown option " + a);
   }
@@ -271,7 +276,15 @@ int main(int argc, char** argv) {
       getproc = reinterpret_cast<GetProc>(dlsym(lib, "eglGetProcAddress"));
     }
     dpy = get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (dpy == EGL_NO_DISPLAY || !initialize(dpy, nullptr, nullptr)) die("no EGL display");
+    if (dpy == EGL_NO_DISPLAY || !initialize(dpy, nullptr, nullptr)) {
+      // A GPU driver without Mesa's platforms (NVIDIA's EGL without an X server): its first device.
+      const auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(getproc("eglQueryDevicesEXT"));
+      EGLDeviceEXT device = nullptr;
+      EGLint count = 0;
+      if (query_devices && query_devices(1, &device, &count) && count > 0)
+        dpy = get_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
+      if (dpy == EGL_NO_DISPLAY || !initialize(dpy, nullptr, nullptr)) die("no EGL display");
+    }
     const EGLint cfg_attrs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
                                 EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8,
                                 EGL_DEPTH_SIZE, 24, EGL_NONE};
@@ -291,6 +304,7 @@ int main(int argc, char** argv) {
     else loadGl(g, getproc);
   }
   if (!g.DrawElementsBaseVertex) die("GL functions missing");
+  if (g.GetString) std::printf("renderer=%s\n", reinterpret_cast<const char*>(g.GetString(GL_RENDERER)));
 
   const GLuint rigid = program(g, kRigidVs, kColorFs);
   const GLuint glass = program(g, kRigidVs, kGlassFs);
@@ -455,6 +469,8 @@ int main(int argc, char** argv) {
     }
     swap();
     g.Finish();
+    if (frame_budget_ms > 0)
+      std::this_thread::sleep_until(start + std::chrono::duration<double, std::milli>(frame_budget_ms));
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (f > 0) total_ms += ms;
   }

@@ -18,32 +18,70 @@ CaptureFormatError::CaptureFormatError(const std::string& file, uint64_t offset,
       file_(file),
       offset_(offset) {}
 
+namespace {
+
+// Fills the chunk header at `h`, in front of `compressed` bytes placed at h + kChunkHeaderSize.
+void fillChunkHeader(char* h, uint32_t type, uint64_t frame_number, size_t compressed, uint64_t raw) {
+  std::memcpy(h, kChunkMagic, 4);
+  putU32(h + 4, type);
+  putU64(h + 8, frame_number);
+  putU64(h + 16, compressed);
+  putU64(h + 24, raw);
+  putU64(h + 32, XXH3_64bits(h + kChunkHeaderSize, compressed));
+  putU64(h + 40, XXH3_64bits(h, kChunkHeaderCheckedSize));
+}
+
+}  // namespace
+
+struct CaptureChunkEncoder::Impl {
+  std::unique_ptr<PartCodec> codec;
+  std::string payload;  // scratch, reused between frames
+  ByteBuffer chunk;     // chunk header + compressed payload, reused between frames
+  size_t size = 0;
+};
+
+CaptureChunkEncoder::CaptureChunkEncoder(CaptureCodec codec, int zstd_level) : impl_(new Impl) {
+  impl_->codec.reset(new PartCodec(codec, zstd_level));
+}
+
+CaptureChunkEncoder::~CaptureChunkEncoder() = default;
+
+void CaptureChunkEncoder::encode(const CaptureFrame& frame, const std::string& stream) {
+  Impl& e = *impl_;
+  encodeFramePayload(frame, e.payload);
+  if (e.payload.size() > kMaxRawPayloadBytes)
+    throw std::runtime_error("capture stream " + stream + ": frame " + std::to_string(frame.number) +
+                             " payload of " + std::to_string(e.payload.size()) + " bytes exceeds the 1 GiB limit");
+  // Each part of the payload (head, images, rest) compressed on its own, so that a reader can skip the images.
+  const PayloadParts parts = payloadParts(frame);
+  const size_t bound = e.codec->bound(parts);
+  e.chunk.reserveDiscard(kChunkHeaderSize + bound);
+  size_t compressed;
+  try {
+    compressed = e.codec->compress(e.payload.data(), parts, e.chunk.data() + kChunkHeaderSize, bound);
+  } catch (const std::runtime_error& error) {
+    throw std::runtime_error("capture stream " + stream + ": frame " + std::to_string(frame.number) + ": " +
+                             error.what());
+  }
+  fillChunkHeader(e.chunk.data(), kChunkFrame, frame.number, compressed, e.payload.size());
+  e.size = kChunkHeaderSize + compressed;
+}
+
+const char* CaptureChunkEncoder::data() const { return impl_->chunk.data(); }
+
+size_t CaptureChunkEncoder::size() const { return impl_->size; }
+
 struct CaptureWriter::Impl {
   std::string path;
   std::FILE* file = nullptr;
-  std::unique_ptr<PartCodec> codec;
+  std::unique_ptr<CaptureChunkEncoder> encoder;
   uint64_t bytes = 0;
   uint64_t frames = 0;
-  std::string payload;  // scratch, reused between frames
-  ByteBuffer chunk;     // chunk header + compressed payload, reused between frames
 
   void writeAll(const char* data, size_t size) {
     if (std::fwrite(data, 1, size, file) != size || std::fflush(file) != 0)
       throw std::runtime_error("writing capture stream " + path + ": " + std::strerror(errno));
     bytes += size;
-  }
-
-  // Fills the chunk header in front of `compressed` bytes already placed at chunk.data() + 48.
-  void writeChunk(uint32_t type, uint64_t frame_number, size_t compressed, uint64_t raw) {
-    char* h = chunk.data();
-    std::memcpy(h, kChunkMagic, 4);
-    putU32(h + 4, type);
-    putU64(h + 8, frame_number);
-    putU64(h + 16, compressed);
-    putU64(h + 24, raw);
-    putU64(h + 32, XXH3_64bits(h + kChunkHeaderSize, compressed));
-    putU64(h + 40, XXH3_64bits(h, kChunkHeaderCheckedSize));
-    writeAll(h, kChunkHeaderSize + compressed);
   }
 
   ~Impl() {
@@ -55,7 +93,7 @@ CaptureWriter::CaptureWriter(const std::string& path, const CaptureHeader& heade
     : impl_(new Impl) {
   impl_->path = path;
   try {
-    impl_->codec.reset(new PartCodec(header.codec, zstd_level));
+    impl_->encoder.reset(new CaptureChunkEncoder(header.codec, zstd_level));
   } catch (const std::runtime_error& e) {
     throw std::runtime_error("capture stream " + path + ": " + e.what());
   }
@@ -100,31 +138,25 @@ CaptureWriter::~CaptureWriter() {
 void CaptureWriter::write(const CaptureFrame& frame) {
   Impl& w = *impl_;
   if (!w.file) throw std::runtime_error("capture stream " + w.path + ": write() after close()");
-  encodeFramePayload(frame, w.payload);
-  if (w.payload.size() > kMaxRawPayloadBytes)
-    throw std::runtime_error("capture stream " + w.path + ": frame " + std::to_string(frame.number) +
-                             " payload of " + std::to_string(w.payload.size()) + " bytes exceeds the 1 GiB limit");
-  // Each part of the payload (head, images, rest) compressed on its own, so that a reader can skip the images.
-  const PayloadParts parts = payloadParts(frame);
-  const size_t bound = w.codec->bound(parts);
-  w.chunk.reserveDiscard(kChunkHeaderSize + bound);
-  size_t compressed;
-  try {
-    compressed = w.codec->compress(w.payload.data(), parts, w.chunk.data() + kChunkHeaderSize, bound);
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error("capture stream " + w.path + ": frame " + std::to_string(frame.number) + ": " + e.what());
-  }
-  w.writeChunk(kChunkFrame, frame.number, compressed, w.payload.size());
+  w.encoder->encode(frame, w.path);
+  writeEncoded(*w.encoder);
+}
+
+void CaptureWriter::writeEncoded(const CaptureChunkEncoder& chunk) {
+  Impl& w = *impl_;
+  if (!w.file) throw std::runtime_error("capture stream " + w.path + ": write() after close()");
+  w.writeAll(chunk.data(), chunk.size());
   ++w.frames;
 }
 
 void CaptureWriter::close() {
   Impl& w = *impl_;
   if (!w.file) return;
-  w.chunk.reserveDiscard(kChunkHeaderSize);
   // The end chunk's frame field holds the number of frames written.
+  char end[kChunkHeaderSize];
+  fillChunkHeader(end, kChunkEnd, w.frames, 0, 0);
   try {
-    w.writeChunk(kChunkEnd, w.frames, 0, 0);
+    w.writeAll(end, kChunkHeaderSize);
   } catch (...) {
     std::fclose(w.file);
     w.file = nullptr;

@@ -225,6 +225,42 @@ TEST(CaptureRun, FrameLimitStopsTheProgramWithACompleteStream) {
   EXPECT_EQ(readFrames(d + ".vcap").size(), 2u);
 }
 
+// Several writer threads finish and compress frames side by side and append them in order: the
+// stream is byte for byte the one a single thread writes (stamps from --fps, so runs agree), and
+// a full disk under several threads still keeps every frame before the failure (below).
+TEST(CaptureRun, ParallelWritersWriteTheSameStream) {
+  const std::string d = tempDir() + "/writers";
+  const int frames = 24;
+  ASSERT_EQ(run(capture(d + "_1.vcap", "--fps 15 --writer-threads 1") + program("direct", d + "_1.rgba", frames)), 0);
+  ASSERT_EQ(run(capture(d + "_4.vcap", "--fps 15 --writer-threads 4") + program("direct", d + "_4.rgba", frames)), 0);
+  const std::string one = readFile(d + "_1.vcap"), four = readFile(d + "_4.vcap");
+  ASSERT_EQ(readFrames(d + "_4.vcap").size(), size_t(frames));
+  EXPECT_TRUE(one == four) << one.size() << " bytes with one thread, " << four.size() << " with four";
+  EXPECT_NE(run(capture(d + "_0.vcap", "--writer-threads 0") + " true 2> /dev/null"), 0);
+}
+
+// Asynchronous read-back (frames read into persistently mapped pixel-pack buffers, handed over
+// at the next swap) gives the stream synchronous read-back gives: the scene in the default
+// framebuffer, in the program's framebuffer objects (--offscreen 1|2), the last frame at exit,
+// and with a frame limit.
+TEST(CaptureRun, AsynchronousReadBackWritesTheSameStream) {
+  const std::string d = tempDir() + "/readback";
+  int k = 0;
+  for (const std::string args : {"", " --offscreen 1", " --offscreen 2"}) {
+    for (const std::string limit : {"", " --frames 4"}) {
+      const std::string base = d + std::to_string(k++);
+      const std::string opts = "--fps 15 --writer-threads 2" + limit;
+      ASSERT_EQ(run(capture(base + "_sync.vcap", opts + " --readback sync") +
+                    program("dlopen", base + "_sync.rgba", 12, args)), 0);
+      ASSERT_EQ(run(capture(base + "_async.vcap", opts + " --readback async") +
+                    program("dlopen", base + "_async.rgba", 12, args)), 0);
+      ASSERT_EQ(readFrames(base + "_async.vcap").size(), limit.empty() ? 12u : 4u) << args << limit;
+      EXPECT_TRUE(readFile(base + "_sync.vcap") == readFile(base + "_async.vcap")) << args << limit;
+    }
+  }
+  EXPECT_NE(run(capture(d + "_bad.vcap", "--readback later") + " true 2> /dev/null"), 0);
+}
+
 TEST(CaptureRun, ForwardsExitCodeAndRejectsBadProfiles) {
   const std::string d = tempDir() + "/misc";
   EXPECT_EQ(run(std::string(VIPER_CAPTURE_EXE) + " --output " + d + ".vcap -- sh -c 'exit 3'"), 3);
@@ -247,7 +283,7 @@ TEST(CaptureRun, AFullDiskStopsTheCaptureNotTheProgram) {
   ASSERT_EQ(whole.size(), size_t(frames));
   const std::string bytes = readFile(d + "_whole.vcap");
   const std::string limit = std::to_string(bytes.size() / 2 / 1024);  // KiB: about half the frames
-  const int rc = run("sh -c \"trap '' XFSZ; ulimit -f " + limit + "; exec " + capture(d + ".vcap") +
+  const int rc = run("sh -c \"trap '' XFSZ; ulimit -f " + limit + "; exec " + capture(d + ".vcap", "--writer-threads 3") +
                      program("direct", "/dev/null", frames) + "\" 2> " + d + "_err.txt");
   const std::string err = readFile(d + "_err.txt");
   EXPECT_EQ(rc, 74) << "74 only when the program itself exited 0: " << err;

@@ -76,6 +76,30 @@ CaptureFrame decodeFramePayload(const std::string& payload);
 void decodeFramePayload(const char* data, size_t size, CaptureFrame& frame,
                         uint32_t version = kCaptureFormatVersion);
 
+/// Turns frames into finished chunks (payload, compression, checksums) away from any file, so
+/// that several encoders can work in parallel while one CaptureWriter appends their chunks in
+/// order (writeEncoded). Not thread-safe itself: one per thread.
+class CaptureChunkEncoder {
+ public:
+  /// Throws std::runtime_error if `codec` is unknown or its contexts cannot be created.
+  explicit CaptureChunkEncoder(CaptureCodec codec, int zstd_level = 1);
+  ~CaptureChunkEncoder();
+  CaptureChunkEncoder(const CaptureChunkEncoder&) = delete;
+  CaptureChunkEncoder& operator=(const CaptureChunkEncoder&) = delete;
+
+  /// Encodes `frame` into this encoder's chunk (valid until the next call). Throws
+  /// std::runtime_error naming `stream` and the frame if the payload exceeds 1 GiB or
+  /// compression fails.
+  void encode(const CaptureFrame& frame, const std::string& stream);
+  /// The chunk: header and compressed payload, as they go into the file.
+  const char* data() const;
+  size_t size() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Writes a stream. Each frame is flushed as one whole chunk so a follower never sees a frame
 /// without its checksum. Not thread-safe.
 class CaptureWriter {
@@ -92,6 +116,8 @@ class CaptureWriter {
   /// Throws std::runtime_error if the stream is closed, the frame is too large (payload over
   /// 1 GiB), compression fails or the file cannot be written.
   void write(const CaptureFrame& frame);
+  /// Appends a chunk encoded by `chunk` (with this stream's codec), like write() does.
+  void writeEncoded(const CaptureChunkEncoder& chunk);
   /// Writes the end-of-stream marker and closes the file. Idempotent.
   void close();
   /// Bytes written so far, file header included.

@@ -30,7 +30,7 @@ int usage(const char* argv0, const char* problem) {
   std::fprintf(stderr,
                "usage: %s --output FILE.vcap [--profile PROFILE.yaml] [--condition TAG] [--frames N]\n"
                "       [--fps F] [--skip-frames N] [--start-on-scene] [--codec zstd|lz4] [--zstd-level L]\n"
-               "       [--library libviper_intercept.so] -- PROGRAM [ARGS...]\n"
+               "       [--writer-threads N] [--readback auto|sync|async] [--library libviper_intercept.so] -- PROGRAM [ARGS...]\n"
                "  --frames N: write N frames, then stop the program\n"
                "  --fps F: stamp frame n at n / F seconds, for programs that advance a fixed time step\n"
                "           per frame (default: the monotonic clock at each buffer swap)\n"
@@ -43,6 +43,13 @@ int usage(const char* argv0, const char* problem) {
                "  --zstd-level L: zstd level of the stream, -131072 to 22 (default $VIPER_CAPTURE_ZSTD_LEVEL,\n"
                "           else 1: the world at 1920x1080 takes 1.5 MB a frame, 19 ms of the writer\n"
                "           thread; -7: 2.4 MB, 16 ms; 3: 1.4 MB, 25 ms)\n"
+               "  --writer-threads N: threads that finish, compress and write frames, 1 to 64 (default\n"
+               "           $VIPER_CAPTURE_WRITER_THREADS, else half the CPUs less one, 1 to 8); the stream\n"
+               "           is the same whatever N\n"
+               "  --readback auto|sync|async: read each frame back at its swap (sync), or into buffers\n"
+               "           the GPU fills while the program goes on, handed over at the next swap (async;\n"
+               "           needs glBufferStorage); auto: async except on software renderers (llvmpipe).\n"
+               "           Default $VIPER_CAPTURE_READBACK, else auto. The stream is the same either way\n"
                "exit status: the program's (128 + signal if killed), or 74 (EX_IOERR) if it succeeded but the capture\n"
                "could not be written (e.g. a full disk; the stream keeps the frames written before)\n",
                argv0);
@@ -77,7 +84,7 @@ std::string absolute(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string output, profile, condition, frames, library, fps, skip, codec, zstd_level;
+  std::string output, profile, condition, frames, library, fps, skip, codec, zstd_level, writer_threads, readback;
   bool start_on_scene = false;
   int i = 1;
   for (; i < argc; ++i) {
@@ -102,6 +109,8 @@ int main(int argc, char** argv) {
     else if (a == "--library") library = v;
     else if (a == "--codec") codec = v;
     else if (a == "--zstd-level") zstd_level = v;
+    else if (a == "--writer-threads") writer_threads = v;
+    else if (a == "--readback") readback = v;
     else return usage(argv[0], ("unknown option " + a).c_str());
   }
   if (i >= argc) return usage(argv[0], "no program given after --");
@@ -134,6 +143,18 @@ int main(int argc, char** argv) {
     if (zstd_level.empty() || *end || n < -131072 || n > 22)
       return usage(argv[0], "--zstd-level (or VIPER_CAPTURE_ZSTD_LEVEL) must be an integer from -131072 to 22");
   }
+  if (writer_threads.empty())
+    if (const char* env = std::getenv("VIPER_CAPTURE_WRITER_THREADS")) writer_threads = env;
+  if (!writer_threads.empty()) {
+    char* end = nullptr;
+    const long long n = std::strtoll(writer_threads.c_str(), &end, 10);
+    if (*end || n < 1 || n > 64)
+      return usage(argv[0], "--writer-threads (or VIPER_CAPTURE_WRITER_THREADS) must be an integer from 1 to 64");
+  }
+  if (readback.empty())
+    if (const char* env = std::getenv("VIPER_CAPTURE_READBACK")) readback = env;
+  if (!readback.empty() && readback != "auto" && readback != "sync" && readback != "async")
+    return usage(argv[0], "--readback (or VIPER_CAPTURE_READBACK) must be auto, sync or async");
   if (!profile.empty()) {
     try {
       viper::loadCaptureProfile(profile);  // fail here, clearly, rather than inside the program
@@ -167,6 +188,10 @@ int main(int argc, char** argv) {
   else unsetenv("VIPER_CAPTURE_CODEC");
   if (!zstd_level.empty()) setenv("VIPER_CAPTURE_ZSTD_LEVEL", zstd_level.c_str(), 1);
   else unsetenv("VIPER_CAPTURE_ZSTD_LEVEL");
+  if (!writer_threads.empty()) setenv("VIPER_CAPTURE_WRITER_THREADS", writer_threads.c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_WRITER_THREADS");
+  if (!readback.empty()) setenv("VIPER_CAPTURE_READBACK", readback.c_str(), 1);
+  else unsetenv("VIPER_CAPTURE_READBACK");
 
   // The layer's report of a capture that failed while the program ran (read without blocking:
   // the program's own children may keep the write end open).

@@ -112,8 +112,15 @@ void finish(const RawImages& raw, CaptureFrame& frame, bool vectorised) {
   frame.primitive_ids.resize(n);
   // Counts per draw id; index 0 (no draw) counts too, and is dropped.
   std::vector<uint32_t> visible(frame.draws.size() + 1, 0);
-  const bool has_color = raw.rgba.size() >= n * 4, has_ids = raw.ids.size() >= n * 2;
-  const bool depth_packed = raw.depth_24_8.size() >= n, depth_float = !depth_packed && raw.depth.size() >= n;
+  // The images in their vectors, or where the views point (asynchronous read-back).
+  const uint8_t* rgba = raw.rgba_view ? raw.rgba_view : raw.rgba.size() >= n * 4 ? raw.rgba.data() : nullptr;
+  const float* ids = raw.ids_view ? raw.ids_view : raw.ids.size() >= n * 2 ? raw.ids.data() : nullptr;
+  const uint32_t* depth_24_8 = raw.depth_24_8_view            ? raw.depth_24_8_view
+                               : raw.depth_24_8.size() >= n ? raw.depth_24_8.data()
+                                                            : nullptr;
+  const float* depth = raw.depth_view ? raw.depth_view : raw.depth.size() >= n ? raw.depth.data() : nullptr;
+  const bool has_color = rgba != nullptr, has_ids = ids != nullptr;
+  const bool depth_packed = depth_24_8 != nullptr, depth_float = !depth_packed && depth != nullptr;
   const float max_id = static_cast<float>(frame.draws.size());
 #ifdef VIPER_FINISH_AVX2
   static const bool avx2 = __builtin_cpu_supports("avx2");
@@ -123,10 +130,10 @@ void finish(const RawImages& raw, CaptureFrame& frame, bool vectorised) {
 #endif
   for (size_t y = 0; y < h; ++y) {
     const size_t src = (h - 1 - y) * w, dst = y * w;  // GL rows are bottom-up
-    const Row r{has_color ? &raw.rgba[src * 4] : nullptr,
-                depth_float ? &raw.depth[src] : nullptr,
-                depth_packed ? &raw.depth_24_8[src] : nullptr,
-                has_ids ? &raw.ids[src * 2] : nullptr,
+    const Row r{has_color ? rgba + src * 4 : nullptr,
+                depth_float ? depth + src : nullptr,
+                depth_packed ? depth_24_8 + src : nullptr,
+                has_ids ? ids + src * 2 : nullptr,
                 &frame.color_rgb[dst * 3],
                 &frame.depth_window[dst],
                 &frame.draw_ids[dst],

@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -25,8 +26,17 @@ void tellLauncher(const std::string& text) {
 
 }  // namespace
 
-FrameSink::FrameSink(const std::string& path, const CaptureHeader& header, int zstd_level)
-    : writer_(new CaptureWriter(path, header, zstd_level)), thread_([this] { run(); }) {}
+int FrameSink::defaultThreads() {
+  const int cpus = static_cast<int>(std::thread::hardware_concurrency());
+  return std::max(1, std::min(8, cpus / 2 - 1));
+}
+
+FrameSink::FrameSink(const std::string& path, const CaptureHeader& header, int zstd_level, int threads)
+    : path_(path), writer_(new CaptureWriter(path, header, zstd_level)) {
+  thread_count_ = static_cast<size_t>(std::max(1, threads));
+  for (size_t i = 0; i < thread_count_; ++i) encoders_.emplace_back(new CaptureChunkEncoder(header.codec, zstd_level));
+  for (size_t i = 0; i < thread_count_; ++i) threads_.emplace_back([this, i] { run(*encoders_[i]); });
+}
 
 FrameSink::~FrameSink() { close(); }
 
@@ -34,7 +44,7 @@ void FrameSink::push(CaptureFrame frame, RawImages raw) {
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [this] { return queue_.size() < 2 || closing_; });
   if (closing_) return;
-  queue_.push_back(Item{std::move(frame), std::move(raw)});
+  queue_.push_back(Item{pushed_++, std::move(frame), std::move(raw)});
   changed_.notify_all();
 }
 
@@ -49,11 +59,12 @@ RawImages FrameSink::recycledRaw() {
 void FrameSink::close() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (closing_ && !thread_.joinable()) return;
+    if (closing_ && threads_.empty()) return;
     closing_ = true;
     changed_.notify_all();
   }
-  if (thread_.joinable()) thread_.join();
+  for (std::thread& t : threads_) t.join();
+  threads_.clear();
   if (failed_ && dropped_after_failure_ > 0)
     std::fprintf(stderr, "[viper capture] %llu later frames were not written\n",
                  static_cast<unsigned long long>(dropped_after_failure_));
@@ -67,7 +78,7 @@ void FrameSink::close() {
   }
 }
 
-void FrameSink::run() {
+void FrameSink::run(CaptureChunkEncoder& encoder) {
   for (;;) {
     Item item;
     {
@@ -77,10 +88,6 @@ void FrameSink::run() {
       item = std::move(queue_.front());
       queue_.pop_front();
       changed_.notify_all();
-    }
-    const auto start = std::chrono::steady_clock::now();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
       if (!image_pool_.empty()) {
         CaptureFrame& images = image_pool_.back();
         item.frame.color_rgb.swap(images.color_rgb);
@@ -90,24 +97,42 @@ void FrameSink::run() {
         image_pool_.pop_back();
       }
     }
-    if (failed_) {
-      ++dropped_after_failure_;
-    } else {
+    const auto start = std::chrono::steady_clock::now();
+    std::string error;
+    if (!failed_) {
       finishFrame(item.raw, item.frame);
       try {
-        writer_->write(item.frame);
-        busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        encoder.encode(item.frame, path_);
       } catch (const std::exception& e) {
-        failed_ = true;
-        const std::string text = "writing frame " + std::to_string(item.frame.number) + " failed: " + e.what() +
-                                 "; the capture stops there (the frames before it are intact), the program goes on";
-        std::fprintf(stderr, "[viper capture] %s\n", text.c_str());
-        tellLauncher(text);
+        error = e.what();
       }
     }
+    item.raw.releaseViews();  // a read-back buffer of the GL's is free again
+    {
+      // Appended in push order: wait for the frames before this one.
+      std::unique_lock<std::mutex> lock(write_mutex_);
+      written_.wait(lock, [&] { return next_write_ == item.sequence; });
+      if (failed_) {
+        ++dropped_after_failure_;
+      } else {
+        try {
+          if (!error.empty()) throw std::runtime_error(error);
+          writer_->writeEncoded(encoder);
+        } catch (const std::exception& e) {
+          failed_ = true;
+          const std::string text = "writing frame " + std::to_string(item.frame.number) + " failed: " + e.what() +
+                                   "; the capture stops there (the frames before it are intact), the program goes on";
+          std::fprintf(stderr, "[viper capture] %s\n", text.c_str());
+          tellLauncher(text);
+        }
+      }
+      busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      ++next_write_;
+      written_.notify_all();
+    }
     std::lock_guard<std::mutex> lock(mutex_);
-    if (raw_pool_.size() < 4) raw_pool_.push_back(std::move(item.raw));
-    if (image_pool_.size() < 2) {
+    if (raw_pool_.size() < thread_count_ + 3) raw_pool_.push_back(std::move(item.raw));
+    if (image_pool_.size() < thread_count_ + 1) {
       CaptureFrame images;
       images.color_rgb.swap(item.frame.color_rgb);
       images.depth_window.swap(item.frame.depth_window);

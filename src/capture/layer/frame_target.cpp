@@ -1,6 +1,11 @@
 #include "frame_target.h"
 
+#include <chrono>
 #include <cstddef>
+#include <cstdio>
+#include <cstring>
+#include <thread>
+#include <type_traits>
 
 namespace viper {
 namespace capture {
@@ -31,6 +36,23 @@ void FrameTarget::queryDefaultFormats() {
 
 void FrameTarget::destroy() {
   const RealGl& g = gl();
+  // Pixel-pack buffers: unmapped only once no writer thread reads them (the interceptor has
+  // handed every pending frame over by now, so they are all on their way out).
+  for (PackBuffer& b : pack_buffers_) {
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (b.in_use->load() && std::chrono::steady_clock::now() < give_up)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (b.in_use->load()) {
+      std::fprintf(stderr, "[viper capture] a read-back buffer is still in use after 10 s: left mapped\n");
+      continue;
+    }
+    const GLint prev = glInt(GL_PIXEL_PACK_BUFFER_BINDING);
+    g.BindBuffer(GL_PIXEL_PACK_BUFFER, b.name);
+    g.UnmapBuffer(GL_PIXEL_PACK_BUFFER);
+    g.BindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(prev));
+    g.DeleteBuffers(1, &b.name);
+  }
+  pack_buffers_.clear();
   if (fbo_) g.DeleteFramebuffers(1, &fbo_);
   GLuint tex[3] = {color_, ids_, depth_};
   g.DeleteTextures(3, tex);
@@ -158,7 +180,67 @@ void FrameTarget::snapshotScene(bool with_depth) {
   if (with_depth && scene_depth_) scene_depth_taken_ = true;
 }
 
+bool FrameTarget::packBuffersInUse() const {
+  for (const PackBuffer& b : pack_buffers_)
+    if (b.in_use->load()) return true;
+  return false;
+}
+
+bool FrameTarget::presentAsync(RawImages& out, bool to_surface, GLsync& fence) {
+  const RealGl& g = gl();
+  if (!fbo_) return false;
+  if (async_supported_ < 0) {
+    bool storage = glInt(GL_MAJOR_VERSION) * 10 + glInt(GL_MINOR_VERSION) >= 44;
+    const GLint extensions = glInt(GL_NUM_EXTENSIONS);
+    for (GLint i = 0; !storage && g.GetStringi && i < extensions; ++i) {
+      const GLubyte* name = g.GetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
+      storage = name && std::strcmp(reinterpret_cast<const char*>(name), "GL_ARB_buffer_storage") == 0;
+    }
+    async_supported_ = storage && g.BufferStorage && g.FenceSync && g.ClientWaitSync && g.MapBufferRange;
+    if (!async_supported_)
+      std::fprintf(stderr, "[viper capture] no glBufferStorage in this context: frames are read back synchronously\n");
+  }
+  if (!async_supported_) return false;
+  // 16 bytes a pixel hold every image present() reads: color 4, depth 4, ids 8.
+  const size_t bytes = static_cast<size_t>(width_) * height_ * 16;
+  if (pack_buffers_.empty()) {
+    const GLint prev = glInt(GL_PIXEL_PACK_BUFFER_BINDING);
+    for (size_t i = 0; i < pack_buffer_count; ++i) {
+      PackBuffer b;
+      g.GenBuffers(1, &b.name);
+      g.BindBuffer(GL_PIXEL_PACK_BUFFER, b.name);
+      const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+      g.BufferStorage(GL_PIXEL_PACK_BUFFER, static_cast<GLsizeiptr>(bytes), nullptr, flags | GL_CLIENT_STORAGE_BIT);
+      b.mapped = static_cast<const uint8_t*>(g.MapBufferRange(GL_PIXEL_PACK_BUFFER, 0, static_cast<GLsizeiptr>(bytes), flags));
+      if (!b.mapped) {
+        g.DeleteBuffers(1, &b.name);
+        break;
+      }
+      pack_buffers_.push_back(std::move(b));
+    }
+    g.BindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(prev));
+    if (pack_buffers_.empty()) {
+      std::fprintf(stderr, "[viper capture] read-back buffers could not be mapped: frames are read back synchronously\n");
+      async_supported_ = 0;
+      return false;
+    }
+  }
+  PackBuffer* free_buffer = nullptr;
+  for (PackBuffer& b : pack_buffers_)
+    if (!b.in_use->load()) free_buffer = &b;
+  if (!free_buffer) return false;
+  free_buffer->in_use->store(true);
+  presentInto(out, to_surface, true, free_buffer);
+  out.view_owner = free_buffer->in_use;
+  fence = g.FenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  return true;
+}
+
 void FrameTarget::present(RawImages& out, bool to_surface, bool read_back) {
+  presentInto(out, to_surface, read_back, nullptr);
+}
+
+void FrameTarget::presentInto(RawImages& out, bool to_surface, bool read_back, PackBuffer* into) {
   const RealGl& g = gl();
   out.width = width_;
   out.height = height_;
@@ -193,15 +275,29 @@ void FrameTarget::present(RawImages& out, bool to_surface, bool read_back) {
     return;
   }
 
-  g.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  g.BindBuffer(GL_PIXEL_PACK_BUFFER, into ? into->name : 0);
   g.PixelStorei(GL_PACK_ALIGNMENT, 1);
   g.PixelStorei(GL_PACK_ROW_LENGTH, 0);
   g.PixelStorei(GL_PACK_SKIP_ROWS, 0);
   g.PixelStorei(GL_PACK_SKIP_PIXELS, 0);
   const size_t n = static_cast<size_t>(width_) * height_;
-  out.rgba.resize(n * 4);
+  out.releaseViews();
+  // Where each image goes: its vector, or the next piece of the pixel-pack buffer (and its view).
+  size_t offset = 0;
+  auto place = [&](auto& vector, size_t count, auto& view) -> void* {
+    using T = typename std::decay_t<decltype(vector)>::value_type;
+    if (!into) {
+      vector.resize(count);
+      return vector.data();
+    }
+    vector.clear();
+    view = reinterpret_cast<const T*>(into->mapped + offset);
+    void* at = reinterpret_cast<void*>(offset);
+    offset += count * sizeof(T);
+    return at;
+  };
   if (scene_color_taken_) g.BindFramebuffer(GL_READ_FRAMEBUFFER, scene_color_fbo_);  // the scene without its overlay
-  g.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.rgba.data());
+  g.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, place(out.rgba, n * 4, out.rgba_view));
   g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   out.depth.clear();
   out.depth_24_8.clear();
@@ -211,29 +307,25 @@ void FrameTarget::present(RawImages& out, bool to_surface, bool read_back) {
     // our ids there, read without changing the read buffer the program set on it.
     g.BindFramebuffer(GL_READ_FRAMEBUFFER, scene);
     const GLint program_read_buffer = glInt(GL_READ_BUFFER);
-    out.depth.resize(n);
-    g.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, out.depth.data());
+    g.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, place(out.depth, n, out.depth_view));
     g.ReadBuffer(kIdAttachment);
-    out.ids.resize(n * 2);
-    g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, out.ids.data());
+    g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, place(out.ids, n * 2, out.ids_view));
     g.ReadBuffer(static_cast<GLenum>(program_read_buffer));
   } else {
     // The scene's depth as it was when the scene ended (endScene), or as it is now.
     if (scene_depth_taken_) g.BindFramebuffer(GL_READ_FRAMEBUFFER, scene_color_fbo_);
     if (depth_format_ == GL_DEPTH24_STENCIL8) {
       // Packed read-back is a plain copy; the conversion to float happens on the writer thread.
-      out.depth_24_8.resize(n);
-      g.ReadPixels(0, 0, width_, height_, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8, out.depth_24_8.data());
+      g.ReadPixels(0, 0, width_, height_, GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8,
+                   place(out.depth_24_8, n, out.depth_24_8_view));
     } else if (depth_) {
-      out.depth.resize(n);
-      g.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, out.depth.data());
+      g.ReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, place(out.depth, n, out.depth_view));
     }
     g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   }
   if (!scene) {
     g.ReadBuffer(GL_COLOR_ATTACHMENT1);
-    out.ids.resize(n * 2);
-    g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, out.ids.data());
+    g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, place(out.ids, n * 2, out.ids_view));
   }
   g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   applyReadBuffer();

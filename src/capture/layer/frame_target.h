@@ -5,14 +5,17 @@
 #include "gl_real.h"
 #include "viper/capture/shader_rewrite.h"
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
 namespace viper {
 namespace capture {
 
-/// Pixels read back at a swap, bottom row first as glReadPixels gives them.
+/// Pixels read back at a swap, bottom row first as glReadPixels gives them: in the vectors, or
+/// (asynchronous read-back) in a mapped pixel-pack buffer that the views point into.
 struct RawImages {
   int width = 0;
   int height = 0;
@@ -20,6 +23,22 @@ struct RawImages {
   std::vector<float> depth;    ///< window depth as floats (formats other than depth24/stencil8)
   std::vector<uint32_t> depth_24_8;  ///< packed depth24/stencil8 (depth in the high 24 bits)
   std::vector<float> ids;      ///< 2 floats per pixel: draw id (index + 1), primitive id
+
+  /// The same images in a buffer of the GL's, where set (each then replaces its vector).
+  const uint8_t* rgba_view = nullptr;
+  const float* depth_view = nullptr;
+  const uint32_t* depth_24_8_view = nullptr;
+  const float* ids_view = nullptr;
+  /// The buffer's flag, true while these views may be read; releaseViews() clears it.
+  std::shared_ptr<std::atomic<bool>> view_owner;
+
+
+  /// Done with the buffer: its flag cleared (it may be read into again), the views dropped.
+  void releaseViews() {
+    if (view_owner) view_owner->store(false);
+    view_owner.reset();
+    rgba_view = nullptr, depth_view = nullptr, depth_24_8_view = nullptr, ids_view = nullptr;
+  }
 };
 
 /// Draw buffer index of our id attachment (the fragment location of the rewritten shaders' id
@@ -107,6 +126,16 @@ class FrameTarget {
   /// Restores every binding and state it touches. Without `read_back` (frames not captured) only
   /// the copy to the surface happens.
   void present(RawImages& out, bool to_surface, bool read_back = true);
+  /// Like present(), but reads into a free pixel-pack buffer of this target's (persistently
+  /// mapped) without waiting for the GPU: `out`'s views point there, valid once `fence` has
+  /// signalled, until out.releaseViews(). Returns false, having done nothing, when no buffer is
+  /// free or the context lacks glBufferStorage (GL 4.4 / ARB_buffer_storage): call present().
+  bool presentAsync(RawImages& out, bool to_surface, GLsync& fence);
+  /// Pixel-pack buffers for presentAsync (16 bytes a pixel each): frames being copied by the GPU,
+  /// queued for the writers or being read by them. Set before the first presentAsync.
+  size_t pack_buffer_count = 3;
+  /// Whether a writer thread may still read one of this target's pixel-pack buffers.
+  bool packBuffersInUse() const;
 
  private:
   void queryDefaultFormats();
@@ -116,6 +145,15 @@ class FrameTarget {
   GLuint sceneSource() const;
   void readDepthAndIds(GLuint fb, GLenum id_buffer, RawImages& out);
   void endFrame();
+  // Asynchronous read-back: buffers mapped for reading for as long as they live.
+  struct PackBuffer {
+    GLuint name = 0;
+    const uint8_t* mapped = nullptr;
+    std::shared_ptr<std::atomic<bool>> in_use = std::make_shared<std::atomic<bool>>(false);
+  };
+  std::vector<PackBuffer> pack_buffers_;
+  int async_supported_ = -1;  // -1: not checked yet
+  void presentInto(RawImages& out, bool to_surface, bool read_back, PackBuffer* into);
 
   std::unordered_map<GLuint, ProgramFbo> program_fbos_;
   void snapshotScene(bool with_depth);

@@ -125,6 +125,11 @@ namespace capture {
   X(PFNGLMULTIDRAWARRAYSINDIRECTPROC, MultiDrawArraysIndirect)                            \
   X(PFNGLMULTIDRAWELEMENTSINDIRECTPROC, MultiDrawElementsIndirect)                        \
   X(PFNGLBUFFERSTORAGEPROC, BufferStorage)                                                \
+  X(PFNGLFENCESYNCPROC, FenceSync)                                                        \
+  X(PFNGLCLIENTWAITSYNCPROC, ClientWaitSync)                                              \
+  X(PFNGLDELETESYNCPROC, DeleteSync)                                                      \
+  X(PFNGLGETSTRINGIPROC, GetStringi)                                                      \
+  X(PFNGLGETSTRINGPROC, GetString)                                                        \
   X(PFNGLNAMEDBUFFERSTORAGEPROC, NamedBufferStorage)                                      \
   X(PFNGLCLEARBUFFERIVPROC, ClearBufferiv)                                                \
   X(PFNGLCLEARBUFFERUIVPROC, ClearBufferuiv)                                              \

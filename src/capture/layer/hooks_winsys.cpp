@@ -126,6 +126,9 @@ VIPER_EXPORT EGLBoolean eglDestroySurface(EGLDisplay dpy, EGLSurface surface) {
 
 VIPER_EXPORT EGLBoolean eglMakeCurrent(EGLDisplay dpy, EGLSurface draw, EGLSurface read, EGLContext ctx) {
   static auto fn = REAL_EGL(eglMakeCurrent);
+  static auto current = REAL_EGL(eglGetCurrentContext);
+  if (Interceptor* i = active())
+    if (!current || current() != ctx) i->beforeMakeCurrent();
   const EGLBoolean ok = fn(dpy, draw, read, ctx);
   if (Interceptor* i = active()) {
     if (ok) {
@@ -155,6 +158,9 @@ VIPER_EXPORT __eglMustCastToProperFunctionPointerType eglGetProcAddress(const ch
 
 VIPER_EXPORT int glXMakeCurrent(Display* dpy, GLXDrawable drawable, GLXContext ctx) {
   static auto fn = reinterpret_cast<int (*)(Display*, GLXDrawable, GLXContext)>(realGlxFunction("glXMakeCurrent"));
+  static auto current = reinterpret_cast<GLXContext (*)()>(realGlxFunction("glXGetCurrentContext"));
+  if (Interceptor* i = active())
+    if (!current || current() != ctx) i->beforeMakeCurrent();
   const int ok = fn(dpy, drawable, ctx);
   if (Interceptor* i = active()) {
     if (ok) {
@@ -169,6 +175,9 @@ VIPER_EXPORT int glXMakeCurrent(Display* dpy, GLXDrawable drawable, GLXContext c
 VIPER_EXPORT int glXMakeContextCurrent(Display* dpy, GLXDrawable draw, GLXDrawable read, GLXContext ctx) {
   static auto fn = reinterpret_cast<int (*)(Display*, GLXDrawable, GLXDrawable, GLXContext)>(
       realGlxFunction("glXMakeContextCurrent"));
+  static auto current = reinterpret_cast<GLXContext (*)()>(realGlxFunction("glXGetCurrentContext"));
+  if (Interceptor* i = active())
+    if (!current || current() != ctx) i->beforeMakeCurrent();
   const int ok = fn(dpy, draw, read, ctx);
   if (Interceptor* i = active()) {
     if (ok) {

@@ -2,6 +2,7 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 
@@ -27,6 +28,15 @@ Interceptor* g_instance = nullptr;
 
 // Closes the stream when the program exits normally (library destructors run after main).
 __attribute__((destructor)) void closeAtExit() {
+  if (g_instance) g_instance->shutdown();
+}
+
+// With asynchronous read-back, the frames still in the GL's buffers are handed over, and the
+// writers finish reading those buffers, while the driver still stands: atexit handlers run in the
+// reverse order of their registration, so one registered after the driver's own (at the first
+// asynchronous read) runs before the driver tears down its mappings (NVIDIA's does, before any
+// library destructor runs).
+void shutdownAtExit() {
   if (g_instance) g_instance->shutdown();
 }
 
@@ -58,24 +68,76 @@ Interceptor::Interceptor() {
     if (!parseCaptureCodec(codec, header.codec))
       throw std::runtime_error("VIPER_CAPTURE_CODEC must be zstd or lz4, not \"" + codec + "\"");
     const int zstd_level = static_cast<int>(std::strtol(envOr("VIPER_CAPTURE_ZSTD_LEVEL", "1").c_str(), nullptr, 10));
-    sink_.reset(new FrameSink(output_path_, header, zstd_level));
+    // The capture launcher's --writer-threads (checked there); else half the CPUs less one.
+    const std::string threads = envOr("VIPER_CAPTURE_WRITER_THREADS", "");
+    const int writer_threads = threads.empty() ? FrameSink::defaultThreads()
+                                               : static_cast<int>(std::strtol(threads.c_str(), nullptr, 10));
+    if (writer_threads < 1 || writer_threads > 64)
+      throw std::runtime_error("VIPER_CAPTURE_WRITER_THREADS must be 1 to 64, not \"" + threads + "\"");
+    sink_.reset(new FrameSink(output_path_, header, zstd_level, writer_threads));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "[viper capture] capture disabled: %s\n", e.what());
     return;
   }
+  // Asynchronous read-back (the capture launcher's --readback, checked there): a GPU copies the
+  // frame while the program goes on; with a CPU renderer it is the same copy, later, so `auto`
+  // (the default) reads asynchronously except on software renderers.
+  const std::string readback = envOr("VIPER_CAPTURE_READBACK", "auto");
+  if (readback != "sync" && readback != "async" && readback != "auto") {
+    std::fprintf(stderr, "[viper capture] capture disabled: VIPER_CAPTURE_READBACK must be auto, sync or async, not \"%s\"\n",
+                 readback.c_str());
+    sink_.reset();
+    return;
+  }
+  async_readback_ = readback == "async";
+  readback_decided_ = readback != "auto";
   start_s_ = monotonicSeconds();
   enabled_ = true;
 }
 
+void Interceptor::pushPending(size_t keep) {
+  while (pending_frames_.size() > keep) {
+    PendingFrame& p = pending_frames_.front();
+    if (p.target != target()) break;  // another context's (handed over when it was left)
+    // Flushed, so the wait ends; a second per try, as long as the GPU needs.
+    while (gl().ClientWaitSync(p.fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000ull) == GL_TIMEOUT_EXPIRED) {
+    }
+    gl().DeleteSync(p.fence);
+    sink_->push(std::move(p.frame), std::move(p.raw));
+    pending_frames_.pop_front();
+  }
+}
+
+void Interceptor::beforeMakeCurrent() {
+  FrameTarget* t = target();
+  if (!enabled_ || !t || pending_frames_.empty()) return;
+  pushPending(0);
+  // The context may be destroyed once it is released: no writer may read its buffers then.
+  while (t->packBuffersInUse()) {
+    timespec pause{0, 1000000};
+    nanosleep(&pause, nullptr);
+  }
+}
+
 void Interceptor::shutdown() {
+  if (sink_ && !pending_frames_.empty()) {
+    pushPending(0);  // the current context's, if it is still current on this thread
+    if (!pending_frames_.empty())
+      std::fprintf(stderr, "[viper capture] %zu frames read asynchronously were lost: their context was not current at exit\n",
+                   pending_frames_.size());
+    pending_frames_.clear();
+  }
   if (sink_) sink_->close();
   if (enabled_ && stats_.frames && std::getenv("VIPER_CAPTURE_STATS")) {
     const double n = static_cast<double>(stats_.frames);
     std::fprintf(stderr,
                  "[viper capture] %llu frames; per frame: read-back %.2f ms, waiting for the writer %.2f ms, "
-                 "writer thread %.2f ms\n",
+                 "writer threads %.2f ms (%d threads, summed)\n",
                  static_cast<unsigned long long>(stats_.frames), stats_.present_s / n * 1e3,
-                 stats_.push_wait_s / n * 1e3, sink_->busySeconds() / n * 1e3);
+                 stats_.push_wait_s / n * 1e3, sink_->busySeconds() / n * 1e3, sink_->threads());
+    if (async_readback_)
+      std::fprintf(stderr, "[viper capture] asynchronous read-back: %llu of %llu frames read synchronously (no buffer free)\n",
+                   static_cast<unsigned long long>(stats_.synchronous_reads), static_cast<unsigned long long>(stats_.frames));
   }
   enabled_ = false;
 }
@@ -88,7 +150,12 @@ void Interceptor::onMakeCurrent(void* context, int width, int height) {
     return;
   }
   std::unique_ptr<FrameTarget>& slot = targets_[context];
-  if (!slot) slot.reset(new FrameTarget);
+  if (!slot) {
+    slot.reset(new FrameTarget);
+    // Asynchronous read-back: one buffer being copied, one waiting for its turn, one per writer
+    // thread and the sink's queue of two.
+    if (sink_) slot->pack_buffer_count = std::min<size_t>(12, static_cast<size_t>(sink_->threads()) + 4);
+  }
   t_target = slot.get();
   t_target->ensureSize(width, height);
   GLint program = 0;
@@ -122,26 +189,58 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
     frame_ = CaptureFrame();
     frame_.new_meshes = std::move(meshes);
     last_mesh_ = nullptr;
+    if (width != t->width() || height != t->height()) pushPending(0);  // resizing unmaps the buffers
     t->ensureSize(width, height);
     return;
   }
+  if (!readback_decided_) {
+    const GLubyte* renderer = gl().GetString ? gl().GetString(GL_RENDERER) : nullptr;
+    const std::string name = renderer ? reinterpret_cast<const char*>(renderer) : "";
+    async_readback_ = !name.empty();
+    for (const char* software : {"llvmpipe", "softpipe", "SWR", "Software Rasterizer", "swrast"})
+      if (name.find(software) != std::string::npos) async_readback_ = false;
+    readback_decided_ = true;
+    if (std::getenv("VIPER_CAPTURE_STATS"))
+      std::fprintf(stderr, "[viper capture] renderer %s: %s read-back\n", name.c_str(),
+                   async_readback_ ? "asynchronous" : "synchronous");
+  }
   RawImages raw = sink_->recycledRaw();
   const double t0 = monotonicSeconds();
-  t->present(raw, !offscreen);
+  // Deformed vertices first: reading them waits for the GPU to finish the frame, and must not
+  // wait for the copies of the images that an asynchronous read-back leaves running.
   readDeformed();
+  GLsync fence = nullptr;
+  // Asynchronous: into a free pixel-pack buffer (none free: the oldest pending frame is handed
+  // over first; still none: read synchronously, after the pending frames).
+  bool async = async_readback_ && t->presentAsync(raw, !offscreen, fence);
+  if (async_readback_ && !async && !pending_frames_.empty()) {
+    pushPending(0);
+    async = t->presentAsync(raw, !offscreen, fence);
+  }
+  if (!async) t->present(raw, !offscreen);
+  if (async_readback_ && !async) ++stats_.synchronous_reads;
   const double t1 = monotonicSeconds();
   frame_.number = frame_number_++;
   // A program that advances a fixed time step per frame (as the test scene and the world do) is
   // stamped with that step, not with how fast it happened to render.
   frame_.time_s = fixed_fps_ > 0.0 ? static_cast<double>(frame_.number) / fixed_fps_ : monotonicSeconds() - start_s_;
   frame_.condition = condition_;
-  sink_->push(std::move(frame_), std::move(raw));
+  if (async) {
+    if (!exit_hook_) exit_hook_ = std::atexit(&shutdownAtExit) == 0;
+    pending_frames_.push_back(PendingFrame{t, fence, std::move(frame_), std::move(raw)});
+    // The frame before this one is handed over (its copy is done by now unless the GPU lags a
+    // whole frame); this one stays in the GL's buffer while the GPU copies it.
+    pushPending(1);
+  } else {
+    sink_->push(std::move(frame_), std::move(raw));
+  }
   frame_ = CaptureFrame();
   stats_.present_s += t1 - t0;
   stats_.push_wait_s += monotonicSeconds() - t1;
   ++stats_.frames;
   last_mesh_ = nullptr;
   if (mesh_cache_.size() > 8192) mesh_cache_.clear();  // streamed geometry: keep memory bounded
+  if (width != t->width() || height != t->height()) pushPending(0);  // resizing unmaps the buffers
   t->ensureSize(width, height);
   ++frames_written_;
   if (frame_limit_ && frames_written_ >= frame_limit_) {

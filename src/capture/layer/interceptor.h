@@ -8,6 +8,8 @@
 #include "matrix_stack.h"
 #include "mesh_extract.h"
 #include "viper/capture/capture_profile.h"
+
+#include <deque>
 #include "viper/capture/shader_rewrite.h"
 
 #include <memory>
@@ -105,6 +107,9 @@ class Interceptor {
   bool enabled() const { return enabled_; }
 
   // Window system.
+  /// Before the calling thread's context changes (or is released): frames still being read
+  /// asynchronously from the current one are handed over, and its read-back buffers left free.
+  void beforeMakeCurrent();
   void onMakeCurrent(void* context, int width, int height);
   /// At a buffer swap of a surface of `width` x `height`; `offscreen` for pbuffers.
   void beforeSwap(int width, int height, bool offscreen);
@@ -256,9 +261,25 @@ class Interceptor {
   ModelViewTracker modelview_;
   std::vector<uint32_t> stack_draws_;   // this frame's draws with world and view from the stack
   bool last_recorded_ = false;
+  // Asynchronous read-back (VIPER_CAPTURE_READBACK=async): frames read into the target's
+  // pixel-pack buffers, handed to the sink once their fence has signalled (at the next swap).
+  bool async_readback_ = false;
+  bool readback_decided_ = false;  ///< auto: decided at the first written frame, from GL_RENDERER
+  bool exit_hook_ = false;  ///< shutdown registered with atexit (at the first asynchronous read)
+  struct PendingFrame {
+    FrameTarget* target;
+    GLsync fence;
+    CaptureFrame frame;
+    RawImages raw;
+  };
+  std::deque<PendingFrame> pending_frames_;
+  /// Waits for the fences of the pending frames of the current context (all but the newest
+  /// `keep`) and pushes them to the sink in order.
+  void pushPending(size_t keep);
   struct {
     uint64_t frames = 0;
     double present_s = 0, push_wait_s = 0;
+    uint64_t synchronous_reads = 0;  ///< asynchronous read-back asked for, no buffer free
   } stats_;  // printed at exit when VIPER_CAPTURE_STATS is set
 };
 

@@ -296,6 +296,7 @@ void FrameTarget::presentInto(RawImages& out, bool to_surface, bool read_back, P
     offset += count * sizeof(T);
     return at;
   };
+  const auto reads_start = std::chrono::steady_clock::now();
   if (scene_color_taken_) g.BindFramebuffer(GL_READ_FRAMEBUFFER, scene_color_fbo_);  // the scene without its overlay
   g.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, place(out.rgba, n * 4, out.rgba_view));
   g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
@@ -327,6 +328,7 @@ void FrameTarget::presentInto(RawImages& out, bool to_surface, bool read_back, P
     g.ReadBuffer(GL_COLOR_ATTACHMENT1);
     g.ReadPixels(0, 0, width_, height_, GL_RG, GL_FLOAT, place(out.ids, n * 2, out.ids_view));
   }
+  read_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - reads_start).count();
   g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   applyReadBuffer();
   endFrame();

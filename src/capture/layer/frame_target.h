@@ -134,6 +134,8 @@ class FrameTarget {
   /// Pixel-pack buffers for presentAsync (16 bytes a pixel each): frames being copied by the GPU,
   /// queued for the writers or being read by them. Set before the first presentAsync.
   size_t pack_buffer_count = 3;
+  /// Seconds spent in the glReadPixels calls of present() and presentAsync() so far.
+  double readSeconds() const { return read_seconds_; }
   /// Whether a writer thread may still read one of this target's pixel-pack buffers.
   bool packBuffersInUse() const;
 
@@ -153,6 +155,7 @@ class FrameTarget {
   };
   std::vector<PackBuffer> pack_buffers_;
   int async_supported_ = -1;  // -1: not checked yet
+  double read_seconds_ = 0.0;
   void presentInto(RawImages& out, bool to_surface, bool read_back, PackBuffer* into);
 
   std::unordered_map<GLuint, ProgramFbo> program_fbos_;

@@ -131,9 +131,10 @@ void Interceptor::shutdown() {
   if (enabled_ && stats_.frames && std::getenv("VIPER_CAPTURE_STATS")) {
     const double n = static_cast<double>(stats_.frames);
     std::fprintf(stderr,
-                 "[viper capture] %llu frames; per frame: read-back %.2f ms, waiting for the writer %.2f ms, "
-                 "writer threads %.2f ms (%d threads, summed)\n",
-                 static_cast<unsigned long long>(stats_.frames), stats_.present_s / n * 1e3,
+                 "[viper capture] %llu frames; per frame: read-back %.2f ms (deformed vertices %.2f, pixel reads %.2f), "
+                 "waiting for the writer %.2f ms, writer threads %.2f ms (%d threads, summed)\n",
+                 static_cast<unsigned long long>(stats_.frames), stats_.present_s / n * 1e3, stats_.deform_s / n * 1e3,
+                 stats_.pixel_reads_s / n * 1e3,
                  stats_.push_wait_s / n * 1e3, sink_->busySeconds() / n * 1e3, sink_->threads());
     if (async_readback_)
       std::fprintf(stderr, "[viper capture] asynchronous read-back: %llu of %llu frames read synchronously (no buffer free)\n",
@@ -209,6 +210,7 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   // Deformed vertices first: reading them waits for the GPU to finish the frame, and must not
   // wait for the copies of the images that an asynchronous read-back leaves running.
   readDeformed();
+  stats_.deform_s += monotonicSeconds() - t0;
   GLsync fence = nullptr;
   // Asynchronous: into a free pixel-pack buffer (none free: the oldest pending frame is handed
   // over first; still none: read synchronously, after the pending frames).
@@ -236,6 +238,7 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   }
   frame_ = CaptureFrame();
   stats_.present_s += t1 - t0;
+  stats_.pixel_reads_s = t->readSeconds();
   stats_.push_wait_s += monotonicSeconds() - t1;
   ++stats_.frames;
   last_mesh_ = nullptr;

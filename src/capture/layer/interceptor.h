@@ -279,6 +279,8 @@ class Interceptor {
   struct {
     uint64_t frames = 0;
     double present_s = 0, push_wait_s = 0;
+    double deform_s = 0;  ///< of present_s: reading the deformed vertices (waits for the frame)
+    double pixel_reads_s = 0;  ///< of present_s: the glReadPixels calls (the last target's)
     uint64_t synchronous_reads = 0;  ///< asynchronous read-back asked for, no buffer free
   } stats_;  // printed at exit when VIPER_CAPTURE_STATS is set
 };

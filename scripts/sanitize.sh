@@ -126,15 +126,25 @@ sys.exit(1 if bad or not cases or root.get("failures", "0") != "0" or root.get("
 PY
   then why="test failures ($xml)"; fi
   [ -n "$xml" ] && cp "$xml" "$logs/rostest_$i.xml"
-  found=$(ls "$reports" | head -3)
-  [ -n "$found" ] && why="${why:+$why; }sanitizer report in $reports: $found"
+  # A known crash of Debian's nodelet manager at exit (ros/nodelet_core#99: ~Loader destroys a
+  # bond whose pending callback unloads through the half-destroyed Loader) is named, not counted.
+  found=""
+  for f in "$reports"/*; do
+    [ -e "$f" ] || continue
+    if grep -q "nodelet::Loader::~Loader" "$f" && grep -q "bond::Bond::flushPendingCallbacks" "$f"; then
+      echo "sanitize $kind: rostest $name: the nodelet manager crashed at exit in ROS's ~Loader (ros/nodelet_core#99; $f), not counted"
+      continue
+    fi
+    found="$found $(basename "$f")"
+  done
+  [ -n "$found" ] && why="${why:+$why; }sanitizer report in $reports:$found"
   hit=$(grep -rlE "$report" "$ros_log" "$log" 2>/dev/null | head -3)
   [ -n "$hit" ] && why="${why:+$why; }sanitizer report in $hit"
   if [ -z "$why" ]; then
     rostest_passed=$((rostest_passed + 1)); echo "sanitize $kind: rostest $name passed"
   else
     rostest_failed=$((rostest_failed + 1)); echo "sanitize $kind: rostest $name FAILED ($log): $why"
-    cat "$reports"/* 2>/dev/null | grep -m3 -E "$report|SUMMARY" | sed 's/^/    /'
+    for f in $found; do grep -m2 -E "$report|SUMMARY" "$reports/$f" | sed 's/^/    /'; done
   fi
 done
 echo "rostests: $rostest_passed passed, $rostest_failed failed"

@@ -5,7 +5,7 @@
 #
 # Usage: scripts/capture_supertuxkart.sh [--track candela_city] [--frames 60] [--width 1280]
 #          [--height 720] [--karts 4] [--seed 1] [--skip 0] [--out DIR (build/stk)] [--no-bag]
-#          [--bin DIR (devel/lib/viper)] [--game-args "--kart=tux --ai=nolok,pidgin"] [--no-check]
+#          [--bin DIR (the sourced workspace's, else devel/lib/viper)] [--game-args "--kart=tux --ai=nolok,pidgin"] [--no-check]
 # Writes DIR/<track>.vcap and DIR/<track>_raw.bag. Needs `supertuxkart` and `Xvfb` (installed by
 # scripts/setup.sh --test-programs); runs the game in its own Xvfb display unless --display :N.
 # The game runs with its forward pipeline (--disable-dynamic-lights) and without anisotropic
@@ -13,7 +13,13 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 track=candela_city; frames=60; width=1280; height=720; karts=4; seed=1; skip=0
-out="$here/build/stk"; bag=1; display=""; bin="$here/devel/lib/viper"; game_args=""
+out="$here/build/stk"; bag=1; display=""; bin=""; game_args=""
+# The capture of the sourced workspace, as capture_world.sh finds it (a devel space outside the
+# package, such as scripts/sanitize.sh's, included), else the package's own devel space.
+for dir in $(/usr/bin/python3 "$(command -v catkin_find)" --without-underlays --libexec viper 2>/dev/null); do
+  [ -x "$dir/capture" ] && { bin=$dir; break; }
+done
+[ -n "$bin" ] || bin="$here/devel/lib/viper"
 check=1
 while [ $# -gt 0 ]; do
   case "$1" in

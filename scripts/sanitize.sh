@@ -104,7 +104,7 @@ for target in $(make -C "$build" help | sed -n 's/^\.\.\. \(run_tests_viper_rost
   [[ "$name" =~ $filter && "$suites" != gtest ]] || continue
   i=$((i + 1))
   log="$logs/rostest_$i.log" reports="$root/reports/$i" ros_log="$ROS_LOG_DIR/$i"
-  rm -rf "$reports" "$ros_log" "$results"/rostest-*.xml
+  rm -rf "$reports" "$ros_log" "$results"/rostest-*.xml "$results"/rosunit-*.xml
   mkdir -p "$reports" "$ros_log"
   echo "$name" > "$log"
   # Every process's report goes to a file of its own (NAME.PID) as well as the test's verdict.
@@ -117,14 +117,22 @@ for target in $(make -C "$build" help | sed -n 's/^\.\.\. \(run_tests_viper_rost
   fi
   xml=$(ls "$results"/rostest-*.xml 2>/dev/null | head -1)
   if [ -z "$why" ] && [ -z "$xml" ]; then why="no result file"; fi
-  if [ -z "$why" ] && ! /usr/bin/python3 - "$xml" <<'PY'
-import sys, xml.etree.ElementTree as ET
-root = ET.parse(sys.argv[1]).getroot()
-cases = list(root.iter("testcase"))
-bad = [c for c in cases if c.find("failure") is not None or c.find("error") is not None]
-sys.exit(1 if bad or not cases or root.get("failures", "0") != "0" or root.get("errors", "0") != "0" else 0)
+  # rostest's own result and the test nodes' (rosunit-*.xml): a rostest stopped from outside
+  # writes a passing summary of its own while its test node's result records the failure.
+  if [ -z "$why" ] && ! /usr/bin/python3 - "$xml" "$results"/rosunit-*.xml <<'PY'
+import os, sys, xml.etree.ElementTree as ET
+bad = False
+for path in sys.argv[1:]:
+    if not os.path.exists(path):
+        continue
+    root = ET.parse(path).getroot()
+    cases = list(root.iter("testcase"))
+    failed = [c for c in cases if c.find("failure") is not None or c.find("error") is not None]
+    if failed or not cases or root.get("failures", "0") != "0" or root.get("errors", "0") != "0":
+        print(path, file=sys.stderr); bad = True
+sys.exit(1 if bad else 0)
 PY
-  then why="test failures ($xml)"; fi
+  then why="test failures ($xml and the test nodes' rosunit-*.xml)"; fi
   [ -n "$xml" ] && cp "$xml" "$logs/rostest_$i.xml"
   # A known crash of Debian's nodelet manager at exit (ros/nodelet_core#99: ~Loader destroys a
   # bond whose pending callback unloads through the half-destroyed Loader) is named, not counted.

@@ -95,12 +95,17 @@ void* nextSymbol(const void* caller, const char* name) {
 }
 
 // Pbuffer surfaces: nobody sees them but through GL reads, so the swap skips the copy to them.
-std::mutex g_pbuffers_mutex;
-std::unordered_set<EGLSurface> g_pbuffers;
+// Never destroyed (as the interceptor): when a thread calls exit(), static destructors run while
+// the program's other threads may still swap.
+std::mutex g_pbuffers_mutex;  // trivially destructible in glibc
+std::unordered_set<EGLSurface>& pbuffers() {
+  static auto* set = new std::unordered_set<EGLSurface>;
+  return *set;
+}
 
 bool isPbuffer(EGLSurface surface) {
   std::lock_guard<std::mutex> lock(g_pbuffers_mutex);
-  return g_pbuffers.count(surface) > 0;
+  return pbuffers().count(surface) > 0;
 }
 
 }  // namespace
@@ -110,7 +115,7 @@ VIPER_EXPORT EGLSurface eglCreatePbufferSurface(EGLDisplay dpy, EGLConfig config
   EGLSurface s = fn(dpy, config, attribs);
   if (s != EGL_NO_SURFACE) {
     std::lock_guard<std::mutex> lock(g_pbuffers_mutex);
-    g_pbuffers.insert(s);
+    pbuffers().insert(s);
   }
   return s;
 }
@@ -119,7 +124,7 @@ VIPER_EXPORT EGLBoolean eglDestroySurface(EGLDisplay dpy, EGLSurface surface) {
   static auto fn = REAL_EGL(eglDestroySurface);
   {
     std::lock_guard<std::mutex> lock(g_pbuffers_mutex);
-    g_pbuffers.erase(surface);
+    pbuffers().erase(surface);
   }
   return fn(dpy, surface);
 }
@@ -137,6 +142,14 @@ VIPER_EXPORT EGLBoolean eglMakeCurrent(EGLDisplay dpy, EGLSurface draw, EGLSurfa
       i->onMakeCurrent(ctx == EGL_NO_CONTEXT ? nullptr : ctx, w, h);
     }
   }
+  return ok;
+}
+
+VIPER_EXPORT EGLBoolean eglDestroyContext(EGLDisplay dpy, EGLContext ctx) {
+  static auto fn = REAL_EGL(eglDestroyContext);
+  const EGLBoolean ok = fn(dpy, ctx);
+  if (ok)
+    if (Interceptor* i = active()) i->contextDestroyed(ctx);
   return ok;
 }
 
@@ -189,6 +202,12 @@ VIPER_EXPORT int glXMakeContextCurrent(Display* dpy, GLXDrawable draw, GLXDrawab
   return ok;
 }
 
+VIPER_EXPORT void glXDestroyContext(Display* dpy, GLXContext ctx) {
+  static auto fn = reinterpret_cast<void (*)(Display*, GLXContext)>(realGlxFunction("glXDestroyContext"));
+  fn(dpy, ctx);
+  if (Interceptor* i = active()) i->contextDestroyed(ctx);
+}
+
 VIPER_EXPORT void glXSwapBuffers(Display* dpy, GLXDrawable drawable) {
   static auto fn = reinterpret_cast<void (*)(Display*, GLXDrawable)>(realGlxFunction("glXSwapBuffers"));
   if (Interceptor* i = active()) {
@@ -225,8 +244,8 @@ namespace capture {
 void* wrapperForWinsys(const char* name) {
 #define VIPER_ENTRY(f) VIPER_HOOK_ENTRY(f)
   static const HookEntry kEntries[] = {
-      VIPER_ENTRY(eglCreatePbufferSurface), VIPER_ENTRY(eglDestroySurface), VIPER_ENTRY(eglMakeCurrent),        VIPER_ENTRY(eglSwapBuffers),   VIPER_ENTRY(eglGetProcAddress),
-      VIPER_ENTRY(glXMakeCurrent),        VIPER_ENTRY(glXMakeContextCurrent), VIPER_ENTRY(glXSwapBuffers),
+      VIPER_ENTRY(eglCreatePbufferSurface), VIPER_ENTRY(eglDestroySurface), VIPER_ENTRY(eglMakeCurrent),        VIPER_ENTRY(eglDestroyContext),        VIPER_ENTRY(eglSwapBuffers),   VIPER_ENTRY(eglGetProcAddress),
+      VIPER_ENTRY(glXMakeCurrent),        VIPER_ENTRY(glXMakeContextCurrent), VIPER_ENTRY(glXDestroyContext), VIPER_ENTRY(glXSwapBuffers),
       VIPER_ENTRY(glXGetProcAddress),     VIPER_ENTRY(glXGetProcAddressARB),
   };
 #undef VIPER_ENTRY

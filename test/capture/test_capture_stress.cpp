@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <map>
 
 namespace ss = viper::stress_scene;
@@ -42,6 +43,7 @@ struct Result {
   std::string pixels, log;
   std::vector<CaptureFrame> frames;
   MeshRegistry meshes;
+  std::string read_error;  ///< the stream could not be read (whole)
   double seconds = 0;
 };
 
@@ -57,6 +59,9 @@ Result runScenario(const std::string& scenario, Mode mode) {
       command += "--library " VIPER_INTERCEPT_ASAN_LIB " --readback async --writer-threads 3 ";
     else
       command += "--readback sync --writer-threads 1 ";
+    // Another build of the layer for the synchronous run (to see what an older one did).
+    if (mode == Mode::kCapture)
+      if (const char* library = std::getenv("VIPER_STRESS_LIBRARY")) command += std::string("--library ") + library + " ";
     command += "-- ";
   }
   command += program(scenario, base + ".rgba") + " > " + base + ".log 2>&1";
@@ -66,7 +71,13 @@ Result runScenario(const std::string& scenario, Mode mode) {
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.pixels = readFile(base + ".rgba");
   r.log = readFile(base + ".log");
-  if (mode != Mode::kPlain) viper::test::readCapture(base + ".vcap", r.frames, r.meshes);
+  if (mode != Mode::kPlain) {
+    try {
+      viper::test::readCapture(base + ".vcap", r.frames, r.meshes);
+    } catch (const std::exception& e) {
+      r.read_error = e.what();
+    }
+  }
   return r;
 }
 
@@ -112,7 +123,9 @@ void checkDraw(const Expected& e, const CaptureFrame& f, const DrawRecord& d, co
     EXPECT_EQ(d.matrix_flags, flags);
     EXPECT_TRUE(d.view.isApprox(ss::view(f.number), 1e-6f)) << d.view;
     EXPECT_TRUE(d.projection.isApprox(ss::projection(), 1e-6f)) << d.projection;
-    if (e.world_recorded) EXPECT_TRUE(d.world.isApprox(meshToWorld(e, k), 1e-6f)) << d.world;
+    if (e.world_recorded) {
+      EXPECT_TRUE(d.world.isApprox(meshToWorld(e, k), 1e-6f)) << d.world;
+    }
   }
   if (!(d.gaps & viper::kGapNoMesh)) {
     ASSERT_NE(d.mesh_key, 0u);
@@ -130,8 +143,9 @@ void checkDraw(const Expected& e, const CaptureFrame& f, const DrawRecord& d, co
   }
 }
 
-void checkCapture(const std::string& scenario, const Result& plain, const Result& r) {
+void checkCapture(const std::string& scenario, bool async, const Result& plain, const Result& r) {
   EXPECT_EQ(r.rc, plain.rc) << r.log;
+  EXPECT_EQ(r.read_error, "") << r.log;
   EXPECT_EQ(r.log.find("GL error"), std::string::npos) << r.log;
   EXPECT_EQ(r.log.find("Sanitizer"), std::string::npos) << r.log;
   EXPECT_EQ(r.log.find("runtime error"), std::string::npos) << r.log;
@@ -141,10 +155,12 @@ void checkCapture(const std::string& scenario, const Result& plain, const Result
   EXPECT_EQ(differ, 0u) << "bytes of the program's own image changed under capture";
 
   const Expected e = expected(scenario);
-  if (scenario == "exit_thread")  // ended from the other thread: at least the frames before
-    EXPECT_GE(r.frames.size(), size_t(ss::kFrames));
-  else
-    EXPECT_EQ(r.frames.size(), size_t(ss::kFrames));
+  // A frame per swap. exit_thread with asynchronous read-back: the frame still in the GL's buffers
+  // when another thread ends the program cannot be read there (its context is current on the
+  // render thread), and the layer says so.
+  const bool lost_one = r.log.find("1 frames read asynchronously were lost") != std::string::npos;
+  EXPECT_EQ(lost_one, scenario == "exit_thread" && async) << r.log;
+  EXPECT_EQ(r.frames.size(), size_t(ss::kFrames) - (lost_one ? 1 : 0));
   for (const CaptureFrame& f : r.frames) {
     SCOPED_TRACE("frame " + std::to_string(f.number));
     EXPECT_EQ(viper::validateFrame(f), "");
@@ -175,13 +191,13 @@ TEST_P(Stress, RunsAsWithoutCaptureAndRecordsOrFlagsEveryDraw) {
   {
     SCOPED_TRACE("capture, synchronous read-back");
     const Result r = runScenario(scenario, Mode::kCapture);
-    checkCapture(scenario, plain, r);
+    checkCapture(scenario, false, plain, r);
     std::printf("%s: plain %.2f s, captured %.2f s\n", scenario.c_str(), plain.seconds, r.seconds);
   }
   {
     SCOPED_TRACE("capture under ASan, asynchronous read-back, 3 writer threads");
     const Result r = runScenario(scenario, Mode::kCaptureAsanAsync);
-    checkCapture(scenario, plain, r);
+    checkCapture(scenario, true, plain, r);
     std::printf("%s: captured under ASan %.2f s\n", scenario.c_str(), r.seconds);
   }
 }

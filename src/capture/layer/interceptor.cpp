@@ -111,7 +111,10 @@ void Interceptor::pushPending(size_t keep) {
 
 void Interceptor::beforeMakeCurrent() {
   FrameTarget* t = target();
-  if (!enabled_ || !t || pending_frames_.empty()) return;
+  if (!enabled_ || !t) return;
+  // The pending frames are shared with the swaps of other threads' contexts.
+  std::lock_guard<std::mutex> lifecycle(lifecycle_mutex_);
+  if (pending_frames_.empty()) return;
   pushPending(0);
   // The context may be destroyed once it is released: no writer may read its buffers then.
   while (t->packBuffersInUse()) {
@@ -273,6 +276,9 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   cx().frame.time_s = fixed_fps_ > 0.0 ? static_cast<double>(cx().frame.number) / fixed_fps_ : monotonicSeconds() - start_s_;
   cx().frame.condition = condition_;
   if (async) {
+    // Registered again (shutdown runs once): handlers run in the reverse order of registration, and
+    // a driver may register its own after the first make-current (NVIDIA's unmaps the buffers).
+    if (!async_exit_hook_) async_exit_hook_ = std::atexit(&shutdownAtExit) == 0;
     pending_frames_.push_back(PendingFrame{t, fence, std::move(cx().frame), std::move(raw)});
     // The frame before this one is handed over (its copy is done by now unless the GPU lags a
     // whole frame); this one stays in the GL's buffer while the GPU copies it.

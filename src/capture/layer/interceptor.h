@@ -291,6 +291,7 @@ class Interceptor {
   bool readback_decided_ = false;  ///< auto: decided at the first written frame, from GL_RENDERER
   /// shutdown() registered with atexit (at the first make-current, after the driver's own handlers)
   std::atomic<bool> exit_hook_{false};
+  bool async_exit_hook_ = false;  ///< and again at the first asynchronous read
   struct PendingFrame {
     FrameTarget* target;
     GLsync fence;

@@ -125,8 +125,12 @@ void Interceptor::beforeMakeCurrent() {
 
 void Interceptor::shutdown() {
   std::lock_guard<std::mutex> lifecycle(lifecycle_mutex_);
-  if (!enabled_) return;
-  enabled_ = false;  // from here on every hook only forwards
+  if (!enabled_ || closed_) return;
+  // From here on nothing is written; the hooks go on as before (the framebuffer substituted, ids
+  // drawn), so that a program whose other threads still draw meanwhile draws as it did: switching
+  // them back to its own framebuffer made llvmpipe compile new shader variants while exit() tore
+  // LLVM down (a crash, 5-9 times in 20).
+  closed_ = true;
   if (sink_ && !pending_frames_.empty()) {
     pushPending(0);  // the current context's, if it is still current on this thread
     if (!pending_frames_.empty())
@@ -219,11 +223,11 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   FrameTarget* t = target();
   if (!enabled_ || !t || !t->ready()) return;
   std::unique_lock<std::mutex> lifecycle(lifecycle_mutex_);
-  if (!enabled_) return;  // shut down meanwhile (exit() on another thread)
   oneStackView();
   // Frames before the scene (menus, loading screens) are shown but not written: skipped by count,
-  // or until a recorded draw has the camera's matrices.
-  bool write = frame_number_ >= skip_frames_;
+  // or until a recorded draw has the camera's matrices. After shutdown (exit() called by another
+  // thread while this one renders on) nothing is written, and the program still draws as before.
+  bool write = !closed_ && frame_number_ >= skip_frames_;
   if (write && start_on_scene_ && frames_written_ == 0) {
     write = false;
     for (const DrawRecord& d : cx().frame.draws)

@@ -258,6 +258,7 @@ class Interceptor {
   void logOnce(const std::string& message);
 
   std::atomic<bool> enabled_{false};
+  bool closed_ = false;  ///< shut down: the stream is closed, nothing more is written (lifecycle_mutex_)
   /// Held by a swap while it writes a frame and by shutdown(): a thread that calls exit() while
   /// another renders closes the stream between two frames.
   std::mutex lifecycle_mutex_;

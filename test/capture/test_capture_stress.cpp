@@ -32,10 +32,8 @@ std::string tempDir() { return viper::test::tempDir("viper_capture_stress_"); }
 
 const char* kAsanRuntime = "/usr/lib/x86_64-linux-gnu/libasan.so.8";
 
-// exit_drawing: exit_thread with the main thread drawing on while exit() runs.
 std::string program(const std::string& scenario, const std::string& out) {
-  const std::string args = scenario == "exit_drawing" ? "exit_thread --draw-through-exit 1" : scenario;
-  return std::string(VIPER_GL_STRESS_PROGRAM) + " --scenario " + args + " --out " + out;
+  return std::string(VIPER_GL_STRESS_PROGRAM) + " --scenario " + scenario + " --out " + out;
 }
 
 enum class Mode { kPlain, kCapture, kCaptureAsanAsync };
@@ -160,14 +158,9 @@ void checkCapture(const std::string& scenario, bool async, const Result& plain, 
   // A frame per swap. exit_thread with asynchronous read-back: the frame still in the GL's buffers
   // when another thread ends the program cannot be read there (its context is current on the
   // render thread), and the layer says so.
-  // exit_drawing: the frames the main thread swaps until the stream is closed are written too.
   const bool lost_one = r.log.find("1 frames read asynchronously were lost") != std::string::npos;
-  if (scenario == "exit_drawing") {
-    EXPECT_GE(r.frames.size(), size_t(ss::kFrames) - (async ? 1 : 0)) << r.log;
-  } else {
-    EXPECT_EQ(lost_one, scenario == "exit_thread" && async) << r.log;
-    EXPECT_EQ(r.frames.size(), size_t(ss::kFrames) - (lost_one ? 1 : 0));
-  }
+  EXPECT_EQ(lost_one, scenario == "exit_thread" && async) << r.log;
+  EXPECT_EQ(r.frames.size(), size_t(ss::kFrames) - (lost_one ? 1 : 0));
   for (const CaptureFrame& f : r.frames) {
     SCOPED_TRACE("frame " + std::to_string(f.number));
     EXPECT_EQ(viper::validateFrame(f), "");
@@ -211,6 +204,6 @@ TEST_P(Stress, RunsAsWithoutCaptureAndRecordsOrFlagsEveryDraw) {
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, Stress,
                          ::testing::Values("mdi", "persistent", "ubo_tbo", "binary", "threads", "destroy",
-                                           "exit_thread", "exit_drawing"));
+                                           "exit_thread"));
 
 }  // namespace

@@ -20,6 +20,8 @@
 //   gl_stress_program --scenario NAME [--out FILE] [--frames N] [--draw-through-exit 1]
 // --draw-through-exit 1 (exit_thread): the main thread draws on while exit() runs, unchecked.
 // --out: the program's own read-back of its last frame (RGBA, bottom row first). Exit 0.
+// Display: Mesa's surfaceless platform, else the first EGL device (a GPU driver without Mesa);
+// pbuffers of 64x64 (stress_scene.h). Prints the renderer.
 #define GL_GLEXT_PROTOTYPES 1
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -96,14 +98,28 @@ void expectProvokedError() {
 EGLDisplay g_display = EGL_NO_DISPLAY;
 EGLConfig g_config = nullptr;
 
-void initDisplay() {
-  if (g_display != EGL_NO_DISPLAY) return;
-  g_display = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (g_display == EGL_NO_DISPLAY || !eglInitialize(g_display, nullptr, nullptr)) die("no EGL display");
+/// Initialised, with an RGBA8 + depth 24 pbuffer config for desktop OpenGL in g_config.
+bool tryDisplay(EGLDisplay display) {
+  if (display == EGL_NO_DISPLAY || !eglInitialize(display, nullptr, nullptr)) return false;
   const EGLint attrs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_RED_SIZE, 8,
                           EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_ALPHA_SIZE, 8, EGL_DEPTH_SIZE, 24, EGL_NONE};
   EGLint n = 0;
-  if (!eglChooseConfig(g_display, attrs, &g_config, 1, &n) || n == 0) die("no EGL config");
+  if (!eglChooseConfig(display, attrs, &g_config, 1, &n) || n == 0) return false;
+  g_display = display;
+  return true;
+}
+
+/// Mesa's surfaceless platform, else (a GPU driver without Mesa's platforms) the first EGL device.
+void initDisplay() {
+  if (g_display != EGL_NO_DISPLAY) return;
+  if (!tryDisplay(eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr))) {
+    const auto query = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    EGLDeviceEXT devices[4];
+    EGLint count = 0;
+    if (!query || !query(4, devices, &count) || count == 0 ||
+        !tryDisplay(eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr)))
+      die("no EGL display");
+  }
   eglBindAPI(EGL_OPENGL_API);
 }
 
@@ -126,6 +142,11 @@ Surface makeSurface(int size, EGLContext share = EGL_NO_CONTEXT) {
 }
 void makeCurrent(const Surface& s) {
   if (!eglMakeCurrent(g_display, s.surface, s.surface, s.context)) die("eglMakeCurrent failed");
+  static bool said = false;
+  if (!said) {
+    said = true;
+    std::printf("renderer %s\n", reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+  }
 }
 void destroy(Surface& s) {
   if (!eglMakeCurrent(g_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT)) die("eglMakeCurrent(none) failed");
@@ -701,6 +722,7 @@ int main(int argc, char** argv) {
     if (scenario != "all" && scenario != s.first) continue;
     found = true;
     std::printf("scenario %s\n", s.first.c_str());
+    std::fflush(stdout);
     s.second(frames, out);
   }
   if (!found) die("unknown scenario '" + scenario + "'");

@@ -241,7 +241,7 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
     std::vector<MeshRecord> meshes = std::move(cx().frame.new_meshes);  // sent once: with the next written frame
     cx().frame = CaptureFrame();
     cx().frame.new_meshes = std::move(meshes);
-    cx().last_mesh = nullptr;
+    cx().last_mesh = false;
     if (width != t->width() || height != t->height()) pushPending(0);  // resizing unmaps the buffers
     t->ensureSize(width, height);
     return;
@@ -295,7 +295,7 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   stats_.pixel_reads_s = t->readSeconds();
   stats_.push_wait_s += monotonicSeconds() - t1;
   ++stats_.frames;
-  cx().last_mesh = nullptr;
+  cx().last_mesh = false;
   if (mesh_cache_.size() > 8192) mesh_cache_.clear();  // streamed geometry: keep memory bounded
   if (width != t->width() || height != t->height()) pushPending(0);  // resizing unmaps the buffers
   t->ensureSize(width, height);

@@ -120,8 +120,15 @@ struct ContextState {
   std::vector<PendingDeform> pending_deform;
   std::vector<GLuint> feedback_buffers;
   GLuint feedback_object = 0;  ///< transform feedback objects are never shared
-  ExtractedMesh* last_mesh = nullptr;  ///< mesh of the draw in flight
-  ExtractedMesh client_mesh;           ///< last mesh from client-side arrays (or a persistent mapping)
+  /// Vertex range of the draw in flight's mesh (copied: the mesh cache is shared by all contexts
+  /// and may be cleared by another thread's swap meanwhile).
+  bool last_mesh = false;
+  uint32_t last_mesh_first = 0, last_mesh_vertices = 0;
+  void setLastMesh(const ExtractedMesh& m) {
+    last_mesh = true;
+    last_mesh_first = static_cast<uint32_t>(m.first_vertex);
+    last_mesh_vertices = static_cast<uint32_t>(m.vertex_count);
+  }
   ModelViewTracker modelview;
   std::vector<uint32_t> stack_draws;  ///< this frame's draws with world and view from the stack
   bool last_recorded = false;
@@ -228,7 +235,7 @@ class Interceptor {
   /// Mesh positions mirrored in z for `handedness: left` (nothing otherwise).
   void mirrorForProfile(ExtractedMesh& mesh) const;
   /// A mesh whose vertices or indices are in the program's memory (client-side arrays): extracted
-  /// at every draw (the memory may change between draws), kept in client_mesh_.
+  /// at every draw (the memory may change between draws).
   void recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo, const uint8_t* client_vertices,
                         GLuint ibo, DrawRecord& record);
   /// World, view and projection from the fixed-function stack; world and view only where the

@@ -200,7 +200,7 @@ bool Interceptor::readIndirect(size_t offset, void* out, size_t size) {
 
 bool Interceptor::beforeDraw(const DrawCall& call) {
   cx().last_recorded = false;
-  cx().last_mesh = nullptr;
+  cx().last_mesh = false;
   FrameTarget* t = target();
   if (!enabled_ || !t || !t->ready()) return false;
   // Recorded: draws into the default framebuffer, and into a framebuffer object that may hold the
@@ -390,8 +390,7 @@ void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRec
     mirrorForProfile(mesh);
     r.mesh_key = mesh.mesh.key;
     if (emitted_meshes_.insert(mesh.mesh.key).second) cx().frame.new_meshes.push_back(mesh.mesh);
-    cx().client_mesh = std::move(mesh);
-    cx().last_mesh = &cx().client_mesh;
+    cx().setLastMesh(mesh);
     return;
   }
   r.vertex_buffer_key = bufferKey(vbo);
@@ -435,7 +434,7 @@ void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRec
     m.mesh.positions_xyz = std::vector<float>();
     m.mesh.indices = std::vector<uint32_t>();
   }
-  if (m.mesh.key) cx().last_mesh = &m;
+  if (m.mesh.key) cx().setLastMesh(m);
 }
 
 void Interceptor::recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo,
@@ -472,14 +471,13 @@ void Interceptor::recordClientMesh(const DrawCall& call, const PositionLayout& l
   mirrorForProfile(mesh);
   r.mesh_key = mesh.mesh.key;
   if (emitted_meshes_.insert(mesh.mesh.key).second) cx().frame.new_meshes.push_back(mesh.mesh);
-  cx().client_mesh = std::move(mesh);
-  cx().last_mesh = &cx().client_mesh;
+  cx().setLastMesh(mesh);
 }
 
 void Interceptor::afterDraw(const DrawCall& call) {
   if (!cx().last_recorded || !cx().last_mesh || !cx().current_program_info || !cx().current_program_info->deforming) return;
   const RealGl& g = gl();
-  const uint32_t n = cx().last_mesh->vertex_count;
+  const uint32_t n = cx().last_mesh_vertices;
   GLint prev_feedback = 0, prev_buffer = 0;
   g.GetIntegerv(GL_TRANSFORM_FEEDBACK_BINDING, &prev_feedback);
   g.GetIntegerv(GL_TRANSFORM_FEEDBACK_BUFFER_BINDING, &prev_buffer);
@@ -501,10 +499,10 @@ void Interceptor::afterDraw(const DrawCall& call) {
   g.BeginTransformFeedback(GL_POINTS);
   // The draw's first instance (one instance: split instanced draws are recorded one by one).
   if (call.base_instance != 0)
-    g.DrawArraysInstancedBaseInstance(GL_POINTS, static_cast<GLint>(cx().last_mesh->first_vertex), static_cast<GLsizei>(n),
+    g.DrawArraysInstancedBaseInstance(GL_POINTS, static_cast<GLint>(cx().last_mesh_first), static_cast<GLsizei>(n),
                                       1, call.base_instance);
   else
-    g.DrawArrays(GL_POINTS, static_cast<GLint>(cx().last_mesh->first_vertex), static_cast<GLsizei>(n));
+    g.DrawArrays(GL_POINTS, static_cast<GLint>(cx().last_mesh_first), static_cast<GLsizei>(n));
   g.EndTransformFeedback();
   if (!discard) g.Disable(GL_RASTERIZER_DISCARD);
   g.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, static_cast<GLuint>(prev_feedback));

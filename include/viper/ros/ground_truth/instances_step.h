@@ -58,8 +58,7 @@ class InstancesStep {
   ClassTable classes_;
   std::unique_ptr<InstancePipeline> pipeline_;
   CaptureFrame frame_;    // reused between frames
-  InstanceFrame result_;  // reused between frames
-  std::vector<uint8_t> scratch_rgb_;
+  InstanceFrame result_;  // reused between frames; its instance ids and boundaries go into messages
   ros::Time last_stamp_;
 };
 

@@ -6,7 +6,6 @@
 #include "viper/ros/conversions/image_conversions.h"
 #include "viper/ros/conversions/pose_conversions.h"
 
-#include <boost/make_shared.hpp>
 #include <sensor_msgs/image_encodings.h>
 
 #include <algorithm>
@@ -129,8 +128,8 @@ FlowStep::HeldPtr FlowStep::makeHeldFrame(const DrawList& draws, const sensor_ms
   return held;
 }
 
-void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, sensor_msgs::Image& flow,
-                           sensor_msgs::Image& visible, StepProblems& problems) {
+void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, float* uv, uint8_t* visible,
+                           StepProblems& problems) {
   std::vector<int32_t> a_to_b = associateDraws(a.frame, a.object_ids, b.frame, b.object_ids);
   for (size_t i = 0; i < a_to_b.size(); ++i) {
     int32_t& j = a_to_b[i];
@@ -155,14 +154,15 @@ void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, sensor_msgs::
                                  db.deformed_clip_xyzw.size() / 4, static_cast<unsigned long>(b.frame.number))});
     }
   }
-  shapeFlowMsgs(a.frame.width, a.frame.height, a.header, flow, visible);
-  computeFlow(a.pixels, b.pixels, a_to_b, b.depth_m, meshes_, reinterpret_cast<float*>(flow.data.data()),
-              visible.data.data(), settings_.options);
+  computeFlow(a.pixels, b.pixels, a_to_b, b.depth_m, meshes_, uv, visible, settings_.options);
 }
 
 FlowMessages FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, StepProblems& problems) {
-  FlowMessages m{boost::make_shared<sensor_msgs::Image>(), boost::make_shared<sensor_msgs::Image>()};
-  flowBetween(a, b, *m.flow, *m.visible, problems);
+  // computeFlow writes every pixel: a recycled message needs no clearing.
+  const uint32_t w = a.frame.width, h = a.frame.height;
+  FlowMessages m{flow_pool_.take(a.header, w, h, sensor_msgs::image_encodings::TYPE_32FC2, 8),
+                 visible_pool_.take(a.header, w, h, sensor_msgs::image_encodings::MONO8, 1)};
+  flowBetween(a, b, reinterpret_cast<float*>(m.flow->data.data()), m.visible->data.data(), problems);
   return m;
 }
 
@@ -253,7 +253,8 @@ void FlowStep::correspondences(const ros::Time& stamp_a, const ros::Time& stamp_
     return;
   }
   try {
-    flowBetween(*a, *b, res.flow, res.visible, problems);
+    shapeFlowMsgs(a->frame.width, a->frame.height, a->header, res.flow, res.visible);
+    flowBetween(*a, *b, reinterpret_cast<float*>(res.flow.data.data()), res.visible.data.data(), problems);
   } catch (const std::exception& e) {
     res.success = false;
     res.message = e.what();

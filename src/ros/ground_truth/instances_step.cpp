@@ -7,6 +7,7 @@
 
 #include <boost/make_shared.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -51,13 +52,14 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
                             "; frame dropped"});
     return false;
   }
-  // The images are computed into the messages that carry them.
+  // The images are computed into the messages that carry them (every pixel written: recycled
+  // messages need no clearing).
   const std_msgs::Header& header = ids.header;
   const uint32_t w = frame_.width, h = frame_.height;
   const size_t n = frame_.pixelCount();
   // Instance ids are needed for the VIPER image even when nobody wants them: then in result_.
-  sensor_msgs::ImagePtr instance_ids = want.instance_ids ? newImageMsgPtr(header, w, h, "32SC1", 4) : nullptr;
-  sensor_msgs::ImagePtr boundaries = want.boundaries ? newImageMsgPtr(header, w, h, "mono8", 1) : nullptr;
+  sensor_msgs::ImagePtr instance_ids = want.instance_ids ? ids_pool_.take(header, w, h, "32SC1", 4) : nullptr;
+  sensor_msgs::ImagePtr boundaries = want.boundaries ? mono_pool_.take(header, w, h, "mono8", 1) : nullptr;
   InstanceImagesInto into;
   if (instance_ids) into.instance_ids = reinterpret_cast<int32_t*>(instance_ids->data.data());
   if (boundaries) into.boundaries = boundaries->data.data();
@@ -72,15 +74,18 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
     problems.push_back({StepInput::kDrawIds, StepSeverity::kWarning, "objects", ": " + p});
 
   const int32_t* track_ids = into.instance_ids ? into.instance_ids : result_.instance_ids.data();
-  if (want.semantic) out.semantic = imageMsgPtr(header, w, h, "mono8", 1, result_.semantic.data());
+  if (want.semantic) {
+    out.semantic = mono_pool_.take(header, w, h, "mono8", 1);
+    std::copy(result_.semantic.begin(), result_.semantic.end(), out.semantic->data.begin());
+  }
   if (want.semantic_color) {
-    out.semantic_color = newImageMsgPtr(header, w, h, "rgb8", 3);
+    out.semantic_color = rgb_pool_.take(header, w, h, "rgb8", 3);
     colorizeClasses(result_.semantic.data(), n, classes_, out.semantic_color->data.data());
   }
   out.instance_ids = instance_ids;
   out.boundaries = boundaries;
   if (want.instances_viper) {
-    out.instances_viper = newImageMsgPtr(header, w, h, "rgb8", 3);
+    out.instances_viper = rgb_pool_.take(header, w, h, "rgb8", 3);
     encodeViperInstances(result_.semantic.data(), track_ids, n, out.instances_viper->data.data());
   }
   out.objects = boost::make_shared<ObjectArray>(toObjectArrayMsg(result_.objects, classes_, header));
@@ -98,7 +103,7 @@ sensor_msgs::ImagePtr InstancesStep::overlay(const sensor_msgs::Image& color, co
     problems.push_back({StepInput::kColor, StepSeverity::kError, "overlay", ": color image: " + problem + "; no overlay"});
     return nullptr;
   }
-  sensor_msgs::ImagePtr overlay = newImageMsgPtr(color.header, color.width, color.height, "rgb8", 3);
+  sensor_msgs::ImagePtr overlay = rgb_pool_.take(color.header, color.width, color.height, "rgb8", 3);
   overlayClasses(color.data.data(), semantic.data(), n, classes_, alpha, overlay->data.data());
   return overlay;
 }

@@ -7,6 +7,7 @@
 #include "viper/ground_truth/boxes.h"
 #include "viper/ground_truth/flow.h"
 #include "viper/ros/conversions/flow_conversions.h"
+#include "viper/ros/conversions/image_msg_pool.h"
 #include "viper/ros/ground_truth/step_problems.h"
 
 #include <sensor_msgs/Image.h>
@@ -78,14 +79,15 @@ class FlowStep {
   HeldPtr makeHeldFrame(const DrawList& draws, const sensor_msgs::ImageConstPtr& depth,
                         const sensor_msgs::ImageConstPtr& draw_ids, const sensor_msgs::ImageConstPtr& primitive_ids,
                         const ObjectArray& objects, StepProblems& problems);
-  /// Flow a -> b into `flow` and `visible`, shaped here, with a's header.
-  void flowBetween(const HeldFrame& a, const HeldFrame& b, sensor_msgs::Image& flow, sensor_msgs::Image& visible,
-                   StepProblems& problems);
+  /// Flow a -> b into a's width*height (u, v) pairs and mask values.
+  void flowBetween(const HeldFrame& a, const HeldFrame& b, float* uv, uint8_t* visible, StepProblems& problems);
+  /// The same into messages of the pools, with a's header.
   FlowMessages flowBetween(const HeldFrame& a, const HeldFrame& b, StepProblems& problems);
 
   FlowSettings settings_;
   MeshRegistry meshes_;
   std::deque<HeldPtr> window_;  // oldest first; consecutive capture frames
+  ImageMsgPool flow_pool_, visible_pool_;  // the flows' messages, recycled
   uint64_t frames_lost_ = 0;    // frames missing between consecutive frames seen, in all
 };
 

@@ -104,6 +104,24 @@ sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width
   return boost::make_shared<sensor_msgs::Image>(imageMsg(header, width, height, encoding, bytes_per_pixel, data));
 }
 
+void shapeImageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height, const std::string& encoding,
+                   uint32_t bytes_per_pixel, sensor_msgs::Image& m) {
+  m.header = header;
+  m.width = width;
+  m.height = height;
+  m.encoding = encoding;
+  m.is_bigendian = 0;
+  m.step = width * bytes_per_pixel;
+  m.data.resize(static_cast<size_t>(m.step) * height);
+}
+
+sensor_msgs::ImagePtr newImageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                                     const std::string& encoding, uint32_t bytes_per_pixel) {
+  auto m = boost::make_shared<sensor_msgs::Image>();
+  shapeImageMsg(header, width, height, encoding, bytes_per_pixel, *m);
+  return m;
+}
+
 sensor_msgs::Image toImageMsg(const dataset::Image8& image, const std_msgs::Header& header,
                               const std::string& encoding) {
   const std::string e = !encoding.empty() ? encoding : image.channels == 3 ? "rgb8" : "mono8";

@@ -129,6 +129,9 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
   layout.split = settings_.split;
   layout.seq = settings_.seq;
   layout.camera = CameraSource::kDraws;
+  // The instances step makes the inst image itself (instances_viper): without this the exporter
+  // also paired semantic with instance ids and encoded and wrote every inst file a second time.
+  layout.inputs.instances_viper = true;
   // The layout's files are hashed by their writers; the bag is read back for its checksum (its
   // header, rewritten at close, comes first in the hash).
   dataset::FileDigests digests;
@@ -196,7 +199,9 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
         if (kept) {
           const InstancesStep::Output& i = gt.instances;
           dispatch(exportDispatch("semantic", i.semantic), stamp);
-          dispatch(exportDispatch("instance_ids", i.instance_ids), stamp);
+          // bb's 2D boxes come from the objects: the instance ids would only be copied and scanned
+          // for boxes nobody reads (inst comes ready-made, above).
+          if (!i.objects) dispatch(exportDispatch("instance_ids", i.instance_ids), stamp);
           dispatch(exportDispatch("instances_viper", i.instances_viper), stamp);
           dispatch(exportDispatch("objects", i.objects), stamp);
           if (gt.boxes.in_optical) dispatch(exportDispatch("boxes", gt.boxes.in_optical), stamp);
@@ -260,6 +265,7 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
       marker.files.push_back({relative.string(), sha256});
     }
   }
+  result.files = marker.files.size();
   dataset::writeSequenceMarker(markerPath(), marker);
   fs::remove_all(partial, ec);
   fs::remove(root / ".partial", ec);  // only if empty

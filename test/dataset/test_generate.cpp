@@ -1,6 +1,6 @@
 // The generate command (no roscore) on the world's capture made at build time and on its raw bag
 // (capture_to_bag): the same sequence from either (with writer threads or without), a finished sequence skipped and a changed one
-// redone, two generators of one sequence taking turns, a damaged capture's intact frames kept, an output that cannot be written an error with no
+// redone, the marker's checksums taken as the files were written equal to those of the files on disk, two generators of one sequence taking turns, a damaged capture's intact frames kept, an output that cannot be written an error with no
 // marker. That its ground truth equals the nodes' is viper_layout_roundtrip.test.
 #include "viper/dataset/sequence_lock.h"
 #include "viper/dataset/sequence_marker.h"

@@ -21,7 +21,7 @@ target_compile_options(viper_dataset PRIVATE -O3 -fno-trapping-math)
 target_include_directories(viper_dataset SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
 find_package(Threads REQUIRED)  # WriteQueue's workers
 target_link_libraries(viper_dataset PUBLIC Threads::Threads)
-target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBLZ4 BZip2::BZip2 PkgConfig::LIBZIP PkgConfig::LIBDEFLATE PkgConfig::LIBPNG PkgConfig::LIBJPEG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
+target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBLZ4 PkgConfig::XXHASH BZip2::BZip2 PkgConfig::LIBZIP PkgConfig::LIBDEFLATE PkgConfig::LIBPNG PkgConfig::LIBJPEG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
 set_target_properties(viper_dataset PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 install(TARGETS viper_dataset

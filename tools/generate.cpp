@@ -211,7 +211,10 @@ int oneSequence(const Options& o, const viper::SequenceSettings& settings, const
   print(result.problems, "problems");
   std::cout << "generate: " << name << ": " << result.frames << " frames (" << result.dropped << " dropped, "
             << result.problems.size() << " problems, " << result.warnings.size() << " warnings) from " << source
-            << " into " << settings.root << "; marker " << result.marker.string() << "\n";
+            << " into " << settings.root << "; marker " << result.marker.string();
+  if (!result.skipped)
+    std::cout << " (checksums: " << result.checksums_read_back << " of " << result.files << " files read back)";
+  std::cout << "\n";
   if (!result.skipped) {
     // What came before the frames (the program under capture, its labels) heads the table.
     viper::StageTimes all = before;

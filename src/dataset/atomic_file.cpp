@@ -15,7 +15,8 @@ std::string temporaryPath(const std::string& path) {
   return path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
 }
 
-void writeFileAtomically(const std::string& path, const std::vector<uint8_t>& bytes, const char* what) {
+void writeFileAtomically(const std::string& path, const std::vector<uint8_t>& bytes, const char* what,
+                         FileDigests* digests) {
   const std::string tmp = temporaryPath(path);
   std::FILE* file = std::fopen(tmp.c_str(), "wb");
   if (file == nullptr) throw std::runtime_error(path + ": cannot write " + what + ": " + std::strerror(errno));
@@ -31,6 +32,7 @@ void writeFileAtomically(const std::string& path, const std::vector<uint8_t>& by
     std::remove(tmp.c_str());
     throw std::runtime_error(path + ": cannot write " + what + ": rename failed: " + std::strerror(e));
   }
+  if (digests) digests->record(path, bytes.size(), sha256Hex(bytes.data(), bytes.size()));
 }
 
 }  // namespace viper::dataset::detail

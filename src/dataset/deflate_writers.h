@@ -4,6 +4,7 @@
 // libpng and libzip. Internal to viper_dataset.
 #pragma once
 
+#include "viper/dataset/file_digests.h"
 #include "viper/dataset/zip_archive.h"
 
 #include <array>
@@ -29,7 +30,9 @@ std::vector<uint8_t> zipBytes(const std::vector<ZipEntry>& entries, int level);
 std::string temporaryPath(const std::string& path);
 
 /// Writes `bytes` to a temporary file beside `path`, then renames it onto `path`, so that readers
-/// never see a half-written file. Throws std::runtime_error "PATH: cannot write WHAT: reason".
-void writeFileAtomically(const std::string& path, const std::vector<uint8_t>& bytes, const char* what);
+/// never see a half-written file. With `digests`, records the file's SHA-256 there, from `bytes`.
+/// Throws std::runtime_error "PATH: cannot write WHAT: reason".
+void writeFileAtomically(const std::string& path, const std::vector<uint8_t>& bytes, const char* what,
+                         FileDigests* digests = nullptr);
 
 }  // namespace viper::dataset::detail

@@ -1,6 +1,6 @@
 #include "viper/dataset/sequence_marker.h"
 
-#include <openssl/evp.h>
+#include "viper/dataset/file_digests.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -25,7 +25,7 @@ namespace {
 // and pulling it into the cache costs more kernel CPU than the hash on a VM whose memory is full of
 // cache (direct_file.h). The next piece is read while one is hashed (the disk and the CPU at work
 // at once: a shard's marker stage otherwise waits on the disk as long as it hashes).
-void digestFile(const std::filesystem::path& path, EVP_MD_CTX* digest) {
+void digestFile(const std::filesystem::path& path, Sha256& digest) {
   constexpr size_t kAlign = 4096, kBuffer = 8u << 20;
   // Small files (the layout's, a few MB, written through the cache moments ago) are read from the
   // cache: reading them directly would first wait for their dirty pages to reach the disk.
@@ -51,7 +51,7 @@ void digestFile(const std::filesystem::path& path, EVP_MD_CTX* digest) {
   ssize_t n = readPiece(buffers[0].get());
   for (size_t current = 0; n > 0; current ^= 1) {
     std::future<ssize_t> next = std::async(std::launch::async, readPiece, buffers[current ^ 1].get());
-    EVP_DigestUpdate(digest, buffers[current].get(), static_cast<size_t>(n));
+    digest.update(buffers[current].get(), static_cast<size_t>(n));
     n = next.get();
   }
   if (n < 0) throw std::runtime_error("reading " + path.string() + " failed: " + std::strerror(static_cast<int>(-n)));
@@ -60,20 +60,9 @@ void digestFile(const std::filesystem::path& path, EVP_MD_CTX* digest) {
 }  // namespace
 
 std::string sha256OfFile(const std::filesystem::path& path) {
-  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), EVP_MD_CTX_free);
-  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1)
-    throw std::runtime_error("OpenSSL cannot start a SHA-256");
-  digestFile(path, ctx.get());
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int length = 0;
-  EVP_DigestFinal_ex(ctx.get(), digest, &length);
-  std::string hex;
-  char byte[3];
-  for (unsigned int i = 0; i < length; ++i) {
-    std::snprintf(byte, sizeof byte, "%02x", digest[i]);
-    hex += byte;
-  }
-  return hex;
+  Sha256 digest;
+  digestFile(path, digest);
+  return digest.hex();
 }
 
 void writeSequenceMarker(const std::filesystem::path& path, const SequenceMarker& marker) {

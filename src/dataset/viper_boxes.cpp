@@ -13,11 +13,11 @@ std::string formatViperBoxRow(const ViperBoxRow& row) {
   return line;
 }
 
-void writeViperBoxesCsv(const std::string& path, const std::vector<ViperBoxRow>& rows) {
+void writeViperBoxesCsv(const std::string& path, const std::vector<ViperBoxRow>& rows, FileDigests* digests) {
   std::string text;
   text.reserve(rows.size() * 300);
   for (const ViperBoxRow& r : rows) text += formatViperBoxRow(r) + "\n";
-  csv::writeTextFile(path, text);
+  csv::writeTextFile(path, text, digests);
 }
 
 std::vector<ViperBoxRow> readViperBoxesCsv(const std::string& path, std::vector<std::string>& problems) {

@@ -1,5 +1,7 @@
 #include "viper_csv.h"
 
+#include "viper/dataset/file_digests.h"
+
 #include <unistd.h>
 
 #include <atomic>
@@ -77,7 +79,7 @@ std::string parseValues(const std::vector<std::string>& fields, size_t first, si
   return "";
 }
 
-void writeTextFile(const std::string& path, const std::string& text) {
+void writeTextFile(const std::string& path, const std::string& text, FileDigests* digests) {
   static std::atomic<unsigned> counter{0};
   const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
   {
@@ -95,6 +97,7 @@ void writeTextFile(const std::string& path, const std::string& text) {
     std::remove(tmp.c_str());
     throw std::runtime_error(path + ": cannot write: rename failed: " + std::strerror(e));
   }
+  if (digests) digests->record(path, text.size(), sha256Hex(text.data(), text.size()));
 }
 
 }  // namespace viper::dataset::csv

@@ -7,6 +7,10 @@
 #include <string>
 #include <vector>
 
+namespace viper::dataset {
+class FileDigests;
+}
+
 namespace viper::dataset::csv {
 
 /// Splits a line at commas, trimming spaces, tabs and a trailing '\r' from each field.
@@ -30,8 +34,8 @@ void forEachRow(const std::string& path, const std::function<void(size_t, const 
 /// wrong ("value 5 'x' is not a number").
 std::string parseValues(const std::vector<std::string>& fields, size_t first, size_t n, double* out);
 
-/// Writes `text` to `path` through a temporary file and a rename. Throws std::runtime_error naming
-/// `path` if it cannot be written.
-void writeTextFile(const std::string& path, const std::string& text);
+/// Writes `text` to `path` through a temporary file and a rename; with `digests`, records its
+/// SHA-256 there. Throws std::runtime_error naming `path` if it cannot be written.
+void writeTextFile(const std::string& path, const std::string& text, FileDigests* digests = nullptr);
 
 }  // namespace viper::dataset::csv

@@ -187,7 +187,7 @@ void encodePng(const std::string& path, const Image8& image, detail::PngColor co
   const int level = options.png_compression_level;
   detail::writeFileAtomically(path, detail::pngBytes(image.data.data(), image.width, image.height, color, full,
                                                      labels && level > 0 ? level + 1 : level),
-                              "PNG");
+                              "PNG", options.digests);
 }
 
 Image8 decodeJpeg(const std::string& path, const std::vector<uint8_t>& bytes) {
@@ -225,7 +225,7 @@ Image8 decodeJpeg(const std::string& path, const std::vector<uint8_t>& bytes) {
   return out;
 }
 
-void encodeJpeg(const std::string& path, const Image8& rgb, int quality) {
+void encodeJpeg(const std::string& path, const Image8& rgb, int quality, FileDigests* digests) {
   if (quality < 0 || quality > 100) throw std::invalid_argument("JPEG quality must be 0..100");
   cv::Mat src(static_cast<int>(rgb.height), static_cast<int>(rgb.width), CV_8UC3, const_cast<uint8_t*>(rgb.data.data()));
   cv::Mat bgr;
@@ -233,7 +233,7 @@ void encodeJpeg(const std::string& path, const Image8& rgb, int quality) {
   std::vector<uint8_t> bytes;
   if (!cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, quality}))
     throw std::runtime_error(path + ": cannot encode JPEG");
-  detail::writeFileAtomically(path, bytes, "JPEG");
+  detail::writeFileAtomically(path, bytes, "JPEG", digests);
 }
 
 }  // namespace
@@ -247,7 +247,7 @@ Image8 readViperColorImage(const std::string& path) {
 
 void writeViperColorImage(const std::string& path, const Image8& rgb, const ImageWriteOptions& options) {
   checkImage(rgb, 3, "writeViperColorImage");
-  if (isJpegPath(path)) encodeJpeg(path, rgb, options.jpeg_quality);
+  if (isJpegPath(path)) encodeJpeg(path, rgb, options.jpeg_quality, options.digests);
   else encodePng(path, rgb, detail::PngColor::kRgb, nullptr, options, false);
 }
 

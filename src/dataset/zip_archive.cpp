@@ -36,7 +36,7 @@ void writeZip(const std::string& path, const std::vector<ZipEntry>& entries, con
     if (e.name.empty() || !names.insert(e.name).second)
       throw std::invalid_argument(path + ": empty or duplicate zip entry name '" + e.name + "'");
 
-  detail::writeFileAtomically(path, detail::zipBytes(entries, options.deflate_level), "zip archive");
+  detail::writeFileAtomically(path, detail::zipBytes(entries, options.deflate_level), "zip archive", options.digests);
 }
 
 struct ZipReader::Handle {

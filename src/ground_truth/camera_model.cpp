@@ -161,16 +161,23 @@ std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::v
   if (depth_m.size() != n || frame.draw_ids.size() != n)
     throw std::invalid_argument("windowDepthFromMetres: depth or draw ids do not hold " + std::to_string(n) +
                                 " pixels");
+  return windowDepthFromMetres(frame.draws, frame.draw_ids.data(), depth_m.data(), n, fallback_projection,
+                               bad_depth_pixels, instructions);
+}
+
+std::vector<float> windowDepthFromMetres(const std::vector<DrawRecord>& draws, const uint32_t* draw_ids,
+                                         const float* depth_m, size_t n, const GlMatrix* fallback_projection,
+                                         size_t* bad_depth_pixels, Instructions instructions) {
   // Rows 2 and 3 of each draw's projection (slot 0: pixels without a draw); valid = false: none.
   struct Rows {
     bool valid = false;
     double p22 = 0, p23 = 0, p32 = 0, p33 = 0;
   };
   auto rows = [](const GlMatrix& p) { return Rows{true, p(2, 2), p(2, 3), p(3, 2), p(3, 3)}; };
-  std::vector<Rows> by_id(frame.draws.size() + 1);
+  std::vector<Rows> by_id(draws.size() + 1);
   const Rows fallback = fallback_projection ? rows(*fallback_projection) : Rows{};
-  for (size_t i = 0; i < frame.draws.size(); ++i)
-    by_id[i + 1] = (frame.draws[i].matrix_flags & kHasProjection) ? rows(frame.draws[i].projection) : fallback;
+  for (size_t i = 0; i < draws.size(); ++i)
+    by_id[i + 1] = (draws[i].matrix_flags & kHasProjection) ? rows(draws[i].projection) : fallback;
 
   std::vector<float> out(n, 1.0f);
   // Per draw: pixels without usable depth, and with it. A draw with none at all is a background at
@@ -183,12 +190,12 @@ std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::v
     DepthTable table(by_id.size());
     for (size_t id = 1; id < by_id.size(); ++id)
       if (by_id[id].valid) table.set(id, {by_id[id].p22, by_id[id].p23, by_id[id].p32, by_id[id].p33});
-    done = pixel_kernels::windowDepth(path, frame.draw_ids.data(), depth_m.data(), n, table.rows(), out.data(),
+    done = pixel_kernels::windowDepth(path, draw_ids, depth_m, n, table.rows(), out.data(),
                                       good.data(), bad.data());
   }
   // One pixel at a time: the reference, and the pixels after the kernels' blocks.
   for (size_t p = done; p < n; ++p) {
-    const uint32_t id = frame.draw_ids[p];
+    const uint32_t id = draw_ids[p];
     if (id == 0 || id >= by_id.size()) continue;
     const Rows& r = by_id[id];
     const float m = depth_m[p];

@@ -89,26 +89,58 @@ FlowField computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::v
   return f;
 }
 
+namespace {
+
+void checkSameSize(uint32_t a_width, uint32_t a_height, uint32_t b_width, uint32_t b_height) {
+  if (a_width != b_width || a_height != b_height)
+    throw std::invalid_argument("computeFlow: frame sizes differ (" + std::to_string(a_width) + "x" +
+                                std::to_string(a_height) + " vs " + std::to_string(b_width) + "x" +
+                                std::to_string(b_height) + ")");
+}
+
+}  // namespace
+
+FlowFramePixels flowFramePixels(const CaptureFrame& frame) {
+  const size_t n = frame.pixelCount();
+  if (frame.draw_ids.size() != n || frame.primitive_ids.size() != n || frame.depth_window.size() != n)
+    throw std::invalid_argument("computeFlow: an input's size does not match its frame");
+  return {frame.width, frame.height, &frame.draws, frame.draw_ids.data(), frame.primitive_ids.data(),
+          frame.depth_window.data()};
+}
+
 void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b,
                  const std::vector<float>& b_depth_m, const MeshRegistry& meshes, FlowField& f,
                  const FlowOptions& options, FlowStats* stats_out) {
-  if (a.width != b.width || a.height != b.height)
-    throw std::invalid_argument("computeFlow: frame sizes differ (" + std::to_string(a.width) + "x" +
-                                std::to_string(a.height) + " vs " + std::to_string(b.width) + "x" +
-                                std::to_string(b.height) + ")");
-  const size_t n = a.pixelCount();
-  if (a_to_b.size() != a.draws.size() || b_depth_m.size() != n || a.draw_ids.size() != n ||
-      a.primitive_ids.size() != n || a.depth_window.size() != n)
+  checkSameSize(a.width, a.height, b.width, b.height);
+  if (a_to_b.size() != a.draws.size() || b_depth_m.size() != a.pixelCount())
     throw std::invalid_argument("computeFlow: an input's size does not match its frame");
+  const FlowFramePixels pa = flowFramePixels(a), pb{b.width, b.height, &b.draws};
+  f.width = a.width;
+  f.height = a.height;
+  f.uv.resize(2 * a.pixelCount());
+  f.visible.resize(a.pixelCount());
+  computeFlow(pa, pb, a_to_b, b_depth_m.data(), meshes, f.uv.data(), f.visible.data(), options, stats_out);
+}
+
+void computeFlow(const FlowFramePixels& a, const FlowFramePixels& b, const std::vector<int32_t>& a_to_b,
+                 const float* b_depth_m, const MeshRegistry& meshes, float* uv, uint8_t* visible,
+                 const FlowOptions& options, FlowStats* stats_out) {
+  checkSameSize(a.width, a.height, b.width, b.height);
+  const size_t n = static_cast<size_t>(a.width) * a.height;
+  if (!a.draws || !b.draws || a_to_b.size() != a.draws->size() || (n > 0 && (!b_depth_m || !a.draw_ids ||
+      !a.primitive_ids || !a.depth_window || !uv || !visible)))
+    throw std::invalid_argument("computeFlow: an input's size does not match its frame");
+  const std::vector<DrawRecord>& a_draws = *a.draws;
+  const std::vector<DrawRecord>& b_draws = *b.draws;
 
   // By draw id: maps[0] stands for pixels of no draw.
-  std::vector<DrawMapping> maps(a.draws.size() + 1);
+  std::vector<DrawMapping> maps(a_draws.size() + 1);
   maps[0].kind = DrawMapping::kNoDraw;
-  for (size_t i = 0; i < a.draws.size(); ++i) {
+  for (size_t i = 0; i < a_draws.size(); ++i) {
     DrawMapping& m = maps[i + 1];
-    if (a_to_b[i] < 0 || static_cast<size_t>(a_to_b[i]) >= b.draws.size()) continue;
-    const DrawRecord& da = a.draws[i];
-    const DrawRecord& db = b.draws[a_to_b[i]];
+    if (a_to_b[i] < 0 || static_cast<size_t>(a_to_b[i]) >= b_draws.size()) continue;
+    const DrawRecord& da = a_draws[i];
+    const DrawRecord& db = b_draws[a_to_b[i]];
     m.kind = DrawMapping::kMissing;
     if (db.projection(3, 2) == 0.0f) continue;
     m.depth_scale_b = -1.0 / db.projection(3, 2);
@@ -131,24 +163,20 @@ void computeFlow(const CaptureFrame& a, const CaptureFrame& b, const std::vector
     }
   }
 
-  f.width = a.width;
-  f.height = a.height;
-  f.uv.resize(2 * n);
-  f.visible.resize(n);
   std::vector<int32_t> row_q(a.width), row_pending(a.width);
   std::vector<float> row_limit(a.width);
-  const FlowKernel kernel{a.draw_ids.data(),
-                          a.depth_window.data(),
-                          a.primitive_ids.data(),
-                          b_depth_m.data(),
+  const FlowKernel kernel{a.draw_ids,
+                          a.depth_window,
+                          a.primitive_ids,
+                          b_depth_m,
                           static_cast<int>(a.width),
                           static_cast<int>(a.height),
                           static_cast<float>(1.0 - options.occlusion_relative),
                           static_cast<float>(options.occlusion_absolute_m),
                           maps.data(),
-                          static_cast<uint32_t>(a.draws.size()),
-                          f.uv.data(),
-                          f.visible.data(),
+                          static_cast<uint32_t>(a_draws.size()),
+                          uv,
+                          visible,
                           row_q.data(),
                           row_limit.data(),
                           row_pending.data()};

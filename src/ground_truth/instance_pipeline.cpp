@@ -19,7 +19,9 @@ InstanceFrame InstancePipeline::process(const CaptureFrame& frame) {
   return out;
 }
 
-void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) {
+void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) { process(frame, out, {}); }
+
+void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, const InstanceImagesInto& into) {
   // Only draws and draw ids are used (a node may have nothing else); ids past the draw list are
   // ignored by every kernel, so they need no pass of their own.
   const std::string at = "frame " + std::to_string(frame.number) + ": ";
@@ -64,12 +66,13 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) {
 
   const size_t n = frame.pixelCount();
   out.semantic.resize(n);
-  out.instance_ids.resize(n);
-  out.boundaries.resize(n);
+  out.instance_ids.resize(into.instance_ids ? 0 : n);
+  out.boundaries.resize(into.boundaries ? 0 : n);
+  int32_t* instance_ids = into.instance_ids ? into.instance_ids : out.instance_ids.data();
   renderSemantic(runs_, assignment, out.semantic.data());
-  renderInstances(runs_, assignment, ids, out.instance_ids.data());
-  renderBoundaries(out.instance_ids.data(), static_cast<int>(frame.width), static_cast<int>(frame.height),
-                   out.boundaries.data());
+  renderInstances(runs_, assignment, ids, instance_ids);
+  renderBoundaries(instance_ids, static_cast<int>(frame.width), static_cast<int>(frame.height),
+                   into.boundaries ? into.boundaries : out.boundaries.data());
 
   for (size_t k = 0; k < objects.size(); ++k) {
     TrackedObject t;

@@ -1,6 +1,6 @@
 // The generate command (no roscore) on the world's capture made at build time and on its raw bag
 // (capture_to_bag): the same sequence from either (with writer threads or without), a finished sequence skipped and a changed one
-// redone, two generators of one sequence taking turns, a damaged capture's intact frames kept, an output that cannot be written an error with no
+// redone, the marker's checksums taken as the files were written equal to those of the files on disk, two generators of one sequence taking turns, a damaged capture's intact frames kept, an output that cannot be written an error with no
 // marker. That its ground truth equals the nodes' is viper_layout_roundtrip.test.
 #include "viper/dataset/sequence_lock.h"
 #include "viper/dataset/sequence_marker.h"
@@ -100,6 +100,44 @@ TEST(Generate, FinishedIsSkippedChangedIsRedone) {
   again = runGenerate(kRawBag, root, "--force --outputs layout");
   EXPECT_EQ(again.rc, 0) << again.output;
   EXPECT_FALSE(fs::exists(fs::path(root) / "train/bag/001.bag")) << "--outputs layout writes no bag";
+}
+
+// The marker takes the layout's checksums from the writers (the bytes they wrote, hashed as they
+// went) and reads back only the bag: with writer threads and without, every checksum equals the
+// SHA-256 of the file on disk (ours and sha256sum's). A resumed run still reads every file, so a
+// file changed after the run, even to a byte of the same size, is found and the sequence redone.
+TEST(Generate, MarkerChecksumsAsWrittenAreThoseOfTheFilesOnDisk) {
+  for (const char* threads : {"2", "0"}) {
+    SCOPED_TRACE(std::string("--writer-threads ") + threads);
+    const std::string root = tempDir("viper_generate_") + "/as_written_" + threads;
+    const Result r = runGenerate(kRawBag, root, std::string("--writer-threads ") + threads);
+    ASSERT_EQ(r.rc, 0) << r.output;
+    const viper::dataset::SequenceMarker m = viper::dataset::readSequenceMarker(root + "/train/001.done");
+    ASSERT_GT(m.files.size(), 100u);
+    EXPECT_NE(r.output.find("(checksums: 1 of " + std::to_string(m.files.size()) + " files read back)"), std::string::npos)
+        << "only the bag is read back: " << r.output;
+    for (const viper::dataset::MarkedFile& f : m.files)
+      EXPECT_EQ(f.sha256, viper::dataset::sha256OfFile(fs::path(root) / f.relative_path)) << f.relative_path;
+    EXPECT_EQ(run("cd " + root + " && sha256sum --quiet -c train/001.done"), 0);
+
+    // The same size, one byte changed: a flow file and the bag.
+    for (const char* changed : {"train/flow/001/001_00005.npz", "train/bag/001.bag"}) {
+      const fs::path file = fs::path(root) / changed;
+      const std::string original = readFile(file.string());
+      {
+        std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(static_cast<std::streamoff>(original.size() / 2));
+        f.put(static_cast<char>(original[original.size() / 2] ^ 0x20));
+      }
+      ASSERT_EQ(fs::file_size(file), original.size());
+      EXPECT_NE(viper::dataset::verifySequence(root, m).find(changed), std::string::npos);
+      const Result again = runGenerate(kRawBag, root, std::string("--writer-threads ") + threads);
+      EXPECT_EQ(again.rc, 0) << again.output;
+      EXPECT_EQ(again.output.find("is finished"), std::string::npos) << changed << " changed, yet skipped";
+      EXPECT_TRUE(readFile(file.string()) == original) << changed << " not redone";
+      EXPECT_EQ(viper::dataset::verifySequence(root, viper::dataset::readSequenceMarker(root + "/train/001.done")), "");
+    }
+  }
 }
 
 // Two generators given the same sequence at once (an array resubmitted while a task of the first

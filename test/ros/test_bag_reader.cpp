@@ -318,6 +318,38 @@ TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
   }
 }
 
+// An LZ4 chunk that still decodes, to other bytes: its last literal changed (the last 5 bytes of an
+// LZ4 block are literals; the frame ends with an end mark and the content checksum, 4 bytes each),
+// or its stored checksum changed. Only the content checksum tells: the chunk is named as damaged.
+TEST(BagFileReader, AnLz4ChunkThatDecodesToOtherBytesFailsItsChecksum) {
+  const std::string dir = tempDir("viper_bag_reader_"), intact = dir + "/intact.bag";
+  writeTextBag(intact, rosbag::compression::LZ4);
+  const std::string whole = readFile(intact);
+  size_t field = 0;
+  for (int k = 0; k < 3; ++k) field = whole.find("compression=lz4", field + 1);
+  ASSERT_NE(field, std::string::npos);
+  const size_t chunk = field - 8;
+  uint32_t header_size, data_size;
+  std::memcpy(&header_size, whole.data() + chunk, 4);
+  std::memcpy(&data_size, whole.data() + chunk + 4 + header_size, 4);
+  const size_t data_end = chunk + 8 + header_size + data_size;
+  const std::vector<Read> all = readWithRosbag(intact);
+  for (const auto& [what, at] : {std::pair{"last literal", data_end - 9}, std::pair{"stored checksum", data_end - 1}}) {
+    SCOPED_TRACE(what);
+    std::string bytes = whole;
+    bytes[at] = static_cast<char>(bytes[at] ^ 0x20);
+    const std::string damaged = dir + "/damaged.bag";
+    writeFile(damaged, bytes);
+    std::string error;
+    const std::vector<Read> got = readWithReader(damaged, &error);
+    EXPECT_NE(error.find(damaged + ": damaged chunk at byte " + std::to_string(chunk) + ": LZ4: " +
+                         "ERROR_contentChecksum_invalid"), std::string::npos) << error;
+    ASSERT_GT(got.size(), 0u);
+    ASSERT_LT(got.size(), all.size());
+    for (size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(got[i] == all[i]) << "message " << i;
+  }
+}
+
 // The index's second entry pointing past its chunk (rosbag writes an index record's fields by name:
 // conn, count, op, ver; then its data's length and the entries, sec, nsec, offset).
 TEST(BagFileReader, AnIndexOffsetPastItsChunkIsNamed) {

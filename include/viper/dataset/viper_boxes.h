@@ -15,6 +15,8 @@
 
 namespace viper::dataset {
 
+class FileDigests;
+
 /// One line of a box file.
 struct ViperBoxRow {
   int class_id = 0;         ///< VIPER class id, 0..255
@@ -33,9 +35,10 @@ struct ViperBoxRow {
 std::string formatViperBoxRow(const ViperBoxRow& row);
 
 /// Writes the rows, one per line, no header (an empty file for no objects), replacing the file
-/// (written under a temporary name and renamed). Throws std::runtime_error naming `path` if it
-/// cannot be written.
-void writeViperBoxesCsv(const std::string& path, const std::vector<ViperBoxRow>& rows);
+/// (written under a temporary name and renamed); with `digests`, records the file's SHA-256 there.
+/// Throws std::runtime_error naming `path` if it cannot be written.
+void writeViperBoxesCsv(const std::string& path, const std::vector<ViperBoxRow>& rows,
+                        FileDigests* digests = nullptr);
 
 /// The rows of a box file, in file order. Blank lines, lines starting with '#' and a first line
 /// that does not start with a number (a header) are skipped. A line with another number of values

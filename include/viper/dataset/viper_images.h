@@ -12,6 +12,8 @@
 
 namespace viper::dataset {
 
+class FileDigests;
+
 /// An 8-bit image: `channels` bytes per pixel, rows from the top, no padding.
 struct Image8 {
   uint32_t width = 0;
@@ -28,6 +30,8 @@ struct ImageWriteOptions {
   int png_compression_level = 1;
   /// JPEG quality 0..100 for `img` files written as .jpg / .jpeg.
   int jpeg_quality = 95;
+  /// When set, each file's SHA-256 is recorded there as it is written (from the bytes in memory).
+  FileDigests* digests = nullptr;
 };
 
 /// A class color per class id (index), for the palette of `cls` files.

@@ -9,6 +9,8 @@
 
 namespace viper::dataset {
 
+class FileDigests;
+
 /// One file inside a zip archive.
 struct ZipEntry {
   std::string name;
@@ -20,6 +22,8 @@ struct ZipWriteOptions {
   /// 0: stored (as numpy.savez); 1..9: deflated by libdeflate at this level (numpy.savez_compressed
   /// uses zlib's level 6). 1 is several times faster than 6 on flow and barely larger.
   int deflate_level = 1;
+  /// When set, each archive's SHA-256 is recorded there as it is written (from the bytes in memory).
+  FileDigests* digests = nullptr;
 };
 
 /// Writes `entries` to a new archive at `path`, replacing any file there: a temporary file beside

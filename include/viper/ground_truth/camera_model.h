@@ -92,6 +92,12 @@ std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* cam
 std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,
                                          const GlMatrix* fallback_projection, size_t* bad_depth_pixels = nullptr,
                                          Instructions instructions = Instructions::kWidest);
+/// The same on a frame's draws and pixels wherever they are stored (the messages they came in, say):
+/// `draw_ids` and `depth_m` hold `pixels` values each.
+std::vector<float> windowDepthFromMetres(const std::vector<DrawRecord>& draws, const uint32_t* draw_ids,
+                                         const float* depth_m, size_t pixels, const GlMatrix* fallback_projection,
+                                         size_t* bad_depth_pixels = nullptr,
+                                         Instructions instructions = Instructions::kWidest);
 
 /// Rotation from OpenGL camera axes (x right, y up, looking down -z) to the optical frame
 /// (x right, y down, z forward): diag(1, -1, -1). p_optical = opticalFromGlCamera() * p_gl.

@@ -62,6 +62,25 @@ struct FlowOptions {
   FlowInstructions instructions = FlowInstructions::kWidest;
 };
 
+/// A frame's pixels as computeFlow reads them, wherever they are stored (a CaptureFrame's vectors,
+/// or the messages the frame came in): width*height draw ids, primitive ids and window depths.
+struct FlowFramePixels {
+  uint32_t width = 0, height = 0;
+  const std::vector<DrawRecord>* draws = nullptr;
+  const uint32_t* draw_ids = nullptr;
+  const uint32_t* primitive_ids = nullptr;
+  const float* depth_window = nullptr;
+};
+/// The pixels of `frame`; throws std::invalid_argument if an image does not hold width*height values.
+FlowFramePixels flowFramePixels(const CaptureFrame& frame);
+
+/// Computes flow a -> b into caller storage: `uv` holds 2*width*height floats, `visible`
+/// width*height bytes (a message's buffers, say); `b_depth_m` width*height metres. Only b's size
+/// and draws are read. Otherwise as below.
+void computeFlow(const FlowFramePixels& a, const FlowFramePixels& b, const std::vector<int32_t>& a_to_b,
+                 const float* b_depth_m, const MeshRegistry& meshes, float* uv, uint8_t* visible,
+                 const FlowOptions& options = FlowOptions(), FlowStats* stats = nullptr);
+
 /// Computes flow a -> b. `a_to_b` comes from associateDraws; `b_depth_m` is b's depth in metres
 /// along the optical axis (NaN = no surface), width*height values; `meshes` holds the triangles
 /// of deformed draws. Throws std::invalid_argument if the frames' sizes differ, or a vector size

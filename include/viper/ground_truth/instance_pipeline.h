@@ -47,6 +47,13 @@ struct InstanceFrame {
   bool tracker_reset = false;
 };
 
+/// Caller storage for images of InstanceFrame (a message's buffers, say): each non-null pointer
+/// takes width*height values in place of its vector, which is left empty.
+struct InstanceImagesInto {
+  int32_t* instance_ids = nullptr;
+  uint8_t* boundaries = nullptr;
+};
+
 /// Keeps the mesh store and the tracker across frames.
 class InstancePipeline {
  public:
@@ -59,6 +66,8 @@ class InstancePipeline {
   InstanceFrame process(const CaptureFrame& frame);
   /// The same, writing into `out`: its image buffers are reused when the frame size is unchanged.
   void process(const CaptureFrame& frame, InstanceFrame& out);
+  /// The same, rendering the images `into` names into its storage.
+  void process(const CaptureFrame& frame, InstanceFrame& out, const InstanceImagesInto& into);
 
   /// Adds meshes that arrive outside frames (e.g. a latched mesh store topic).
   void addMeshes(const std::vector<MeshRecord>& meshes) { meshes_.add(meshes); }

@@ -81,6 +81,32 @@ std::string absolute(const std::string& path) {
   return getcwd(cwd, sizeof(cwd)) ? std::string(cwd) + "/" + path : path;
 }
 
+// LD_PRELOAD for the program: the interceptor first, then what was preloaded already; a sanitizer
+// runtime given there (libasan, to run a sanitized build of the interceptor) stays before it, as a
+// runtime must come before the libraries it instruments.
+std::string preloadList(const std::string& lib, const char* old) {
+  std::string runtimes, rest;
+  std::string entries = old ? old : "";
+  for (char& c : entries)
+    if (c == ' ') c = ':';
+  size_t start = 0;
+  while (start <= entries.size()) {
+    size_t end = entries.find(':', start);
+    if (end == std::string::npos) end = entries.size();
+    const std::string entry = entries.substr(start, end - start);
+    start = end + 1;
+    if (entry.empty()) continue;
+    const size_t slash = entry.rfind('/');
+    const std::string base = slash == std::string::npos ? entry : entry.substr(slash + 1);
+    const bool runtime = base.rfind("libasan", 0) == 0 || base.rfind("libtsan", 0) == 0 ||
+                         base.rfind("libubsan", 0) == 0 || base.rfind("liblsan", 0) == 0;
+    (runtime ? runtimes : rest) += entry + ":";
+  }
+  std::string list = runtimes + lib;
+  if (!rest.empty()) list += ":" + rest.substr(0, rest.size() - 1);
+  return list;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -169,9 +195,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  std::string preload = lib;
-  if (const char* old = std::getenv("LD_PRELOAD")) preload += std::string(":") + old;
-  setenv("LD_PRELOAD", preload.c_str(), 1);
+  setenv("LD_PRELOAD", preloadList(lib, std::getenv("LD_PRELOAD")).c_str(), 1);
   setenv("VIPER_CAPTURE_OUTPUT", absolute(output).c_str(), 1);
   setenv("VIPER_CAPTURE_PROGRAM", argv[i], 1);
   if (!profile.empty()) setenv("VIPER_CAPTURE_PROFILE", absolute(profile).c_str(), 1);

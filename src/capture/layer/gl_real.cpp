@@ -1,4 +1,5 @@
 #include "gl_real.h"
+#include "hooks.h"
 
 #include <dlfcn.h>
 
@@ -12,10 +13,12 @@ namespace {
 
 using DlsymFn = void* (*)(void*, const char*);
 
-DlsymFn lookupRealDlsym() {
+VIPER_NO_SANITIZE DlsymFn lookupRealDlsym() {
   // dlvsym is not interposed, so it reaches glibc's dlsym whichever version this glibc has.
-  for (const char* version : {"GLIBC_2.34", "GLIBC_2.2.5", "GLIBC_2.17", "GLIBC_2.0"}) {
-    if (void* f = dlvsym(RTLD_NEXT, "dlsym", version)) return reinterpret_cast<DlsymFn>(f);
+  // (A plain array: no inline library code, which would be instrumented, on this path.)
+  static const char* const kVersions[] = {"GLIBC_2.34", "GLIBC_2.2.5", "GLIBC_2.17", "GLIBC_2.0"};
+  for (size_t i = 0; i < sizeof(kVersions) / sizeof(kVersions[0]); ++i) {
+    if (void* f = dlvsym(RTLD_NEXT, "dlsym", kVersions[i])) return reinterpret_cast<DlsymFn>(f);
   }
   return nullptr;
 }
@@ -47,7 +50,7 @@ RealGl loadRealGl() {
 
 }  // namespace
 
-void* realDlsym(void* handle, const char* name) {
+VIPER_NO_SANITIZE void* realDlsym(void* handle, const char* name) {
   static const DlsymFn real = lookupRealDlsym();
   return real ? real(handle, name) : nullptr;
 }

@@ -397,10 +397,10 @@ VIPER_EXPORT void glMultiDrawElementsIndirect(GLenum mode, GLenum type, const vo
 namespace viper {
 namespace capture {
 
-void* wrapperForWinsys(const char* name);
-void* wrapperForLegacy(const char* name);
+VIPER_NO_SANITIZE void* wrapperForWinsys(const char* name);
+VIPER_NO_SANITIZE void* wrapperForLegacy(const char* name);
 
-void* wrapperFor(const char* name) {
+VIPER_NO_SANITIZE void* wrapperFor(const char* name) {
   if (!name) return nullptr;
 #define VIPER_ENTRY(f) VIPER_HOOK_ENTRY(f)
   static const HookEntry kEntries[] = {

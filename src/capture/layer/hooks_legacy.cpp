@@ -108,7 +108,7 @@ VIPER_EXPORT void glDeleteBuffersARB(GLsizei n, const GLuint* buffers) { glDelet
 namespace viper {
 namespace capture {
 
-void* wrapperForLegacy(const char* name) {
+VIPER_NO_SANITIZE void* wrapperForLegacy(const char* name) {
 #define VIPER_ENTRY(f) VIPER_HOOK_ENTRY(f)
   static const HookEntry kEntries[] = {
       VIPER_ENTRY(glMatrixMode),   VIPER_ENTRY(glLoadIdentity),     VIPER_ENTRY(glLoadMatrixf),

@@ -64,21 +64,41 @@ void glxDrawableSize(Display* dpy, GLXDrawable drawable, int& w, int& h) {
   w = static_cast<int>(gw), h = static_cast<int>(gh);
 }
 
-// Libraries of the GL stack itself must get the real functions from dlsym.
-bool calledFromDriver(const void* caller) {
+// The file name of the object holding `address` (null if none).
+VIPER_NO_SANITIZE const char* objectName(const void* address) {
   Dl_info info;
-  if (!dladdr(caller, &info) || !info.dli_fname) return false;
+  if (!dladdr(address, &info) || !info.dli_fname) return nullptr;
   const char* base = std::strrchr(info.dli_fname, '/');
-  base = base ? base + 1 : info.dli_fname;
-  for (const char* lib : {"libEGL", "libGL", "libOpenGL", "libGLX", "libGLdispatch", "libgbm", "mesa", "dri",
-                          "gallium", "libnvidia"}) {
-    if (std::strstr(base, lib)) return true;
-  }
+  return base ? base + 1 : info.dli_fname;
+}
+
+// Whether `base` (a file name) contains one of `names`. (Plain arrays: no inline library code,
+// which the sanitized build would instrument, on the dlsym path; see VIPER_NO_SANITIZE.)
+template <size_t N>
+VIPER_NO_SANITIZE bool nameHasAny(const char* base, const char* const (&names)[N]) {
+  for (size_t i = 0; i < N; ++i)
+    if (std::strstr(base, names[i])) return true;
   return false;
 }
 
+// Libraries of the GL stack itself must get the real functions from dlsym.
+VIPER_NO_SANITIZE bool calledFromDriver(const char* base) {
+  static const char* const kStack[] = {"libEGL", "libGL", "libOpenGL", "libGLX", "libGLdispatch", "libgbm", "mesa", "dri",
+                                       "gallium", "libnvidia"};
+  return base && nameHasAny(base, kStack);
+}
+
+// A sanitizer runtime looks up the functions it intercepts with dlsym at its start, before it can
+// forward the dlopen that nextSymbol makes (it intercepts dlopen too) and before instrumented code
+// may run. `capture` keeps a preloaded runtime before this library, so what follows this library
+// is what follows the runtime: plain RTLD_NEXT from here is right.
+VIPER_NO_SANITIZE bool calledFromSanitizer(const char* base) {
+  static const char* const kRuntimes[] = {"libasan", "libubsan", "libtsan", "liblsan"};
+  return base && nameHasAny(base, kRuntimes);
+}
+
 // RTLD_NEXT relative to the caller, not to this library: search the objects loaded after it.
-void* nextSymbol(const void* caller, const char* name) {
+VIPER_NO_SANITIZE void* nextSymbol(const void* caller, const char* name) {
   Dl_info info;
   link_map* map = nullptr;
   if (!dladdr1(caller, &info, reinterpret_cast<void**>(&map), RTLD_DL_LINKMAP) || !map)
@@ -95,12 +115,17 @@ void* nextSymbol(const void* caller, const char* name) {
 }
 
 // Pbuffer surfaces: nobody sees them but through GL reads, so the swap skips the copy to them.
-std::mutex g_pbuffers_mutex;
-std::unordered_set<EGLSurface> g_pbuffers;
+// Never destroyed (as the interceptor): when a thread calls exit(), static destructors run while
+// the program's other threads may still swap.
+std::mutex g_pbuffers_mutex;  // trivially destructible in glibc
+std::unordered_set<EGLSurface>& pbuffers() {
+  static auto* set = new std::unordered_set<EGLSurface>;
+  return *set;
+}
 
 bool isPbuffer(EGLSurface surface) {
   std::lock_guard<std::mutex> lock(g_pbuffers_mutex);
-  return g_pbuffers.count(surface) > 0;
+  return pbuffers().count(surface) > 0;
 }
 
 }  // namespace
@@ -110,7 +135,7 @@ VIPER_EXPORT EGLSurface eglCreatePbufferSurface(EGLDisplay dpy, EGLConfig config
   EGLSurface s = fn(dpy, config, attribs);
   if (s != EGL_NO_SURFACE) {
     std::lock_guard<std::mutex> lock(g_pbuffers_mutex);
-    g_pbuffers.insert(s);
+    pbuffers().insert(s);
   }
   return s;
 }
@@ -119,7 +144,7 @@ VIPER_EXPORT EGLBoolean eglDestroySurface(EGLDisplay dpy, EGLSurface surface) {
   static auto fn = REAL_EGL(eglDestroySurface);
   {
     std::lock_guard<std::mutex> lock(g_pbuffers_mutex);
-    g_pbuffers.erase(surface);
+    pbuffers().erase(surface);
   }
   return fn(dpy, surface);
 }
@@ -137,6 +162,14 @@ VIPER_EXPORT EGLBoolean eglMakeCurrent(EGLDisplay dpy, EGLSurface draw, EGLSurfa
       i->onMakeCurrent(ctx == EGL_NO_CONTEXT ? nullptr : ctx, w, h);
     }
   }
+  return ok;
+}
+
+VIPER_EXPORT EGLBoolean eglDestroyContext(EGLDisplay dpy, EGLContext ctx) {
+  static auto fn = REAL_EGL(eglDestroyContext);
+  const EGLBoolean ok = fn(dpy, ctx);
+  if (ok)
+    if (Interceptor* i = active()) i->contextDestroyed(ctx);
   return ok;
 }
 
@@ -189,6 +222,12 @@ VIPER_EXPORT int glXMakeContextCurrent(Display* dpy, GLXDrawable draw, GLXDrawab
   return ok;
 }
 
+VIPER_EXPORT void glXDestroyContext(Display* dpy, GLXContext ctx) {
+  static auto fn = reinterpret_cast<void (*)(Display*, GLXContext)>(realGlxFunction("glXDestroyContext"));
+  fn(dpy, ctx);
+  if (Interceptor* i = active()) i->contextDestroyed(ctx);
+}
+
 VIPER_EXPORT void glXSwapBuffers(Display* dpy, GLXDrawable drawable) {
   static auto fn = reinterpret_cast<void (*)(Display*, GLXDrawable)>(realGlxFunction("glXSwapBuffers"));
   if (Interceptor* i = active()) {
@@ -207,10 +246,12 @@ VIPER_EXPORT GlxProc glXGetProcAddress(const unsigned char* name) {
 
 VIPER_EXPORT GlxProc glXGetProcAddressARB(const unsigned char* name) { return glXGetProcAddress(name); }
 
-VIPER_EXPORT void* dlsym(void* __restrict handle, const char* __restrict name) {
+VIPER_EXPORT VIPER_NO_SANITIZE void* dlsym(void* __restrict handle, const char* __restrict name) {
   const void* caller = __builtin_return_address(0);
+  const char* object = objectName(caller);
+  if (calledFromSanitizer(object)) return realDlsym(handle, name);
   if (handle == RTLD_NEXT) return nextSymbol(caller, name);
-  if (!calledFromDriver(caller)) {
+  if (!calledFromDriver(object)) {
     if (void* w = wrapperFor(name)) {
       // Only where the library asked for really has the symbol (dlsym(libGL, "eglFoo") stays null).
       if (realDlsym(handle, name)) return w;
@@ -222,11 +263,11 @@ VIPER_EXPORT void* dlsym(void* __restrict handle, const char* __restrict name) {
 namespace viper {
 namespace capture {
 
-void* wrapperForWinsys(const char* name) {
+VIPER_NO_SANITIZE void* wrapperForWinsys(const char* name) {
 #define VIPER_ENTRY(f) VIPER_HOOK_ENTRY(f)
   static const HookEntry kEntries[] = {
-      VIPER_ENTRY(eglCreatePbufferSurface), VIPER_ENTRY(eglDestroySurface), VIPER_ENTRY(eglMakeCurrent),        VIPER_ENTRY(eglSwapBuffers),   VIPER_ENTRY(eglGetProcAddress),
-      VIPER_ENTRY(glXMakeCurrent),        VIPER_ENTRY(glXMakeContextCurrent), VIPER_ENTRY(glXSwapBuffers),
+      VIPER_ENTRY(eglCreatePbufferSurface), VIPER_ENTRY(eglDestroySurface), VIPER_ENTRY(eglMakeCurrent),        VIPER_ENTRY(eglDestroyContext),        VIPER_ENTRY(eglSwapBuffers),   VIPER_ENTRY(eglGetProcAddress),
+      VIPER_ENTRY(glXMakeCurrent),        VIPER_ENTRY(glXMakeContextCurrent), VIPER_ENTRY(glXDestroyContext), VIPER_ENTRY(glXSwapBuffers),
       VIPER_ENTRY(glXGetProcAddress),     VIPER_ENTRY(glXGetProcAddressARB),
   };
 #undef VIPER_ENTRY

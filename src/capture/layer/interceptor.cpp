@@ -12,6 +12,7 @@ namespace capture {
 namespace {
 
 thread_local FrameTarget* t_target = nullptr;
+thread_local ContextState* t_context = nullptr;
 
 double monotonicSeconds() {
   timespec ts{};
@@ -110,7 +111,10 @@ void Interceptor::pushPending(size_t keep) {
 
 void Interceptor::beforeMakeCurrent() {
   FrameTarget* t = target();
-  if (!enabled_ || !t || pending_frames_.empty()) return;
+  if (!enabled_ || !t) return;
+  // The pending frames are shared with the swaps of other threads' contexts.
+  std::lock_guard<std::mutex> lifecycle(lifecycle_mutex_);
+  if (pending_frames_.empty()) return;
   pushPending(0);
   // The context may be destroyed once it is released: no writer may read its buffers then.
   while (t->packBuffersInUse()) {
@@ -120,15 +124,23 @@ void Interceptor::beforeMakeCurrent() {
 }
 
 void Interceptor::shutdown() {
+  std::lock_guard<std::mutex> lifecycle(lifecycle_mutex_);
+  if (!enabled_ || closed_) return;
+  // From here on nothing is written; the hooks go on as before (the framebuffer substituted, ids
+  // drawn), so that a program whose other threads still draw meanwhile draws as it did: switching
+  // them back to its own framebuffer made llvmpipe compile new shader variants while exit() tore
+  // LLVM down (a crash, 5-9 times in 20).
+  closed_ = true;
   if (sink_ && !pending_frames_.empty()) {
     pushPending(0);  // the current context's, if it is still current on this thread
     if (!pending_frames_.empty())
-      std::fprintf(stderr, "[viper capture] %zu frames read asynchronously were lost: their context was not current at exit\n",
+      std::fprintf(stderr, "[viper capture] %zu frames read asynchronously were lost: their context was not current on the "
+                   "thread that ended the program\n",
                    pending_frames_.size());
     pending_frames_.clear();
   }
   if (sink_) sink_->close();
-  if (enabled_ && stats_.frames && std::getenv("VIPER_CAPTURE_STATS")) {
+  if (stats_.frames && std::getenv("VIPER_CAPTURE_STATS")) {
     const double n = static_cast<double>(stats_.frames);
     std::fprintf(stderr,
                  "[viper capture] %llu frames; per frame: read-back %.2f ms (deformed vertices %.2f, pixel reads %.2f), "
@@ -140,45 +152,85 @@ void Interceptor::shutdown() {
       std::fprintf(stderr, "[viper capture] asynchronous read-back: %llu of %llu frames read synchronously (no buffer free)\n",
                    static_cast<unsigned long long>(stats_.synchronous_reads), static_cast<unsigned long long>(stats_.frames));
   }
-  enabled_ = false;
 }
 
 FrameTarget* Interceptor::target() { return t_target; }
 
+ContextState& Interceptor::cx() {
+  if (t_context) return *t_context;
+  thread_local ContextState none;  // no context current: what the thread's calls set goes nowhere
+  return none;
+}
+
 void Interceptor::onMakeCurrent(void* context, int width, int height) {
-  if (!context) {
-    t_target = nullptr;
-    return;
+  if (enabled_ && !exit_hook_) {
+    // Shut down before the driver's own exit handlers (registered when the program opened its
+    // display, so run after this one): a thread that calls exit() while another renders then
+    // tears nothing down under the renderer for longer than the program alone does.
+    std::lock_guard<std::mutex> lock(lifecycle_mutex_);
+    if (!exit_hook_) exit_hook_ = std::atexit(&shutdownAtExit) == 0;
   }
-  std::unique_ptr<FrameTarget>& slot = targets_[context];
-  if (!slot) {
-    slot.reset(new FrameTarget);
-    // Asynchronous read-back: one buffer being copied, one waiting for its turn, one per writer
-    // thread and the sink's queue of two.
-    if (sink_) slot->pack_buffer_count = std::min<size_t>(12, static_cast<size_t>(sink_->threads()) + 4);
+  ContextState* previous = t_context;
+  ContextState* c = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (previous && previous->target.get() != nullptr) {
+      previous->current = false;
+      if (previous->destroyed) {  // destroyed while current: its objects are gone now
+        for (auto it = contexts_.begin(); it != contexts_.end(); ++it)
+          if (it->second.get() == previous) {
+            contexts_.erase(it);
+            break;
+          }
+      }
+    }
+    if (context) {
+      std::unique_ptr<ContextState>& slot = contexts_[context];
+      if (!slot) {
+        slot.reset(new ContextState);
+        slot->target.reset(new FrameTarget);
+        // Asynchronous read-back: one buffer being copied, one waiting for its turn, one per
+        // writer thread and the sink's queue of two.
+        if (sink_) slot->target->pack_buffer_count = std::min<size_t>(12, static_cast<size_t>(sink_->threads()) + 4);
+      }
+      c = slot.get();
+      c->current = true;
+    }
   }
-  t_target = slot.get();
+  t_context = c;
+  t_target = c ? c->target.get() : nullptr;
+  if (!c) return;
   t_target->ensureSize(width, height);
   GLint program = 0;
   gl().GetIntegerv(GL_CURRENT_PROGRAM, &program);
-  current_program_ = static_cast<GLuint>(program);
-  current_program_info_ = nullptr;
-  blend0_enabled_ = gl().IsEnabledi(GL_BLEND, 0);
-  blend_dirty_ = true;
+  c->current_program = static_cast<GLuint>(program);
+  c->current_program_info = nullptr;
+  c->blend0_enabled = gl().IsEnabledi(GL_BLEND, 0);
+  c->blend_dirty = true;
   const GLint major = glInt(GL_MAJOR_VERSION), minor = glInt(GL_MINOR_VERSION);
-  base_instance_draws_ = major > 4 || (major == 4 && minor >= 2);
+  c->base_instance_draws = major > 4 || (major == 4 && minor >= 2);
+}
+
+void Interceptor::contextDestroyed(void* context) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = contexts_.find(context);
+  if (it == contexts_.end()) return;
+  if (it->second->current) it->second->destroyed = true;  // EGL destroys it when it is released
+  else contexts_.erase(it);
 }
 
 void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   FrameTarget* t = target();
   if (!enabled_ || !t || !t->ready()) return;
+  std::unique_lock<std::mutex> lifecycle(lifecycle_mutex_);
   oneStackView();
   // Frames before the scene (menus, loading screens) are shown but not written: skipped by count,
-  // or until a recorded draw has the camera's matrices.
-  bool write = frame_number_ >= skip_frames_;
+  // or until a recorded draw has the camera's matrices. After shutdown (exit() called by another
+  // thread while this one renders on) nothing is written, and the program still draws as before.
+  bool write = !closed_ && frame_number_ >= skip_frames_;
   if (write && start_on_scene_ && frames_written_ == 0) {
     write = false;
-    for (const DrawRecord& d : frame_.draws)
+    for (const DrawRecord& d : cx().frame.draws)
       if ((d.matrix_flags & kHasView) && (d.matrix_flags & kHasProjection)) write = true;
   }
   if (!write) {
@@ -186,10 +238,10 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
     t->present(none, !offscreen, /*read_back=*/false);
     readDeformed();
     ++frame_number_;
-    std::vector<MeshRecord> meshes = std::move(frame_.new_meshes);  // sent once: with the next written frame
-    frame_ = CaptureFrame();
-    frame_.new_meshes = std::move(meshes);
-    last_mesh_ = nullptr;
+    std::vector<MeshRecord> meshes = std::move(cx().frame.new_meshes);  // sent once: with the next written frame
+    cx().frame = CaptureFrame();
+    cx().frame.new_meshes = std::move(meshes);
+    cx().last_mesh = false;
     if (width != t->width() || height != t->height()) pushPending(0);  // resizing unmaps the buffers
     t->ensureSize(width, height);
     return;
@@ -222,26 +274,28 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   if (!async) t->present(raw, !offscreen);
   if (async_readback_ && !async) ++stats_.synchronous_reads;
   const double t1 = monotonicSeconds();
-  frame_.number = frame_number_++;
+  cx().frame.number = frame_number_++;
   // A program that advances a fixed time step per frame (as the test scene and the world do) is
   // stamped with that step, not with how fast it happened to render.
-  frame_.time_s = fixed_fps_ > 0.0 ? static_cast<double>(frame_.number) / fixed_fps_ : monotonicSeconds() - start_s_;
-  frame_.condition = condition_;
+  cx().frame.time_s = fixed_fps_ > 0.0 ? static_cast<double>(cx().frame.number) / fixed_fps_ : monotonicSeconds() - start_s_;
+  cx().frame.condition = condition_;
   if (async) {
-    if (!exit_hook_) exit_hook_ = std::atexit(&shutdownAtExit) == 0;
-    pending_frames_.push_back(PendingFrame{t, fence, std::move(frame_), std::move(raw)});
+    // Registered again (shutdown runs once): handlers run in the reverse order of registration, and
+    // a driver may register its own after the first make-current (NVIDIA's unmaps the buffers).
+    if (!async_exit_hook_) async_exit_hook_ = std::atexit(&shutdownAtExit) == 0;
+    pending_frames_.push_back(PendingFrame{t, fence, std::move(cx().frame), std::move(raw)});
     // The frame before this one is handed over (its copy is done by now unless the GPU lags a
     // whole frame); this one stays in the GL's buffer while the GPU copies it.
     pushPending(1);
   } else {
-    sink_->push(std::move(frame_), std::move(raw));
+    sink_->push(std::move(cx().frame), std::move(raw));
   }
-  frame_ = CaptureFrame();
+  cx().frame = CaptureFrame();
   stats_.present_s += t1 - t0;
   stats_.pixel_reads_s = t->readSeconds();
   stats_.push_wait_s += monotonicSeconds() - t1;
   ++stats_.frames;
-  last_mesh_ = nullptr;
+  cx().last_mesh = false;
   if (mesh_cache_.size() > 8192) mesh_cache_.clear();  // streamed geometry: keep memory bounded
   if (width != t->width() || height != t->height()) pushPending(0);  // resizing unmaps the buffers
   t->ensureSize(width, height);
@@ -249,6 +303,7 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   if (frame_limit_ && frames_written_ >= frame_limit_) {
     std::fprintf(stderr, "[viper capture] captured %llu frames, stopping the program\n",
                  static_cast<unsigned long long>(frames_written_));
+    lifecycle.unlock();
     shutdown();
     // Not exit(): the program's static destructors would run on this (its render) thread while its
     // other threads still use what they destroy (Minetest crashed so). The stream is closed; flush
@@ -300,7 +355,7 @@ void Interceptor::clear(GLbitfield mask) {
   }
   // A depth-only clear after the scene's draws, for a hand or HUD items drawn over it.
   if (t && t->ready() && profile_.depth_clear_ends_scene && (mask & GL_DEPTH_BUFFER_BIT) &&
-      !(mask & GL_COLOR_BUFFER_BIT) && !frame_.draws.empty() && !t->sceneEnded())
+      !(mask & GL_COLOR_BUFFER_BIT) && !cx().frame.draws.empty() && !t->sceneEnded())
     t->endScene();
   gl().Clear(mask);
   // A new image in the default framebuffer: ids start at 0 (no draw).
@@ -311,9 +366,9 @@ void Interceptor::clearDefaultIds(FrameTarget& t) {
   static const GLfloat kZero[4] = {0, 0, 0, 0};
   const bool was_enabled = t.ids_enabled;
   if (!was_enabled) t.applyDrawBuffers(true);
-  if (!ids_write_) {  // the clear honours the write mask a preceding effect draw left
+  if (!cx().ids_write) {  // the clear honours the write mask a preceding effect draw left
     gl().ColorMaski(kIdDrawBuffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    ids_write_ = true;
+    cx().ids_write = true;
   }
   gl().ClearBufferfv(GL_COLOR, kIdDrawBuffer, kZero);
   if (!was_enabled) t.applyDrawBuffers(false);
@@ -342,8 +397,8 @@ void Interceptor::fixIntegerQuery(GLenum pname, GLint* data) {
 }
 
 void Interceptor::blendStateChanged(bool blend_enabled_known, bool blend_enabled) {
-  if (blend_enabled_known) blend0_enabled_ = blend_enabled;
-  blend_dirty_ = true;
+  if (blend_enabled_known) cx().blend0_enabled = blend_enabled;
+  cx().blend_dirty = true;
 }
 
 }  // namespace capture

@@ -9,6 +9,7 @@
 #include "mesh_extract.h"
 #include "viper/capture/capture_profile.h"
 
+#include <atomic>
 #include <deque>
 #include "viper/capture/shader_rewrite.h"
 
@@ -98,19 +99,66 @@ struct DrawCall {
   GLuint base_instance = 0;
 };
 
+/// A draw whose deformed vertices are being captured by transform feedback (read at the swap).
+struct PendingDeform {
+  uint32_t draw_index;
+  GLuint buffer;
+  uint32_t vertices;
+};
+
+/// What the layer keeps per GL context: its substitute framebuffer, the GL state it tracks (which
+/// the GL keeps per context too), the frame being recorded from the context's draws (written at its
+/// swap), and its own objects that contexts do not share. Threads drawing in contexts of their own
+/// (loader threads, several windows) so never mix their draws, and a context destroyed mid-frame
+/// takes its unfinished frame with it.
+struct ContextState {
+  std::unique_ptr<FrameTarget> target;
+  bool current = false;    ///< current on a thread now
+  bool destroyed = false;  ///< eglDestroyContext while current: dropped when released
+
+  CaptureFrame frame;  ///< being recorded
+  std::vector<PendingDeform> pending_deform;
+  std::vector<GLuint> feedback_buffers;
+  GLuint feedback_object = 0;  ///< transform feedback objects are never shared
+  /// Vertex range of the draw in flight's mesh (copied: the mesh cache is shared by all contexts
+  /// and may be cleared by another thread's swap meanwhile).
+  bool last_mesh = false;
+  uint32_t last_mesh_first = 0, last_mesh_vertices = 0;
+  void setLastMesh(const ExtractedMesh& m) {
+    last_mesh = true;
+    last_mesh_first = static_cast<uint32_t>(m.first_vertex);
+    last_mesh_vertices = static_cast<uint32_t>(m.vertex_count);
+  }
+  ModelViewTracker modelview;
+  std::vector<uint32_t> stack_draws;  ///< this frame's draws with world and view from the stack
+  bool last_recorded = false;
+
+  GLuint current_program = 0;
+  ProgramInfo* current_program_info = nullptr;
+  GLuint active_unit = 0;
+  std::unordered_map<uint64_t, GLuint> unit_bindings;  ///< (unit << 32 | target) -> texture
+  bool blend_dirty = true;
+  bool ids_write = true;  ///< write mask last set on the id attachment
+  bool blend0_enabled = false;
+  bool base_instance_draws = false;  ///< GL >= 4.2 (glDraw*BaseInstance)
+};
+
 /// The capture layer (one per process).
 class Interceptor {
  public:
   static Interceptor& instance();
   /// Writes what is queued and closes the stream; capture stops.
   void shutdown();
-  bool enabled() const { return enabled_; }
+  bool enabled() const { return enabled_.load(std::memory_order_relaxed); }
 
   // Window system.
   /// Before the calling thread's context changes (or is released): frames still being read
   /// asynchronously from the current one are handed over, and its read-back buffers left free.
   void beforeMakeCurrent();
   void onMakeCurrent(void* context, int width, int height);
+  /// eglDestroyContext / glXDestroyContext: what the layer kept for the context is dropped (its
+  /// GL objects went with it), at once or, if it is current, when it is released.
+  void contextDestroyed(void* context);
   /// At a buffer swap of a surface of `width` x `height`; `offscreen` for pbuffers.
   void beforeSwap(int width, int height, bool offscreen);
 
@@ -139,7 +187,7 @@ class Interceptor {
   void copyBufferSubData(GLenum read_target, GLenum write_target, GLintptr read_offset, GLintptr write_offset,
                          GLsizeiptr size);
   void deleteBuffers(GLsizei n, const GLuint* names);
-  void activeTexture(GLenum unit) { active_unit_ = unit - GL_TEXTURE0; }
+  void activeTexture(GLenum unit) { cx().active_unit = unit - GL_TEXTURE0; }
   void bindTexture(GLenum target, GLuint name);
   void texImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLenum type, const void* pixels,
                 bool sub, GLint x, GLint y);
@@ -149,7 +197,7 @@ class Interceptor {
   void deleteTextures(GLsizei n, const GLuint* names);
 
   /// The fixed-function model-view stack as the program builds it (hooks_legacy.cpp).
-  ModelViewTracker& modelView() { return modelview_; }
+  ModelViewTracker& modelView() { return cx().modelview; }
 
   /// Called around every draw: `before` returns true if the draw is recorded.
   bool beforeDraw(const DrawCall& call);
@@ -178,6 +226,8 @@ class Interceptor {
   Interceptor();
   ~Interceptor();
   FrameTarget* target();
+  /// The calling thread's current context's state (a state of the thread's own when none is current).
+  ContextState& cx();
   ProgramInfo* currentProgram();
   GLuint boundBuffer(GLenum target);
   uint64_t bufferKey(GLuint name);
@@ -185,7 +235,7 @@ class Interceptor {
   /// Mesh positions mirrored in z for `handedness: left` (nothing otherwise).
   void mirrorForProfile(ExtractedMesh& mesh) const;
   /// A mesh whose vertices or indices are in the program's memory (client-side arrays): extracted
-  /// at every draw (the memory may change between draws), kept in client_mesh_.
+  /// at every draw (the memory may change between draws).
   void recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo, const uint8_t* client_vertices,
                         GLuint ibo, DrawRecord& record);
   /// World, view and projection from the fixed-function stack; world and view only where the
@@ -214,7 +264,11 @@ class Interceptor {
   /// Once per distinct message: to stderr, prefixed.
   void logOnce(const std::string& message);
 
-  bool enabled_ = false;
+  std::atomic<bool> enabled_{false};
+  bool closed_ = false;  ///< shut down: the stream is closed, nothing more is written (lifecycle_mutex_)
+  /// Held by a swap while it writes a frame and by shutdown(): a thread that calls exit() while
+  /// another renders closes the stream between two frames.
+  std::mutex lifecycle_mutex_;
   std::string output_path_, condition_;
   uint64_t frame_limit_ = 0;    ///< frames to write (0: until the program ends)
   uint64_t skip_frames_ = 0;    ///< VIPER_CAPTURE_SKIP: swaps before the first written frame
@@ -230,42 +284,22 @@ class Interceptor {
   std::unordered_set<GLuint> programs_with_own_feedback_;
   std::unordered_map<GLuint, BufferShadow> buffers_;
   std::unordered_map<GLuint, uint64_t> texture_keys_;
-  std::unordered_map<void*, std::unique_ptr<FrameTarget>> targets_;
+  std::unordered_map<void*, std::unique_ptr<ContextState>> contexts_;  // guarded by mutex_
   std::unordered_map<uint64_t, ExtractedMesh> mesh_cache_;
   std::unordered_set<uint64_t> emitted_meshes_;
 
-  GLuint current_program_ = 0;
-  ProgramInfo* current_program_info_ = nullptr;
-  GLuint active_unit_ = 0;
-  std::unordered_map<uint64_t, GLuint> unit_bindings_;  // (unit << 32 | target) -> texture
-  bool blend_dirty_ = true;
-  bool ids_write_ = true;  ///< write mask last set on the id attachment
   double fixed_fps_ = 0.0; ///< VIPER_CAPTURE_FPS: frame time = number / fps (0: monotonic clock)
-  bool blend0_enabled_ = false;
-  bool base_instance_draws_ = false;  ///< current context is GL >= 4.2 (glDraw*BaseInstance)
   std::unordered_set<std::string> logged_;
 
   // Frame being recorded.
   uint64_t frame_number_ = 0;
-  CaptureFrame frame_;
-  struct PendingDeform {
-    uint32_t draw_index;
-    GLuint buffer;
-    uint32_t vertices;
-  };
-  std::vector<PendingDeform> pending_deform_;
-  std::vector<GLuint> feedback_buffers_;
-  GLuint feedback_object_ = 0;
-  ExtractedMesh* last_mesh_ = nullptr;  // mesh of the draw in flight
-  ExtractedMesh client_mesh_;           // last mesh from client-side arrays
-  ModelViewTracker modelview_;
-  std::vector<uint32_t> stack_draws_;   // this frame's draws with world and view from the stack
-  bool last_recorded_ = false;
   // Asynchronous read-back (VIPER_CAPTURE_READBACK=async): frames read into the target's
   // pixel-pack buffers, handed to the sink once their fence has signalled (at the next swap).
   bool async_readback_ = false;
   bool readback_decided_ = false;  ///< auto: decided at the first written frame, from GL_RENDERER
-  bool exit_hook_ = false;  ///< shutdown registered with atexit (at the first asynchronous read)
+  /// shutdown() registered with atexit (at the first make-current, after the driver's own handlers)
+  std::atomic<bool> exit_hook_{false};
+  bool async_exit_hook_ = false;  ///< and again at the first asynchronous read
   struct PendingFrame {
     FrameTarget* target;
     GLsync fence;

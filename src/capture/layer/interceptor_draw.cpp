@@ -76,13 +76,13 @@ void Interceptor::mirrorForProfile(ExtractedMesh& mesh) const {
 bool Interceptor::readMatrix(const MatrixSource& m, GlMatrix& out) {
   const RealGl& g = gl();
   if (m.location >= 0) {
-    g.GetUniformfv(current_program_, m.location, out.data());  // whatever glUniform* the program used
+    g.GetUniformfv(cx().current_program, m.location, out.data());  // whatever glUniform* the program used
     return true;
   }
   if (m.block == GL_INVALID_INDEX) return false;
   GLint binding = 0, buffer = 0;
   GLint64 start = 0;
-  g.GetActiveUniformBlockiv(current_program_, m.block, GL_UNIFORM_BLOCK_BINDING, &binding);
+  g.GetActiveUniformBlockiv(cx().current_program, m.block, GL_UNIFORM_BLOCK_BINDING, &binding);
   g.GetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, static_cast<GLuint>(binding), &buffer);
   g.GetInteger64i_v(GL_UNIFORM_BUFFER_START, static_cast<GLuint>(binding), &start);
   if (buffer == 0 || m.matrix_stride < 16 || m.matrix_stride > 64) return false;
@@ -160,7 +160,7 @@ bool Interceptor::recordable() {
 }
 
 bool Interceptor::splitsInstances(const DrawCall& call) {
-  if (call.instances <= 1 || !base_instance_draws_ || !recordable()) return false;
+  if (call.instances <= 1 || !cx().base_instance_draws || !recordable()) return false;
   const ProgramInfo* p = currentProgram();
   if (!p->rewritten || p->reads_draw_parameters) return false;
   const GLint attributes = glInt(GL_MAX_VERTEX_ATTRIBS);
@@ -182,7 +182,7 @@ void Interceptor::beforeUndecomposedDraw(const char* what) {
   if (!enabled_ || !t || !t->ready()) return;
   ProgramInfo* p = currentProgram();
   const bool into_scene = t->program_draw_fb == 0 ? !t->sceneEnded() : t->sceneFbo() != nullptr;
-  if (into_scene && !(p && p->overlay)) ++frame_.unrecorded_draws;
+  if (into_scene && !(p && p->overlay)) ++cx().frame.unrecorded_draws;
   if (recordable() && p && p->rewritten) {
     char key[32];
     std::snprintf(key, sizeof(key), "%016llx", static_cast<unsigned long long>(p->key));
@@ -199,8 +199,8 @@ bool Interceptor::readIndirect(size_t offset, void* out, size_t size) {
 }
 
 bool Interceptor::beforeDraw(const DrawCall& call) {
-  last_recorded_ = false;
-  last_mesh_ = nullptr;
+  cx().last_recorded = false;
+  cx().last_mesh = false;
   FrameTarget* t = target();
   if (!enabled_ || !t || !t->ready()) return false;
   // Recorded: draws into the default framebuffer, and into a framebuffer object that may hold the
@@ -209,7 +209,7 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return false;
   ProgramInfo* p = currentProgram();
   const bool scene_ended = !scene_fbo && t->sceneEnded();
-  if (!p && !scene_ended) ++frame_.unrecorded_draws;  // fixed function: nothing to rewrite or read
+  if (!p && !scene_ended) ++cx().frame.unrecorded_draws;  // fixed function: nothing to rewrite or read
   // Fixed-function draws (no program) write their color to every draw buffer, ours included;
   // after the scene ended (endScene) nothing is recorded: ids off for both.
   t->wantIds(scene_fbo, p && !scene_ended && p->rewritten);
@@ -220,43 +220,43 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
     if (!scene_fbo) t->snapshotSceneColor();
     return false;
   }
-  if (blend_dirty_) {
+  if (cx().blend_dirty) {
     // For blended draws our id buffer keeps what is behind fragments whose coverage (alpha) is
     // 0; opaque draws write ids unblended (blending float targets is slow on software drivers).
-    if (blend0_enabled_) {
+    if (cx().blend0_enabled) {
       g.Enablei(GL_BLEND, kIdDrawBuffer);
       g.BlendFuncSeparatei(kIdDrawBuffer, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ZERO);
       g.BlendEquationi(kIdDrawBuffer, GL_FUNC_ADD);
     } else {
       g.Disablei(GL_BLEND, kIdDrawBuffer);
     }
-    blend_dirty_ = false;
+    cx().blend_dirty = false;
   }
-  const uint32_t index = static_cast<uint32_t>(frame_.draws.size());
+  const uint32_t index = static_cast<uint32_t>(cx().frame.draws.size());
   if (p->rewritten) {
     // A blended draw that writes no depth is an effect (rain, glare, smoke): it never takes a
     // pixel's id whatever its alpha, so an id always names the surface the depth image holds.
     bool write_ids = true;
-    if (blend0_enabled_) {
+    if (cx().blend0_enabled) {
       GLboolean depth_write = GL_TRUE;
       g.GetBooleanv(GL_DEPTH_WRITEMASK, &depth_write);
       write_ids = depth_write == GL_TRUE;
     }
-    if (write_ids != ids_write_) {
+    if (write_ids != cx().ids_write) {
       const GLboolean m = write_ids ? GL_TRUE : GL_FALSE;
       g.ColorMaski(kIdDrawBuffer, m, m, m, m);
-      ids_write_ = write_ids;
+      cx().ids_write = write_ids;
     }
     g.Uniform1f(p->loc_draw_id, static_cast<float>(index + 1));
-    const float alpha_test = blend0_enabled_ ? 1.0f : 0.0f;
+    const float alpha_test = cx().blend0_enabled ? 1.0f : 0.0f;
     if (alpha_test != p->alpha_test_value) {
       g.Uniform1f(p->loc_alpha_test, alpha_test);
       p->alpha_test_value = alpha_test;
     }
   }
 
-  frame_.draws.emplace_back();
-  DrawRecord& r = frame_.draws.back();
+  cx().frame.draws.emplace_back();
+  DrawRecord& r = cx().frame.draws.back();
   r.index = index;
   r.program_key = p->key;
   r.primitive_mode = call.mode;
@@ -280,12 +280,12 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   if (!p->rewritten) r.gaps |= kGapNoIds;
   for (size_t i = 0; i < p->sampler_locations.size(); ++i) {
     GLint unit = 0;
-    g.GetUniformiv(current_program_, p->sampler_locations[i], &unit);
+    g.GetUniformiv(cx().current_program, p->sampler_locations[i], &unit);
     r.texture_keys.push_back(textureKey(p->sampler_targets[i], static_cast<GLuint>(unit)));
   }
   recordMesh(call, *p, r);
   if (!r.mesh_key) r.gaps |= kGapNoMesh;
-  last_recorded_ = true;
+  cx().last_recorded = true;
   return true;
 }
 
@@ -295,27 +295,27 @@ void Interceptor::readMatrixStack(DrawRecord& r) {
   g.GetFloatv(VIPER_GL_PROJECTION_MATRIX, r.projection.data());
   g.GetFloatv(VIPER_GL_MODELVIEW_MATRIX, modelview.data());
   r.matrix_flags |= kHasProjection;
-  const GlMatrix product = modelview_.view() * modelview_.world();
+  const GlMatrix product = cx().modelview.view() * cx().modelview.world();
   const float scale = std::max(1.0f, modelview.cwiseAbs().maxCoeff());
   if ((product - modelview).cwiseAbs().maxCoeff() > 1e-4f * scale) {
     logOnce("the model-view matrix is not the loaded view times the multiplied world (matrix_stack: "
             "load_view_mult_world): draws so made are recorded without world and view");
     return;
   }
-  r.world = modelview_.world();
-  r.view = modelview_.view();
+  r.world = cx().modelview.world();
+  r.view = cx().modelview.view();
   r.matrix_flags |= kHasWorld | kHasView;
-  stack_draws_.push_back(r.index);
+  cx().stack_draws.push_back(r.index);
 }
 
 void Interceptor::oneStackView() {
-  if (stack_draws_.size() < 2) {
-    stack_draws_.clear();
+  if (cx().stack_draws.size() < 2) {
+    cx().stack_draws.clear();
     return;
   }
   std::map<std::vector<float>, size_t> counts;
-  for (uint32_t i : stack_draws_) {
-    const GlMatrix& v = frame_.draws[i].view;
+  for (uint32_t i : cx().stack_draws) {
+    const GlMatrix& v = cx().frame.draws[i].view;
     ++counts[std::vector<float>(v.data(), v.data() + 16)];
   }
   auto best = counts.begin();
@@ -323,13 +323,13 @@ void Interceptor::oneStackView() {
     if (it->second > best->second) best = it;
   const GlMatrix view = Eigen::Map<const GlMatrix>(best->first.data());
   const GlMatrix inverse = view.inverse();
-  for (uint32_t i : stack_draws_) {
-    DrawRecord& d = frame_.draws[i];
+  for (uint32_t i : cx().stack_draws) {
+    DrawRecord& d = cx().frame.draws[i];
     if (d.view == view) continue;
     d.world = inverse * d.view * d.world;
     d.view = view;
   }
-  stack_draws_.clear();
+  cx().stack_draws.clear();
 }
 
 void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRecord& r) {
@@ -370,6 +370,29 @@ void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRec
   if (vb == buffers_.end()) return;
   auto ib = buffers_.find(static_cast<GLuint>(ibo));
   if (call.indexed && ib == buffers_.end()) return;
+  const BufferShadow& vertices = vb->second;
+  if (vertices.map_pointer && vertices.map_persistent) {
+    // Vertices in a persistent mapping: the program rewrites that memory without telling the GL
+    // (a ring of regions, fenced), so our copy of the buffer is stale; the mesh is extracted from
+    // the mapped memory, what the GPU reads, at every draw. The buffer has no content key then.
+    if (layout.offset < vertices.map_offset) return;
+    PositionLayout mapped = layout;
+    mapped.offset -= vertices.map_offset;
+    DrawRange range = drawRange(call);
+    if (call.indexed) {
+      range.index_data = ib->second.data.data();
+      range.index_bytes = ib->second.data.size();
+      range.index_offset = call.index_offset;
+      r.index_buffer_key = bufferKey(static_cast<GLuint>(ibo));
+    }
+    ExtractedMesh mesh;
+    if (!extractMesh(static_cast<const uint8_t*>(vertices.map_pointer), vertices.map_length, mapped, range, mesh)) return;
+    mirrorForProfile(mesh);
+    r.mesh_key = mesh.mesh.key;
+    if (emitted_meshes_.insert(mesh.mesh.key).second) cx().frame.new_meshes.push_back(mesh.mesh);
+    cx().setLastMesh(mesh);
+    return;
+  }
   r.vertex_buffer_key = bufferKey(vbo);
   r.index_buffer_key = call.indexed ? bufferKey(static_cast<GLuint>(ibo)) : 0;
 
@@ -406,12 +429,12 @@ void Interceptor::recordMesh(const DrawCall& call, const ProgramInfo& p, DrawRec
   ExtractedMesh& m = cached->second;
   r.mesh_key = m.mesh.key;
   if (m.mesh.key && emitted_meshes_.insert(m.mesh.key).second) {
-    frame_.new_meshes.push_back(m.mesh);
+    cx().frame.new_meshes.push_back(m.mesh);
     // Sent once: the cache keeps only what later frames need.
     m.mesh.positions_xyz = std::vector<float>();
     m.mesh.indices = std::vector<uint32_t>();
   }
-  if (m.mesh.key) last_mesh_ = &m;
+  if (m.mesh.key) cx().setLastMesh(m);
 }
 
 void Interceptor::recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo,
@@ -447,29 +470,28 @@ void Interceptor::recordClientMesh(const DrawCall& call, const PositionLayout& l
   if (!extractMesh(vertices, vertex_bytes, layout, range, mesh)) return;
   mirrorForProfile(mesh);
   r.mesh_key = mesh.mesh.key;
-  if (emitted_meshes_.insert(mesh.mesh.key).second) frame_.new_meshes.push_back(mesh.mesh);
-  client_mesh_ = std::move(mesh);
-  last_mesh_ = &client_mesh_;
+  if (emitted_meshes_.insert(mesh.mesh.key).second) cx().frame.new_meshes.push_back(mesh.mesh);
+  cx().setLastMesh(mesh);
 }
 
 void Interceptor::afterDraw(const DrawCall& call) {
-  if (!last_recorded_ || !last_mesh_ || !current_program_info_ || !current_program_info_->deforming) return;
+  if (!cx().last_recorded || !cx().last_mesh || !cx().current_program_info || !cx().current_program_info->deforming) return;
   const RealGl& g = gl();
-  const uint32_t n = last_mesh_->vertex_count;
+  const uint32_t n = cx().last_mesh_vertices;
   GLint prev_feedback = 0, prev_buffer = 0;
   g.GetIntegerv(GL_TRANSFORM_FEEDBACK_BINDING, &prev_feedback);
   g.GetIntegerv(GL_TRANSFORM_FEEDBACK_BUFFER_BINDING, &prev_buffer);
-  if (!feedback_object_) g.GenTransformFeedbacks(1, &feedback_object_);
-  const size_t slot = pending_deform_.size();
-  if (slot >= feedback_buffers_.size()) {
+  if (!cx().feedback_object) g.GenTransformFeedbacks(1, &cx().feedback_object);
+  const size_t slot = cx().pending_deform.size();
+  if (slot >= cx().feedback_buffers.size()) {
     GLuint b = 0;
     g.GenBuffers(1, &b);
-    feedback_buffers_.push_back(b);
+    cx().feedback_buffers.push_back(b);
   }
-  const GLuint buffer = feedback_buffers_[slot];
+  const GLuint buffer = cx().feedback_buffers[slot];
   // A second pass over the mesh's vertex range, same VAO and uniforms, rasterizer off:
   // transform feedback returns gl_Position of every vertex in mesh order.
-  g.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, feedback_object_);
+  g.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, cx().feedback_object);
   g.BindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, buffer);
   g.BufferData(GL_TRANSFORM_FEEDBACK_BUFFER, static_cast<GLsizeiptr>(n) * 16, nullptr, GL_STREAM_READ);
   const GLboolean discard = g.IsEnabled(GL_RASTERIZER_DISCARD);
@@ -477,30 +499,30 @@ void Interceptor::afterDraw(const DrawCall& call) {
   g.BeginTransformFeedback(GL_POINTS);
   // The draw's first instance (one instance: split instanced draws are recorded one by one).
   if (call.base_instance != 0)
-    g.DrawArraysInstancedBaseInstance(GL_POINTS, static_cast<GLint>(last_mesh_->first_vertex), static_cast<GLsizei>(n),
+    g.DrawArraysInstancedBaseInstance(GL_POINTS, static_cast<GLint>(cx().last_mesh_first), static_cast<GLsizei>(n),
                                       1, call.base_instance);
   else
-    g.DrawArrays(GL_POINTS, static_cast<GLint>(last_mesh_->first_vertex), static_cast<GLsizei>(n));
+    g.DrawArrays(GL_POINTS, static_cast<GLint>(cx().last_mesh_first), static_cast<GLsizei>(n));
   g.EndTransformFeedback();
   if (!discard) g.Disable(GL_RASTERIZER_DISCARD);
   g.BindTransformFeedback(GL_TRANSFORM_FEEDBACK, static_cast<GLuint>(prev_feedback));
   g.BindBuffer(GL_TRANSFORM_FEEDBACK_BUFFER, static_cast<GLuint>(prev_buffer));
-  pending_deform_.push_back(PendingDeform{static_cast<uint32_t>(frame_.draws.size() - 1), buffer, n});
+  cx().pending_deform.push_back(PendingDeform{static_cast<uint32_t>(cx().frame.draws.size() - 1), buffer, n});
 }
 
 void Interceptor::readDeformed() {
-  if (pending_deform_.empty()) return;
+  if (cx().pending_deform.empty()) return;
   const RealGl& g = gl();
   GLint prev = 0;
   g.GetIntegerv(GL_COPY_READ_BUFFER_BINDING, &prev);
-  for (const PendingDeform& d : pending_deform_) {
-    std::vector<float>& out = frame_.draws[d.draw_index].deformed_clip_xyzw;
+  for (const PendingDeform& d : cx().pending_deform) {
+    std::vector<float>& out = cx().frame.draws[d.draw_index].deformed_clip_xyzw;
     out.resize(static_cast<size_t>(d.vertices) * 4);
     g.BindBuffer(GL_COPY_READ_BUFFER, d.buffer);
     g.GetBufferSubData(GL_COPY_READ_BUFFER, 0, static_cast<GLsizeiptr>(out.size() * sizeof(float)), out.data());
   }
   g.BindBuffer(GL_COPY_READ_BUFFER, static_cast<GLuint>(prev));
-  pending_deform_.clear();
+  cx().pending_deform.clear();
 }
 
 }  // namespace capture

@@ -265,21 +265,21 @@ void Interceptor::linkProgram(GLuint program) {
   }
   std::lock_guard<std::mutex> lock(mutex_);
   programs_[program] = std::move(info);
-  if (program == current_program_) current_program_info_ = nullptr;
+  if (program == cx().current_program) cx().current_program_info = nullptr;
 }
 
 void Interceptor::useProgram(GLuint program) {
-  current_program_ = program;
-  current_program_info_ = nullptr;
+  cx().current_program = program;
+  cx().current_program_info = nullptr;
 }
 
 ProgramInfo* Interceptor::currentProgram() {
-  if (!current_program_info_ && current_program_) {
+  if (!cx().current_program_info && cx().current_program) {
     std::lock_guard<std::mutex> lock(mutex_);
-    auto it = programs_.find(current_program_);
-    if (it != programs_.end()) current_program_info_ = &it->second;
+    auto it = programs_.find(cx().current_program);
+    if (it != programs_.end()) cx().current_program_info = &it->second;
   }
-  return current_program_info_;
+  return cx().current_program_info;
 }
 
 GLuint Interceptor::boundBuffer(GLenum target) {
@@ -384,7 +384,7 @@ uint64_t Interceptor::bufferKey(GLuint name) {
 }
 
 void Interceptor::bindTexture(GLenum target, GLuint name) {
-  unit_bindings_[(static_cast<uint64_t>(active_unit_) << 32) | target] = name;
+  cx().unit_bindings[(static_cast<uint64_t>(cx().active_unit) << 32) | target] = name;
 }
 
 void Interceptor::texImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLenum format, GLenum type,
@@ -412,8 +412,8 @@ void Interceptor::compressedTexImage(GLenum target, GLint level, GLsizei w, GLsi
 void Interceptor::storeTextureKey(GLenum target, GLint level, bool sub, uint64_t key) {
   if (target >= GL_TEXTURE_CUBE_MAP_POSITIVE_X && target <= GL_TEXTURE_CUBE_MAP_NEGATIVE_Z)
     target = GL_TEXTURE_CUBE_MAP;
-  auto bound = unit_bindings_.find((static_cast<uint64_t>(active_unit_) << 32) | target);
-  if (bound == unit_bindings_.end() || bound->second == 0) return;
+  auto bound = cx().unit_bindings.find((static_cast<uint64_t>(cx().active_unit) << 32) | target);
+  if (bound == cx().unit_bindings.end() || bound->second == 0) return;
   if (level > 0 && !sub) return;  // mip levels follow from level 0
   std::lock_guard<std::mutex> lock(mutex_);
   uint64_t& stored = texture_keys_[bound->second];
@@ -426,8 +426,8 @@ void Interceptor::deleteTextures(GLsizei n, const GLuint* names) {
 }
 
 uint64_t Interceptor::textureKey(GLenum target, GLuint unit) {
-  auto bound = unit_bindings_.find((static_cast<uint64_t>(unit) << 32) | target);
-  if (bound == unit_bindings_.end()) return 0;
+  auto bound = cx().unit_bindings.find((static_cast<uint64_t>(unit) << 32) | target);
+  if (bound == cx().unit_bindings.end()) return 0;
   auto it = texture_keys_.find(bound->second);
   return it == texture_keys_.end() ? 0 : it->second;
 }

@@ -21,6 +21,12 @@ FlowMessages toFlowMsgs(const FlowField& field, const std_msgs::Header& header) 
   return m;
 }
 
+void shapeFlowMsgs(uint32_t width, uint32_t height, const std_msgs::Header& header, sensor_msgs::Image& flow,
+                   sensor_msgs::Image& visible) {
+  shapeImageMsg(header, width, height, sensor_msgs::image_encodings::TYPE_32FC2, 8, flow);
+  shapeImageMsg(header, width, height, sensor_msgs::image_encodings::MONO8, 1, visible);
+}
+
 std::string flowFieldFromMsgs(const sensor_msgs::Image& flow, const sensor_msgs::Image& visible, FlowField& field) {
   std::string problem = checkImage(flow, sensor_msgs::image_encodings::TYPE_32FC2);
   if (!problem.empty()) return "flow: " + problem;

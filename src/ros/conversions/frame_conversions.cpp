@@ -138,7 +138,8 @@ std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::
   return meshes;
 }
 
-std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& ids, CaptureFrame& frame) {
+std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& ids, CaptureFrame& frame,
+                              const uint32_t*& id_words) {
   const std::string problem = checkImage(ids, sensor_msgs::image_encodings::TYPE_32SC1);
   if (!problem.empty()) return "draw_ids: " + problem;
   if (ids.header.stamp != draws.header.stamp) return "draw_ids and draws have different stamps";
@@ -146,11 +147,17 @@ std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& i
   frame.height = ids.height;
   frame.time_s = draws.header.stamp.toSec();
   fromDrawListMsg(draws, frame);
-  // assign, not resize + memcpy: written once, not zeroed first (message buffers come from new[],
-  // aligned for any scalar type).
-  const auto* id_words = reinterpret_cast<const uint32_t*>(ids.data.data());
-  frame.draw_ids.assign(id_words, id_words + static_cast<size_t>(ids.width) * ids.height);
+  // Message buffers come from new[], aligned for any scalar type.
+  id_words = reinterpret_cast<const uint32_t*>(ids.data.data());
   return {};
+}
+
+std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& ids, CaptureFrame& frame) {
+  const uint32_t* id_words = nullptr;
+  const std::string problem = frameFromDrawMsgs(draws, ids, frame, id_words);
+  // assign, not resize + memcpy: written once, not zeroed first.
+  if (problem.empty()) frame.draw_ids.assign(id_words, id_words + frame.pixelCount());
+  return problem;
 }
 
 sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header) {

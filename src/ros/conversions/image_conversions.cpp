@@ -84,15 +84,25 @@ void copyImageRows(const sensor_msgs::Image& image, size_t word_bytes, uint8_t* 
   }
 }
 
-sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
-                            const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
-  sensor_msgs::Image m;
+namespace {
+
+// Header, size, encoding and step of an image message (its data untouched).
+void setImageFields(const std_msgs::Header& header, uint32_t width, uint32_t height, const std::string& encoding,
+                    uint32_t bytes_per_pixel, sensor_msgs::Image& m) {
   m.header = header;
   m.width = width;
   m.height = height;
   m.encoding = encoding;
   m.is_bigendian = 0;
   m.step = width * bytes_per_pixel;
+}
+
+}  // namespace
+
+sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                            const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
+  sensor_msgs::Image m;
+  setImageFields(header, width, height, encoding, bytes_per_pixel, m);
   // assign, not resize + memcpy: the bytes are written once, not zeroed first.
   const auto* bytes = static_cast<const uint8_t*>(data);
   m.data.assign(bytes, bytes + static_cast<size_t>(m.step) * height);
@@ -102,6 +112,19 @@ sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint
 sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
                                   const std::string& encoding, uint32_t bytes_per_pixel, const void* data) {
   return boost::make_shared<sensor_msgs::Image>(imageMsg(header, width, height, encoding, bytes_per_pixel, data));
+}
+
+void shapeImageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height, const std::string& encoding,
+                   uint32_t bytes_per_pixel, sensor_msgs::Image& m) {
+  setImageFields(header, width, height, encoding, bytes_per_pixel, m);
+  m.data.resize(static_cast<size_t>(m.step) * height);
+}
+
+sensor_msgs::ImagePtr newImageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                                     const std::string& encoding, uint32_t bytes_per_pixel) {
+  auto m = boost::make_shared<sensor_msgs::Image>();
+  shapeImageMsg(header, width, height, encoding, bytes_per_pixel, *m);
+  return m;
 }
 
 sensor_msgs::Image toImageMsg(const dataset::Image8& image, const std_msgs::Header& header,

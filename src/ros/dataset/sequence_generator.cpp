@@ -1,5 +1,6 @@
 #include "viper/ros/dataset/sequence_generator.h"
 
+#include "viper/dataset/file_digests.h"
 #include "viper/dataset/sequence_marker.h"
 #include "viper/ros/bridge/bag_writer.h"
 #include "viper/ros/conversions/object_conversions.h"
@@ -128,6 +129,13 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
   layout.split = settings_.split;
   layout.seq = settings_.seq;
   layout.camera = CameraSource::kDraws;
+  // The instances step makes the inst image itself (instances_viper): without this the exporter
+  // also paired semantic with instance ids and encoded and wrote every inst file a second time.
+  layout.inputs.instances_viper = true;
+  // The layout's files are hashed by their writers; the bag is read back for its checksum (its
+  // header, rewritten at close, comes first in the hash).
+  dataset::FileDigests digests;
+  layout.digests = &digests;
   std::unique_ptr<ViperExporter> exporter;
   if (settings_.outputs.layout) exporter = std::make_unique<ViperExporter>(layout);
   std::unique_ptr<GroundTruthBag> bag;
@@ -191,7 +199,9 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
         if (kept) {
           const InstancesStep::Output& i = gt.instances;
           dispatch(exportDispatch("semantic", i.semantic), stamp);
-          dispatch(exportDispatch("instance_ids", i.instance_ids), stamp);
+          // bb's 2D boxes come from the objects: the instance ids would only be copied and scanned
+          // for boxes nobody reads (inst comes ready-made, above).
+          if (!i.objects) dispatch(exportDispatch("instance_ids", i.instance_ids), stamp);
           dispatch(exportDispatch("instances_viper", i.instances_viper), stamp);
           dispatch(exportDispatch("objects", i.objects), stamp);
           if (gt.boxes.in_optical) dispatch(exportDispatch("boxes", gt.boxes.in_optical), stamp);
@@ -245,9 +255,17 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
       files.push_back(root / rel);
     }
     std::sort(files.begin(), files.end());
-    for (const fs::path& f : files)
-      marker.files.push_back({fs::relative(f, root).string(), dataset::sha256OfFile(f)});
+    for (const fs::path& f : files) {
+      const fs::path relative = fs::relative(f, root);
+      std::string sha256 = digests.find(partial / relative, fs::file_size(f));
+      if (sha256.empty()) {
+        sha256 = dataset::sha256OfFile(f);
+        ++result.checksums_read_back;
+      }
+      marker.files.push_back({relative.string(), sha256});
+    }
   }
+  result.files = marker.files.size();
   dataset::writeSequenceMarker(markerPath(), marker);
   fs::remove_all(partial, ec);
   fs::remove(root / ".partial", ec);  // only if empty

@@ -29,6 +29,8 @@ ViperExporter::ViperExporter(const ViperExportOptions& options) : options_(optio
     throw std::invalid_argument("image extension must be png or jpg, got '" + options_.image_extension + "'");
   if (options_.camera == CameraSource::kOdometry && !(options_.near_m > 0 && options_.far_m > options_.near_m))
     throw std::invalid_argument("depth range must satisfy 0 < near < far");
+  options_.images.digests = options_.digests;
+  options_.zip.digests = options_.digests;
   // A few frames' files in flight at most: each waiting job holds a decoded image.
   if (options_.writer_threads > 0)
     writes_ = std::make_unique<dataset::WriteQueue>(options_.writer_threads, 4 * options_.writer_threads, "viper-layout");
@@ -215,7 +217,7 @@ std::string ViperExporter::writeBoxes(uint64_t frame, Pending& p) {
     const auto box_2d = boxes_2d.find(b.id);
     rows.push_back(viperBoxRow(fromBox3DMsg(b), b.class_id, b.id, box_2d == boxes_2d.end() ? kNoBox2d : box_2d->second));
   }
-  dataset::writeViperBoxesCsv(path("bb", frame, "csv"), rows);
+  dataset::writeViperBoxesCsv(path("bb", frame, "csv"), rows, options_.digests);
   ++stats_.bb;
   p.boxes.reset();
   p.boxes_written = true;
@@ -248,9 +250,15 @@ std::string ViperExporter::writeCameraRow(uint64_t frame, const dataset::RowMajo
     if (ec) throw std::runtime_error(camera_path_ + ": cannot create its folder: " + ec.message());
     camera_file_.open(camera_path_, std::ios::trunc);
     if (!camera_file_) throw std::runtime_error(camera_path_ + ": cannot write camera file");
+    if (options_.digests) camera_digest_ = std::make_unique<dataset::Sha256>();
   }
-  camera_file_ << dataset::formatViperCameraRow(row) << '\n';
+  const std::string line = dataset::formatViperCameraRow(row) + '\n';
+  camera_file_ << line;
   camera_file_.flush();
+  if (camera_digest_) {
+    camera_digest_->update(line.data(), line.size());
+    camera_bytes_ += line.size();
+  }
   if (!camera_file_) throw std::runtime_error(camera_path_ + ": cannot write camera file");
   ++stats_.camera_rows;
   return "";
@@ -326,7 +334,11 @@ std::vector<std::string> ViperExporter::finish() {
   std::vector<std::string> notes = flushUpTo(UINT64_MAX);
   if (writes_)
     for (std::string& n : writes_->drain()) notes.push_back(std::move(n));
-  if (camera_file_.is_open()) camera_file_.close();
+  if (camera_file_.is_open()) {
+    camera_file_.close();
+    if (camera_digest_ && camera_file_) options_.digests->record(camera_path_, camera_bytes_, camera_digest_->hex());
+    camera_digest_.reset();
+  }
   return notes;
 }
 

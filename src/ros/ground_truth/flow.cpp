@@ -118,7 +118,7 @@ void Flow::onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, 
   bool kept = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    kept = step_->process(*draws, *depth, *draw_ids, *primitive_ids, *objects, want, out, problems);
+    kept = step_->process(*draws, depth, draw_ids, primitive_ids, *objects, want, out, problems);
   }
   log_.log(problems);
   if (!kept) return;

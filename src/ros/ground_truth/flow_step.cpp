@@ -3,7 +3,10 @@
 #include "viper/ground_truth/camera_model.h"
 #include "viper/ground_truth/ego_motion.h"
 #include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/image_conversions.h"
 #include "viper/ros/conversions/pose_conversions.h"
+
+#include <sensor_msgs/image_encodings.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -13,7 +16,7 @@ namespace viper {
 namespace {
 
 // Draw indices 0..n-1 in order, deformed positions in fours, every draw id naming a draw.
-std::string drawsProblem(const CaptureFrame& f) {
+std::string drawsProblem(const CaptureFrame& f, const uint32_t* draw_ids) {
   for (size_t i = 0; i < f.draws.size(); ++i) {
     if (f.draws[i].index != i)
       return "draw " + std::to_string(i) + " has index " + std::to_string(f.draws[i].index) + " (0..n-1 expected)";
@@ -21,7 +24,8 @@ std::string drawsProblem(const CaptureFrame& f) {
       return "draw " + std::to_string(i) + " has " + std::to_string(f.draws[i].deformed_clip_xyzw.size()) +
              " deformed_clip_xyzw floats, not a multiple of 4";
   }
-  for (uint32_t id : f.draw_ids) {
+  for (size_t p = 0, n = f.pixelCount(); p < n; ++p) {
+    const uint32_t id = draw_ids[p];
     if (id > f.draws.size())
       return "draw id " + std::to_string(id) + " in draw_ids, but only " + std::to_string(f.draws.size()) + " draws";
   }
@@ -47,9 +51,10 @@ void FlowStep::addMeshes(const MeshStore& store, StepProblems& problems) {
   for (std::string& p : bad) problems.push_back({StepInput::kMeshStore, StepSeverity::kError, "mesh", ": " + p});
 }
 
-FlowStep::HeldPtr FlowStep::makeHeldFrame(const DrawList& draws, const sensor_msgs::Image& depth,
-                                          const sensor_msgs::Image& draw_ids, const sensor_msgs::Image& primitive_ids,
-                                          const ObjectArray& objects, StepProblems& problems) {
+FlowStep::HeldPtr FlowStep::makeHeldFrame(const DrawList& draws, const sensor_msgs::ImageConstPtr& depth,
+                                          const sensor_msgs::ImageConstPtr& draw_ids,
+                                          const sensor_msgs::ImageConstPtr& primitive_ids, const ObjectArray& objects,
+                                          StepProblems& problems) {
   auto held = std::make_shared<HeldFrame>();
   CaptureFrame& f = held->frame;
   const unsigned long number = draws.frame_number;
@@ -57,19 +62,26 @@ FlowStep::HeldPtr FlowStep::makeHeldFrame(const DrawList& draws, const sensor_ms
     problems.push_back({input, StepSeverity::kError, kind, frameText(number) + problem + "; frame dropped"});
     return nullptr;
   };
-  std::string problem = frameFromDrawMsgs(draws, draw_ids, f);
+  // The images are read where they are (checkImage: packed rows, host byte order), and held.
+  const uint32_t* ids = nullptr;
+  std::string problem = frameFromDrawMsgs(draws, *draw_ids, f, ids);
   if (!problem.empty()) return drop(StepInput::kDrawIds, "draw_ids", problem);
-  problem = drawsProblem(f);
+  problem = drawsProblem(f, ids);
   if (!problem.empty()) return drop(StepInput::kDraws, "draws", problem);
-  problem = depthFromImage(depth, f, held->depth_m);
+  problem = checkImage(*depth, sensor_msgs::image_encodings::TYPE_32FC1, f.width, f.height);
   if (!problem.empty()) return drop(StepInput::kDepth, "depth", problem);
-  problem = primitiveIdsFromImage(primitive_ids, f);
+  problem = checkImage(*primitive_ids, sensor_msgs::image_encodings::TYPE_32SC1, f.width, f.height);
   if (!problem.empty()) return drop(StepInput::kPrimitiveIds, "primitive_ids", problem);
-  held->header = draw_ids.header;
+  held->header = draw_ids->header;
+  held->depth = depth, held->draw_ids = draw_ids, held->primitive_ids = primitive_ids;
+  held->depth_m = reinterpret_cast<const float*>(depth->data.data());
 
   const std::optional<FrameCamera> camera = chooseFrameCamera(f);
   size_t bad_depth = 0;
-  f.depth_window = windowDepthFromMetres(f, held->depth_m, camera ? &camera->projection : nullptr, &bad_depth);
+  f.depth_window = windowDepthFromMetres(f.draws, ids, held->depth_m, f.pixelCount(),
+                                         camera ? &camera->projection : nullptr, &bad_depth);
+  held->pixels = {f.width, f.height, &f.draws, ids, reinterpret_cast<const uint32_t*>(primitive_ids->data.data()),
+                  f.depth_window.data()};
   if (bad_depth > 0)
     problems.push_back({StepInput::kDepth, StepSeverity::kError, "bad_depth",
                         format(" (frame %lu): %zu pixels of a draw have no finite positive depth (or no projection); "
@@ -116,7 +128,8 @@ FlowStep::HeldPtr FlowStep::makeHeldFrame(const DrawList& draws, const sensor_ms
   return held;
 }
 
-void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, FlowField& out, StepProblems& problems) {
+void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, float* uv, uint8_t* visible,
+                           StepProblems& problems) {
   std::vector<int32_t> a_to_b = associateDraws(a.frame, a.object_ids, b.frame, b.object_ids);
   for (size_t i = 0; i < a_to_b.size(); ++i) {
     int32_t& j = a_to_b[i];
@@ -141,12 +154,21 @@ void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, FlowField& ou
                                  db.deformed_clip_xyzw.size() / 4, static_cast<unsigned long>(b.frame.number))});
     }
   }
-  computeFlow(a.frame, b.frame, a_to_b, b.depth_m, meshes_, out, settings_.options);
+  computeFlow(a.pixels, b.pixels, a_to_b, b.depth_m, meshes_, uv, visible, settings_.options);
 }
 
-bool FlowStep::process(const DrawList& draws, const sensor_msgs::Image& depth, const sensor_msgs::Image& draw_ids,
-                       const sensor_msgs::Image& primitive_ids, const ObjectArray& objects, const Want& want,
-                       Output& out, StepProblems& problems) {
+FlowMessages FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, StepProblems& problems) {
+  // computeFlow writes every pixel: a recycled message needs no clearing.
+  const uint32_t w = a.frame.width, h = a.frame.height;
+  FlowMessages m{flow_pool_.take(a.header, w, h, sensor_msgs::image_encodings::TYPE_32FC2, 8),
+                 visible_pool_.take(a.header, w, h, sensor_msgs::image_encodings::MONO8, 1)};
+  flowBetween(a, b, reinterpret_cast<float*>(m.flow->data.data()), m.visible->data.data(), problems);
+  return m;
+}
+
+bool FlowStep::process(const DrawList& draws, const sensor_msgs::ImageConstPtr& depth,
+                       const sensor_msgs::ImageConstPtr& draw_ids, const sensor_msgs::ImageConstPtr& primitive_ids,
+                       const ObjectArray& objects, const Want& want, Output& out, StepProblems& problems) {
   out = Output();
   const unsigned long number = draws.frame_number;
   if (!window_.empty() && draws.header.stamp <= window_.back()->header.stamp) {
@@ -198,20 +220,13 @@ bool FlowStep::process(const DrawList& draws, const sensor_msgs::Image& depth, c
     const size_t n = window_.size();
     if (n >= 2) {
       const HeldFrame& prev = *window_[n - 2];
-      if (want.forward) {
-        flowBetween(prev, *cur, scratch_, problems);
-        out.forward = toFlowMsgs(scratch_, prev.header);
-      }
-      if (want.backward) {
-        flowBetween(*cur, prev, scratch_, problems);
-        out.backward = toFlowMsgs(scratch_, cur->header);
-      }
+      if (want.forward) out.forward = flowBetween(prev, *cur, problems);
+      if (want.backward) out.backward = flowBetween(*cur, prev, problems);
     }
     const size_t k = static_cast<size_t>(settings_.wide_baseline);
     if (k > 0 && n > k && want.wide) {
       const HeldFrame& a = *window_[n - 1 - k];
-      flowBetween(a, *cur, scratch_, problems);
-      out.wide = toFlowMsgs(scratch_, a.header);
+      out.wide = flowBetween(a, *cur, problems);
     }
   } catch (const std::exception& e) {
     problems.push_back({StepInput::kDraws, StepSeverity::kError, "flow",
@@ -237,17 +252,14 @@ void FlowStep::correspondences(const ros::Time& stamp_a, const ros::Time& stamp_
                   " is not held; held: [" + held + "]";
     return;
   }
-  FlowField field;
   try {
-    flowBetween(*a, *b, field, problems);
+    shapeFlowMsgs(a->frame.width, a->frame.height, a->header, res.flow, res.visible);
+    flowBetween(*a, *b, reinterpret_cast<float*>(res.flow.data.data()), res.visible.data.data(), problems);
   } catch (const std::exception& e) {
     res.success = false;
     res.message = e.what();
     return;
   }
-  const FlowMessages m = toFlowMsgs(field, a->header);
-  res.flow = *m.flow;
-  res.visible = *m.visible;
   res.pose_valid = a->optical_from_world && b->optical_from_world;
   if (res.pose_valid) res.b_in_a = toTransformMsg(*a->optical_from_world * b->optical_from_world->inverse());
   res.success = true;

@@ -38,7 +38,7 @@ bool GroundTruthPipeline::process(const FrameMessages& raw, GroundTruthMessages&
     StageTimer t(times, "flow");
     FlowStep::Want want;
     want.wide = settings_.flow.wide_baseline > 0;
-    flow_.process(*raw.draws, *raw.depth, *raw.draw_ids, *raw.primitive_ids, *out.instances.objects, want, out.flow,
+    flow_.process(*raw.draws, raw.depth, raw.draw_ids, raw.primitive_ids, *out.instances.objects, want, out.flow,
                   problems);
   }
   return true;

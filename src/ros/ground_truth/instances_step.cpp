@@ -2,10 +2,12 @@
 
 #include "viper/ground_truth/semantic_overlay.h"
 #include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/image_conversions.h"
 #include "viper/ros/conversions/object_conversions.h"
 
 #include <boost/make_shared.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -50,8 +52,19 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
                             "; frame dropped"});
     return false;
   }
+  // The images are computed into the messages that carry them (every pixel written: recycled
+  // messages need no clearing).
+  const std_msgs::Header& header = ids.header;
+  const uint32_t w = frame_.width, h = frame_.height;
+  const size_t n = frame_.pixelCount();
+  // Instance ids are needed for the VIPER image even when nobody wants them: then in result_.
+  sensor_msgs::ImagePtr instance_ids = want.instance_ids ? ids_pool_.take(header, w, h, "32SC1", 4) : nullptr;
+  sensor_msgs::ImagePtr boundaries = want.boundaries ? mono_pool_.take(header, w, h, "mono8", 1) : nullptr;
+  InstanceImagesInto into;
+  if (instance_ids) into.instance_ids = reinterpret_cast<int32_t*>(instance_ids->data.data());
+  if (boundaries) into.boundaries = boundaries->data.data();
   try {
-    pipeline_->process(frame_, result_);
+    pipeline_->process(frame_, result_, into);
   } catch (const std::exception& e) {
     problems.push_back({StepInput::kDrawIds, StepSeverity::kError, "pipeline", std::string(": ") + e.what() + "; frame dropped"});
     return false;
@@ -60,21 +73,20 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
   for (const std::string& p : result_.problems)
     problems.push_back({StepInput::kDrawIds, StepSeverity::kWarning, "objects", ": " + p});
 
-  const std_msgs::Header& header = ids.header;
-  const uint32_t w = frame_.width, h = frame_.height;
-  const size_t n = frame_.pixelCount();
-  if (want.semantic) out.semantic = imageMsgPtr(header, w, h, "mono8", 1, result_.semantic.data());
-  if (want.semantic_color) {
-    scratch_rgb_.resize(3 * n);
-    colorizeClasses(result_.semantic.data(), n, classes_, scratch_rgb_.data());
-    out.semantic_color = imageMsgPtr(header, w, h, "rgb8", 3, scratch_rgb_.data());
+  const int32_t* track_ids = into.instance_ids ? into.instance_ids : result_.instance_ids.data();
+  if (want.semantic) {
+    out.semantic = mono_pool_.take(header, w, h, "mono8", 1);
+    std::copy(result_.semantic.begin(), result_.semantic.end(), out.semantic->data.begin());
   }
-  if (want.instance_ids) out.instance_ids = imageMsgPtr(header, w, h, "32SC1", 4, result_.instance_ids.data());
-  if (want.boundaries) out.boundaries = imageMsgPtr(header, w, h, "mono8", 1, result_.boundaries.data());
+  if (want.semantic_color) {
+    out.semantic_color = rgb_pool_.take(header, w, h, "rgb8", 3);
+    colorizeClasses(result_.semantic.data(), n, classes_, out.semantic_color->data.data());
+  }
+  out.instance_ids = instance_ids;
+  out.boundaries = boundaries;
   if (want.instances_viper) {
-    scratch_rgb_.resize(3 * n);
-    encodeViperInstances(result_.semantic.data(), result_.instance_ids.data(), n, scratch_rgb_.data());
-    out.instances_viper = imageMsgPtr(header, w, h, "rgb8", 3, scratch_rgb_.data());
+    out.instances_viper = rgb_pool_.take(header, w, h, "rgb8", 3);
+    encodeViperInstances(result_.semantic.data(), track_ids, n, out.instances_viper->data.data());
   }
   out.objects = boost::make_shared<ObjectArray>(toObjectArrayMsg(result_.objects, classes_, header));
   return true;
@@ -91,9 +103,9 @@ sensor_msgs::ImagePtr InstancesStep::overlay(const sensor_msgs::Image& color, co
     problems.push_back({StepInput::kColor, StepSeverity::kError, "overlay", ": color image: " + problem + "; no overlay"});
     return nullptr;
   }
-  scratch_rgb_.resize(3 * n);
-  overlayClasses(color.data.data(), semantic.data(), n, classes_, alpha, scratch_rgb_.data());
-  return imageMsgPtr(color.header, color.width, color.height, "rgb8", 3, scratch_rgb_.data());
+  sensor_msgs::ImagePtr overlay = rgb_pool_.take(color.header, color.width, color.height, "rgb8", 3);
+  overlayClasses(color.data.data(), semantic.data(), n, classes_, alpha, overlay->data.data());
+  return overlay;
 }
 
 }  // namespace viper

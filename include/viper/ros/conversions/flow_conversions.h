@@ -21,6 +21,10 @@ struct FlowMessages {
 /// The messages of `field` with `header`. Throws std::invalid_argument if its buffers do not hold
 /// width x height pixels.
 FlowMessages toFlowMsgs(const FlowField& field, const std_msgs::Header& header);
+/// `flow` (32FC2) and `visible` (mono8) shaped as width x height images with `header`, their
+/// buffers sized for computeFlow to write the flow into.
+void shapeFlowMsgs(uint32_t width, uint32_t height, const std_msgs::Header& header, sensor_msgs::Image& flow,
+                   sensor_msgs::Image& visible);
 /// Back to a flow field: `flow` is 32FC2 and `visible` mono8 of the same size (packed rows).
 /// Returns "" or what is wrong (naming which image), leaving `field` as it was.
 std::string flowFieldFromMsgs(const sensor_msgs::Image& flow, const sensor_msgs::Image& visible, FlowField& field);

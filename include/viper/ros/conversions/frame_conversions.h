@@ -44,6 +44,10 @@ std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::
 /// image (32SC1, packed). Returns an empty string, or what is wrong (encoding, size, stamps that
 /// differ).
 std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& draw_ids, CaptureFrame& frame);
+/// The same without copying the ids: `frame.draw_ids` is left as it was, and on success `ids` points
+/// at the image's width*height ids (for a caller that holds the message).
+std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& draw_ids, CaptureFrame& frame,
+                              const uint32_t*& ids);
 
 /// Color image of `frame`, encoding rgb8, top row first.
 /// Throws std::invalid_argument if the frame's color buffer does not hold width*height*3 bytes.

@@ -48,6 +48,12 @@ sensor_msgs::Image imageMsg(const std_msgs::Header& header, uint32_t width, uint
 /// message itself (zero-copy) instead of a serialised copy of it.
 sensor_msgs::ImagePtr imageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
                                   const std::string& encoding, uint32_t bytes_per_pixel, const void* data);
+/// An image message of that size whose pixels the caller writes (`data` is sized, zeroed): images
+/// computed straight into the message that carries them, not copied into it.
+void shapeImageMsg(const std_msgs::Header& header, uint32_t width, uint32_t height, const std::string& encoding,
+                   uint32_t bytes_per_pixel, sensor_msgs::Image& m);
+sensor_msgs::ImagePtr newImageMsgPtr(const std_msgs::Header& header, uint32_t width, uint32_t height,
+                                     const std::string& encoding, uint32_t bytes_per_pixel);
 
 /// An 8-bit image (1 channel: mono8, 3: rgb8) as a message; `encoding` overrides the default.
 sensor_msgs::Image toImageMsg(const dataset::Image8& image, const std_msgs::Header& header,

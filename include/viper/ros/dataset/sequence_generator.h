@@ -42,6 +42,8 @@ struct SequenceResult {
   std::vector<std::string> warnings;  ///< what a node would warn about (an object without a box, ...)
   bool skipped = false;          ///< already finished (its marker checked out); nothing was done
   std::filesystem::path marker;  ///< the done-marker
+  uint64_t files = 0;                ///< files the marker lists
+  uint64_t checksums_read_back = 0;  ///< of those, read for their checksum (the others' came from their writers)
   StageTimes stages;             ///< CPU and wall time of reading, each step and each writer
 };
 

@@ -6,6 +6,7 @@
 // docs/viper_layout.md.
 #pragma once
 
+#include "viper/dataset/file_digests.h"
 #include "viper/dataset/viper_boxes.h"
 #include "viper/dataset/viper_camera.h"
 #include "viper/dataset/viper_images.h"
@@ -65,6 +66,9 @@ struct ViperExportOptions {
   /// (0: each file is written inside its add* call). Errors then come from a later add*, flushUpTo
   /// or finish, still naming the file; notes (flow overflow) from flushUpTo/finish.
   unsigned writer_threads = 0;
+  /// When set, every file is recorded there with its SHA-256, taken from its bytes as they are
+  /// written (generate's done-marker then reads none of them back). Must outlive the exporter.
+  dataset::FileDigests* digests = nullptr;
 };
 
 /// Files written, per modality, and messages skipped.
@@ -146,6 +150,8 @@ class ViperExporter {
   std::optional<dataset::RowMajor4> origin_view_;
   std::ofstream camera_file_;
   std::string camera_path_;
+  std::unique_ptr<dataset::Sha256> camera_digest_;  // with options_.digests: the camera file so far
+  uint64_t camera_bytes_ = 0;
   std::atomic<size_t> flow_overflowed_{0};
   std::unique_ptr<dataset::WriteQueue> writes_;  // null without writer threads
 };

@@ -7,6 +7,7 @@
 #include "viper/ground_truth/boxes.h"
 #include "viper/ground_truth/flow.h"
 #include "viper/ros/conversions/flow_conversions.h"
+#include "viper/ros/conversions/image_msg_pool.h"
 #include "viper/ros/ground_truth/step_problems.h"
 
 #include <sensor_msgs/Image.h>
@@ -48,10 +49,11 @@ class FlowStep {
   };
   /// Takes one synchronised frame into the window and computes what `want` asks for. Returns false
   /// if the frame was dropped (the window then starts over: no flow spans it). `problems` gets what
-  /// was wrong, dropped or partial.
-  bool process(const DrawList& draws, const sensor_msgs::Image& depth, const sensor_msgs::Image& draw_ids,
-               const sensor_msgs::Image& primitive_ids, const ObjectArray& objects, const Want& want, Output& out,
-               StepProblems& problems);
+  /// was wrong, dropped or partial. The window holds the image messages themselves (they must not
+  /// change afterwards, as no published message does), and the flows are computed into their messages.
+  bool process(const DrawList& draws, const sensor_msgs::ImageConstPtr& depth,
+               const sensor_msgs::ImageConstPtr& draw_ids, const sensor_msgs::ImageConstPtr& primitive_ids,
+               const ObjectArray& objects, const Want& want, Output& out, StepProblems& problems);
 
   /// Flow, mask and relative pose between two held frames (the ~correspondences service);
   /// `res.success` false with `res.message` saying why when a stamp is not held.
@@ -61,25 +63,31 @@ class FlowStep {
   const FlowSettings& settings() const { return settings_; }
 
  private:
-  /// One frame kept for later flow computations.
+  /// One frame kept for later flow computations: its messages, not copies of their pixels.
   struct HeldFrame {
     std_msgs::Header header;
-    CaptureFrame frame;  ///< draws, draw ids, primitive ids, window depth (from the depth image)
-    std::vector<float> depth_m;
+    CaptureFrame frame;  ///< size, number, draws and window depth (from the depth image); no ids
+    sensor_msgs::ImageConstPtr depth, draw_ids, primitive_ids;
+    FlowFramePixels pixels;           ///< ids from the messages, window depth from `frame`
+    const float* depth_m = nullptr;   ///< the depth message's metres
     std::vector<int32_t> object_ids;  ///< per draw: track id of its object, 0 for none / stuff
     std::vector<bool> excluded;       ///< per draw: visible, placed (kHasWorld), but in no object
     std::optional<Eigen::Isometry3d> optical_from_world;  ///< nullopt: no usable camera
   };
   using HeldPtr = std::shared_ptr<const HeldFrame>;
 
-  HeldPtr makeHeldFrame(const DrawList& draws, const sensor_msgs::Image& depth, const sensor_msgs::Image& draw_ids,
-                        const sensor_msgs::Image& primitive_ids, const ObjectArray& objects, StepProblems& problems);
-  void flowBetween(const HeldFrame& a, const HeldFrame& b, FlowField& out, StepProblems& problems);
+  HeldPtr makeHeldFrame(const DrawList& draws, const sensor_msgs::ImageConstPtr& depth,
+                        const sensor_msgs::ImageConstPtr& draw_ids, const sensor_msgs::ImageConstPtr& primitive_ids,
+                        const ObjectArray& objects, StepProblems& problems);
+  /// Flow a -> b into a's width*height (u, v) pairs and mask values.
+  void flowBetween(const HeldFrame& a, const HeldFrame& b, float* uv, uint8_t* visible, StepProblems& problems);
+  /// The same into messages of the pools, with a's header.
+  FlowMessages flowBetween(const HeldFrame& a, const HeldFrame& b, StepProblems& problems);
 
   FlowSettings settings_;
   MeshRegistry meshes_;
   std::deque<HeldPtr> window_;  // oldest first; consecutive capture frames
-  FlowField scratch_;           // reused between frames
+  ImageMsgPool flow_pool_, visible_pool_;  // the flows' messages, recycled
   uint64_t frames_lost_ = 0;    // frames missing between consecutive frames seen, in all
 };
 

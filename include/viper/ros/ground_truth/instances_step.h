@@ -6,6 +6,7 @@
 #include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/instance_pipeline.h"
 #include "viper/ground_truth/label_table.h"
+#include "viper/ros/conversions/image_msg_pool.h"
 #include "viper/ros/ground_truth/step_problems.h"
 
 #include <sensor_msgs/Image.h>
@@ -58,8 +59,8 @@ class InstancesStep {
   ClassTable classes_;
   std::unique_ptr<InstancePipeline> pipeline_;
   CaptureFrame frame_;    // reused between frames
-  InstanceFrame result_;  // reused between frames
-  std::vector<uint8_t> scratch_rgb_;
+  InstanceFrame result_;  // reused between frames; its instance ids and boundaries go into messages
+  ImageMsgPool ids_pool_, mono_pool_, rgb_pool_{24};  // the images' messages, recycled
   ros::Time last_stamp_;
 };
 

@@ -1,0 +1,209 @@
+// Runs each scenario of the stress program (gl_stress_program.cpp) plainly, under `capture`, and
+// under `capture` with the interceptor built with AddressSanitizer and UndefinedBehaviorSanitizer
+// (viper_intercept_asan, asynchronous read-back, three writer threads), and checks that the layer
+// never hurts its host: the same exit status, no GL error the program did not cause, the same
+// image, a readable stream with a frame per swap, and every draw either recorded right (ids,
+// matrices, mesh) or flagged with what could not be recorded (DrawRecord::gaps).
+//
+// The sanitized interceptor needs the ASan runtime loaded before libc: `capture` puts its library
+// first in LD_PRELOAD and the LD_PRELOAD it was given after it, so libasan is preloaded too, and
+// ASan's check that it comes first is turned off (as scripts/sanitize.sh does). Leak detection is
+// off: Mesa's allocations at exit cannot be named (gl_common/sanitizer_options.h).
+#include "stress_scene.h"
+#include "capture_checks.h"
+#include "../common/process_util.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <map>
+
+namespace ss = viper::stress_scene;
+using viper::CaptureFrame;
+using viper::DrawRecord;
+using viper::MeshRegistry;
+
+namespace {
+
+using viper::test::readFile;
+using viper::test::run;
+std::string tempDir() { return viper::test::tempDir("viper_capture_stress_"); }
+
+const char* kAsanRuntime = "/usr/lib/x86_64-linux-gnu/libasan.so.8";
+
+std::string program(const std::string& scenario, const std::string& out) {
+  return std::string(VIPER_GL_STRESS_PROGRAM) + " --scenario " + scenario + " --out " + out;
+}
+
+enum class Mode { kPlain, kCapture, kCaptureAsanAsync };
+
+struct Result {
+  int rc = -1;
+  std::string pixels, log;
+  std::vector<CaptureFrame> frames;
+  MeshRegistry meshes;
+  std::string read_error;  ///< the stream could not be read (whole)
+  double seconds = 0;
+};
+
+Result runScenario(const std::string& scenario, Mode mode) {
+  const std::string base = tempDir() + "/" + scenario + "_" + std::to_string(static_cast<int>(mode));
+  std::string command;
+  if (mode == Mode::kCaptureAsanAsync)
+    command = std::string("ASAN_OPTIONS=detect_leaks=0:verify_asan_link_order=0:halt_on_error=1:abort_on_error=0 ") +
+              "UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 LD_PRELOAD=" + kAsanRuntime + " ";
+  if (mode != Mode::kPlain) {
+    command += std::string(VIPER_CAPTURE_EXE) + " --output " + base + ".vcap --profile " VIPER_STRESS_PROFILE " ";
+    if (mode == Mode::kCaptureAsanAsync)
+      command += "--library " VIPER_INTERCEPT_ASAN_LIB " --readback async --writer-threads 3 ";
+    else
+      command += "--readback sync --writer-threads 1 ";
+    // Another build of the layer for the synchronous run (to see what an older one did).
+    if (mode == Mode::kCapture)
+      if (const char* library = std::getenv("VIPER_STRESS_LIBRARY")) command += std::string("--library ") + library + " ";
+    command += "-- ";
+  }
+  command += program(scenario, base + ".rgba") + " > " + base + ".log 2>&1";
+  Result r;
+  const auto t0 = std::chrono::steady_clock::now();
+  r.rc = run(command);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.pixels = readFile(base + ".rgba");
+  r.log = readFile(base + ".log");
+  if (mode != Mode::kPlain) {
+    try {
+      viper::test::readCapture(base + ".vcap", r.frames, r.meshes);
+    } catch (const std::exception& e) {
+      r.read_error = e.what();
+    }
+  }
+  return r;
+}
+
+/// What the program drew as object k of a scenario in frame f: the world its vertices went
+/// through (the recorded one where the profile can name it), and whether its mesh moves per frame.
+struct Expected {
+  int objects = 4;
+  bool world_recorded = true;   ///< ubo_tbo: the world is in a texture buffer
+  bool instanced_mesh = false;  ///< mdi: the mesh is the quad scaled, the world a translation
+  bool moving_vertices = false; ///< persistent, threads: vertices at their place, world identity
+};
+Expected expected(const std::string& scenario) {
+  Expected e;
+  if (scenario == "mdi") e.objects = 8, e.instanced_mesh = true;
+  if (scenario == "ubo_tbo") e.world_recorded = false;
+  if (scenario == "persistent" || scenario == "threads") e.moving_vertices = true;
+  return e;
+}
+float shiftOf(const Expected& e, uint64_t frame) { return e.moving_vertices ? ss::frameShift(frame) : 0.0f; }
+/// The matrix that takes object k's mesh to where it was drawn.
+Eigen::Matrix4f meshToWorld(const Expected& e, int k) {
+  if (e.moving_vertices) return Eigen::Matrix4f::Identity();
+  if (e.instanced_mesh) {
+    Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
+    m.block<2, 1>(0, 3) = ss::cellCentre(k);
+    return m;
+  }
+  return ss::world(k);
+}
+
+void checkDraw(const Expected& e, const CaptureFrame& f, const DrawRecord& d, const MeshRegistry& meshes) {
+  const int k = static_cast<int>(d.index);
+  SCOPED_TRACE("draw " + std::to_string(k));
+  uint32_t owned = 0;
+  for (uint32_t id : f.draw_ids) owned += id == d.index + 1;
+  EXPECT_EQ(d.visible_pixels, owned);
+  if (!(d.gaps & viper::kGapNoIds)) {
+    EXPECT_EQ(f.draw_ids[ss::centrePixel(k)], d.index + 1);
+    EXPECT_GT(d.visible_pixels, 0u);
+  }
+  if (!(d.gaps & viper::kGapMatrixMissing)) {
+    const uint8_t flags = viper::kHasView | viper::kHasProjection | (e.world_recorded ? viper::kHasWorld : 0);
+    EXPECT_EQ(d.matrix_flags, flags);
+    EXPECT_TRUE(d.view.isApprox(ss::view(f.number), 1e-6f)) << d.view;
+    EXPECT_TRUE(d.projection.isApprox(ss::projection(), 1e-6f)) << d.projection;
+    if (e.world_recorded) {
+      EXPECT_TRUE(d.world.isApprox(meshToWorld(e, k), 1e-6f)) << d.world;
+    }
+  }
+  if (!(d.gaps & viper::kGapNoMesh)) {
+    ASSERT_NE(d.mesh_key, 0u);
+    const viper::MeshRecord* mesh = meshes.find(d.mesh_key);
+    ASSERT_NE(mesh, nullptr);
+    EXPECT_EQ(mesh->indices.size(), 6u);
+    // Every vertex lies on a corner of the object's quad, as this frame drew it.
+    const Eigen::Vector2f c = ss::cellCentre(k, shiftOf(e, f.number));
+    for (size_t v = 0; v + 2 < mesh->positions_xyz.size(); v += 3) {
+      const Eigen::Vector4f p =
+          meshToWorld(e, k) * Eigen::Vector4f(mesh->positions_xyz[v], mesh->positions_xyz[v + 1], mesh->positions_xyz[v + 2], 1);
+      EXPECT_NEAR(std::abs(p.x() - c.x()), ss::kHalf, 1e-5f) << "vertex " << v / 3 << " frame " << f.number;
+      EXPECT_NEAR(std::abs(p.y() - c.y()), ss::kHalf, 1e-5f) << "vertex " << v / 3 << " frame " << f.number;
+    }
+  }
+}
+
+void checkCapture(const std::string& scenario, bool async, const Result& plain, const Result& r) {
+  EXPECT_EQ(r.rc, plain.rc) << r.log;
+  EXPECT_EQ(r.read_error, "") << r.log;
+  EXPECT_EQ(r.log.find("GL error"), std::string::npos) << r.log;
+  EXPECT_EQ(r.log.find("Sanitizer"), std::string::npos) << r.log;
+  EXPECT_EQ(r.log.find("runtime error"), std::string::npos) << r.log;
+  ASSERT_EQ(r.pixels.size(), plain.pixels.size());
+  size_t differ = 0;
+  for (size_t i = 0; i < r.pixels.size(); ++i) differ += r.pixels[i] != plain.pixels[i];
+  EXPECT_EQ(differ, 0u) << "bytes of the program's own image changed under capture";
+
+  const Expected e = expected(scenario);
+  // A frame per swap. exit_thread with asynchronous read-back: the frame still in the GL's buffers
+  // when another thread ends the program cannot be read there (its context is current on the
+  // render thread), and the layer says so.
+  const bool lost_one = r.log.find("1 frames read asynchronously were lost") != std::string::npos;
+  EXPECT_EQ(lost_one, scenario == "exit_thread" && async) << r.log;
+  EXPECT_EQ(r.frames.size(), size_t(ss::kFrames) - (lost_one ? 1 : 0));
+  for (const CaptureFrame& f : r.frames) {
+    SCOPED_TRACE("frame " + std::to_string(f.number));
+    EXPECT_EQ(viper::validateFrame(f), "");
+    ASSERT_EQ(f.width, uint32_t(ss::kSize));
+    EXPECT_EQ(f.draws.size(), size_t(e.objects));
+    EXPECT_EQ(f.unrecorded_draws, 0u);
+    for (const DrawRecord& d : f.draws) checkDraw(e, f, d, r.meshes);
+    // The stream's colour is the program's image (its read-back is bottom row first, RGBA).
+    if (f.number == ss::kFrames - 1) {
+      size_t colour_diffs = 0;
+      for (int y = 0; y < ss::kSize; ++y)
+        for (int x = 0; x < ss::kSize; ++x)
+          for (int c = 0; c < 3; ++c)
+            colour_diffs += f.color_rgb[(size_t(y) * ss::kSize + x) * 3 + c] !=
+                            static_cast<uint8_t>(plain.pixels[(size_t(ss::kSize - 1 - y) * ss::kSize + x) * 4 + c]);
+      EXPECT_EQ(colour_diffs, 0u);
+    }
+  }
+}
+
+class Stress : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Stress, RunsAsWithoutCaptureAndRecordsOrFlagsEveryDraw) {
+  const std::string scenario = GetParam();
+  const Result plain = runScenario(scenario, Mode::kPlain);
+  ASSERT_EQ(plain.rc, 0) << plain.log;
+  ASSERT_EQ(plain.pixels.size(), size_t(ss::kSize) * ss::kSize * 4);
+  {
+    SCOPED_TRACE("capture, synchronous read-back");
+    const Result r = runScenario(scenario, Mode::kCapture);
+    checkCapture(scenario, false, plain, r);
+    std::printf("%s: plain %.2f s, captured %.2f s\n", scenario.c_str(), plain.seconds, r.seconds);
+  }
+  {
+    SCOPED_TRACE("capture under ASan, asynchronous read-back, 3 writer threads");
+    const Result r = runScenario(scenario, Mode::kCaptureAsanAsync);
+    checkCapture(scenario, true, plain, r);
+    std::printf("%s: captured under ASan %.2f s\n", scenario.c_str(), r.seconds);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, Stress,
+                         ::testing::Values("mdi", "persistent", "ubo_tbo", "binary", "threads", "destroy",
+                                           "exit_thread"));
+
+}  // namespace

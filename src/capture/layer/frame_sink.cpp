@@ -108,10 +108,13 @@ void FrameSink::run(CaptureChunkEncoder& encoder) {
       }
     }
     item.raw.releaseViews();  // a read-back buffer of the GL's is free again
+    // Busy time: the finish and the encoding here, the write below, not the wait for the turn.
+    double busy = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     {
       // Appended in push order: wait for the frames before this one.
       std::unique_lock<std::mutex> lock(write_mutex_);
       written_.wait(lock, [&] { return next_write_ == item.sequence; });
+      const auto write_start = std::chrono::steady_clock::now();
       if (failed_) {
         ++dropped_after_failure_;
       } else {
@@ -126,7 +129,8 @@ void FrameSink::run(CaptureChunkEncoder& encoder) {
           tellLauncher(text);
         }
       }
-      busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      busy += std::chrono::duration<double>(std::chrono::steady_clock::now() - write_start).count();
+      busy_s_ += busy;
       ++next_write_;
       written_.notify_all();
     }

@@ -75,23 +75,19 @@ Interceptor::Interceptor() {
                                                : static_cast<int>(std::strtol(threads.c_str(), nullptr, 10));
     if (writer_threads < 1 || writer_threads > 64)
       throw std::runtime_error("VIPER_CAPTURE_WRITER_THREADS must be 1 to 64, not \"" + threads + "\"");
+    // Asynchronous read-back (the capture launcher's --readback, checked there): a GPU copies the
+    // frame while the program goes on; with a CPU renderer it is the same copy, later, so `auto`
+    // (the default) reads asynchronously except on software renderers.
+    const std::string readback = envOr("VIPER_CAPTURE_READBACK", "auto");
+    if (readback != "sync" && readback != "async" && readback != "auto")
+      throw std::runtime_error("VIPER_CAPTURE_READBACK must be auto, sync or async, not \"" + readback + "\"");
+    async_readback_ = readback == "async";
+    readback_decided_ = readback != "auto";
     sink_.reset(new FrameSink(output_path_, header, zstd_level, writer_threads));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "[viper capture] capture disabled: %s\n", e.what());
     return;
   }
-  // Asynchronous read-back (the capture launcher's --readback, checked there): a GPU copies the
-  // frame while the program goes on; with a CPU renderer it is the same copy, later, so `auto`
-  // (the default) reads asynchronously except on software renderers.
-  const std::string readback = envOr("VIPER_CAPTURE_READBACK", "auto");
-  if (readback != "sync" && readback != "async" && readback != "auto") {
-    std::fprintf(stderr, "[viper capture] capture disabled: VIPER_CAPTURE_READBACK must be auto, sync or async, not \"%s\"\n",
-                 readback.c_str());
-    sink_.reset();
-    return;
-  }
-  async_readback_ = readback == "async";
-  readback_decided_ = readback != "auto";
   start_s_ = monotonicSeconds();
   enabled_ = true;
 }
@@ -107,6 +103,11 @@ void Interceptor::pushPending(size_t keep) {
     sink_->push(std::move(p.frame), std::move(p.raw));
     pending_frames_.pop_front();
   }
+}
+
+void Interceptor::resizeTarget(FrameTarget& t, int width, int height) {
+  if (width != t.width() || height != t.height()) pushPending(0);  // resizing unmaps the read-back buffers
+  t.ensureSize(width, height);
 }
 
 void Interceptor::beforeMakeCurrent() {
@@ -200,7 +201,11 @@ void Interceptor::onMakeCurrent(void* context, int width, int height) {
   t_context = c;
   t_target = c ? c->target.get() : nullptr;
   if (!c) return;
-  t_target->ensureSize(width, height);
+  {
+    // The same context made current again on a surface of another size keeps its pending frames.
+    std::lock_guard<std::mutex> lifecycle(lifecycle_mutex_);
+    resizeTarget(*t_target, width, height);
+  }
   GLint program = 0;
   gl().GetIntegerv(GL_CURRENT_PROGRAM, &program);
   c->current_program = static_cast<GLuint>(program);
@@ -242,8 +247,7 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
     cx().frame = CaptureFrame();
     cx().frame.new_meshes = std::move(meshes);
     cx().last_mesh = false;
-    if (width != t->width() || height != t->height()) pushPending(0);  // resizing unmaps the buffers
-    t->ensureSize(width, height);
+    resizeTarget(*t, width, height);
     return;
   }
   if (!readback_decided_) {
@@ -297,8 +301,7 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   ++stats_.frames;
   cx().last_mesh = false;
   if (mesh_cache_.size() > 8192) mesh_cache_.clear();  // streamed geometry: keep memory bounded
-  if (width != t->width() || height != t->height()) pushPending(0);  // resizing unmaps the buffers
-  t->ensureSize(width, height);
+  resizeTarget(*t, width, height);
   ++frames_written_;
   if (frame_limit_ && frames_written_ >= frame_limit_) {
     std::fprintf(stderr, "[viper capture] captured %llu frames, stopping the program\n",

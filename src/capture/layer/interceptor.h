@@ -310,6 +310,8 @@ class Interceptor {
   /// Waits for the fences of the pending frames of the current context (all but the newest
   /// `keep`) and pushes them to the sink in order.
   void pushPending(size_t keep);
+  /// The target to the surface's size, the pending frames handed over first if it changes.
+  void resizeTarget(FrameTarget& t, int width, int height);
   struct {
     uint64_t frames = 0;
     double present_s = 0, push_wait_s = 0;

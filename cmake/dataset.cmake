@@ -17,11 +17,11 @@ target_include_directories(viper_dataset PUBLIC ${PROJECT_SOURCE_DIR}/include)
 # of every branch (no floating-point exceptions are ever enabled here).
 target_compile_options(viper_dataset PRIVATE -O3 -fno-trapping-math)
 # PNG read through libpng (palette indices of class images must not be expanded to colors) and
-# written with libdeflate (src/dataset/deflate_writers.h); JPEG through OpenCV.
+# written with ISA-L and libdeflate (src/dataset/deflate_writers.h); JPEG through OpenCV.
 target_include_directories(viper_dataset SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
 find_package(Threads REQUIRED)  # WriteQueue's workers
 target_link_libraries(viper_dataset PUBLIC Threads::Threads)
-target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBLZ4 PkgConfig::XXHASH BZip2::BZip2 PkgConfig::LIBZIP PkgConfig::LIBDEFLATE PkgConfig::LIBPNG PkgConfig::LIBJPEG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
+target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBLZ4 PkgConfig::XXHASH BZip2::BZip2 PkgConfig::LIBZIP PkgConfig::LIBDEFLATE viper_isal PkgConfig::LIBPNG PkgConfig::LIBJPEG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
 set_target_properties(viper_dataset PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 install(TARGETS viper_dataset

@@ -25,7 +25,7 @@ PKGS=(
   libegl-dev libgl-dev libglx-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
   libgtest-dev libbenchmark-dev
   xvfb imagemagick
-  libzip-dev python3-numpy python3-pil libpng-dev libjpeg-dev libssl-dev libdeflate-dev liblz4-dev libbz2-dev
+  libzip-dev python3-numpy python3-pil libpng-dev libjpeg-dev libssl-dev libdeflate-dev libisal-dev liblz4-dev libbz2-dev
   libstd-srvs-dev python3-std-srvs libopencv-apps-dev ros-opencv-apps python3-opencv-apps python3-sensor-msgs
   libopencv-dnn-dev python3-yaml
 )

@@ -1,7 +1,9 @@
 // The writers of the layout's deflated files, PNG and zip (npz): the containers are a few fixed
-// headers around one deflate stream each, which libdeflate compresses several times faster than
-// zlib at its fastest level and smaller (docs/dataset_generation.md#speed). Reading stays with
-// libpng and libzip. Internal to viper_dataset.
+// headers around one deflate stream each. Level 1 (the default) is ISA-L's igzip level 1, about
+// three times as fast as libdeflate's level 1 on the layout's images and flow, for 10-30 % more
+// bytes; levels 2..12 are libdeflate's, which is several times faster than zlib at each level and
+// smaller (docs/dataset_generation.md#speed). Reading stays with libpng and libzip. Internal to
+// viper_dataset.
 #pragma once
 
 #include "viper/dataset/file_digests.h"
@@ -14,14 +16,21 @@
 
 namespace viper::dataset::detail {
 
+enum class DeflateWrapper { kRaw, kZlib };
+
+/// `n` bytes of `in` as one deflate stream (raw, or in zlib's wrapper as PNG wants) into `out`
+/// (resized to fit): level 0 stores, 1 is ISA-L's level 1, 2..12 libdeflate's levels. Throws
+/// std::invalid_argument for another level.
+void deflateInto(std::vector<uint8_t>& out, const uint8_t* in, size_t n, int level, DeflateWrapper wrapper);
+
 enum class PngColor : uint8_t { kGray = 0, kRgb = 2, kPalette = 3 };
 
 /// A PNG of 8-bit samples (1 channel for gray and palette, 3 for RGB), every row filtered with
-/// PNG's Up filter, the image data deflated by libdeflate at `level` (0..12; 0 stores).
+/// PNG's Up filter, the image data deflated at `level` (deflateInto).
 std::vector<uint8_t> pngBytes(const uint8_t* pixels, uint32_t width, uint32_t height, PngColor color,
                               const std::vector<std::array<uint8_t, 3>>& palette, int level);
 
-/// A zip archive of `entries` in order, each deflated at `level` (0: stored), with the fixed entry
+/// A zip archive of `entries` in order, each deflated at `level` (deflateInto; 0: stored entries), with the fixed entry
 /// time 1980-01-01 12:00 so that equal entries give equal bytes. Throws std::invalid_argument for
 /// an entry or archive beyond zip's 32-bit sizes (zip64 is not written).
 std::vector<uint8_t> zipBytes(const std::vector<ZipEntry>& entries, int level);

@@ -2,8 +2,6 @@
 
 #include <libdeflate.h>
 
-#include <map>
-#include <memory>
 #include <stdexcept>
 
 namespace viper::dataset::detail {
@@ -29,10 +27,9 @@ std::vector<uint8_t> pngBytes(const uint8_t* pixels, uint32_t width, uint32_t he
   if (level < 0 || level > 12) throw std::invalid_argument("PNG deflate level must be 0..12");
   const size_t channels = color == PngColor::kRgb ? 3 : 1, row = width * channels;
   // Filtered rows: a filter-type byte (2, Up: each byte minus the one above it) and the row.
-  // The filtered rows and the deflated data reuse this thread's buffers, and the compressor its
-  // tables: fresh megabytes a frame cost page faults on every image.
+  // The filtered rows and the deflated data reuse this thread's buffers: fresh megabytes a frame
+  // cost page faults on every image.
   thread_local std::vector<uint8_t> filtered, idat;
-  thread_local std::map<int, std::unique_ptr<libdeflate_compressor, decltype(&libdeflate_free_compressor)>> compressors;
   filtered.resize((row + 1) * height);
   for (uint32_t y = 0; y < height; ++y) {
     const uint8_t* r = pixels + y * row;
@@ -45,12 +42,8 @@ std::vector<uint8_t> pngBytes(const uint8_t* pixels, uint32_t width, uint32_t he
       for (size_t x = 0; x < row; ++x) f[1 + x] = static_cast<uint8_t>(r[x] - up[x]);
     }
   }
-  auto& compressor = compressors.try_emplace(level, nullptr, libdeflate_free_compressor).first->second;
-  if (!compressor) compressor.reset(libdeflate_alloc_compressor(level));
-  if (!compressor) throw std::runtime_error("libdeflate could not allocate a compressor");
-  idat.resize(libdeflate_zlib_compress_bound(compressor.get(), filtered.size()));
-  const size_t deflated = libdeflate_zlib_compress(compressor.get(), filtered.data(), filtered.size(), idat.data(), idat.size());
-  if (deflated == 0) throw std::runtime_error("libdeflate could not compress the image");
+  deflateInto(idat, filtered.data(), filtered.size(), level, DeflateWrapper::kZlib);
+  const size_t deflated = idat.size();
 
   std::vector<uint8_t> out{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   out.reserve(deflated + 1024);

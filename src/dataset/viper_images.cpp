@@ -171,11 +171,8 @@ Image8 decodePng(const std::string& path, const std::vector<uint8_t>& bytes, Png
   return std::move(ctx.image);
 }
 
-// Label images (class ids, instances) deflate one level higher: on their long runs libdeflate's
-// level 1 is slower than its level 2 and writes more, while camera images are the other way round
-// (the layout writers' CPU in scripts/measure_generate.sh's stage table fell with this).
 void encodePng(const std::string& path, const Image8& image, detail::PngColor color, const ClassPalette* palette,
-               const ImageWriteOptions& options, bool labels) {
+               const ImageWriteOptions& options) {
   if (options.png_compression_level < 0 || options.png_compression_level > 9)
     throw std::invalid_argument("PNG compression level must be 0..9, got " +
                                 std::to_string(options.png_compression_level));
@@ -186,7 +183,7 @@ void encodePng(const std::string& path, const Image8& image, detail::PngColor co
   }
   const int level = options.png_compression_level;
   detail::writeFileAtomically(path, detail::pngBytes(image.data.data(), image.width, image.height, color, full,
-                                                     labels && level > 0 ? level + 1 : level),
+                                                     level),
                               "PNG", options.digests);
 }
 
@@ -248,7 +245,7 @@ Image8 readViperColorImage(const std::string& path) {
 void writeViperColorImage(const std::string& path, const Image8& rgb, const ImageWriteOptions& options) {
   checkImage(rgb, 3, "writeViperColorImage");
   if (isJpegPath(path)) encodeJpeg(path, rgb, options.jpeg_quality, options.digests);
-  else encodePng(path, rgb, detail::PngColor::kRgb, nullptr, options, false);
+  else encodePng(path, rgb, detail::PngColor::kRgb, nullptr, options);
 }
 
 Image8 readViperClassImage(const std::string& path) {
@@ -261,8 +258,8 @@ Image8 readViperClassImage(const std::string& path) {
 void writeViperClassImage(const std::string& path, const Image8& class_ids, const ClassPalette& palette,
                           const ImageWriteOptions& options) {
   checkImage(class_ids, 1, "writeViperClassImage");
-  if (palette.empty()) encodePng(path, class_ids, detail::PngColor::kGray, nullptr, options, true);
-  else encodePng(path, class_ids, detail::PngColor::kPalette, &palette, options, true);
+  if (palette.empty()) encodePng(path, class_ids, detail::PngColor::kGray, nullptr, options);
+  else encodePng(path, class_ids, detail::PngColor::kPalette, &palette, options);
 }
 
 Image8 readViperInstanceImage(const std::string& path) {
@@ -274,7 +271,7 @@ Image8 readViperInstanceImage(const std::string& path) {
 
 void writeViperInstanceImage(const std::string& path, const Image8& instances, const ImageWriteOptions& options) {
   checkImage(instances, 3, "writeViperInstanceImage");
-  encodePng(path, instances, detail::PngColor::kRgb, nullptr, options, true);
+  encodePng(path, instances, detail::PngColor::kRgb, nullptr, options);
 }
 
 std::vector<int32_t> viperInstanceIds(const Image8& instances) {

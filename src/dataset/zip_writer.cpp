@@ -3,8 +3,6 @@
 #include <libdeflate.h>
 
 #include <limits>
-#include <map>
-#include <memory>
 #include <stdexcept>
 
 namespace viper::dataset::detail {
@@ -46,16 +44,8 @@ void commonFields(std::vector<uint8_t>& out, const Written& w, const std::string
 
 std::vector<uint8_t> zipBytes(const std::vector<ZipEntry>& entries, int level) {
   if (entries.size() > 0xffff) throw std::invalid_argument("more than 65535 zip entries need zip64");
-  // This thread's compressor tables and deflate buffer, kept: fresh megabytes a file cost page faults.
-  thread_local std::map<int, std::unique_ptr<libdeflate_compressor, decltype(&libdeflate_free_compressor)>> compressors;
+  // This thread's deflate buffer, kept: fresh megabytes a file cost page faults.
   thread_local std::vector<uint8_t> data;
-  libdeflate_compressor* compressor = nullptr;
-  if (level > 0) {
-    auto& c = compressors.try_emplace(level, nullptr, libdeflate_free_compressor).first->second;
-    if (!c) c.reset(libdeflate_alloc_compressor(level));
-    if (!c) throw std::runtime_error("libdeflate could not allocate a compressor");
-    compressor = c.get();
-  }
   std::vector<uint8_t> out;
   std::vector<Written> written;
   for (const ZipEntry& e : entries) {
@@ -68,9 +58,8 @@ std::vector<uint8_t> zipBytes(const std::vector<ZipEntry>& entries, int level) {
     const uint8_t* payload = e.bytes.data();
     size_t payload_size = e.bytes.size();
     if (level > 0) {
-      data.resize(libdeflate_deflate_compress_bound(compressor, e.bytes.size()));
-      payload_size = libdeflate_deflate_compress(compressor, e.bytes.data(), e.bytes.size(), data.data(), data.size());
-      if (payload_size == 0) throw std::runtime_error("libdeflate could not compress zip entry '" + e.name + "'");
+      deflateInto(data, e.bytes.data(), e.bytes.size(), level, DeflateWrapper::kRaw);
+      payload_size = data.size();
       payload = data.data();
     }
     if (out.size() > kMax32 || payload_size > kMax32) throw std::invalid_argument("zip archive beyond 4 GiB needs zip64");

@@ -26,7 +26,8 @@ struct Image8 {
 
 /// How image files are written.
 struct ImageWriteOptions {
-  /// zlib level of PNG files, 0 (stored) .. 9; 1 is fast and compresses label images well.
+  /// Deflate level of PNG files, 0 (stored) .. 9: 1 is ISA-L's igzip (fastest), 2..9 libdeflate's
+  /// levels (smaller, slower).
   int png_compression_level = 1;
   /// JPEG quality 0..100 for `img` files written as .jpg / .jpeg.
   int jpeg_quality = 95;

@@ -19,8 +19,9 @@ struct ZipEntry {
 
 /// How writeZip stores entries.
 struct ZipWriteOptions {
-  /// 0: stored (as numpy.savez); 1..9: deflated by libdeflate at this level (numpy.savez_compressed
-  /// uses zlib's level 6). 1 is several times faster than 6 on flow and barely larger.
+  /// 0: stored (as numpy.savez); 1: deflated by ISA-L's igzip at its level 1; 2..9: deflated by
+  /// libdeflate at this level (numpy.savez_compressed uses zlib's level 6). On 1080p flow 1 is
+  /// about 3 times as fast as libdeflate's level 1 and writes 1.3 times its bytes.
   int deflate_level = 1;
   /// When set, each archive's SHA-256 is recorded there as it is written (from the bytes in memory).
   FileDigests* digests = nullptr;

@@ -69,31 +69,40 @@ if(CATKIN_ENABLE_TESTING)
 
   # The interceptor again, built with AddressSanitizer and UndefinedBehaviorSanitizer (with the
   # capture sources of the core it uses), for test_capture_stress to preload into the stress
-  # program after libasan (test/capture/test_capture_stress.cpp says how).
+  # program (`capture` preloads libasan before it; test/capture/test_capture_stress.cpp says how).
+  # In a ThreadSanitizer build (scripts/sanitize.sh tsan) ASan cannot be added: the test's sanitized
+  # run preloads the build's own interceptor, built with TSan.
+  if(CMAKE_CXX_FLAGS MATCHES "-fsanitize=thread")
+    set(VIPER_STRESS_SANITIZED_TARGET viper_intercept)
+  else()
+    set(VIPER_STRESS_SANITIZED_TARGET viper_intercept_asan)
+  endif()
   file(GLOB VIPER_CAPTURE_CORE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/capture/*.cpp)
   list(FILTER VIPER_CAPTURE_CORE_SOURCES EXCLUDE REGEX "/resource_census\\.cpp$")
   set(VIPER_SANITIZE_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
-  add_library(viper_intercept_asan SHARED EXCLUDE_FROM_ALL ${VIPER_INTERCEPT_SOURCES} ${VIPER_CAPTURE_CORE_SOURCES})
-  set_target_properties(viper_intercept_asan PROPERTIES
-    CXX_VISIBILITY_PRESET hidden
-    VISIBILITY_INLINES_HIDDEN ON
-    LIBRARY_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/sanitized)
-  target_compile_options(viper_intercept_asan PRIVATE ${VIPER_SANITIZE_FLAGS} -O1)
-  target_link_options(viper_intercept_asan PRIVATE ${VIPER_SANITIZE_FLAGS})
-  target_include_directories(viper_intercept_asan PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/src/capture)
-  target_include_directories(viper_intercept_asan SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
-  target_link_libraries(viper_intercept_asan PRIVATE PkgConfig::ZSTD PkgConfig::LIBLZ4 PkgConfig::XXHASH
-    PkgConfig::YAMLCPP Threads::Threads ${CMAKE_DL_LIBS})
+  if(VIPER_STRESS_SANITIZED_TARGET STREQUAL "viper_intercept_asan")
+    add_library(viper_intercept_asan SHARED EXCLUDE_FROM_ALL ${VIPER_INTERCEPT_SOURCES} ${VIPER_CAPTURE_CORE_SOURCES})
+    set_target_properties(viper_intercept_asan PROPERTIES
+      CXX_VISIBILITY_PRESET hidden
+      VISIBILITY_INLINES_HIDDEN ON
+      LIBRARY_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/sanitized)
+    target_compile_options(viper_intercept_asan PRIVATE ${VIPER_SANITIZE_FLAGS} -O1)
+    target_link_options(viper_intercept_asan PRIVATE ${VIPER_SANITIZE_FLAGS})
+    target_include_directories(viper_intercept_asan PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/src/capture)
+    target_include_directories(viper_intercept_asan SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
+    target_link_libraries(viper_intercept_asan PRIVATE PkgConfig::ZSTD PkgConfig::LIBLZ4 PkgConfig::XXHASH
+      PkgConfig::YAMLCPP Threads::Threads ${CMAKE_DL_LIBS})
+  endif()
 
   catkin_add_gtest(test_capture_stress test/capture/test_capture_stress.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   target_include_directories(test_capture_stress PRIVATE ${PROJECT_SOURCE_DIR}/test/capture)
   target_compile_definitions(test_capture_stress PRIVATE
     VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-    VIPER_INTERCEPT_ASAN_LIB="$<TARGET_FILE:viper_intercept_asan>"
+    VIPER_INTERCEPT_ASAN_LIB="$<TARGET_FILE:${VIPER_STRESS_SANITIZED_TARGET}>"
     VIPER_GL_STRESS_PROGRAM="$<TARGET_FILE:viper_gl_stress_program>"
     VIPER_STRESS_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/stress_profile.yaml")
   target_link_libraries(test_capture_stress viper_core gtest_main)
-  add_dependencies(test_capture_stress viper_capture viper_intercept viper_intercept_asan viper_gl_stress_program)
+  add_dependencies(test_capture_stress viper_capture viper_intercept ${VIPER_STRESS_SANITIZED_TARGET} viper_gl_stress_program)
 
   catkin_add_gtest(test_capture_legacy test/capture/test_capture_legacy.cpp src/capture/layer/matrix_stack.cpp
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

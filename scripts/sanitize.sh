@@ -14,6 +14,12 @@
 # (log_path, VIPER_SANITIZE_DIR/reports/N/) and the ROS logs (ROS_HOME, ROS_LOG_DIR inside the tree,
 # ros_home/log/N/) and the rostest's output are searched for one too. VIPER_TEST_TIME_SCALE (default
 # 1 for asan, 4 for tsan) multiplies the rostests' time limits and the testers' timeouts.
+# First, after the build, the sanitized capture layer is checked to start at all (preloaded into
+# /bin/true and into a sanitized program, and `capture` of the GL test program): the layer exports
+# dlsym, which the sanitizer's runtime calls from its own start (docs/sanitizers.md); a failure there
+# is one failed test, named "capture layer".
+# Each rostest holds /tmp/viper-rostest.lock (VIPER_ROSTEST_LOCK) while it runs, as other checkouts'
+# rostests do (they share rostest's port).
 # Prints a line per test and ends with "N passed, N failed" (gtest binaries and rostests counted
 # apart first); logs in VIPER_SANITIZE_DIR/logs/.
 # Usage: scripts/sanitize.sh [asan|tsan] [TEST_NAME_REGEX]   (the regex selects gtest binaries and
@@ -43,6 +49,13 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:ignore_noninstrumented_modules=1:suppressions=$here/scripts/sanitize_tsan.supp"
 # ROS's own libraries are not ours to fix: their known leaks at exit are suppressed by file.
 export LSAN_OPTIONS="suppressions=$here/scripts/sanitize_lsan.supp:print_suppressions=0"
+# A tree configured from another checkout: cmake would refuse it ("does not match the source").
+cached=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$build/CMakeCache.txt" 2>/dev/null)
+if [ -n "$cached" ] && ! [ "$cached/CMakeLists.txt" -ef "$here/CMakeLists.txt" ]; then
+  echo "sanitize: $build was configured from $cached, not $here: run $cached/scripts/sanitize.sh," \
+    "or set VIPER_SANITIZE_DIR to another tree (or remove $build for a full build from here)"
+  echo "0 passed, 1 failed"; exit 1
+fi
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 (cd "$build" && cmake "$here" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 \
@@ -67,8 +80,45 @@ set +u  # ROS env hooks read unset variables
 source "$devel/setup.bash"
 set -u
 report='ERROR: (Address|Leak|Thread)Sanitizer|runtime error:|WARNING: ThreadSanitizer'
-gtest_passed=0 gtest_failed=0
 cd "$here" || exit 1
+
+# The capture layer first: every capture the tests make (and the build's test data) goes through it.
+# Its exported dlsym answers the sanitizer runtime's own lookups at the runtime's start; when that
+# went wrong, every program it was preloaded into crashed before main (docs/sanitizers.md). Checked
+# preloaded alone into an uninstrumented program (the runtime loaded after libc, as the layer's
+# dependency) and into an instrumented one (the runtime after the layer), and through `capture`
+# (which preloads the runtime first) on the GL test program, its stream read back whole.
+layer_failed=0
+layer_check() {
+  local lib="$devel/lib/libviper_intercept.so" out="$root/layer_check" why=""
+  rm -rf "$out" && mkdir -p "$out"
+  [ -f "$lib" ] || { echo "$lib missing" > "$out/why"; return 1; }
+  ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" LD_PRELOAD="$lib" timeout 60 /bin/true > "$out/true.log" 2>&1 ||
+    why="$why preloaded into /bin/true (exit $?, $out/true.log);"
+  LD_PRELOAD="$lib" timeout 60 "$devel/lib/viper/capture" --help > "$out/capture_help.log" 2>&1 &&
+    grep -q "^usage:" "$out/capture_help.log" ||
+    why="$why preloaded into the sanitized capture --help ($out/capture_help.log);"
+  for mode in direct dlopen; do
+    if timeout 300 "$devel/lib/viper/capture" --output "$out/$mode.vcap" -- \
+      "$devel/lib/viper/viper_gl_test_program" --mode "$mode" --frames 3 > "$out/$mode.log" 2>&1; then
+      "$devel/lib/viper/capture_info" "$out/$mode.vcap" > "$out/${mode}_info.log" 2>&1 ||
+        why="$why capture_info on the $mode stream ($out/${mode}_info.log);"
+    else
+      why="$why capture of viper_gl_test_program --mode $mode (exit $?, $out/$mode.log);"
+    fi
+  done
+  if grep -lE "$report" "$out"/*.log > /dev/null 2>&1; then why="$why a sanitizer report in $out;"; fi
+  [ -z "$why" ] || { echo "$why" > "$out/why"; return 1; }
+}
+if layer_check; then
+  echo "sanitize $kind: capture layer passed"
+else
+  layer_failed=1
+  echo "sanitize $kind: capture layer FAILED: $(cat "$root/layer_check/why")"
+  grep -h -m3 -E "$report|SUMMARY|Segmentation|runtime does not come first" "$root/layer_check"/*.log 2>/dev/null | sed 's/^/    /'
+fi
+
+gtest_passed=0 gtest_failed=0
 for t in "$devel"/lib/viper/test_*; do
   name=$(basename "$t")
   [[ "$name" =~ $filter && "$suites" != rostest ]] || continue
@@ -110,7 +160,7 @@ for target in $(make -C "$build" help | sed -n 's/^\.\.\. \(run_tests_viper_rost
   # Every process's report goes to a file of its own (NAME.PID) as well as the test's verdict.
   if ASAN_OPTIONS="$ASAN_OPTIONS:log_path=$reports/asan" UBSAN_OPTIONS="$UBSAN_OPTIONS:log_path=$reports/ubsan" \
     TSAN_OPTIONS="$TSAN_OPTIONS:log_path=$reports/tsan" ROS_LOG_DIR="$ros_log" \
-    timeout 3600 make -C "$build" "$target" >> "$log" 2>&1; then
+    flock "${VIPER_ROSTEST_LOCK:-/tmp/viper-rostest.lock}" timeout 3600 make -C "$build" "$target" >> "$log" 2>&1; then
     why=""
   else
     why="the rostest did not finish"
@@ -156,6 +206,6 @@ PY
   fi
 done
 echo "rostests: $rostest_passed passed, $rostest_failed failed"
-passed=$((gtest_passed + rostest_passed)) failed=$((gtest_failed + rostest_failed + build_failed))
+passed=$((gtest_passed + rostest_passed)) failed=$((gtest_failed + rostest_failed + build_failed + layer_failed))
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]

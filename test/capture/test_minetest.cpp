@@ -59,6 +59,18 @@ const MinetestRun& runMinetest() {
   return r;
 }
 
+// In a sanitized build of the package (scripts/sanitize.sh) `capture` preloads the sanitizer's
+// runtime into the game, and Debian's minetest then hangs in glibc's locale lock (setlocale at its
+// start, freelocale at exit; the lock's reader count has gone negative) with the ASan or TSan
+// runtime alone preloaded, without the layer: the runtime's known clash with uninstrumented
+// programs (llvm/llvm-project#49223). Nothing of ours to check there; skipped.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define VIPER_SKIP_IN_SANITIZED_BUILD() \
+  GTEST_SKIP() << "minetest hangs with a sanitizer runtime preloaded (docs/sanitizers.md)"
+#else
+#define VIPER_SKIP_IN_SANITIZED_BUILD() (void)0
+#endif
+
 void requireTools() {
   for (const char* tool : {kGame, "/usr/bin/xvfb-run"})
     ASSERT_TRUE(fs::exists(tool)) << tool << " is missing: run 'bash scripts/setup.sh --test-programs'";
@@ -67,6 +79,7 @@ void requireTools() {
 }  // namespace
 
 TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
+  VIPER_SKIP_IN_SANITIZED_BUILD();
   requireTools();
   const MinetestRun& r = runMinetest();
   ASSERT_EQ(r.rc, 0) << "the game under capture failed: " << r.log;
@@ -117,6 +130,7 @@ TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
 }
 
 TEST(Minetest, FlowIsConsistentBothWaysAndWithTheNextImage) {
+  VIPER_SKIP_IN_SANITIZED_BUILD();
   requireTools();
   const MinetestRun& r = runMinetest();
   ASSERT_EQ(r.rc, 0) << "the game under capture failed: " << r.log;

@@ -205,7 +205,9 @@ TEST(FillMissingFlow, OptionOfTheFlowMetric) {
     EvalFrame f;
     f.condition = "day", f.width = 3, f.height = 2, f.gt_flow = gt.data(), f.pred_flow = pred.data();
     e.add("flow", f);
-    const MetricScores& s = e.summarize().all.scoresOf("flow");
+    // The summary held: scoresOf refers into it (a temporary's would dangle; ASan found that here).
+    const EvaluationSummary summary = e.summarize();
+    const MetricScores& s = summary.all.scoresOf("flow");
     EXPECT_DOUBLE_EQ(s.values.at("epe_px"), fill ? 2.0 / 6 : 2.0 / 5) << fill;
     EXPECT_DOUBLE_EQ(s.values.at("outlier_percent"), fill ? 0.0 : 100.0 / 6) << fill;
     EXPECT_DOUBLE_EQ(s.values.at("invalid"), fill ? 0.0 : 1.0) << fill;
@@ -215,7 +217,8 @@ TEST(FillMissingFlow, OptionOfTheFlowMetric) {
   Evaluation e(classes, sampled);
   e.addFlow("day", gt.data(), nullptr, pred.data(), 6);  // errors 0 (x4) and 2 px; one invalid
   // Within every threshold, within those from 2 px (i = 40) on whose weights sum to 61 - 42.09 = 18.91, none.
-  const MetricScores& scores = e.summarize().all.scoresOf("flow");
+  const EvaluationSummary summary = e.summarize();
+  const MetricScores& scores = summary.all.scoresOf("flow");
   EXPECT_NEAR(scores.values.at("wauc"), 100.0 * (4 * 50.5 + 18.91) / (6 * 50.5), 1e-9);
   EXPECT_EQ(scores.values.at("noc_wauc"), scores.values.at("wauc")) << "no mask: every pixel is visible";
   EXPECT_TRUE(std::isnan(pred[2])) << "the prediction itself is left as it is";

@@ -5,12 +5,14 @@
 #include "viper/capture/capture_profile.h"
 #include "viper/capture/capture_stream.h"
 
+#include <elf.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <climits>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -81,10 +83,53 @@ std::string absolute(const std::string& path) {
   return getcwd(cwd, sizeof(cwd)) ? std::string(cwd) + "/" + path : path;
 }
 
+bool isRuntime(const std::string& base) {
+  return base.rfind("libasan", 0) == 0 || base.rfind("libtsan", 0) == 0 || base.rfind("libubsan", 0) == 0 ||
+         base.rfind("liblsan", 0) == 0;
+}
+
+// The sanitizer runtimes that must come first in a program that `lib` is preloaded into (its
+// DT_NEEDED libasan or libtsan: a layer built by scripts/sanitize.sh or viper_intercept_asan), as
+// their sonames ("libasan.so.8"); none for the normal layer. Loaded only as the layer's dependency,
+// a runtime comes after libc: ASan refuses to start, and neither would see the program's malloc and
+// locks.
+std::vector<std::string> runtimesNeeded(const std::string& lib) {
+  std::vector<std::string> needed;
+  const int fd = open(lib.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return needed;
+  auto readAt = [fd](void* to, size_t size, uint64_t at) {
+    return pread(fd, to, size, static_cast<off_t>(at)) == static_cast<ssize_t>(size);
+  };
+  Elf64_Ehdr eh;
+  if (readAt(&eh, sizeof(eh), 0) && std::memcmp(eh.e_ident, ELFMAG, SELFMAG) == 0 && eh.e_ident[EI_CLASS] == ELFCLASS64 &&
+      eh.e_shentsize == sizeof(Elf64_Shdr)) {
+    std::vector<Elf64_Shdr> sections(eh.e_shnum);
+    if (readAt(sections.data(), sections.size() * sizeof(Elf64_Shdr), eh.e_shoff)) {
+      for (const Elf64_Shdr& dynamic : sections) {
+        if (dynamic.sh_type != SHT_DYNAMIC || dynamic.sh_link >= sections.size()) continue;
+        const Elf64_Shdr& strings = sections[dynamic.sh_link];
+        std::vector<Elf64_Dyn> entries(dynamic.sh_size / sizeof(Elf64_Dyn));
+        std::vector<char> names(strings.sh_size + 1, '\0');
+        if (!readAt(entries.data(), entries.size() * sizeof(Elf64_Dyn), dynamic.sh_offset) ||
+            !readAt(names.data(), strings.sh_size, strings.sh_offset))
+          break;
+        for (const Elf64_Dyn& d : entries) {
+          if (d.d_tag != DT_NEEDED || d.d_un.d_val >= strings.sh_size) continue;
+          const std::string name = names.data() + d.d_un.d_val;
+          if (name.rfind("libasan", 0) == 0 || name.rfind("libtsan", 0) == 0) needed.push_back(name);
+        }
+      }
+    }
+  }
+  close(fd);
+  return needed;
+}
+
 // LD_PRELOAD for the program: the interceptor first, then what was preloaded already; a sanitizer
 // runtime given there (libasan, to run a sanitized build of the interceptor) stays before it, as a
-// runtime must come before the libraries it instruments.
-std::string preloadList(const std::string& lib, const char* old) {
+// runtime must come before the libraries it instruments. When none is given, the runtimes the
+// interceptor itself needs (`runtimes_needed`) come first.
+std::string preloadList(const std::string& lib, const char* old, const std::vector<std::string>& runtimes_needed) {
   std::string runtimes, rest;
   std::string entries = old ? old : "";
   for (char& c : entries)
@@ -98,10 +143,10 @@ std::string preloadList(const std::string& lib, const char* old) {
     if (entry.empty()) continue;
     const size_t slash = entry.rfind('/');
     const std::string base = slash == std::string::npos ? entry : entry.substr(slash + 1);
-    const bool runtime = base.rfind("libasan", 0) == 0 || base.rfind("libtsan", 0) == 0 ||
-                         base.rfind("libubsan", 0) == 0 || base.rfind("liblsan", 0) == 0;
-    (runtime ? runtimes : rest) += entry + ":";
+    (isRuntime(base) ? runtimes : rest) += entry + ":";
   }
+  if (runtimes.empty())
+    for (const std::string& r : runtimes_needed) runtimes += r + ":";
   std::string list = runtimes + lib;
   if (!rest.empty()) list += ":" + rest.substr(0, rest.size() - 1);
   return list;
@@ -195,7 +240,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  setenv("LD_PRELOAD", preloadList(lib, std::getenv("LD_PRELOAD")).c_str(), 1);
+  setenv("LD_PRELOAD", preloadList(lib, std::getenv("LD_PRELOAD"), runtimesNeeded(lib)).c_str(), 1);
   setenv("VIPER_CAPTURE_OUTPUT", absolute(output).c_str(), 1);
   setenv("VIPER_CAPTURE_PROGRAM", argv[i], 1);
   if (!profile.empty()) setenv("VIPER_CAPTURE_PROFILE", absolute(profile).c_str(), 1);

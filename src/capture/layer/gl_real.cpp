@@ -50,9 +50,22 @@ RealGl loadRealGl() {
 
 }  // namespace
 
+VIPER_NO_SANITIZE void* realDlsymFunction() {
+  // Not a function-local static: its guard (__cxa_guard_acquire) is intercepted by ThreadSanitizer,
+  // whose runtime calls this from its own start. Every thread finds the same function, so a race
+  // between two first calls only looks it up twice.
+  static DlsymFn real = nullptr;
+  DlsymFn f = __atomic_load_n(&real, __ATOMIC_ACQUIRE);
+  if (!f) {
+    f = lookupRealDlsym();
+    __atomic_store_n(&real, f, __ATOMIC_RELEASE);
+  }
+  return reinterpret_cast<void*>(f);
+}
+
 VIPER_NO_SANITIZE void* realDlsym(void* handle, const char* name) {
-  static const DlsymFn real = lookupRealDlsym();
-  return real ? real(handle, name) : nullptr;
+  const auto f = reinterpret_cast<DlsymFn>(realDlsymFunction());
+  return f ? f(handle, name) : nullptr;
 }
 
 const RealGl& gl() {

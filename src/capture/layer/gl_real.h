@@ -185,6 +185,8 @@ inline GLint drawAttachmentParam(GLenum attachment, GLenum pname) {
 
 /// The real dlsym (the interceptor interposes dlsym itself).
 void* realDlsym(void* handle, const char* name);
+/// glibc's dlsym itself (null if not found), for a jump to it that keeps the caller's return address.
+void* realDlsymFunction();
 
 /// A real EGL or GLX function by name, from libEGL.so.1 or libGLX.so.0/libGL.so.1; null if absent.
 void* realEglFunction(const char* name);

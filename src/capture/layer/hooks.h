@@ -9,9 +9,13 @@ namespace viper {
 namespace capture {
 
 /// On the functions that run when the sanitizer runtime itself looks up the functions it intercepts
-/// (dlsym(RTLD_NEXT, ...) from libasan's initialisation, before its shadow memory exists): no
-/// instrumentation there in the sanitized build of the layer (viper_intercept_asan).
-#define VIPER_NO_SANITIZE __attribute__((no_sanitize("address", "undefined")))
+/// (dlsym(RTLD_NEXT, ...) from libasan's or libtsan's initialisation, before its shadow memory and
+/// its thread state exist): no instrumentation there in the sanitized builds of the layer
+/// (viper_intercept_asan, scripts/sanitize.sh asan and tsan). Under ThreadSanitizer even a
+/// function's entry is instrumented (__tsan_func_entry, which crashes before the runtime is up), so
+/// "thread" is needed as well. These functions also call nothing a runtime intercepts (string
+/// functions, dlopen, a guarded static's __cxa_guard_acquire): the interceptor is not ready yet.
+#define VIPER_NO_SANITIZE __attribute__((no_sanitize("address", "undefined", "thread")))
 
 /// One exported wrapper: its name and address.
 struct HookEntry {

@@ -64,12 +64,29 @@ void glxDrawableSize(Display* dpy, GLXDrawable drawable, int& w, int& h) {
   w = static_cast<int>(gw), h = static_cast<int>(gh);
 }
 
-// The file name of the object holding `address` (null if none).
+// Plain loops instead of strrchr and strstr on the dlsym path: a sanitizer runtime intercepts
+// those, and its interceptors cannot run while it is still looking up what they forward to.
+VIPER_NO_SANITIZE const char* baseName(const char* path) {
+  const char* base = path;
+  for (const char* p = path; *p; ++p)
+    if (*p == '/') base = p + 1;
+  return base;
+}
+
+VIPER_NO_SANITIZE bool contains(const char* text, const char* part) {
+  for (; *text; ++text) {
+    size_t i = 0;
+    while (part[i] && text[i] == part[i]) ++i;
+    if (!part[i]) return true;
+  }
+  return false;
+}
+
+// The file name of the object holding `address` (null if none). (dladdr is not intercepted.)
 VIPER_NO_SANITIZE const char* objectName(const void* address) {
   Dl_info info;
   if (!dladdr(address, &info) || !info.dli_fname) return nullptr;
-  const char* base = std::strrchr(info.dli_fname, '/');
-  return base ? base + 1 : info.dli_fname;
+  return baseName(info.dli_fname);
 }
 
 // Whether `base` (a file name) contains one of `names`. (Plain arrays: no inline library code,
@@ -77,7 +94,7 @@ VIPER_NO_SANITIZE const char* objectName(const void* address) {
 template <size_t N>
 VIPER_NO_SANITIZE bool nameHasAny(const char* base, const char* const (&names)[N]) {
   for (size_t i = 0; i < N; ++i)
-    if (std::strstr(base, names[i])) return true;
+    if (contains(base, names[i])) return true;
   return false;
 }
 
@@ -89,15 +106,16 @@ VIPER_NO_SANITIZE bool calledFromDriver(const char* base) {
 }
 
 // A sanitizer runtime looks up the functions it intercepts with dlsym at its start, before it can
-// forward the dlopen that nextSymbol makes (it intercepts dlopen too) and before instrumented code
-// may run. `capture` keeps a preloaded runtime before this library, so what follows this library
-// is what follows the runtime: plain RTLD_NEXT from here is right.
+// forward a dlopen (it intercepts dlopen too) and before instrumented code may run: its calls go
+// to glibc's dlsym as they are (see dlsym below).
 VIPER_NO_SANITIZE bool calledFromSanitizer(const char* base) {
   static const char* const kRuntimes[] = {"libasan", "libubsan", "libtsan", "liblsan"};
   return base && nameHasAny(base, kRuntimes);
 }
 
 // RTLD_NEXT relative to the caller, not to this library: search the objects loaded after it.
+// (Where the exported dlsym cannot hand RTLD_NEXT to glibc with the caller's return address: not
+// x86-64.)
 VIPER_NO_SANITIZE void* nextSymbol(const void* caller, const char* name) {
   Dl_info info;
   link_map* map = nullptr;
@@ -246,10 +264,12 @@ VIPER_EXPORT GlxProc glXGetProcAddress(const unsigned char* name) {
 
 VIPER_EXPORT GlxProc glXGetProcAddressARB(const unsigned char* name) { return glXGetProcAddress(name); }
 
-VIPER_EXPORT VIPER_NO_SANITIZE void* dlsym(void* __restrict handle, const char* __restrict name) {
-  const void* caller = __builtin_return_address(0);
+namespace {
+
+// dlsym for everyone but a sanitizer runtime: wrappers for the GL names the interceptor hooks, and
+// RTLD_NEXT relative to the caller (`caller`: the return address of the call to dlsym).
+VIPER_NO_SANITIZE void* dlsymFrom(const void* caller, void* handle, const char* name) {
   const char* object = objectName(caller);
-  if (calledFromSanitizer(object)) return realDlsym(handle, name);
   if (handle == RTLD_NEXT) return nextSymbol(caller, name);
   if (!calledFromDriver(object)) {
     if (void* w = wrapperFor(name)) {
@@ -259,6 +279,84 @@ VIPER_EXPORT VIPER_NO_SANITIZE void* dlsym(void* __restrict handle, const char* 
   }
   return realDlsym(handle, name);
 }
+
+}  // namespace
+
+// Whether glibc's dlsym (in viper_real_dlsym) gets the call returning to `caller` unchanged: a
+// sanitizer runtime's, and every RTLD_NEXT (on x86-64, where the jump keeps the caller's return
+// address, which glibc reads to know whose "next" is meant).
+extern "C" {
+__attribute__((visibility("hidden"))) void* viper_real_dlsym = nullptr;
+}
+extern "C" __attribute__((visibility("hidden"), used)) VIPER_NO_SANITIZE bool viper_dlsym_forward(const void* caller,
+                                                                                              void* handle) {
+#if defined(__x86_64__)
+  const bool next = handle == RTLD_NEXT;
+#else
+  const bool next = false;
+  (void)handle;
+#endif
+  if (!next && !calledFromSanitizer(objectName(caller))) return false;
+  viper_real_dlsym = viper::capture::realDlsymFunction();
+  return viper_real_dlsym != nullptr;
+}
+
+#if defined(__x86_64__)
+// Reached from the exported dlsym by a jump, with the caller's return address in place.
+extern "C" __attribute__((visibility("hidden"), used)) VIPER_NO_SANITIZE void* viper_dlsym(void* handle,
+                                                                                        const char* name) {
+  return dlsymFrom(__builtin_return_address(0), handle, name);
+}
+
+// The exported dlsym. Calls with RTLD_NEXT, and a sanitizer runtime's calls (its own start looks
+// up, with dlsym(RTLD_NEXT, ...), every function it intercepts), jump on to glibc's dlsym with the
+// caller's return address where glibc looks for the caller, so RTLD_NEXT means the objects after
+// the caller, wherever it and this library come in the program's libraries, as if this library
+// did not export dlsym; and nothing instrumented or intercepted runs before a runtime is ready.
+// (A C++ function cannot promise that tail call; this library's own call to glibc would make
+// RTLD_NEXT the objects after this library, which are the runtime's own interceptors when the
+// runtime comes after it. Before, RTLD_NEXT was searched object by object with dlopen(RTLD_NOLOAD),
+// which runs initialisers again once exit() has run them down: a program's readlink looked up
+// during LeakSanitizer's check at exit (apitrace's glretrace) restarted libasan and hung.) Every
+// other call goes on to viper_dlsym, also with the caller's return address in place.
+asm(R"(
+  .text
+  .globl dlsym
+  .type dlsym, @function
+  .p2align 4
+dlsym:
+  .cfi_startproc
+  endbr64
+  pushq %rdi
+  .cfi_adjust_cfa_offset 8
+  pushq %rsi
+  .cfi_adjust_cfa_offset 8
+  subq $8, %rsp
+  .cfi_adjust_cfa_offset 8
+  movq 24(%rsp), %rdi
+  movq 16(%rsp), %rsi
+  call viper_dlsym_forward
+  addq $8, %rsp
+  .cfi_adjust_cfa_offset -8
+  popq %rsi
+  .cfi_adjust_cfa_offset -8
+  popq %rdi
+  .cfi_adjust_cfa_offset -8
+  testb %al, %al
+  jz viper_dlsym
+  jmp *viper_real_dlsym(%rip)
+  .cfi_endproc
+  .size dlsym, .-dlsym
+)");
+#else
+// (No trampoline: a runtime's RTLD_NEXT is searched from this library instead, which is right when
+// the runtime comes first in LD_PRELOAD, as `capture` sets it.)
+VIPER_EXPORT VIPER_NO_SANITIZE void* dlsym(void* __restrict handle, const char* __restrict name) {
+  const void* caller = __builtin_return_address(0);
+  if (viper_dlsym_forward(caller, handle)) return realDlsym(handle, name);
+  return dlsymFrom(caller, handle, name);
+}
+#endif
 
 namespace viper {
 namespace capture {

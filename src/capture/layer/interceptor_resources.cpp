@@ -428,6 +428,8 @@ void Interceptor::deleteTextures(GLsizei n, const GLuint* names) {
 uint64_t Interceptor::textureKey(GLenum target, GLuint unit) {
   auto bound = cx().unit_bindings.find((static_cast<uint64_t>(unit) << 32) | target);
   if (bound == cx().unit_bindings.end()) return 0;
+  // Under the lock: a loader thread may be uploading (storeTextureKey inserts, which may rehash).
+  std::lock_guard<std::mutex> lock(mutex_);
   auto it = texture_keys_.find(bound->second);
   return it == texture_keys_.end() ? 0 : it->second;
 }

@@ -36,6 +36,26 @@ namespace viper {
 class Flow {
  public:
   Flow(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh);
+  /// Shuts the inputs and the service down before any member goes (roscpp waits there for their
+  /// callbacks in flight): the members are destroyed in reverse order, step_, the log and the
+  /// publishers before the subscriptions that use them, and a nodelet is unloaded while the
+  /// manager's threads may still be in a callback (ThreadSanitizer saw ~FlowNodelet destroy
+  /// step_ with no order against the last FlowStep::process; docs/sanitizers.md).
+  ~Flow() {
+    draws_sub_.unsubscribe();
+    depth_sub_.unsubscribe();
+    draw_ids_sub_.unsubscribe();
+    primitive_ids_sub_.unsubscribe();
+    objects_sub_.unsubscribe();
+    mesh_store_sub_.shutdown();
+    correspondences_srv_.shutdown();
+    // Released under the lock its callbacks take: the order ThreadSanitizer can see (roscpp's own
+    // wait above is in code it does not see).
+    std::lock_guard<std::mutex> lock(mutex_);
+    step_.reset();
+  }
+  Flow(const Flow&) = delete;
+  Flow& operator=(const Flow&) = delete;
   /// Reads and validates the parameters, subscribes, advertises and offers the service. Returns
   /// false after a ROS_FATAL saying how to fix an impossible configuration.
   bool start();

@@ -10,6 +10,7 @@
 # scripts/setup.sh --test-programs); runs the game in its own Xvfb display unless --display :N.
 # The game runs with its forward pipeline (--disable-dynamic-lights) and without anisotropic
 # filtering (Mesa 22.3's llvmpipe hangs in one instanced draw with it, with or without capture).
+# Sound is off (ALSOFT_DRIVERS=null) unless ALSOFT_DRIVERS is set.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 track=candela_city; frames=60; width=1280; height=720; karts=4; seed=1; skip=0
@@ -75,7 +76,10 @@ race_s=$((frames / 2 + 120))
 echo "== capturing $frames frames of SuperTuxKart ($track, ${width}x${height}, $karts karts, seed $seed) -> $capture"
 rm -f "$capture"
 status=0
-HOME="$game_home" DISPLAY="$display" "$bin/capture" --output "$capture" \
+# Sound off (OpenAL Soft's null device), unless ALSOFT_DRIVERS says otherwise: nothing in a capture
+# needs it, and opening PulseAudio hangs the game with a sanitizer runtime preloaded (a sanitized
+# capture layer: docs/sanitizers.md).
+HOME="$game_home" DISPLAY="$display" ALSOFT_DRIVERS="${ALSOFT_DRIVERS:-null}" "$bin/capture" --output "$capture" \
   --profile "$here/config/profiles/supertuxkart.yaml" --condition day --frames "$frames" \
   --skip-frames "$skip" --start-on-scene -- \
   "$stk" --track="$track" --numkarts="$karts" --seed="$seed" --profile-time="$race_s" \

@@ -40,6 +40,12 @@ for path in sorted(glob.glob(sys.argv[1] + "/**/*.xml", recursive=True)):
         n += 1
         if c.find("failure") is not None or c.find("error") is not None:
             failed += 1; print(f"FAILED: {path}: {c.get('classname')}.{c.get('name')}", file=sys.stderr)
+            # Why, in a few lines: a CI log keeps its tail, and this is where the reason is.
+            lines = []
+            for f in list(c.iter("failure")) + list(c.iter("error")):
+                text = f.text or f.get("message") or ""
+                lines += [l for l in text.splitlines() if l.strip()][:12]
+            for l in lines[:40]: print(f"    {l[:300]}", file=sys.stderr)
         elif c.find("skipped") is None:
             passed += 1
     if n == 0 and root.get("failures", "0") + root.get("errors", "0") != "00":

@@ -102,9 +102,9 @@ FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version) {
   if (!code.empty() && code.back() != '\n') code += '\n';
   code += "uniform float " + std::string(kDrawIdUniform) + ";\n";
   code += "uniform float " + std::string(kAlphaTestUniform) + ";\n";
-  code += "void main() {\n  viper_original_main();\n  gl_FragData[" + std::to_string(kIdOutputLocation) +
-          "] = vec4(" + kDrawIdUniform + ", float(gl_PrimitiveID), 0.0, (" + kAlphaTestUniform +
-          " > 0.5 && gl_FragData[0].a < 0.5) ? 0.0 : 1.0);\n}\n";
+  code += "void main() {\n  viper_original_main();\n  gl_FragData[" + std::to_string(kIdOutputLocation) + "] = (" +
+          kAlphaTestUniform + " > 0.5 && gl_FragData[0].a < 0.5) ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(" + kDrawIdUniform +
+          ", float(gl_PrimitiveID), 0.0, 1.0);\n}\n";
   result.ok = true;
   result.legacy = true;
   result.source = code;
@@ -172,16 +172,19 @@ FragmentRewrite rewriteFragmentShader(const std::string& source) {
   }
   code = std::regex_replace(code, mainRegex(), "void viper_original_main()");
 
-  const std::string coverage =
-      color->components == 4
-          ? "(" + std::string(kAlphaTestUniform) + " > 0.5 && " + color->name + ".a < 0.5) ? 0.0 : 1.0"
-          : std::string("1.0");
+  // A blended fragment that is mostly transparent (alpha < 0.5) but writes depth: id 0 (no
+  // object), so that an id never names a surface other than the one the depth image holds.
+  const std::string id = "vec4(" + std::string(kDrawIdUniform) + ", float(gl_PrimitiveID), 0.0, 1.0)";
+  const std::string id_or_void =
+      color->components == 4 ? "(" + std::string(kAlphaTestUniform) + " > 0.5 && " + color->name +
+                                   ".a < 0.5) ? vec4(0.0, 0.0, 0.0, 1.0) : " + id
+                             : id;
   if (!code.empty() && code.back() != '\n') code += '\n';
   code += "uniform float " + std::string(kDrawIdUniform) + ";\n";
   code += "uniform float " + std::string(kAlphaTestUniform) + ";\n";
   code += "out vec4 " + std::string(kIdOutputName) + ";\n";
-  code += "void main() {\n  viper_original_main();\n  " + std::string(kIdOutputName) + " = vec4(" +
-          kDrawIdUniform + ", float(gl_PrimitiveID), 0.0, " + coverage + ");\n}\n";
+  code += "void main() {\n  viper_original_main();\n  " + std::string(kIdOutputName) + " = " + id_or_void +
+          ";\n}\n";
 
   result.ok = true;
   result.source = code;

@@ -314,6 +314,11 @@ void BoxCheck::add(const BoxCheck& o) {
   objects += o.objects;
   pixels += o.pixels;
   outside_relative.insert(outside_relative.end(), o.outside_relative.begin(), o.outside_relative.end());
+  if (o.worst_relative > worst_relative) {
+    worst_relative = o.worst_relative;
+    worst_frame = o.worst_frame, worst_draw = o.worst_draw, worst_col = o.worst_col, worst_row = o.worst_row;
+    worst_beyond = o.worst_beyond;
+  }
 }
 
 BoxCheck checkBoxes(const CaptureFrame& frame, const std::vector<FrameObject>& objects, const MeshRegistry& meshes) {
@@ -350,7 +355,13 @@ BoxCheck checkBoxes(const CaptureFrame& frame, const std::vector<FrameObject>& o
       const Eigen::Vector3d local = box.orientation.conjugate() * (world.head<3>() - box.center);
       const Eigen::Vector3d outside = (local.cwiseAbs() - box.size / 2).cwiseMax(0.0);
       ++c.pixels;
-      c.outside_relative.push_back(distance > 0.0 ? static_cast<float>(outside.norm() / distance) : 0.0f);
+      const float relative = distance > 0.0 ? static_cast<float>(outside.norm() / distance) : 0.0f;
+      c.outside_relative.push_back(relative);
+      if (relative > c.worst_relative) {
+        c.worst_relative = relative;
+        c.worst_frame = frame.number, c.worst_draw = id - 1, c.worst_col = col, c.worst_row = row;
+        c.worst_beyond = distance > (view[id - 1] * box.center.homogeneous()).head<3>().norm();
+      }
     }
   return c;
 }

@@ -13,6 +13,8 @@
 //   destroy      mid-frame (frame 2), the context and its surface are destroyed and made again,
 //                and the frame is drawn again from the start;
 //   exit_thread  a second thread calls exit() while the main thread is in the middle of a frame;
+//   blend_depth  an opaque background, then the objects blended (GL_SRC_ALPHA, ONE_MINUS) with
+//                depth writes on, each with a left part of alpha 0.3 (x < -0.4 of its quad);
 //   all          each of them in turn (a fresh context each).
 // Every GL call is followed by glGetError: an error the program did not cause ends it (exit 3).
 // In frame 1 it causes one itself (glEnable of a bad enum) and checks after the frame's calls
@@ -443,6 +445,43 @@ void exitThread(int frames, const std::string& out) {
   }
 }
 
+// Blended draws that write depth (alpha 0.3 in a part of each object): the capture's ids must
+// follow the depth there (id 0, not the background's id under the object's depth).
+void blendDepth(int frames, const std::string& out) {
+  Surface s = makeSurface(ss::kSize);
+  makeCurrent(s);
+  const GLuint background = program(kUniformVs, kColourFs);
+  const GLuint veiled = program(kLocalXVs, kVeiledFs);
+  const Quad q = makeQuad();
+  Eigen::Affine3f behind = Eigen::Affine3f::Identity();
+  behind.translate(Eigen::Vector3f(0.0f, 0.0f, ss::kBackgroundZ));
+  behind.scale(Eigen::Vector3f(0.95f, 0.95f, 1.0f));
+  for (int f = 0; f < frames; ++f) {
+    beginFrame(f);
+    GL(glUseProgram(background));
+    setMatrix(background, "u_world", behind.matrix());
+    setMatrix(background, "u_view", ss::view(f));
+    setMatrix(background, "u_proj", ss::projection());
+    GL(glUniform4f(GLV(glGetUniformLocation(background, "u_colour")), 0.5f, 0.5f, 0.5f, 1.0f));
+    GL(glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, nullptr));
+    GL(glUseProgram(veiled));
+    setMatrix(veiled, "u_view", ss::view(f));
+    setMatrix(veiled, "u_proj", ss::projection());
+    GL(glEnable(GL_BLEND));
+    GL(glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA));
+    GL(glDepthMask(GL_TRUE));
+    for (int k = 0; k < 4; ++k) {
+      setMatrix(veiled, "u_world", ss::world(k));
+      setColour(veiled, k);
+      GL(glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, nullptr));
+    }
+    GL(glDisable(GL_BLEND));
+    endFrame(s, f, frames, out);
+  }
+  (void)q;
+  destroy(s);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -459,7 +498,7 @@ int main(int argc, char** argv) {
   if (frames < 3) die("--frames must be at least 3");
   const std::vector<std::pair<std::string, std::function<void(int, const std::string&)>>> scenarios = {
       {"mdi", mdi},         {"persistent", persistent},     {"ubo_tbo", uboTbo},          {"binary", binary},
-      {"threads", threads}, {"destroy", destroyMidFrame}, {"exit_thread", exitThread}};
+      {"threads", threads}, {"destroy", destroyMidFrame}, {"exit_thread", exitThread}, {"blend_depth", blendDepth}};
   bool found = false;
   for (const auto& s : scenarios) {
     if (scenario != "all" && scenario != s.first) continue;

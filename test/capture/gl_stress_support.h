@@ -140,6 +140,21 @@ uniform vec4 u_colour;
 out vec4 o_colour;
 void main() { o_colour = u_colour; }
 )";
+// blend_depth: the quad's own x (-1..1) to the fragment, which is mostly transparent left of -0.4.
+inline const char* const kLocalXVs = R"(#version 330 core
+uniform mat4 u_world;
+uniform mat4 u_view;
+uniform mat4 u_proj;
+layout(location = 0) in vec3 a_pos;
+out float v_x;
+void main() { v_x = a_pos.x; gl_Position = u_proj * u_view * u_world * vec4(a_pos, 1.0); }
+)";
+inline const char* const kVeiledFs = R"(#version 330 core
+uniform vec4 u_colour;
+in float v_x;
+out vec4 o_colour;
+void main() { o_colour = vec4(u_colour.rgb, v_x < -0.4 ? 0.3 : 1.0); }
+)";
 inline const char* const kTexturedFs = R"(#version 330 core
 uniform sampler2D u_tex;
 out vec4 o_colour;

@@ -16,6 +16,7 @@ constexpr int kSize = 64;        ///< image width and height
 constexpr int kCell = kSize / 4;  ///< grid cell, pixels
 constexpr int kFrames = 4;        ///< frames each scenario swaps (exit_thread: at least)
 constexpr float kHalf = 0.2f;     ///< half size of an object's quad, normalised device units
+constexpr float kBackgroundZ = -1.0f;  ///< blend_depth: the background's plane, behind the objects (z = 0)
 
 /// Centre of cell k in normalised device coordinates, moved right by `shift`.
 inline Eigen::Vector2f cellCentre(int k, float shift = 0.0f) {

@@ -88,12 +88,14 @@ struct Expected {
   bool world_recorded = true;   ///< ubo_tbo: the world is in a texture buffer
   bool instanced_mesh = false;  ///< mdi: the mesh is the quad scaled, the world a translation
   bool moving_vertices = false; ///< persistent, threads: vertices at their place, world identity
+  int background = 0;           ///< blend_depth: draws before the objects (a background quad)
 };
 Expected expected(const std::string& scenario) {
   Expected e;
   if (scenario == "mdi") e.objects = 8, e.instanced_mesh = true;
   if (scenario == "ubo_tbo") e.world_recorded = false;
   if (scenario == "persistent" || scenario == "threads") e.moving_vertices = true;
+  if (scenario == "blend_depth") e.background = 1;
   return e;
 }
 float shiftOf(const Expected& e, uint64_t frame) { return e.moving_vertices ? ss::frameShift(frame) : 0.0f; }
@@ -109,8 +111,8 @@ Eigen::Matrix4f meshToWorld(const Expected& e, int k) {
 }
 
 void checkDraw(const Expected& e, const CaptureFrame& f, const DrawRecord& d, const MeshRegistry& meshes) {
-  const int k = static_cast<int>(d.index);
-  SCOPED_TRACE("draw " + std::to_string(k));
+  const int k = static_cast<int>(d.index) - e.background;  // the object
+  SCOPED_TRACE("draw " + std::to_string(d.index));
   uint32_t owned = 0;
   for (uint32_t id : f.draw_ids) owned += id == d.index + 1;
   EXPECT_EQ(d.visible_pixels, owned);
@@ -143,6 +145,25 @@ void checkDraw(const Expected& e, const CaptureFrame& f, const DrawRecord& d, co
   }
 }
 
+// blend_depth: the background (draw 0) holds its own plane's depth wherever it has the id; the
+// objects' mostly transparent parts (blended, depth written) hold the object's depth and id 0.
+void checkIdsFollowDepth(const CaptureFrame& f) {
+  ASSERT_EQ(f.depth_window.size(), size_t(ss::kSize) * ss::kSize);
+  const float background_depth = f.depth_window[size_t(ss::kSize - 4) * ss::kSize + ss::kSize / 2];  // below the objects
+  ASSERT_EQ(f.draw_ids[size_t(ss::kSize - 4) * ss::kSize + ss::kSize / 2], 1u);
+  size_t background_nearer = 0, veiled = 0;
+  for (size_t px = 0; px < f.draw_ids.size(); ++px) {
+    const bool nearer = f.depth_window[px] < background_depth - 1e-4f && f.depth_window[px] > 0.0f;
+    if (f.draw_ids[px] == 1 && std::abs(f.depth_window[px] - background_depth) > 1e-4f) ++background_nearer;
+    if (f.draw_ids[px] == 0 && nearer) ++veiled;
+  }
+  EXPECT_EQ(background_nearer, 0u) << "pixels with the background's id and another surface's depth";
+  // Each object's transparent part: 0.3 of its width over its height (a quad is 2 kHalf * 32 px
+  // wide and high), at least half of that in pixel centres.
+  const double part = 0.3 * (2 * ss::kHalf * 32) * (2 * ss::kHalf * 32);
+  EXPECT_GE(veiled, size_t(0.5 * 4 * part)) << "transparent parts with depth and id 0";
+}
+
 void checkCapture(const std::string& scenario, bool async, const Result& plain, const Result& r) {
   EXPECT_EQ(r.rc, plain.rc) << r.log;
   EXPECT_EQ(r.read_error, "") << r.log;
@@ -165,9 +186,11 @@ void checkCapture(const std::string& scenario, bool async, const Result& plain, 
     SCOPED_TRACE("frame " + std::to_string(f.number));
     EXPECT_EQ(viper::validateFrame(f), "");
     ASSERT_EQ(f.width, uint32_t(ss::kSize));
-    EXPECT_EQ(f.draws.size(), size_t(e.objects));
+    EXPECT_EQ(f.draws.size(), size_t(e.objects + e.background));
     EXPECT_EQ(f.unrecorded_draws, 0u);
-    for (const DrawRecord& d : f.draws) checkDraw(e, f, d, r.meshes);
+    for (const DrawRecord& d : f.draws)
+      if (static_cast<int>(d.index) >= e.background) checkDraw(e, f, d, r.meshes);
+    if (scenario == "blend_depth") checkIdsFollowDepth(f);
     // The stream's colour is the program's image (its read-back is bottom row first, RGBA).
     if (f.number == ss::kFrames - 1) {
       size_t colour_diffs = 0;
@@ -219,6 +242,6 @@ TEST(SanitizedInterceptor, StartsInAProgramWithoutGl) {
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, Stress,
                          ::testing::Values("mdi", "persistent", "ubo_tbo", "binary", "threads", "destroy",
-                                           "exit_thread"));
+                                           "exit_thread", "blend_depth"));
 
 }  // namespace

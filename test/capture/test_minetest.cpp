@@ -27,17 +27,22 @@ const char* kGame = "/usr/games/minetest";
 
 struct MinetestRun {
   int rc = -1;
-  std::string log;
+  std::string dir, log;
   std::vector<CaptureFrame> frames;
   viper::MeshRegistry meshes;
 };
 
-const MinetestRun& runMinetest() {
+MinetestRun& state() {
   static MinetestRun r;
+  return r;
+}
+
+const MinetestRun& runMinetest() {
+  MinetestRun& r = state();
   static bool done = false;
   if (done) return r;
   done = true;
-  const std::string d = viper::test::tempDir("viper_minetest_");
+  const std::string d = r.dir = viper::test::tempDir("viper_minetest_");
   // A fresh HOME and configuration, and a new world of Minetest Game with a fixed map seed. Clouds
   // off: they are drawn without shaders (fixed function), so they would hold depth but no ids.
   fs::create_directories(d + "/home");
@@ -52,12 +57,24 @@ const MinetestRun& runMinetest() {
                           " --skip-frames " + std::to_string(kSkip) + " -- " + kGame + " --go --world " + d +
                           "/world --name viper --password x --config " + d + "/minetest.conf --random-input > " +
                           r.log + " 2>&1");
-  if (r.rc == 0) {
-    viper::test::readCapture(d + "/mt.vcap", r.frames, r.meshes);
-    fs::remove_all(d);
-  }
+  if (r.rc == 0) viper::test::readCapture(d + "/mt.vcap", r.frames, r.meshes);
   return r;
 }
+
+// The game's run (capture, log, home) is removed when every test passed, and kept to be studied
+// (tools/capture_info, capture_sheet) when one failed: the random walk is not the same twice.
+class KeepFailedRun : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    const std::string& d = state().dir;  // empty when the game did not run
+    if (d.empty()) return;
+    if (::testing::UnitTest::GetInstance()->Passed())
+      fs::remove_all(d);
+    else
+      std::printf("minetest's run (capture, log) is kept in %s\n", d.c_str());
+  }
+};
+const auto* const keep_failed_run = ::testing::AddGlobalTestEnvironment(new KeepFailedRun);
 
 // In a sanitized build of the package (scripts/sanitize.sh) `capture` preloads the sanitizer's
 // runtime into the game, and Debian's minetest then hangs in glibc's locale lock (setlocale at its
@@ -117,6 +134,16 @@ TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
               static_cast<unsigned long long>(boxes.objects), static_cast<unsigned long long>(boxes.pixels),
               viper::quantile(boxes.outside_relative, 0.5), viper::quantile(boxes.outside_relative, 0.99),
               viper::quantile(boxes.outside_relative, 0.999), viper::quantile(boxes.outside_relative, 1.0));
+  if (boxes.worst_relative > 0.0f) {
+    const viper::DrawRecord* worst = nullptr;
+    for (const CaptureFrame& f : r.frames)
+      if (f.number == boxes.worst_frame && boxes.worst_draw < f.draws.size()) worst = &f.draws[boxes.worst_draw];
+    std::printf("boxes: farthest outside: frame %llu, draw %u (program %016llx, mesh %016llx, %u pixels), pixel (%u, %u), "
+                "%s the box's centre\n",
+                static_cast<unsigned long long>(boxes.worst_frame), boxes.worst_draw, worst ? static_cast<unsigned long long>(worst->program_key) : 0ull,
+                worst ? static_cast<unsigned long long>(worst->mesh_key) : 0ull, worst ? worst->visible_pixels : 0u,
+                boxes.worst_col, boxes.worst_row, boxes.worst_beyond ? "beyond" : "before");
+  }
   EXPECT_GE(draws_with_pixels, size_t(kFrames) * 5);
   // Every object's pixels (their depth) lie in its box (from its meshes): up to depth precision.
   EXPECT_GE(boxes.pixels, all.placed_pixels * 9 / 10);

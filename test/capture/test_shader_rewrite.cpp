@@ -72,8 +72,9 @@ TEST(ShaderRewrite, LayoutOutputAndSpacedMain) {
   EXPECT_TRUE(r.explicit_location);
   EXPECT_EQ(countOf(r.source, "void viper_original_main()"), 1);
   EXPECT_EQ(countOf(r.source, "void main()"), 1);
-  EXPECT_NE(r.source.find("fragColor.a < 0.5"), std::string::npos);
-  EXPECT_NE(r.source.find("gl_PrimitiveID"), std::string::npos);
+  EXPECT_EQ(countOf(r.source, "viper_id_out = (viper_alpha_test > 0.5 && fragColor.a < 0.5) ? vec4(0.0, 0.0, 0.0, "
+                              "1.0) : vec4(viper_draw_id, float(gl_PrimitiveID), 0.0, 1.0);"),
+            1);
 }
 
 TEST(ShaderRewrite, PlainOutputWithOutParameterHelper) {
@@ -125,7 +126,10 @@ TEST(ShaderRewrite, LegacyGlslWritesItsColorAndTheIdsThroughFragData) {
   EXPECT_TRUE(r.legacy);
   EXPECT_EQ(r.source.find("gl_FragColor"), std::string::npos);
   EXPECT_EQ(countOf(r.source, "gl_FragData[0] = col;"), 1);
-  EXPECT_EQ(countOf(r.source, "gl_FragData[7] = vec4(viper_draw_id, float(gl_PrimitiveID)"), 1);
+  // The id where the fragment is mostly opaque, id 0 where a blended one is mostly transparent.
+  EXPECT_EQ(countOf(r.source, "gl_FragData[7] = (viper_alpha_test > 0.5 && gl_FragData[0].a < 0.5) ? "
+                              "vec4(0.0, 0.0, 0.0, 1.0) : vec4(viper_draw_id, float(gl_PrimitiveID), 0.0, 1.0);"),
+            1);
   // The extension directive right after #version, which stays the first directive.
   EXPECT_LT(r.source.find("#version 120"), r.source.find("#extension GL_EXT_gpu_shader4 : require"));
   EXPECT_LT(r.source.find("#extension"), r.source.find("#define"));
@@ -134,11 +138,12 @@ TEST(ShaderRewrite, LegacyGlslWritesItsColorAndTheIdsThroughFragData) {
   EXPECT_EQ(no_version.source.rfind("#extension GL_EXT_gpu_shader4 : require\n", 0), 0u);
 }
 
-TEST(ShaderRewrite, Vec3OutputGetsFullCoverage) {
+TEST(ShaderRewrite, Vec3OutputAlwaysWritesItsId) {
   const auto r = rewriteFragmentShader("#version 330\nout vec3 c;\nvoid main() { c = vec3(1.0); }\n");
   ASSERT_TRUE(r.ok) << r.reason;
   EXPECT_EQ(r.color_components, 3);
   EXPECT_EQ(r.source.find("c.a"), std::string::npos);
+  EXPECT_EQ(countOf(r.source, "viper_id_out = vec4(viper_draw_id, float(gl_PrimitiveID), 0.0, 1.0);"), 1);
 }
 
 TEST(ShaderRewrite, DetectsBoneArrays) {

@@ -5,7 +5,7 @@
 
 namespace viper {
 
-/// Name of the fragment output the rewritten shader adds (draw id, primitive id, 0, coverage).
+/// Name of the fragment output the rewritten shader adds (draw id, primitive id, 0, 1).
 constexpr const char* kIdOutputName = "viper_id_out";
 /// Fragment output location (and so draw buffer index) of kIdOutputName: the last of the eight
 /// draw buffers every GL 3.0 implementation has, so that a program's own outputs (G-buffers write
@@ -37,8 +37,10 @@ struct FragmentRewrite {
 std::string stripGlslComments(const std::string& source);
 
 /// Rewrites a fragment shader so that it also writes
-/// `viper_id_out = vec4(viper_draw_id, gl_PrimitiveID, 0, coverage)`, where coverage is 0 when
-/// `viper_alpha_test` is set and the color's alpha is below 0.5. The original `main` is renamed
+/// `viper_id_out = vec4(viper_draw_id, gl_PrimitiveID, 0, 1)`, or `vec4(0, 0, 0, 1)` (no object)
+/// when `viper_alpha_test` is set and the color's alpha is below 0.5: a mostly transparent fragment
+/// of a blended draw that writes depth (blended draws that write none write no ids at all), so that
+/// an id never names a surface other than the one the depth holds. The original `main` is renamed
 /// `viper_original_main` and called from a new `main`. Comments are removed. The program's color
 /// is its only output, or, with several outputs (multiple render targets), the one at location 0;
 /// several outputs must all have explicit locations, none at kIdOutputLocation. Shaders that are

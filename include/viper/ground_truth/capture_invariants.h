@@ -89,6 +89,13 @@ struct BoxCheck {
   /// Per such pixel: how far its point lies outside its object's box, relative to the point's
   /// distance from the camera (0 inside).
   std::vector<float> outside_relative;
+  /// The pixel farthest outside its box (worst_relative 0: none outside): where it is, whose draw,
+  /// and whether its point lies beyond the box's centre as seen from the camera (depth from a
+  /// surface behind the object: the object wrote ids where it wrote no depth).
+  float worst_relative = 0.0f;
+  uint64_t worst_frame = 0;
+  uint32_t worst_draw = 0, worst_col = 0, worst_row = 0;
+  bool worst_beyond = false;
   void add(const BoxCheck& other);
 };
 

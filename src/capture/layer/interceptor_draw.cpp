@@ -221,26 +221,22 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
     return false;
   }
   if (cx().blend_dirty) {
-    // For blended draws our id buffer keeps what is behind fragments whose coverage (alpha) is
-    // 0; opaque draws write ids unblended (blending float targets is slow on software drivers).
-    if (cx().blend0_enabled) {
-      g.Enablei(GL_BLEND, kIdDrawBuffer);
-      g.BlendFuncSeparatei(kIdDrawBuffer, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ZERO);
-      g.BlendEquationi(kIdDrawBuffer, GL_FUNC_ADD);
-    } else {
-      g.Disablei(GL_BLEND, kIdDrawBuffer);
-    }
+    // Ids are written unblended, whatever the program's blending (glEnable(GL_BLEND) enables it
+    // for every draw buffer, ours included): a blended id would be no id at all.
+    g.Disablei(GL_BLEND, kIdDrawBuffer);
     cx().blend_dirty = false;
   }
   const uint32_t index = static_cast<uint32_t>(cx().frame.draws.size());
   if (p->rewritten) {
-    // A blended draw that writes no depth is an effect (rain, glare, smoke): it never takes a
-    // pixel's id whatever its alpha, so an id always names the surface the depth image holds.
+    // An id always names the surface the depth image holds. A blended draw that writes no depth
+    // (its mask off, or no depth test) is an effect (rain, glare, smoke): it takes no pixel's id
+    // whatever its alpha. One that writes depth writes its id where its fragments are mostly
+    // opaque, and id 0 (no object) where they are mostly transparent (shader_rewrite.h).
     bool write_ids = true;
     if (cx().blend0_enabled) {
       GLboolean depth_write = GL_TRUE;
       g.GetBooleanv(GL_DEPTH_WRITEMASK, &depth_write);
-      write_ids = depth_write == GL_TRUE;
+      write_ids = depth_write == GL_TRUE && g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE;
     }
     if (write_ids != cx().ids_write) {
       const GLboolean m = write_ids ? GL_TRUE : GL_FALSE;

@@ -15,6 +15,7 @@ namespace engine_scene {
 constexpr int kInstances = 3;
 /// The 2D overlay quad (HUD): its centre and half size in normalised device coordinates.
 constexpr float kOverlayX = -0.75f, kOverlayY = -0.75f, kOverlayHalf = 0.15f;
+constexpr float kParticleHalf = 0.04f;  ///< gl_legacy_program: half size of its "particle", NDC
 
 inline Eigen::Vector3f origin(int instance, uint64_t frame) {
   return Eigen::Vector3f(-1.25f + 1.25f * instance, 0.1f * static_cast<float>(frame % 5), -0.2f * instance);

@@ -12,6 +12,8 @@
 // quad without any program (fixed function), as Minetest draws its wielded item and HUD.
 // And what the layer cannot record, which its capture must report (DrawRecord::gaps): before the
 // world, a "sky" quad without any program (top right; not recorded at all); after the quads, a
+// small "particle" without any program that writes depth in front of quad 0 (not recorded; its
+// pixels must lose quad 0's id, since their depth is the particle's); a
 // line loop with the same program (below them; no mesh) and a quad whose GLSL 1.30 fragment shader
 // declares its own output (top left; not rewritten, so no ids; its profile entry names a world
 // matrix the program does not have).
@@ -167,6 +169,25 @@ int main(int argc, char** argv) {
     glScalef(0.3f, 0.3f, 0.3f);
     glVertexPointer(3, GL_FLOAT, sizeof(Vertex), quad[0].pos);
     glDrawArrays(GL_LINE_LOOP, 0, 4);
+    // A "particle": fixed function, writing depth, in front of quad 0 (around its point (0.5, 0.5)),
+    // as Minetest draws the particles of a node being dug.
+    glUseProgram(0);
+    const Eigen::Vector4f c = proj * view * es::world(0, f) * Eigen::Vector4f(0.5f, 0.5f, 0.0f, 1.0f);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glTranslatef(c.x() / c.w(), c.y() / c.w(), -0.9f);
+    glScalef(es::kParticleHalf, es::kParticleHalf, 1.0f);
+    glColor4f(0.9f, 0.5f, 0.1f, 1.0f);
+    glVertexPointer(3, GL_FLOAT, sizeof(Vertex), quad[0].pos);
+    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(proj.data());
+    glMatrixMode(GL_MODELVIEW);
+    glLoadMatrixf(view.data());
+    glTranslatef(0.0f, -1.3f, -1.0f);
+    glScalef(0.3f, 0.3f, 0.3f);
     // The quad whose shader the layer does not rewrite.
     glUseProgram(refused);
     glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices);

@@ -118,7 +118,7 @@ TEST(CaptureLegacy, MatrixStackAndClientArraysGiveEveryDrawItsMatricesAndMesh) {
     // What the layer could not record, reported: the sky not recorded at all, the line loop without
     // a mesh (with matrices and ids), the refused quad without ids and without its world.
     for (int k = 0; k < es::kInstances; ++k) EXPECT_EQ(f.draws[k].gaps, 0u) << "quad " << k;
-    EXPECT_EQ(f.unrecorded_draws, 1u) << "the sky (fixed function)";
+    EXPECT_EQ(f.unrecorded_draws, 2u) << "the sky and the particle (fixed function)";
     EXPECT_EQ(f.draws[3].gaps, viper::kGapNoMesh);
     EXPECT_EQ(f.draws[3].primitive_mode, 2u) << "GL_LINE_LOOP";
     EXPECT_GT(f.draws[3].visible_pixels, 0u);
@@ -129,6 +129,15 @@ TEST(CaptureLegacy, MatrixStackAndClientArraysGiveEveryDrawItsMatricesAndMesh) {
       const size_t i = size_t(y) * kWidth + x;
       EXPECT_EQ(f.draw_ids[i], 0u) << "at " << x << "," << y;
       EXPECT_LT(f.depth_window[i], 1.0f) << "drawn there, with depth";
+    }
+
+    // The particle in front of quad 0: its depth (fixed function wrote it) and so no id, not quad
+    // 0's. (Also checked by the reprojection below, whose depth bound those pixels would break.)
+    {
+      const auto [px, py] = pixelOf(0, f.number, 0.5f, 0.5f);
+      const size_t i = size_t(py) * kWidth + px;
+      EXPECT_EQ(f.draw_ids[i], 0u) << "the particle at " << px << "," << py;
+      EXPECT_NEAR(f.depth_window[i], 0.05f, 1e-3f) << "the particle's depth (NDC z -0.9)";
     }
 
     // The hand's and the HUD's pixels: no id of theirs; the capture's color and depth are the

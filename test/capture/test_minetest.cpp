@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -62,13 +63,14 @@ const MinetestRun& runMinetest() {
 }
 
 // The game's run (capture, log, home) is removed when every test passed, and kept to be studied
-// (tools/capture_info, capture_sheet) when one failed: the random walk is not the same twice.
+// (tools/capture_info, capture_sheet) when one failed, or always with VIPER_KEEP_RUN set: the
+// random walk is not the same twice.
 class KeepFailedRun : public ::testing::Environment {
  public:
   void TearDown() override {
     const std::string& d = state().dir;  // empty when the game did not run
     if (d.empty()) return;
-    if (::testing::UnitTest::GetInstance()->Passed())
+    if (::testing::UnitTest::GetInstance()->Passed() && !std::getenv("VIPER_KEEP_RUN"))
       fs::remove_all(d);
     else
       std::printf("minetest's run (capture, log) is kept in %s\n", d.c_str());

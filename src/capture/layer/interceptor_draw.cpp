@@ -210,11 +210,33 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   ProgramInfo* p = currentProgram();
   const bool scene_ended = !scene_fbo && t->sceneEnded();
   if (!p && !scene_ended) ++cx().frame.unrecorded_draws;  // fixed function: nothing to rewrite or read
-  // Fixed-function draws (no program) write their color to every draw buffer, ours included;
-  // after the scene ended (endScene) nothing is recorded: ids off for both.
-  t->wantIds(scene_fbo, p && !scene_ended && p->rewritten);
-  if (!p || scene_ended) return false;
   const RealGl& g = gl();
+  // Fixed-function draws (no program) write their color to every draw buffer, ours included. One
+  // that writes depth into the scene (Minetest's particles and clouds) clears the ids it covers to
+  // 0, through blending (ZERO, ZERO) on our buffer alone, so that no pixel keeps the id of what lies
+  // behind under its depth; one that writes no depth leaves them. After the scene ended (endScene)
+  // nothing is recorded: ids off.
+  bool clears_ids = false;
+  if (!p && !scene_ended) {
+    GLboolean depth_write = GL_FALSE;
+    g.GetBooleanv(GL_DEPTH_WRITEMASK, &depth_write);
+    // (Per-buffer blend functions are GL 4.0: before it, such draws leave the ids as they are.)
+    clears_ids = depth_write == GL_TRUE && g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE && g.BlendFuncSeparatei &&
+                 g.BlendEquationi;
+  }
+  t->wantIds(scene_fbo, (p && !scene_ended && p->rewritten) || clears_ids);
+  if (clears_ids) {
+    g.Enablei(GL_BLEND, kIdDrawBuffer);
+    g.BlendFuncSeparatei(kIdDrawBuffer, GL_ZERO, GL_ZERO, GL_ZERO, GL_ZERO);
+    g.BlendEquationi(kIdDrawBuffer, GL_FUNC_ADD);
+    if (!cx().ids_write) {
+      g.ColorMaski(kIdDrawBuffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      cx().ids_write = true;
+    }
+    cx().blend_dirty = true;  // the next draw with a program writes its ids unblended again
+    return false;
+  }
+  if (!p || scene_ended) return false;
   if (scene_fbo) ++scene_fbo->draws;
   if (p->overlay) {  // the 2D overlay: ids off (above), not recorded, not in the frame's color
     if (!scene_fbo) t->snapshotSceneColor();

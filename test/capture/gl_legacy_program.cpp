@@ -33,6 +33,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,14 @@ const char* kRefusedFs = R"(#version 130
 out vec4 frag;
 void main() { frag = vec4(0.2, 0.9, 0.3, 1.0); }
 )";
+
+// GL_PROJECTION and GL_MODELVIEW loaded (the model-view only if given), GL_MODELVIEW current after.
+void loadMatrices(const Eigen::Matrix4f& projection, const std::optional<Eigen::Matrix4f>& modelview) {
+  glMatrixMode(GL_PROJECTION);
+  glLoadMatrixf(projection.data());
+  glMatrixMode(GL_MODELVIEW);
+  if (modelview) glLoadMatrixf(modelview->data());
+}
 
 }  // namespace
 
@@ -122,18 +131,13 @@ int main(int argc, char** argv) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     // The sky: fixed function, identity matrices, top right.
     glUseProgram(0);
-    glMatrixMode(GL_PROJECTION);
-    glLoadIdentity();
-    glMatrixMode(GL_MODELVIEW);
-    glLoadIdentity();
+    loadMatrices(Eigen::Matrix4f::Identity(), Eigen::Matrix4f::Identity());
     glTranslatef(0.85f, 0.8f, 0.0f);
     glScalef(0.08f, 0.08f, 1.0f);
     glColor4f(0.5f, 0.7f, 1.0f, 1.0f);
     glVertexPointer(3, GL_FLOAT, sizeof(Vertex), quad[0].pos);
     glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices);
-    glMatrixMode(GL_PROJECTION);
-    glLoadMatrixf(proj.data());
-    glMatrixMode(GL_MODELVIEW);
+    loadMatrices(proj, std::nullopt);
     glUseProgram(program);
     for (int k = 0; k < es::kInstances; ++k) {
       glUniform4f(color, 0.3f + 0.3f * k, 0.5f, 0.8f - 0.3f * k, 1.0f);
@@ -173,19 +177,13 @@ int main(int argc, char** argv) {
     // as Minetest draws the particles of a node being dug.
     glUseProgram(0);
     const Eigen::Vector4f c = proj * view * es::world(0, f) * Eigen::Vector4f(0.5f, 0.5f, 0.0f, 1.0f);
-    glMatrixMode(GL_PROJECTION);
-    glLoadIdentity();
-    glMatrixMode(GL_MODELVIEW);
-    glLoadIdentity();
+    loadMatrices(Eigen::Matrix4f::Identity(), Eigen::Matrix4f::Identity());
     glTranslatef(c.x() / c.w(), c.y() / c.w(), -0.9f);
     glScalef(es::kParticleHalf, es::kParticleHalf, 1.0f);
     glColor4f(0.9f, 0.5f, 0.1f, 1.0f);
     glVertexPointer(3, GL_FLOAT, sizeof(Vertex), quad[0].pos);
     glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices);
-    glMatrixMode(GL_PROJECTION);
-    glLoadMatrixf(proj.data());
-    glMatrixMode(GL_MODELVIEW);
-    glLoadMatrixf(view.data());
+    loadMatrices(proj, view);
     glTranslatef(0.0f, -1.3f, -1.0f);
     glScalef(0.3f, 0.3f, 0.3f);
     // The quad whose shader the layer does not rewrite.
@@ -203,10 +201,7 @@ int main(int argc, char** argv) {
     // The HUD: fixed function, no program (its color goes to every draw buffer).
     glUseProgram(0);
     glDisable(GL_DEPTH_TEST);
-    glMatrixMode(GL_PROJECTION);
-    glLoadIdentity();
-    glMatrixMode(GL_MODELVIEW);
-    glLoadIdentity();
+    loadMatrices(Eigen::Matrix4f::Identity(), Eigen::Matrix4f::Identity());
     glColor4f(1.0f, 0.9f, 0.1f, 1.0f);
     glTranslatef(es::kOverlayX, es::kOverlayY, 0.0f);
     glScalef(es::kOverlayHalf, es::kOverlayHalf, 1.0f);

@@ -8,6 +8,7 @@
 #include "viper/ground_truth/flow.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -33,6 +34,11 @@ struct FlowSequenceCheck {
   FlowConsistencyCheck flow;
   StaticFlowCheck statics;  ///< forward flow of static surfaces against the camera's own motion
   std::string problem;
+  /// Id pixels of a whose draw is associated with a draw of b (the same mesh, drawn again), and of
+  /// those the ones with a forward flow: flow can only be defined where a draw has a counterpart
+  /// (a game that rebuilds a mesh, as Minetest does with a map block whose nodes or light change,
+  /// leaves its pixels without one for that pair).
+  uint64_t associated_pixels = 0, associated_with_flow = 0;
   /// Share of checked pixels whose forward-backward distance is at most 0.5 px.
   double withinHalfPixel() const {
     const auto& d = flow.forward_backward_px;
@@ -40,6 +46,9 @@ struct FlowSequenceCheck {
            static_cast<double>(std::max<size_t>(d.size(), 1));
   }
   void print() const {
+    std::printf("flow: %.1f%% of id pixels have a draw in the next frame, flow defined on %.2f%% of those\n",
+                100.0 * associated_pixels / std::max<uint64_t>(flow.id_pixels, 1),
+                100.0 * associated_with_flow / std::max<uint64_t>(associated_pixels, 1));
     std::printf("flow: defined on %.1f%% of id pixels, forward-backward median %.2e p99 %.2e px (<= 0.5 px: %.2f%%), "
                 "photometric %.2f vs %.2f without motion\n",
                 100.0 * flow.flow_pixels / std::max<uint64_t>(flow.id_pixels, 1), quantile(flow.forward_backward_px, 0.5),
@@ -64,6 +73,12 @@ inline FlowSequenceCheck checkFlowSequence(const std::vector<CaptureFrame>& fram
     }
     const std::vector<int32_t> a_to_b = associateDraws(a, none_a, b, none_b);
     const FlowField fwd = computeFlow(a, b, a_to_b, depthMetres(b, &*cb), meshes);
+    for (size_t p = 0; p < a.draw_ids.size() && 2 * p + 1 < fwd.uv.size(); ++p) {
+      const uint32_t id = a.draw_ids[p];
+      if (id == 0 || id > a_to_b.size() || a_to_b[id - 1] < 0) continue;
+      ++c.associated_pixels;
+      c.associated_with_flow += !std::isnan(fwd.uv[2 * p]);
+    }
     const FlowField bwd = computeFlow(b, a, associateDraws(b, none_b, a, none_a), depthMetres(a, &*ca), meshes);
     c.flow.add(checkFlowPair(a, b, fwd, bwd));
     c.statics.add(checkStaticFlow(a, b, a_to_b, fwd));

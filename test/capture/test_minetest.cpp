@@ -167,13 +167,21 @@ TEST(Minetest, FlowIsConsistentBothWaysAndWithTheNextImage) {
   ASSERT_EQ(c.problem, "");
   c.print();
   const viper::FlowConsistencyCheck& flow = c.flow;
-  EXPECT_GE(flow.flow_pixels, 0.7 * flow.id_pixels);
+  // Flow wherever a pixel's draw is drawn again in the next frame. Minetest rebuilds a map block's
+  // mesh when its nodes or their light change (the random walk digs): those pixels have no flow
+  // for that pair. Over 63 runs flow covered 62-100 % of the id pixels (the 62 %: a block filling
+  // the view rebuilt in 13 of 29 pairs).
+  EXPECT_GE(c.associated_with_flow, 0.99 * c.associated_pixels);
+  EXPECT_GE(flow.flow_pixels, 0.5 * flow.id_pixels);
   EXPECT_GE(flow.forward_backward_px.size(), 100000u);
   EXPECT_LE(viper::quantile(flow.forward_backward_px, 0.5), 0.01f);
   // The random walk turns the camera fast: more pixels than in SuperTuxKart land next to an edge,
   // where the backward flow is sampled from the neighbouring surface.
   EXPECT_GE(c.withinHalfPixel(), 0.97);  // 98.3-100 % over seven runs
-  EXPECT_LT(flow.photometricFlow(), 0.5 * flow.photometricZero());
+  // The next image warped back by the flow is closer than the next image as it is: 0.13-0.38 of
+  // the no-motion error over 63 runs, 0.51 once (the camera close above fine-grained sand, moving
+  // slowly: warping's interpolation error about 8 levels against 11-33 without motion).
+  EXPECT_LT(flow.photometricFlow(), 0.7 * flow.photometricZero());
   // Static surfaces (the same mesh at the same place in both frames) move as the camera does.
   EXPECT_GE(c.statics.static_pixels, flow.id_pixels / 2);
   EXPECT_LE(viper::quantile(c.statics.error_px, 0.5), 1e-3f);

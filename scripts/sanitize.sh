@@ -140,12 +140,12 @@ case "$kind" in
   tsan) runtime=$(gcc -print-file-name=libtsan.so) ;;
 esac
 mkdir -p "$devel/lib/nodelet"
-# LeakSanitizer's check at exit does not scan thread-local storage in the manager (use_tls=0): a
-# manager that dlopens enough libraries with thread-local variables has glibc move its DTV
-# (_dl_resize_dtv), and the runtime (GCC 12's) then scans a stale entry of it and crashes
-# ("Tracer caught signal 11", "DTLS 20 at 0x000000008922-0x001000009a24": supertuxkart_live's
-# manager, twice of twice; most likely a stale entry after the move). Without that scan, glibc's loader and boost's thread-specific data kept
-# through it look leaked: named in sanitize_lsan.supp.
+# LeakSanitizer's check at exit does not scan thread-local storage in the manager (use_tls=0): the
+# runtime (GCC 12's) crashed scanning it in supertuxkart_live's manager, twice of twice ("Tracer
+# caught signal 11" after "DTLS 20 at 0x000000008922-0x001000009a24"), most likely a stale entry
+# after glibc moved the DTV (_dl_resize_dtv) for the many libraries with thread-local variables
+# the manager dlopens. Without that scan, glibc's loader and boost's and glib's thread-specific
+# data look leaked: named in sanitize_lsan.supp.
 cat > "$devel/lib/nodelet/nodelet" <<WRAPPER
 #!/bin/sh
 # Written by scripts/sanitize.sh: Debian's nodelet with the $kind runtime preloaded.

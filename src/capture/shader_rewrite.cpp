@@ -69,6 +69,16 @@ const std::regex& mainRegex() {
   return kMain;
 }
 
+// What the new main writes to the id output: (draw id, primitive id, 0, 1); with `alpha` (the
+// color's alpha, when it has one), id 0 instead where a blended fragment is mostly transparent but
+// writes depth (alpha < 0.5), so that an id never names a surface other than the one the depth
+// image holds.
+std::string idValue(const std::string& alpha) {
+  const std::string id = "vec4(" + std::string(kDrawIdUniform) + ", float(gl_PrimitiveID), 0.0, 1.0)";
+  if (alpha.empty()) return id;
+  return "(" + std::string(kAlphaTestUniform) + " > 0.5 && " + alpha + " < 0.5) ? vec4(0.0, 0.0, 0.0, 1.0) : " + id;
+}
+
 // GLSL before 1.50: gl_FragColor / gl_FragData[i] become gl_FragData[0] / [i]; the ids go to
 // gl_FragData[kIdOutputLocation]; gl_PrimitiveID comes from GL_EXT_gpu_shader4.
 FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version) {
@@ -102,9 +112,8 @@ FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version) {
   if (!code.empty() && code.back() != '\n') code += '\n';
   code += "uniform float " + std::string(kDrawIdUniform) + ";\n";
   code += "uniform float " + std::string(kAlphaTestUniform) + ";\n";
-  code += "void main() {\n  viper_original_main();\n  gl_FragData[" + std::to_string(kIdOutputLocation) + "] = (" +
-          kAlphaTestUniform + " > 0.5 && gl_FragData[0].a < 0.5) ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(" + kDrawIdUniform +
-          ", float(gl_PrimitiveID), 0.0, 1.0);\n}\n";
+  code += "void main() {\n  viper_original_main();\n  gl_FragData[" + std::to_string(kIdOutputLocation) +
+          "] = " + idValue("gl_FragData[0].a") + ";\n}\n";
   result.ok = true;
   result.legacy = true;
   result.source = code;
@@ -172,19 +181,12 @@ FragmentRewrite rewriteFragmentShader(const std::string& source) {
   }
   code = std::regex_replace(code, mainRegex(), "void viper_original_main()");
 
-  // A blended fragment that is mostly transparent (alpha < 0.5) but writes depth: id 0 (no
-  // object), so that an id never names a surface other than the one the depth image holds.
-  const std::string id = "vec4(" + std::string(kDrawIdUniform) + ", float(gl_PrimitiveID), 0.0, 1.0)";
-  const std::string id_or_void =
-      color->components == 4 ? "(" + std::string(kAlphaTestUniform) + " > 0.5 && " + color->name +
-                                   ".a < 0.5) ? vec4(0.0, 0.0, 0.0, 1.0) : " + id
-                             : id;
   if (!code.empty() && code.back() != '\n') code += '\n';
   code += "uniform float " + std::string(kDrawIdUniform) + ";\n";
   code += "uniform float " + std::string(kAlphaTestUniform) + ";\n";
   code += "out vec4 " + std::string(kIdOutputName) + ";\n";
-  code += "void main() {\n  viper_original_main();\n  " + std::string(kIdOutputName) + " = " + id_or_void +
-          ";\n}\n";
+  code += "void main() {\n  viper_original_main();\n  " + std::string(kIdOutputName) + " = " +
+          idValue(color->components == 4 ? color->name + ".a" : "") + ";\n}\n";
 
   result.ok = true;
   result.source = code;

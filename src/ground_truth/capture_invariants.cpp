@@ -314,11 +314,7 @@ void BoxCheck::add(const BoxCheck& o) {
   objects += o.objects;
   pixels += o.pixels;
   outside_relative.insert(outside_relative.end(), o.outside_relative.begin(), o.outside_relative.end());
-  if (o.worst_relative > worst_relative) {
-    worst_relative = o.worst_relative;
-    worst_frame = o.worst_frame, worst_draw = o.worst_draw, worst_col = o.worst_col, worst_row = o.worst_row;
-    worst_beyond = o.worst_beyond;
-  }
+  if (o.worst.relative > worst.relative) worst = o.worst;
 }
 
 BoxCheck checkBoxes(const CaptureFrame& frame, const std::vector<FrameObject>& objects, const MeshRegistry& meshes) {
@@ -357,11 +353,9 @@ BoxCheck checkBoxes(const CaptureFrame& frame, const std::vector<FrameObject>& o
       ++c.pixels;
       const float relative = distance > 0.0 ? static_cast<float>(outside.norm() / distance) : 0.0f;
       c.outside_relative.push_back(relative);
-      if (relative > c.worst_relative) {
-        c.worst_relative = relative;
-        c.worst_frame = frame.number, c.worst_draw = id - 1, c.worst_col = col, c.worst_row = row;
-        c.worst_beyond = distance > (view[id - 1] * box.center.homogeneous()).head<3>().norm();
-      }
+      if (relative > c.worst.relative)
+        c.worst = {relative, frame.number, id - 1, col, row,
+                   distance > (view[id - 1] * box.center.homogeneous()).head<3>().norm()};
     }
   return c;
 }

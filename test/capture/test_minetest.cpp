@@ -136,15 +136,16 @@ TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
               static_cast<unsigned long long>(boxes.objects), static_cast<unsigned long long>(boxes.pixels),
               viper::quantile(boxes.outside_relative, 0.5), viper::quantile(boxes.outside_relative, 0.99),
               viper::quantile(boxes.outside_relative, 0.999), viper::quantile(boxes.outside_relative, 1.0));
-  if (boxes.worst_relative > 0.0f) {
-    const viper::DrawRecord* worst = nullptr;
+  if (boxes.worst.relative > 0.0f) {
+    const viper::BoxCheck::Outlier& w = boxes.worst;
+    const viper::DrawRecord* d = nullptr;
     for (const CaptureFrame& f : r.frames)
-      if (f.number == boxes.worst_frame && boxes.worst_draw < f.draws.size()) worst = &f.draws[boxes.worst_draw];
-    std::printf("boxes: farthest outside: frame %llu, draw %u (program %016llx, mesh %016llx, %u pixels), pixel (%u, %u), "
-                "%s the box's centre\n",
-                static_cast<unsigned long long>(boxes.worst_frame), boxes.worst_draw, worst ? static_cast<unsigned long long>(worst->program_key) : 0ull,
-                worst ? static_cast<unsigned long long>(worst->mesh_key) : 0ull, worst ? worst->visible_pixels : 0u,
-                boxes.worst_col, boxes.worst_row, boxes.worst_beyond ? "beyond" : "before");
+      if (f.number == w.frame && w.draw < f.draws.size()) d = &f.draws[w.draw];
+    std::printf("boxes: farthest outside: frame %llu, draw %u (program %016llx, mesh %016llx, %u pixels), "
+                "pixel (%u, %u), %s the box's centre\n",
+                static_cast<unsigned long long>(w.frame), w.draw, d ? static_cast<unsigned long long>(d->program_key) : 0ull,
+                d ? static_cast<unsigned long long>(d->mesh_key) : 0ull, d ? d->visible_pixels : 0u, w.col, w.row,
+                w.beyond ? "beyond" : "before");
   }
   EXPECT_GE(draws_with_pixels, size_t(kFrames) * 5);
   // Every object's pixels (their depth) lie in its box (from its meshes): up to depth precision.

@@ -89,13 +89,15 @@ struct BoxCheck {
   /// Per such pixel: how far its point lies outside its object's box, relative to the point's
   /// distance from the camera (0 inside).
   std::vector<float> outside_relative;
-  /// The pixel farthest outside its box (worst_relative 0: none outside): where it is, whose draw,
-  /// and whether its point lies beyond the box's centre as seen from the camera (depth from a
-  /// surface behind the object: the object wrote ids where it wrote no depth).
-  float worst_relative = 0.0f;
-  uint64_t worst_frame = 0;
-  uint32_t worst_draw = 0, worst_col = 0, worst_row = 0;
-  bool worst_beyond = false;
+  /// The pixel farthest outside its box (relative 0: none outside): where it is, whose draw, and
+  /// whether its point lies beyond the box's centre as seen from the camera (depth from a surface
+  /// behind the object) or before it (depth from a surface in front that wrote no id).
+  struct Outlier {
+    float relative = 0.0f;
+    uint64_t frame = 0;
+    uint32_t draw = 0, col = 0, row = 0;
+    bool beyond = false;
+  } worst;
   void add(const BoxCheck& other);
 };
 

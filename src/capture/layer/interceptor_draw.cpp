@@ -55,6 +55,14 @@ bool decodeAttribute(const uint8_t* bytes, GLenum type, int size, float out[4]) 
 }
 
 // The part of a draw's range that does not depend on where its indices are.
+// Whether a draw now writes depth: its mask on and the depth test enabled (without the test the GL
+// writes no depth either).
+bool writesDepth(const RealGl& g) {
+  GLboolean mask = GL_FALSE;
+  g.GetBooleanv(GL_DEPTH_WRITEMASK, &mask);
+  return mask == GL_TRUE && g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE;
+}
+
 DrawRange drawRange(const DrawCall& call) {
   DrawRange range;
   range.mode = call.mode;
@@ -217,13 +225,8 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   // behind under its depth; one that writes no depth leaves them. After the scene ended (endScene)
   // nothing is recorded: ids off.
   bool clears_ids = false;
-  if (!p && !scene_ended) {
-    GLboolean depth_write = GL_FALSE;
-    g.GetBooleanv(GL_DEPTH_WRITEMASK, &depth_write);
-    // (Per-buffer blend functions are GL 4.0: before it, such draws leave the ids as they are.)
-    clears_ids = depth_write == GL_TRUE && g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE && g.BlendFuncSeparatei &&
-                 g.BlendEquationi;
-  }
+  // (Per-buffer blend functions are GL 4.0: before it, such draws leave the ids as they are.)
+  if (!p && !scene_ended) clears_ids = g.BlendFuncSeparatei && g.BlendEquationi && writesDepth(g);
   t->wantIds(scene_fbo, (p && !scene_ended && p->rewritten) || clears_ids);
   if (clears_ids) {
     g.Enablei(GL_BLEND, kIdDrawBuffer);
@@ -254,12 +257,7 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
     // (its mask off, or no depth test) is an effect (rain, glare, smoke): it takes no pixel's id
     // whatever its alpha. One that writes depth writes its id where its fragments are mostly
     // opaque, and id 0 (no object) where they are mostly transparent (shader_rewrite.h).
-    bool write_ids = true;
-    if (cx().blend0_enabled) {
-      GLboolean depth_write = GL_TRUE;
-      g.GetBooleanv(GL_DEPTH_WRITEMASK, &depth_write);
-      write_ids = depth_write == GL_TRUE && g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE;
-    }
+    const bool write_ids = !cx().blend0_enabled || writesDepth(g);
     if (write_ids != cx().ids_write) {
       const GLboolean m = write_ids ? GL_TRUE : GL_FALSE;
       g.ColorMaski(kIdDrawBuffer, m, m, m, m);

@@ -38,7 +38,7 @@ while [ $# -gt 0 ]; do
     --bin) bin="$2"; shift 2 ;;
     --game-args) game_args="$2"; shift 2 ;;
     --no-bag) bag=0; shift ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
     *) echo "capture_supertuxkart: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done

@@ -19,10 +19,11 @@
 #                                    [--queue-size Q (30: the nodelets' input queues, replay.launch's queue_size)]
 #                                    [--throughput [--in-flight K (8)]] [--sweep R1,R2,...]
 #                                    [--bag-compression lz4|none|bz2 (capture_to_bag's, lz4)]
+#                                    [--perf FILE (perf record --call-graph dwarf of the manager while it plays)]
 # Needs a built workspace sourced first: source devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4
+frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
@@ -36,7 +37,8 @@ while [ $# -gt 0 ]; do
     --in-flight) in_flight="$2"; shift 2 ;;
     --sweep) sweep="$2"; shift 2 ;;
     --bag-compression) compression="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...] [--bag-compression lz4|none|bz2]" >&2; exit 2 ;;
+    --perf) perf_out="$2"; shift 2 ;;
+    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...] [--bag-compression lz4|none|bz2] [--perf FILE]" >&2; exit 2 ;;
   esac
 done
 case "$source" in bag|rosbag|capture) ;; *) echo "measure_pipeline: --source is bag, rosbag or capture" >&2; exit 2 ;; esac
@@ -82,6 +84,11 @@ start_pipeline label_table:="$here/config/labels/world_labels.yaml" flow:="$flow
   "${replay_args[@]}"
 ticks() { awk '{print $14 + $15}' "/proc/$manager/stat"; }
 before=$(ticks)
+perf_pid=
+if [ -n "${perf_out:-}" ]; then
+  perf record -F 499 --call-graph dwarf,16384 -o "$perf_out" -p "$manager" >/dev/null 2>"$work/perf.log" &
+  perf_pid=$!
+fi
 echo "measure_pipeline: playing (${SECONDS} s)"
 case "$source" in
   rosbag)
@@ -94,6 +101,10 @@ for _ in $(seq 600); do [ -f "$work/counts.txt" ] && break; sleep 0.2; done
 [ -f "$work/counts.txt" ] || { echo "measure_pipeline: output_counter wrote no counts" >&2; tail -20 "$work/launch.log" >&2; exit 1; }
 [ "$source" = rosbag ] && stop_bag
 after=$(ticks)
+if [ -n "$perf_pid" ]; then
+  kill -INT "$perf_pid"; wait "$perf_pid" || true
+  echo "measure_pipeline: perf profile of the manager in $perf_out (perf report -i $perf_out --no-children)"
+fi
 echo "machine: $(nproc) cores; $frames frames ${width}x${height} at rate $rate; $played"
 manager_ms=$(echo "scale=1; ($after - $before) * 1000 / $(getconf CLK_TCK) / $frames" | bc)
 echo "nodelet manager: $manager_ms ms CPU per frame (at 15 Hz, 2 cores give 133 ms)"

@@ -2,6 +2,7 @@
 
 #include "pixel_kernels.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -168,6 +169,14 @@ std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::v
 std::vector<float> windowDepthFromMetres(const std::vector<DrawRecord>& draws, const uint32_t* draw_ids,
                                          const float* depth_m, size_t n, const GlMatrix* fallback_projection,
                                          size_t* bad_depth_pixels, Instructions instructions) {
+  std::vector<float> out;
+  windowDepthFromMetres(draws, draw_ids, depth_m, n, fallback_projection, out, bad_depth_pixels, instructions);
+  return out;
+}
+
+void windowDepthFromMetres(const std::vector<DrawRecord>& draws, const uint32_t* draw_ids, const float* depth_m,
+                           size_t n, const GlMatrix* fallback_projection, std::vector<float>& out,
+                           size_t* bad_depth_pixels, Instructions instructions) {
   // Rows 2 and 3 of each draw's projection (slot 0: pixels without a draw); valid = false: none.
   struct Rows {
     bool valid = false;
@@ -179,7 +188,7 @@ std::vector<float> windowDepthFromMetres(const std::vector<DrawRecord>& draws, c
   for (size_t i = 0; i < draws.size(); ++i)
     by_id[i + 1] = (draws[i].matrix_flags & kHasProjection) ? rows(draws[i].projection) : fallback;
 
-  std::vector<float> out(n, 1.0f);
+  out.resize(n);
   // Per draw: pixels without usable depth, and with it. A draw with none at all is a background at
   // the far plane (a sky): its pixels have no surface, which is not an error.
   std::vector<uint32_t> bad(by_id.size(), 0), good(by_id.size(), 0);
@@ -193,7 +202,9 @@ std::vector<float> windowDepthFromMetres(const std::vector<DrawRecord>& draws, c
     done = pixel_kernels::windowDepth(path, draw_ids, depth_m, n, table.rows(), out.data(),
                                       good.data(), bad.data());
   }
-  // One pixel at a time: the reference, and the pixels after the kernels' blocks.
+  // One pixel at a time: the reference, and the pixels after the kernels' blocks (which write
+  // every pixel of theirs).
+  std::fill(out.begin() + static_cast<std::ptrdiff_t>(done), out.end(), 1.0f);
   for (size_t p = done; p < n; ++p) {
     const uint32_t id = draw_ids[p];
     if (id == 0 || id >= by_id.size()) continue;
@@ -218,7 +229,6 @@ std::vector<float> windowDepthFromMetres(const std::vector<DrawRecord>& draws, c
   for (size_t id = 1; id < bad.size(); ++id)
     if (good[id] > 0) bad_total += bad[id];
   if (bad_depth_pixels) *bad_depth_pixels = bad_total;
-  return out;
 }
 
 bool decomposeViewProjection(const GlMatrix& view_projection, GlMatrix& view, GlMatrix& projection,

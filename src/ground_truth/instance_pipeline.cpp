@@ -25,7 +25,7 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, co
   // Only draws and draw ids are used (a node may have nothing else); ids past the draw list are
   // ignored by every kernel, so they need no pass of their own.
   const std::string at = "frame " + std::to_string(frame.number) + ": ";
-  if (frame.draw_ids.size() != frame.pixelCount())
+  if (!into.draw_ids && frame.draw_ids.size() != frame.pixelCount())
     throw std::invalid_argument(at + "draw id image has " + std::to_string(frame.draw_ids.size()) + " pixels, " +
                                 std::to_string(frame.width) + "x" + std::to_string(frame.height) + " expected");
   for (size_t i = 0; i < frame.draws.size(); ++i)
@@ -56,7 +56,7 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, co
   objects.swap(kept);
   attachParts(objects, frame, meshes_);
   const DrawAssignment assignment = assignDraws(frame, labels_, objects);
-  findDrawRuns(frame, runs_);
+  findDrawRuns(frame, into.draw_ids ? into.draw_ids : frame.draw_ids.data(), runs_);
   measureObjects(runs_, assignment, objects);
 
   std::vector<Eigen::Vector3d> positions;

@@ -140,12 +140,16 @@ void findDrawRuns(const CaptureFrame& frame, DrawRuns& out) {
   if (frame.draw_ids.size() != frame.pixelCount())
     throw std::invalid_argument("findDrawRuns: draw id image has " + std::to_string(frame.draw_ids.size()) +
                                 " pixels, " + std::to_string(frame.pixelCount()) + " expected");
+  findDrawRuns(frame, frame.draw_ids.data(), out);
+}
+
+void findDrawRuns(const CaptureFrame& frame, const uint32_t* draw_ids, DrawRuns& out) {
   out.width = frame.width;
   out.height = frame.height;
   out.runs.clear();
   const int w = static_cast<int>(frame.width);
   for (uint32_t y = 0; y < frame.height; ++y) {
-    const uint32_t* row = frame.draw_ids.data() + static_cast<size_t>(y) * w;
+    const uint32_t* row = draw_ids + static_cast<size_t>(y) * w;
     const uint32_t row_start = y * frame.width;
     for (int x = 0; x < w;) {
       const uint32_t id = row[x];

@@ -94,6 +94,26 @@ TEST(InstancePipeline, ImagesIntoCallerStorageAreTheSame) {
   }
 }
 
+// Draw ids read from caller storage (a message's pixels) with none in the frame: the same images.
+TEST(InstancePipeline, DrawIdsFromCallerStorageGiveTheSameImages) {
+  Sequence s;
+  InstancePipeline own(s.labels), caller(s.labels);
+  for (const CaptureFrame& f : s.frames) {
+    const InstanceFrame expected = own.process(f);
+    CaptureFrame without_ids = f;
+    without_ids.draw_ids.clear();
+    InstanceImagesInto into;
+    into.draw_ids = f.draw_ids.data();
+    InstanceFrame got;
+    caller.process(without_ids, got, into);
+    EXPECT_EQ(got.semantic, expected.semantic);
+    EXPECT_EQ(got.instance_ids, expected.instance_ids);
+    EXPECT_EQ(got.boundaries, expected.boundaries);
+    ASSERT_EQ(got.objects.size(), expected.objects.size());
+    for (size_t k = 0; k < got.objects.size(); ++k) EXPECT_EQ(got.objects[k].track_id, expected.objects[k].track_id);
+  }
+}
+
 TEST(InstancePipeline, InconsistentFramesAreRejectedWithoutSideEffects) {
   Sequence s;
   InstancePipeline pipeline(s.labels);

@@ -98,6 +98,11 @@ std::vector<float> windowDepthFromMetres(const std::vector<DrawRecord>& draws, c
                                          const float* depth_m, size_t pixels, const GlMatrix* fallback_projection,
                                          size_t* bad_depth_pixels = nullptr,
                                          Instructions instructions = Instructions::kWidest);
+/// The same into `out`, resized to `pixels` values: a vector kept from frame to frame keeps its
+/// pages (a new 1080p one is 8 MB faulted in and filled).
+void windowDepthFromMetres(const std::vector<DrawRecord>& draws, const uint32_t* draw_ids, const float* depth_m,
+                           size_t pixels, const GlMatrix* fallback_projection, std::vector<float>& out,
+                           size_t* bad_depth_pixels = nullptr, Instructions instructions = Instructions::kWidest);
 
 /// Rotation from OpenGL camera axes (x right, y up, looking down -z) to the optical frame
 /// (x right, y down, z forward): diag(1, -1, -1). p_optical = opticalFromGlCamera() * p_gl.

@@ -48,10 +48,13 @@ struct InstanceFrame {
 };
 
 /// Caller storage for images of InstanceFrame (a message's buffers, say): each non-null pointer
-/// takes width*height values in place of its vector, which is left empty.
+/// takes width*height values in place of its vector, which is left empty. `draw_ids`, if not null,
+/// holds the frame's width*height draw ids in place of frame.draw_ids (which may then be empty):
+/// the draw id message's pixels, read where they are.
 struct InstanceImagesInto {
   int32_t* instance_ids = nullptr;
   uint8_t* boundaries = nullptr;
+  const uint32_t* draw_ids = nullptr;
 };
 
 /// Keeps the mesh store and the tracker across frames.

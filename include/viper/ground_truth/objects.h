@@ -67,6 +67,8 @@ struct DrawRuns {
 /// Splits `frame.draw_ids` into runs (reusing the storage of `runs`). The image must have
 /// width * height pixels.
 void findDrawRuns(const CaptureFrame& frame, DrawRuns& runs);
+/// The same on the frame's width * height draw ids at `draw_ids`.
+void findDrawRuns(const CaptureFrame& frame, const uint32_t* draw_ids, DrawRuns& runs);
 
 /// Fills `pixel_count` and the 2D box of every object.
 void measureObjects(const DrawRuns& runs, const DrawAssignment& assignment, std::vector<FrameObject>& objects);

@@ -2,6 +2,8 @@
 
 #include "viper/ros/conversions/image_conversions.h"
 
+#include <boost/make_shared.hpp>
+
 namespace viper {
 
 sensor_msgs::ImagePtr ImageMsgPool::take(const std_msgs::Header& header, uint32_t width, uint32_t height,
@@ -17,7 +19,20 @@ sensor_msgs::ImagePtr ImageMsgPool::take(const std_msgs::Header& header, uint32_
     }
     other_size = &m;
   }
-  sensor_msgs::ImagePtr m = newImageMsgPtr(header, width, height, encoding, bytes_per_pixel);
+  return hold(newImageMsgPtr(header, width, height, encoding, bytes_per_pixel), other_size);
+}
+
+sensor_msgs::ImagePtr ImageMsgPool::takeBytes(size_t bytes) {
+  sensor_msgs::ImagePtr* other_size = nullptr;
+  for (sensor_msgs::ImagePtr& m : held_) {
+    if (m.use_count() != 1) continue;
+    if (m->data.size() == bytes) return m;
+    other_size = &m;
+  }
+  return hold(boost::make_shared<sensor_msgs::Image>(), other_size);
+}
+
+sensor_msgs::ImagePtr ImageMsgPool::hold(sensor_msgs::ImagePtr m, sensor_msgs::ImagePtr* other_size) {
   if (held_.size() < capacity_) held_.push_back(m);
   else if (other_size) *other_size = m;
   return m;

@@ -78,8 +78,9 @@ FlowStep::HeldPtr FlowStep::makeHeldFrame(const DrawList& draws, const sensor_ms
 
   const std::optional<FrameCamera> camera = chooseFrameCamera(f);
   size_t bad_depth = 0;
-  f.depth_window = windowDepthFromMetres(f.draws, ids, held->depth_m, f.pixelCount(),
-                                         camera ? &camera->projection : nullptr, &bad_depth);
+  f.depth_window = std::move(spare_depth_window_);
+  windowDepthFromMetres(f.draws, ids, held->depth_m, f.pixelCount(), camera ? &camera->projection : nullptr,
+                        f.depth_window, &bad_depth);
   held->pixels = {f.width, f.height, &f.draws, ids, reinterpret_cast<const uint32_t*>(primitive_ids->data.data()),
                   f.depth_window.data()};
   if (bad_depth > 0)
@@ -214,7 +215,12 @@ bool FlowStep::process(const DrawList& draws, const sensor_msgs::ImageConstPtr& 
     }
   }
   window_.push_back(cur);
-  while (window_.size() > settings_.window_size) window_.pop_front();
+  while (window_.size() > settings_.window_size) {
+    // Its window depth's buffer serves the next frame, unless something else still holds the frame.
+    if (window_.front().use_count() == 1)
+      spare_depth_window_ = std::move(const_cast<HeldFrame&>(*window_.front()).frame.depth_window);
+    window_.pop_front();
+  }
 
   try {
     const size_t n = window_.size();

@@ -45,7 +45,9 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
     problems.push_back({StepInput::kDrawIds, StepSeverity::kError, "stamp_order", text});
     return false;
   }
-  const std::string problem = frameFromDrawMsgs(draws, ids, frame_);
+  // The draw ids are read where they are, in their message.
+  const uint32_t* id_words = nullptr;
+  const std::string problem = frameFromDrawMsgs(draws, ids, frame_, id_words);
   if (!problem.empty()) {
     problems.push_back({StepInput::kDrawIds, StepSeverity::kError, "frame",
                         " (frame " + std::to_string(number) + ", frame_id '" + ids.header.frame_id + "'): " + problem +
@@ -61,6 +63,7 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
   sensor_msgs::ImagePtr instance_ids = want.instance_ids ? ids_pool_.take(header, w, h, "32SC1", 4) : nullptr;
   sensor_msgs::ImagePtr boundaries = want.boundaries ? mono_pool_.take(header, w, h, "mono8", 1) : nullptr;
   InstanceImagesInto into;
+  into.draw_ids = id_words;
   if (instance_ids) into.instance_ids = reinterpret_cast<int32_t*>(instance_ids->data.data());
   if (boundaries) into.boundaries = boundaries->data.data();
   try {

@@ -25,8 +25,14 @@ class ImageMsgPool {
   /// (zeroed).
   sensor_msgs::ImagePtr take(const std_msgs::Header& header, uint32_t width, uint32_t height,
                              const std::string& encoding, uint32_t bytes_per_pixel);
+  /// A message for the caller to fill, fields and pixels: a recycled one whose pixels hold `bytes`
+  /// bytes (as it was published: the caller overwrites every field), else a new, empty one.
+  sensor_msgs::ImagePtr takeBytes(size_t bytes);
 
  private:
+  // Keeps m while there is room, else in place of a free message of another size, if any.
+  sensor_msgs::ImagePtr hold(sensor_msgs::ImagePtr m, sensor_msgs::ImagePtr* other_size);
+
   size_t capacity_;
   std::vector<sensor_msgs::ImagePtr> held_;
 };

@@ -88,6 +88,7 @@ class FlowStep {
   MeshRegistry meshes_;
   std::deque<HeldPtr> window_;  // oldest first; consecutive capture frames
   ImageMsgPool flow_pool_, visible_pool_;  // the flows' messages, recycled
+  std::vector<float> spare_depth_window_;  // the window depth of the frame last out of the window
   uint64_t frames_lost_ = 0;    // frames missing between consecutive frames seen, in all
 };
 

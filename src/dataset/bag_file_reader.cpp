@@ -5,6 +5,7 @@
 #include "pread_file.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string_view>
 
@@ -187,6 +188,9 @@ void BagFileReader::readChunkIndex(uint32_t chunk, const std::map<uint32_t, uint
       // rosbag loads no message at time 0 (before ros::TIME_MIN) nor past ros::TIME_MAX.
       if ((sec == 0 && nsec == 0) || sec > UINT32_MAX) continue;
       entries_.push_back({static_cast<uint32_t>(sec), nsec, chunk, load<uint32_t>(e + 8), known->second});
+      Chunk& c = chunks_[chunk];
+      if (c.last_connection == UINT32_MAX || load<uint32_t>(e + 8) >= c.last_entry)
+        c.last_entry = load<uint32_t>(e + 8), c.last_connection = known->second;
       ++connections_[known->second].messages;
     }
     at = r.end();
@@ -197,16 +201,87 @@ void BagFileReader::damaged(uint32_t chunk, const std::string& problem) const {
   throw std::runtime_error(path_ + ": damaged chunk at byte " + std::to_string(chunks_[chunk].position) + ": " + problem);
 }
 
-const uint8_t* BagFileReader::chunkData(uint32_t chunk) {
+namespace {
+
+// A record in a chunk's first `decoded` bytes (of `size`) at `at`.
+struct ChunkRecord {
+  enum Status { kOk, kIncomplete, kBad } status = kBad;
+  std::string problem;  // kBad: what is wrong
+  int op = -1;
+  uint64_t data_at = 0;
+  uint32_t data_size = 0;
+};
+
+ChunkRecord chunkRecord(const uint8_t* bytes, uint64_t decoded, uint64_t size, uint64_t at) {
+  ChunkRecord r;
+  const auto where = [&] { return "the record at offset " + std::to_string(at) + " of " + std::to_string(size); };
+  if (size < 8 || at > size - 8) return r.problem = where() + " runs past the chunk's end", r;
+  if (at + 4 > decoded) return r.status = ChunkRecord::kIncomplete, r;
+  const uint32_t header_size = load<uint32_t>(bytes + at);
+  if (header_size > size - 8 - at) return r.problem = where() + ": its header runs past the chunk's end", r;
+  if (at + 8 + header_size > decoded) return r.status = ChunkRecord::kIncomplete, r;
+  r.data_at = at + 8 + header_size;
+  r.data_size = load<uint32_t>(bytes + at + 4 + header_size);
+  if (r.data_size > size - r.data_at) return r.problem = where() + ": its data runs past the chunk's end", r;
+  if (!forEachField(bytes + at + 4, header_size, [&](std::string_view name, std::string_view value) {
+        if (name == "op" && value.size() == 1) r.op = static_cast<uint8_t>(value[0]);
+      }))
+    return r.problem = where() + ": its header is malformed", r;
+  if (r.op != kOpConnection && r.op != kOpMessageDefinition && r.op != kOpMessageData)
+    return r.problem = where() + " is no message (op " + std::to_string(r.op) + ")", r;
+  r.status = ChunkRecord::kOk;
+  return r;
+}
+
+}  // namespace
+
+// Routes the bulk of a chunk's last message to the sink, once its record is decoded and the sink
+// takes it; connection records before it are skipped, as next() skips them.
+class BagFileReader::BulkRouter : public detail::ChunkRouter {
+ public:
+  BulkRouter(BagBulkSink& sink, const BagConnection& connection, const Chunk& chunk, CachedChunk& slot)
+      : sink_(sink), connection_(connection), chunk_(chunk), slot_(slot), at_(chunk.last_entry) {}
+
+  Answer route(const uint8_t* bytes, size_t decoded, size_t& begin, size_t& end, uint8_t*& to) override {
+    for (;;) {
+      const ChunkRecord r = chunkRecord(bytes, decoded, chunk_.size, at_);
+      if (r.status == ChunkRecord::kIncomplete) return kNotYet;
+      if (r.status == ChunkRecord::kBad) return kNever;  // next() names it
+      if (r.op != kOpMessageData) {
+        at_ = r.data_at + r.data_size;
+        continue;
+      }
+      if (r.data_size < BagBulkSink::kMinBulk) return kNever;
+      const uint32_t available = static_cast<uint32_t>(std::min<uint64_t>(decoded - std::min<uint64_t>(decoded, r.data_at), r.data_size));
+      uint32_t offset = 0;
+      to = sink_.bulk(connection_, bytes + r.data_at, available, r.data_size, offset);
+      if (!to) return kNotYet;
+      if (offset > available) return kNever;  // a sink that breaks its promise gets nothing
+      begin = r.data_at + offset, end = r.data_at + r.data_size;
+      slot_.bulk_record = chunk_.last_entry, slot_.bulk_offset = offset, slot_.bulk = to;
+      return kRouted;
+    }
+  }
+
+ private:
+  BagBulkSink& sink_;
+  const BagConnection& connection_;
+  const Chunk& chunk_;
+  CachedChunk& slot_;
+  uint64_t at_;
+};
+
+BagFileReader::CachedChunk& BagFileReader::chunkData(uint32_t chunk, const BagConnection* last) {
   for (CachedChunk& c : cache_) {
     if (c.used != 0 && c.chunk == chunk) {
       c.used = ++uses_;
-      return c.bytes.data();
+      return c;
     }
   }
   CachedChunk& slot =
       *std::min_element(cache_.begin(), cache_.end(), [](const CachedChunk& a, const CachedChunk& b) { return a.used < b.used; });
   slot.used = 0;  // holds nothing until the chunk is in
+  slot.bulk_record = UINT32_MAX, slot.bulk = nullptr;
   const Chunk& c = chunks_[chunk];
   if (c.compression == BagCompression::kNone) {
     if (c.data_size != c.size)
@@ -219,41 +294,41 @@ const uint8_t* BagFileReader::chunkData(uint32_t chunk) {
                          std::to_string(c.data_size));
     compressed_.resize(c.data_size);
     file_->read(c.data_position, compressed_.data(), c.data_size);
-    const std::string problem = decoder_->decode(c.compression, compressed_.data(), c.data_size, slot.bytes, c.size);
+    std::optional<BulkRouter> router;
+    if (sink_ && last && c.compression == BagCompression::kLz4) router.emplace(*sink_, *last, c, slot);
+    const std::string problem =
+        decoder_->decode(c.compression, compressed_.data(), c.data_size, slot.bytes, c.size, router ? &*router : nullptr);
     if (!problem.empty()) damaged(chunk, problem);
   }
   slot.chunk = chunk;
   slot.used = ++uses_;
-  return slot.bytes.data();
+  return slot;
 }
 
 bool BagFileReader::next(BagMessage& message) {
   if (next_ == entries_.size()) return false;
   const Entry& e = entries_[next_];
-  const uint8_t* bytes = chunkData(e.chunk);
+  const Chunk& c = chunks_[e.chunk];
+  CachedChunk& slot =
+      chunkData(e.chunk, c.last_connection == UINT32_MAX ? nullptr : &connections_[c.last_connection]);
+  const uint8_t* bytes = slot.bytes.data();
   const uint64_t size = chunks_[e.chunk].size;
   // The record at the entry's offset; connection records before it are skipped (rosbag's writer
   // indexes a connection's first message at its connection record).
   uint64_t at = e.offset;
   for (;;) {
-    const auto where = [&] { return "the record at offset " + std::to_string(at) + " of " + std::to_string(size); };
-    if (size < 8 || at > size - 8) damaged(e.chunk, where() + " runs past the chunk's end");
-    const uint32_t header_size = load<uint32_t>(bytes + at);
-    if (header_size > size - 8 - at) damaged(e.chunk, where() + ": its header runs past the chunk's end");
-    const uint64_t data_at = at + 8 + header_size;
-    const uint32_t data_size = load<uint32_t>(bytes + at + 4 + header_size);
-    if (data_size > size - data_at) damaged(e.chunk, where() + ": its data runs past the chunk's end");
-    int op = -1;
-    if (!forEachField(bytes + at + 4, header_size, [&](std::string_view name, std::string_view value) {
-          if (name == "op" && value.size() == 1) op = static_cast<uint8_t>(value[0]);
-        }))
-      damaged(e.chunk, where() + ": its header is malformed");
-    if (op == kOpConnection || op == kOpMessageDefinition) {
-      at = data_at + data_size;
+    const ChunkRecord r = chunkRecord(bytes, size, size, at);
+    if (r.status != ChunkRecord::kOk) damaged(e.chunk, r.problem);
+    if (r.op != kOpMessageData) {
+      at = r.data_at + r.data_size;
       continue;
     }
-    if (op != kOpMessageData) damaged(e.chunk, where() + " is no message (op " + std::to_string(op) + ")");
-    message = {&connections_[e.connection], e.sec, e.nsec, bytes + data_at, data_size};
+    message = {&connections_[e.connection], e.sec, e.nsec, bytes + r.data_at, r.data_size};
+    if (slot.bulk_record == e.offset) {
+      // Its bulk is the sink's now, and the chunk's copy has a hole: decoded again if asked again.
+      message.bulk = slot.bulk, message.bulk_offset = slot.bulk_offset;
+      slot.used = 0;
+    }
     ++next_;
     return true;
   }

@@ -117,7 +117,8 @@ void BagFileWriter::writeConnectionRecord(Bytes& out, uint32_t id) const {
   appendBytes(out, data.bytes().data(), data.bytes().size());
 }
 
-uint8_t* BagFileWriter::beginMessage(uint32_t connection, uint32_t sec, uint32_t nsec, uint32_t size) {
+uint8_t* BagFileWriter::beginMessage(uint32_t connection, uint32_t sec, uint32_t nsec, uint32_t size,
+                                     uint32_t bulk_offset) {
   if (closed_) throw std::logic_error(path_ + ": message written after close()");
   if (connection >= connections_.size()) throw std::invalid_argument(path_ + ": no connection " + std::to_string(connection));
   if (sec == 0 && nsec == 0) throw std::invalid_argument(path_ + ": a message at time 0 (rosbag reads none before 0.000000001)");
@@ -142,6 +143,7 @@ uint8_t* BagFileWriter::beginMessage(uint32_t connection, uint32_t sec, uint32_t
   appendRecordStart(chunk_, header, size);
   const size_t at = chunk_.size();
   chunk_.resize(at + size);  // filled by the caller (not zeroed first: ChunkBytes)
+  if (bulk_offset > 0 && bulk_offset < size && size - bulk_offset >= kMinBulkBytes) block_starts_.push_back(at + bulk_offset);
   message_open_ = true;
   return chunk_.data() + at;
 }
@@ -152,6 +154,58 @@ void BagFileWriter::finishMessage() {
   if (chunk_.size() > options_.chunk_threshold) closeChunk();
 }
 
+namespace {
+
+// An LZ4 frame as roslz4 reads it: independent blocks of at most 4 MB, no block checksums, no
+// content size, the content checksum at the end.
+LZ4F_preferences_t roslz4Preferences() {
+  LZ4F_preferences_t prefs;
+  std::memset(&prefs, 0, sizeof(prefs));
+  prefs.frameInfo.blockSizeID = LZ4F_max4MB;
+  prefs.frameInfo.blockMode = LZ4F_blockIndependent;
+  prefs.frameInfo.contentChecksumFlag = LZ4F_contentChecksumEnabled;
+  return prefs;
+}
+
+}  // namespace
+
+size_t BagFileWriter::compressLz4Frame() {
+  const LZ4F_preferences_t prefs = roslz4Preferences();
+  compressed_.resize(LZ4F_compressFrameBound(chunk_.size(), &prefs));
+  const size_t n = LZ4F_compressFrame(compressed_.data(), compressed_.size(), chunk_.data(), chunk_.size(), &prefs);
+  if (LZ4F_isError(n)) throw std::runtime_error(path_ + ": cannot write bag: LZ4: " + LZ4F_getErrorName(n));
+  return n;
+}
+
+// The same frame with a block ending where each bulk starts: the chunk in pieces, each flushed.
+size_t BagFileWriter::compressLz4Blocks() {
+  LZ4F_preferences_t prefs = roslz4Preferences();
+  prefs.autoFlush = 1;
+  std::vector<size_t> cuts = block_starts_;
+  cuts.push_back(chunk_.size());
+  size_t bound = LZ4F_HEADER_SIZE_MAX, from = 0;
+  for (size_t cut : cuts) bound += LZ4F_compressBound(cut - from, &prefs), from = cut;
+  compressed_.resize(bound);
+  if (!lz4_) {
+    LZ4F_cctx* made = nullptr;
+    if (LZ4F_isError(LZ4F_createCompressionContext(&made, LZ4F_VERSION))) throw std::bad_alloc();
+    lz4_ = {made, LZ4F_freeCompressionContext};
+  }
+  LZ4F_cctx* const cctx = lz4_.get();
+  auto check = [&](size_t rc) {
+    if (LZ4F_isError(rc)) throw std::runtime_error(path_ + ": cannot write bag: LZ4: " + LZ4F_getErrorName(rc));
+    return rc;
+  };
+  size_t n = check(LZ4F_compressBegin(cctx, compressed_.data(), compressed_.size(), &prefs));
+  from = 0;
+  for (size_t cut : cuts) {
+    n += check(LZ4F_compressUpdate(cctx, compressed_.data() + n, compressed_.size() - n, chunk_.data() + from,
+                                   cut - from, nullptr));
+    from = cut;
+  }
+  return n + check(LZ4F_compressEnd(cctx, compressed_.data() + n, compressed_.size() - n, nullptr));
+}
+
 void BagFileWriter::closeChunk() {
   if (chunk_.empty()) return;
   // The chunk's data: compressed if it pays, else as it is.
@@ -160,16 +214,7 @@ void BagFileWriter::closeChunk() {
   std::string compression = "none";
   if (options_.compression == BagCompression::kLz4 &&
       (options_.min_ratio <= 1.0 || sampledRatio(chunk_) >= options_.min_ratio)) {
-    // An LZ4 frame as roslz4 reads it: independent blocks of at most 4 MB, no block checksums, no
-    // content size, the content checksum at the end.
-    LZ4F_preferences_t prefs;
-    std::memset(&prefs, 0, sizeof(prefs));
-    prefs.frameInfo.blockSizeID = LZ4F_max4MB;
-    prefs.frameInfo.blockMode = LZ4F_blockIndependent;
-    prefs.frameInfo.contentChecksumFlag = LZ4F_contentChecksumEnabled;
-    compressed_.resize(LZ4F_compressFrameBound(chunk_.size(), &prefs));
-    const size_t n = LZ4F_compressFrame(compressed_.data(), compressed_.size(), chunk_.data(), chunk_.size(), &prefs);
-    if (LZ4F_isError(n)) throw std::runtime_error(path_ + ": cannot write bag: LZ4: " + LZ4F_getErrorName(n));
+    const size_t n = block_starts_.empty() ? compressLz4Frame() : compressLz4Blocks();
     data = compressed_.data(), data_size = n, compression = "lz4";
   } else if (options_.compression == BagCompression::kBz2) {
     unsigned int n = static_cast<unsigned int>(chunk_.size() + chunk_.size() / 100 + 600);
@@ -203,6 +248,7 @@ void BagFileWriter::closeChunk() {
   for (const auto& [conn, entries] : chunk_index_) current_.counts[conn] = static_cast<uint32_t>(entries.size());
   chunk_infos_.push_back(current_);
   chunk_.clear();
+  block_starts_.clear();
 }
 
 void BagFileWriter::close() {

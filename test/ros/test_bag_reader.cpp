@@ -17,8 +17,10 @@
 
 #include <algorithm>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <tuple>
 #include <vector>
@@ -60,13 +62,37 @@ std::vector<Read> readWithRosbag(const std::string& path, std::string* error = n
   return out;
 }
 
-std::vector<Read> readWithReader(const std::string& path, std::string* error = nullptr) {
+// A sink that takes the bulk of every message offered, from `offset` = `split` of the bytes it is
+// shown (1: all of them, the block boundary where BagFileWriter puts one), into storage of its own.
+struct TestSink : viper::dataset::BagBulkSink {
+  explicit TestSink(double split) : split(split) {}
+  uint8_t* bulk(const viper::dataset::BagConnection&, const uint8_t*, uint32_t available, uint32_t size,
+                uint32_t& offset) override {
+    offered.push_back({available, size});
+    offset = static_cast<uint32_t>(available * split);
+    storage.emplace_back(std::max<size_t>(size - offset, 1));
+    return storage.back().data();
+  }
+  double split;
+  std::vector<std::pair<uint32_t, uint32_t>> offered;  // available, size
+  std::deque<std::vector<uint8_t>> storage;
+  size_t given = 0;  // messages that came with their bulk in the storage
+};
+
+std::vector<Read> readWithReader(const std::string& path, std::string* error = nullptr, TestSink* sink = nullptr) {
   std::vector<Read> out;
   try {
     BagFileReader bag(path);
+    bag.setBulkSink(sink);
     viper::dataset::BagMessage m;
-    while (bag.next(m))
+    while (bag.next(m)) {
       out.push_back({m.connection->topic, m.sec, m.nsec, m.connection->fields, {m.data, m.data + m.size}});
+      if (m.bulk) {
+        std::vector<uint8_t>& bytes = out.back().bytes;
+        std::copy(m.bulk, m.bulk + (m.size - m.bulk_offset), bytes.begin() + m.bulk_offset);
+        ++sink->given;
+      }
+    }
   } catch (const std::runtime_error& e) {
     if (error == nullptr) ADD_FAILURE() << e.what();
     else *error = e.what();
@@ -149,6 +175,33 @@ void writeWithRosbag(const std::string& path, rosbag::compression::CompressionTy
   bag.close();
 }
 
+// A connection header of type M as BagFileWriter's callers give one.
+template <typename M>
+std::map<std::string, std::string> writerFields() {
+  return {{"type", ros::message_traits::datatype<M>()},
+          {"md5sum", ros::message_traits::md5sum<M>()},
+          {"message_definition", ros::message_traits::definition<M>()},
+          {"callerid", "/writer"},
+          {"latching", "0"}};
+}
+
+// Serialises `message` into the bag (its bulk, an image's pixels, from `bulk_offset` on; 0: none).
+template <typename M>
+void put(viper::dataset::BagFileWriter& bag, uint32_t connection, const ros::Time& t, const M& message,
+         uint32_t bulk_offset = 0) {
+  const uint32_t size = ros::serialization::serializationLength(message);
+  ros::serialization::OStream s(bag.beginMessage(connection, t.sec, t.nsec, size, bulk_offset), size);
+  ros::serialization::serialize(s, message);
+}
+
+sensor_msgs::Image shapedImage(const ros::Time& t, uint32_t width, uint32_t height, const char* encoding, uint32_t bpp) {
+  sensor_msgs::Image image;
+  image.header.stamp = t;
+  image.width = width, image.height = height, image.encoding = encoding, image.step = width * bpp;
+  image.data.resize(image.step * image.height);
+  return image;
+}
+
 // The same shape by BagFileWriter in 100 KB chunks: a 147 KB noise image (its chunks stored plain
 // with lz4), a flat image at the same time, and a text written 0.25 s behind.
 void writeWithBagFileWriter(const std::string& path, viper::dataset::BagCompression compression) {
@@ -156,35 +209,20 @@ void writeWithBagFileWriter(const std::string& path, viper::dataset::BagCompress
   options.compression = compression;
   options.chunk_threshold = 100 * 1024;
   viper::dataset::BagFileWriter bag(path, options);
-  auto fields = [](const std::string& type, const std::string& md5, const std::string& definition) {
-    return std::map<std::string, std::string>{
-        {"type", type}, {"md5sum", md5}, {"message_definition", definition}, {"callerid", "/writer"}, {"latching", "0"}};
-  };
-  const auto image_fields = fields("sensor_msgs/Image", ros::message_traits::md5sum<sensor_msgs::Image>(),
-                                   ros::message_traits::definition<sensor_msgs::Image>());
+  const auto image_fields = writerFields<sensor_msgs::Image>();
   const uint32_t noise = bag.addConnection("/noise", image_fields), flat = bag.addConnection("/flat", image_fields);
-  const uint32_t late = bag.addConnection(
-      "/late", fields("std_msgs/String", ros::message_traits::md5sum<std_msgs::String>(),
-                      ros::message_traits::definition<std_msgs::String>()));
+  const uint32_t late = bag.addConnection("/late", writerFields<std_msgs::String>());
   std::mt19937 random(5);
-  auto put = [&](uint32_t connection, const ros::Time& t, const auto& message) {
-    const uint32_t size = ros::serialization::serializationLength(message);
-    ros::serialization::OStream s(bag.beginMessage(connection, t.sec, t.nsec, size), size);
-    ros::serialization::serialize(s, message);
-  };
   for (uint32_t f = 0; f < 12; ++f) {
     const ros::Time t = ros::Time(20, 0) + ros::Duration(0.1 * f);
-    sensor_msgs::Image image;
-    image.header.stamp = t;
-    image.width = 192, image.height = 192, image.encoding = "rgba8", image.step = 768;
-    image.data.resize(image.step * image.height);
+    sensor_msgs::Image image = shapedImage(t, 192, 192, "rgba8", 4);
     for (uint8_t& b : image.data) b = static_cast<uint8_t>(random());
-    put(noise, t, image);
+    put(bag, noise, t, image);
     std::fill(image.data.begin(), image.data.end(), static_cast<uint8_t>(f));
-    put(flat, t, image);
+    put(bag, flat, t, image);
     std_msgs::String s;
     s.data = text(500, random);
-    if (f >= 3) put(late, t - ros::Duration(0.25), s);
+    if (f >= 3) put(bag, late, t - ros::Duration(0.25), s);
   }
   bag.close();
 }
@@ -207,6 +245,101 @@ TEST(BagFileReader, ReadsBagFileWritersBagsAsRosbagDoes) {
     writeWithBagFileWriter(path, viper::dataset::bagCompressionFromName(name));
     expectSameMessages(path, Ties::kAsMultiset);
   }
+}
+
+void writeFile(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+
+// Six 1.5 MB images and a text at each time: by rosbag's writer (its LZ4 blocks of 1 MB fall
+// anywhere in a message) or by BagFileWriter, with the pixels' offset (`bulk`: a block starts there)
+// or without (its blocks of 4 MB start at the chunk's start).
+enum class Writer { kRosbag, kViperBulk, kViper };
+
+void writeLargeImages(const std::string& path, Writer writer) {
+  std::optional<rosbag::Bag> rosbag_bag;
+  std::optional<viper::dataset::BagFileWriter> viper_bag;
+  uint32_t image_conn = 0, text_conn = 0;
+  if (writer == Writer::kRosbag) {
+    rosbag_bag.emplace(path, rosbag::bagmode::Write);
+    rosbag_bag->setCompression(rosbag::compression::LZ4);
+  } else {
+    viper_bag.emplace(path);
+    image_conn = viper_bag->addConnection("/image", writerFields<sensor_msgs::Image>());
+    text_conn = viper_bag->addConnection("/text", writerFields<std_msgs::String>());
+  }
+  std::mt19937 random(9);
+  for (uint32_t f = 0; f < 6; ++f) {
+    const ros::Time t = ros::Time(30, 0) + ros::Duration(0.1 * f);
+    sensor_msgs::Image image = shapedImage(t, 1024, 512, "rgb8", 3);
+    for (size_t i = 0; i < image.data.size(); ++i) image.data[i] = static_cast<uint8_t>(i % 97 == 0 ? random() : i / 4096 + f);
+    std_msgs::String text_msg;
+    text_msg.data = text(300, random);
+    if (rosbag_bag) {
+      rosbag_bag->write("/image", t, image);
+      rosbag_bag->write("/text", t, text_msg);
+      continue;
+    }
+    const uint32_t size = ros::serialization::serializationLength(image);
+    put(*viper_bag, image_conn, t, image, writer == Writer::kViperBulk ? size - static_cast<uint32_t>(image.data.size()) : 0);
+    put(*viper_bag, text_conn, t, text_msg);
+  }
+  if (rosbag_bag) rosbag_bag->close();
+  else viper_bag->close();
+}
+
+// With a sink, each large message's bulk comes in the sink's storage, the bytes as rosbag reads them;
+// in BagFileWriter's bags with bulk offsets, the sink is first shown exactly the bytes before the
+// pixels (a block ends there), so that every block of the pixels is decompressed into its storage.
+TEST(BagFileReader, ASinkGetsTheBulkOfLargeMessagesAsRosbagReadsThem) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  for (const auto& [name, writer] : {std::pair{"rosbag", Writer::kRosbag}, std::pair{"viper_bulk", Writer::kViperBulk},
+                                     std::pair{"viper", Writer::kViper}}) {
+    const std::string path = dir + "/large_" + name + ".bag";
+    writeLargeImages(path, writer);
+    const std::vector<Read> expected = readWithRosbag(path);
+    ASSERT_EQ(expected.size(), 12u);
+    for (double split : {1.0, 0.5}) {
+      SCOPED_TRACE(std::string(name) + " split " + std::to_string(split));
+      TestSink sink(split);
+      const std::vector<Read> got = readWithReader(path, nullptr, &sink);
+      ASSERT_EQ(got.size(), expected.size());
+      std::vector<Read> a = got, b = expected;
+      std::stable_sort(a.begin(), a.end()), std::stable_sort(b.begin(), b.end());
+      for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(a[i] == b[i]) << "message " << i << " on " << a[i].topic;
+      EXPECT_EQ(sink.given, 6u) << "every image's bulk in the sink's storage";
+      if (writer == Writer::kViperBulk) {
+        ASSERT_EQ(sink.offered.size(), 6u);
+        for (const auto& [available, size] : sink.offered)
+          EXPECT_EQ(size - available, 1024u * 512 * 3) << "shown exactly the image's fields, up to its pixels";
+      }
+    }
+  }
+}
+
+// A damaged chunk whose bulk went to the sink is named as any other, after every message before it.
+TEST(BagFileReader, ADamagedChunkWithASinkIsNamedAfterTheMessagesBeforeIt) {
+  const std::string dir = tempDir("viper_bag_reader_"), intact = dir + "/intact.bag", damaged = dir + "/damaged.bag";
+  writeLargeImages(intact, Writer::kViperBulk);
+  std::string bytes = readFile(intact);
+  size_t field = 0;
+  for (int k = 0; k < 3; ++k) field = bytes.find("compression=lz4", field + 1);
+  ASSERT_NE(field, std::string::npos);
+  // BagFileWriter's chunk header: its length, then op (4 + 4 bytes), then the compression field's
+  // length and text.
+  const size_t chunk = field - 16;
+  ASSERT_EQ(bytes.substr(chunk + 8, 4), std::string("op=\x05", 4));
+  uint32_t header_size, data_size;
+  std::memcpy(&header_size, bytes.data() + chunk, 4);
+  std::memcpy(&data_size, bytes.data() + chunk + 4 + header_size, 4);
+  const size_t data_at = chunk + 8 + header_size;
+  for (size_t i = data_at + data_size - 2000; i < data_at + data_size - 1990; ++i) bytes[i] = static_cast<char>(~bytes[i]);
+  writeFile(damaged, bytes);
+  TestSink sink(1.0), intact_sink(1.0);
+  std::string error;
+  const std::vector<Read> got = readWithReader(damaged, &error, &sink), all = readWithReader(intact, nullptr, &intact_sink);
+  EXPECT_NE(error.find(damaged + ": damaged chunk at byte " + std::to_string(chunk) + ": "), std::string::npos) << error;
+  ASSERT_GT(got.size(), 0u);
+  ASSERT_LT(got.size(), all.size());
+  for (size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(got[i] == all[i]) << "message " << i;
 }
 
 TEST(BagFileReader, ReadsTheCommittedTestBagAsRosbagDoes) {
@@ -244,7 +377,6 @@ std::string withIndexPosition(std::string bytes, uint64_t* index_position) {
   return bytes;
 }
 
-void writeFile(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
 
 // What a recorder that did not finish leaves: its chunks, and the file header's index position
 // still 0 (rosbag writes it on close); and a bag cut short before its index.

@@ -3,8 +3,11 @@
 // 1080p raw bag: 22 ms of CPU a frame read and instantiated, half of it roslz4's xxhash). Here
 // liblz4's frame API decompresses an LZ4 chunk straight into the chunk's buffer, and a message is
 // handed out as its bytes in that buffer, for the caller to deserialise from there (18 ms a frame,
-// bench_bag_reader). LZ4's content checksums are still verified, as rosbag does: liblz4's XXH32 is
-// barely faster than roslz4's and is two thirds of the reading (10 of 15 ms a frame).
+// bench_bag_reader). LZ4's content checksums are still verified, as rosbag does (with libxxhash's
+// XXH32, 2.3 times as fast as liblz4's). A BagBulkSink may take the bulk of large messages (an
+// image's pixels): the LZ4 blocks that hold it are decompressed straight into the sink's storage (a
+// message of the caller's), not into the chunk to be copied from there again; BagFileWriter starts
+// a block where an image's pixels start, so that every block of them goes there.
 // The messages come in the order rosbag::View over the whole bag plays them: by time, and for equal
 // times in file order (chunk position, then offset in the chunk). rosbag orders equal times of one
 // connection so too; equal times across connections it orders as its sort happens to leave them.
@@ -14,6 +17,7 @@
 #include "viper/dataset/bag_file_writer.h"
 
 #include <array>
+#include <climits>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -45,6 +49,26 @@ struct BagMessage {
   /// The serialised message inside the decompressed chunk, valid until the reader's next call.
   const uint8_t* data = nullptr;
   uint32_t size = 0;
+  /// Where not null: the message's bytes from `bulk_offset` on are at `bulk`, the storage the
+  /// reader's BagBulkSink gave for them (decompressed there), and `data` holds only those before.
+  const uint8_t* bulk = nullptr;
+  uint32_t bulk_offset = 0;
+};
+
+/// Storage for the bulk of large messages (an image's pixels): an LZ4 chunk's blocks that fall in it
+/// are decompressed straight there rather than into the chunk, to be copied out of it again.
+class BagBulkSink {
+ public:
+  virtual ~BagBulkSink() = default;
+  /// Asked, while the chunk is decompressed, for the last message of an LZ4 chunk that is at least
+  /// kMinBulk bytes: `prefix` holds the first `available` of its `size` bytes (more at each call
+  /// until an answer). Returns storage for its bytes from `offset` on (size - offset of them; set
+  /// offset <= available), which stays the sink's; or nullptr: ask again once more bytes are in
+  /// (and, if the message is not one to take, at each block: the sink says nullptr every time).
+  /// The message then comes from next() with `bulk` set, unless the chunk turns out damaged.
+  virtual uint8_t* bulk(const BagConnection& connection, const uint8_t* prefix, uint32_t available, uint32_t size,
+                        uint32_t& offset) = 0;
+  static constexpr uint32_t kMinBulk = 64 * 1024;
 };
 
 class BagFileReader {
@@ -61,6 +85,9 @@ class BagFileReader {
   /// The messages next() gives in all.
   size_t messageCount() const { return entries_.size(); }
 
+  /// Hands the bulk of large messages to `sink` (nullptr: none), which must outlive the reader's use.
+  void setBulkSink(BagBulkSink* sink) { sink_ = sink; }
+
   /// The next message; false after the last. Throws std::runtime_error naming the file, the byte
   /// offset of a damaged chunk and what is wrong with it (every message before it was given).
   bool next(BagMessage& message);
@@ -74,6 +101,8 @@ class BagFileReader {
     uint32_t data_size;      // stored
     uint32_t size;           // decompressed
     BagCompression compression;
+    uint32_t last_entry = 0;  // the offset of its last indexed record (the one a sink may take)
+    uint32_t last_connection = UINT32_MAX;  // that record's connection (UINT32_MAX: none indexed)
   };
   // A message in the index: its time, the chunk and its record's offset there, its connection
   // (an index into connections_).
@@ -85,14 +114,21 @@ class BagFileReader {
     uint32_t chunk = 0;
     uint64_t used = 0;  // when last asked for; 0: holds no chunk
     ChunkBytes bytes;  // the chunk, then (LZ4) room BagChunkDecoder leaves behind it
+    // The message whose bulk went to the sink (its record's offset; none: UINT32_MAX): those bytes
+    // are not in `bytes`.
+    uint32_t bulk_record = UINT32_MAX, bulk_offset = 0;
+    uint8_t* bulk = nullptr;
   };
   struct Record;
+  class BulkRouter;
 
   void readIndex();
   void readChunkIndex(uint32_t chunk, const std::map<uint32_t, uint32_t>& ids, uint32_t index_records);
   Record record(uint64_t position, const char* what, bool with_data);
   [[noreturn]] void fail(uint64_t position, const char* what, const std::string& problem) const;
-  const uint8_t* chunkData(uint32_t chunk);  // its chunks_[chunk].size bytes
+  // Its chunks_[chunk].size bytes, in .bytes; `last`: the connection of its last indexed record,
+  // whose bulk may go to the sink.
+  CachedChunk& chunkData(uint32_t chunk, const BagConnection* last);
   [[noreturn]] void damaged(uint32_t chunk, const std::string& problem) const;
 
   std::string path_;
@@ -105,6 +141,7 @@ class BagFileReader {
   std::array<CachedChunk, 4> cache_;
   uint64_t uses_ = 0;
   ChunkBytes compressed_;
+  BagBulkSink* sink_ = nullptr;
 };
 
 }  // namespace viper::dataset

@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+struct LZ4F_cctx_s;
+
 namespace viper::dataset {
 
 namespace detail {
@@ -72,7 +74,11 @@ class BagFileWriter {
 
   /// Space for a message of `size` bytes on `connection` at time sec.nsec (not 0.0, which rosbag
   /// refuses), to be filled before the next call; the message is then in the bag.
-  uint8_t* beginMessage(uint32_t connection, uint32_t sec, uint32_t nsec, uint32_t size);
+  /// `bulk_offset` (0: none): where the message's bulk begins (an image's pixels). In an LZ4 chunk
+  /// a bulk of at least kMinBulkBytes starts a block of its own, so that a reader can decompress
+  /// it straight into a message of its own (BagBulkSink); any LZ4 reader reads the frame as usual.
+  uint8_t* beginMessage(uint32_t connection, uint32_t sec, uint32_t nsec, uint32_t size, uint32_t bulk_offset = 0);
+  static constexpr uint32_t kMinBulkBytes = 64 * 1024;
 
   /// Writes what is open and the index; the bag is complete. Throws as the constructor does.
   void close();
@@ -96,6 +102,9 @@ class BagFileWriter {
 
   void finishMessage();
   void closeChunk();
+  // The open chunk as an LZ4 frame into compressed_; returns its size.
+  size_t compressLz4Frame();
+  size_t compressLz4Blocks();
   template <typename Bytes>
   void writeConnectionRecord(Bytes& out, uint32_t id) const;
   void put(const void* bytes, size_t size);
@@ -106,6 +115,8 @@ class BagFileWriter {
   std::vector<Connection> connections_;
   ChunkBytes chunk_;  // the open chunk, uncompressed; empty: none open
   ChunkBytes compressed_;
+  std::vector<size_t> block_starts_;  // where in the open chunk a bulk starts (an LZ4 block)
+  std::unique_ptr<LZ4F_cctx_s, size_t (*)(LZ4F_cctx_s*)> lz4_{nullptr, nullptr};  // made when first needed
   bool message_open_ = false;  // beginMessage's space not yet taken as filled
   ChunkInfo current_{};
   std::map<uint32_t, std::vector<IndexEntry>> chunk_index_;  // the open chunk's messages

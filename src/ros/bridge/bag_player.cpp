@@ -118,46 +118,110 @@ void deserialise(ros::serialization::IStream& in, T& msg) {
   ros::serialization::deserialize(in, msg);
 }
 
-// An image as ROS deserialises it, its pixels copied once: ROS's deserialiser of a byte vector
-// resizes it (zeroing a 1080p image's bytes) before it copies them.
-template <>
-void deserialise(ros::serialization::IStream& in, sensor_msgs::Image& msg) {
-  in.next(msg.header);
-  in.next(msg.height);
-  in.next(msg.width);
-  in.next(msg.encoding);
-  in.next(msg.is_bigendian);
-  in.next(msg.step);
-  uint32_t size = 0;
-  in.next(size);
-  const uint8_t* bytes = in.advance(size);  // throws StreamOverrunException past the message's end
-  msg.data.assign(bytes, bytes + size);
-}
-
-// Publishes the typed message T of m, deserialised from its bytes in the bag's chunk, with its
-// header stamp `shift` later; returns the bag's stamp.
+// Publishes msg with its header stamp `shift` later; returns the bag's stamp.
 template <typename T>
-ros::Time publishShifted(ros::Publisher& pub, const dataset::BagMessage& m, const ros::Duration& shift) {
-  // A type of another definition does not deserialise as T (rosbag's instantiate<T> refuses it too).
-  if (m.connection->field("md5sum") != ros::message_traits::md5sum<T>())
-    throw std::runtime_error("a " + m.connection->field("type") + " message on " + m.connection->topic +
-                             " does not deserialise (md5sum " + m.connection->field("md5sum") + ", not " +
-                             ros::message_traits::md5sum<T>() + ")");
-  const boost::shared_ptr<T> msg = boost::make_shared<T>();
-  ros::serialization::IStream in(const_cast<uint8_t*>(m.data), m.size);
-  deserialise(in, *msg);
+ros::Time publishShifted(ros::Publisher& pub, const ros::Duration& shift, const boost::shared_ptr<T>& msg) {
   const ros::Time stamp = msg->header.stamp;
   if (!shift.isZero() && !stamp.isZero()) msg->header.stamp += shift;
   pub.publish(msg);
   return stamp;
 }
 
+// A type of another definition does not deserialise as T (rosbag's instantiate<T> refuses it too).
+template <typename T>
+void checkType(const dataset::BagMessage& m) {
+  if (m.connection->field("md5sum") != ros::message_traits::md5sum<T>())
+    throw std::runtime_error("a " + m.connection->field("type") + " message on " + m.connection->topic +
+                             " does not deserialise (md5sum " + m.connection->field("md5sum") + ", not " +
+                             ros::message_traits::md5sum<T>() + ")");
+}
+
+template <typename T>
+ros::Time publishShifted(ros::Publisher& pub, const dataset::BagMessage& m, const ros::Duration& shift) {
+  checkType<T>(m);
+  const boost::shared_ptr<T> msg = boost::make_shared<T>();
+  ros::serialization::IStream in(const_cast<uint8_t*>(m.data), m.size);
+  ros::serialization::deserialize(in, *msg);
+  return publishShifted(pub, shift, msg);
+}
+
 }  // namespace
+
+namespace {
+
+// An image's fields before its pixels, from the start of its serialised bytes; returns the number
+// of pixel bytes (the byte vector's length). Throws StreamOverrunException where `in` ends first.
+uint32_t imageFields(ros::serialization::IStream& in, sensor_msgs::Image& image) {
+  in.next(image.header);
+  in.next(image.height);
+  in.next(image.width);
+  in.next(image.encoding);
+  in.next(image.is_bigendian);
+  in.next(image.step);
+  uint32_t size = 0;
+  in.next(size);
+  return size;
+}
+
+}  // namespace
+
+uint8_t* BagPlayer::ImageSink::bulk(const dataset::BagConnection& connection, const uint8_t* prefix,
+                                    uint32_t available, uint32_t size, uint32_t& offset) {
+  if (connection.field("type") != kImage || connection.field("md5sum") != ros::message_traits::md5sum<sensor_msgs::Image>())
+    return nullptr;
+  sensor_msgs::Image fields;
+  uint32_t pixels = 0;
+  try {
+    ros::serialization::IStream in(const_cast<uint8_t*>(prefix), available);
+    pixels = imageFields(in, fields);
+    offset = static_cast<uint32_t>(in.getData() - prefix);
+  } catch (const ros::serialization::StreamOverrunException&) {
+    return nullptr;  // not all of its fields are in yet
+  }
+  if (pixels != size - offset) return nullptr;  // not a whole image: left to publishImage to name
+  sensor_msgs::ImagePtr& msg = pending[connection.topic];
+  msg = pools[connection.topic].takeBytes(pixels);
+  if (msg->data.size() != pixels) msg->data.resize(pixels);  // a new message
+  return msg->data.data();
+}
+
+// An image as ROS deserialises it, into a message of the topic's pool (its pages in use already:
+// a new 1080p message's would be faulted in and zeroed): its pixels decompressed straight into
+// the message where the reader could (the sink's pending message), else copied once (ROS's
+// deserialiser of a byte vector resizes it, zeroing the bytes, before it copies them).
+ros::Time BagPlayer::publishImage(ros::Publisher& pub, const dataset::BagMessage& m, const ros::Duration& shift) {
+  checkType<sensor_msgs::Image>(m);
+  sensor_msgs::ImagePtr msg;
+  const uint8_t* bytes = nullptr;
+  sensor_msgs::Image fields;
+  uint32_t size = 0;
+  if (m.bulk) {
+    auto pending = image_sink_.pending.find(m.connection->topic);
+    if (pending == image_sink_.pending.end() || !pending->second || pending->second->data.data() != m.bulk)
+      throw std::logic_error("bag_player: the pixels of an image on " + m.connection->topic + " are not its message's");
+    msg = std::move(pending->second);
+    ros::serialization::IStream in(const_cast<uint8_t*>(m.data), m.bulk_offset);
+    size = imageFields(in, fields);
+  } else {
+    ros::serialization::IStream in(const_cast<uint8_t*>(m.data), m.size);
+    size = imageFields(in, fields);
+    bytes = in.advance(size);  // throws StreamOverrunException past the message's end
+    msg = image_sink_.pools[m.connection->topic].takeBytes(size);
+  }
+  msg->header = std::move(fields.header);
+  msg->height = fields.height;
+  msg->width = fields.width;
+  msg->encoding = std::move(fields.encoding);
+  msg->is_bigendian = fields.is_bigendian;
+  msg->step = fields.step;
+  if (bytes) msg->data.assign(bytes, bytes + size);
+  return publishShifted(pub, shift, msg);
+}
 
 ros::Time BagPlayer::publish(const dataset::BagMessage& m, const ros::Duration& shift) {
   ros::Publisher& pub = pubs_[m.connection->topic];
   const std::string& type = m.connection->field("type");
-  if (type == kImage) return publishShifted<sensor_msgs::Image>(pub, m, shift);
+  if (type == kImage) return publishImage(pub, m, shift);
   if (type == kCameraInfo) return publishShifted<sensor_msgs::CameraInfo>(pub, m, shift);
   if (type == kDrawList) return publishShifted<DrawList>(pub, m, shift);
   if (type == kMeshStore) return publishShifted<MeshStore>(pub, m, shift);
@@ -199,6 +263,7 @@ bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span
   }
   try {
     dataset::BagFileReader bag(options_.bag);
+    bag.setBulkSink(&image_sink_);
     int64_t cpu_mark = CpuMeter::threadCpuNs();  // this thread's CPU, reading included, by frame
     dataset::BagMessage m;
     while (bag.next(m)) {

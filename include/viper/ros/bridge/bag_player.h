@@ -5,8 +5,10 @@
 // socket (460 MB/s for 1080p raw topics at 15 Hz). docs/capture_bridge.md#bag_player.
 #pragma once
 
+#include "viper/dataset/bag_file_reader.h"
 #include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/bridge/pace_gate.h"
+#include "viper/ros/conversions/image_msg_pool.h"
 
 #include <ros/ros.h>
 
@@ -76,12 +78,21 @@ class BagPlayer {
   // Publishes m with its header stamp `shift` later (typed messages; others as they are); returns
   // the message's header stamp (unshifted), zero for types without one.
   ros::Time publish(const dataset::BagMessage& m, const ros::Duration& shift);
+  ros::Time publishImage(ros::Publisher& pub, const dataset::BagMessage& m, const ros::Duration& shift);
   bool sleepUntil(const ros::WallTime& t);
 
   ros::NodeHandle nh_, pnh_;
   BagPlayerOptions options_;
   bool is_node_ = true;
   std::map<std::string, ros::Publisher> pubs_;  // by topic
+  // The image messages, recycled (by topic), and where the reader decompresses an image's pixels
+  // straight into its message: the message it takes for each topic until next() gives it out.
+  struct ImageSink : dataset::BagBulkSink {
+    uint8_t* bulk(const dataset::BagConnection& connection, const uint8_t* prefix, uint32_t available,
+                  uint32_t size, uint32_t& offset) override;
+    std::map<std::string, ImageMsgPool> pools;
+    std::map<std::string, sensor_msgs::ImagePtr> pending;
+  } image_sink_;
   std::unique_ptr<PaceGate> gate_;
   CpuMeter cpu_{"bag_player", pnh_};  // its thread's CPU a frame (cpu_meter.h)
   ros::Publisher clock_pub_;

@@ -1,6 +1,7 @@
 // Writes messages into a bag as a recorder of their publishers would: one connection per topic with
 // the publisher's connection header (latched where the publisher latches), header.seq numbered per
-// topic as a publisher numbers its messages, each message at its header stamp. Used by
+// topic as a publisher numbers its messages, each message at its header stamp; an image's pixels
+// start an LZ4 block (bag_player decompresses them straight into its message). Used by
 // capture_to_bag (raw bags) and generate (ground-truth bags). The file is written by
 // dataset::BagFileWriter (each message serialised once, straight into its chunk; chunks that do
 // not compress stored as they are); rosbag reads it as its own.
@@ -11,6 +12,7 @@
 #include <ros/message_traits.h>
 #include <ros/serialization.h>
 #include <ros/time.h>
+#include <sensor_msgs/Image.h>
 
 #include <boost/shared_ptr.hpp>
 
@@ -55,7 +57,7 @@ class BagWriter {
       known = connections_.emplace(topic, bag_.addConnection(topic, fields)).first;
     }
     const uint32_t size = ros::serialization::serializationLength(*msg);
-    uint8_t* out = bag_.beginMessage(known->second, time.sec, time.nsec, size);
+    uint8_t* out = bag_.beginMessage(known->second, time.sec, time.nsec, size, bulkOffset(*msg, size));
     ros::serialization::OStream stream(out, size);
     ros::serialization::serialize(stream, *msg);
     ++messages_;
@@ -68,6 +70,14 @@ class BagWriter {
   uint64_t bytes() const { return bytes_; }
 
  private:
+  // Where a message's bulk starts (its last bytes, an image's pixels), for the bag's LZ4 blocks.
+  template <typename M>
+  static uint32_t bulkOffset(const M&, uint32_t) {
+    return 0;
+  }
+  static uint32_t bulkOffset(const sensor_msgs::Image& image, uint32_t size) {
+    return size - static_cast<uint32_t>(image.data.size());
+  }
   static dataset::BagFileOptions options(const std::string& compression) {
     dataset::BagFileOptions o;
     o.compression = dataset::bagCompressionFromName(compression);

@@ -19,11 +19,12 @@
 #                                    [--queue-size Q (30: the nodelets' input queues, replay.launch's queue_size)]
 #                                    [--throughput [--in-flight K (8)]] [--sweep R1,R2,...]
 #                                    [--bag-compression lz4|none|bz2 (capture_to_bag's, lz4)]
+#                                    [--capture-codec zstd|lz4 (the capture's compression, zstd)]
 #                                    [--perf FILE (perf record --call-graph dwarf of the manager while it plays)]
 # Needs a built workspace sourced first: source devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out=""
+frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out="" codec=zstd
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
@@ -38,7 +39,8 @@ while [ $# -gt 0 ]; do
     --sweep) sweep="$2"; shift 2 ;;
     --bag-compression) compression="$2"; shift 2 ;;
     --perf) perf_out="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...] [--bag-compression lz4|none|bz2] [--perf FILE]" >&2; exit 2 ;;
+    --capture-codec) codec="$2"; shift 2 ;;
+    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...] [--bag-compression lz4|none|bz2] [--capture-codec zstd|lz4] [--perf FILE]" >&2; exit 2 ;;
   esac
 done
 case "$source" in bag|rosbag|capture) ;; *) echo "measure_pipeline: --source is bag, rosbag or capture" >&2; exit 2 ;; esac
@@ -50,7 +52,7 @@ if [ -n "$sweep" ]; then  # one run per rate, each on a capture of its own; the 
   for r in ${sweep//,/ }; do
     echo "measure_pipeline: --sweep: rate $r"
     out=$("$0" --frames "$frames" --width "$width" --height "$height" --source "$source" --rate "$r" \
-        --queue-size "$queue" --bag-compression "$compression" $([ "$flow" = true ] || echo --no-flow) 2>&1) && ok=1 || ok=0
+        --queue-size "$queue" --bag-compression "$compression" --capture-codec "$codec" $([ "$flow" = true ] || echo --no-flow) 2>&1) && ok=1 || ok=0
     echo "$out" | grep -E "^(nodelet manager|delivered|sustained|measure_pipeline: (no frame|frames))"
     fps=$(echo "$out" | sed -n 's/^sustained: \([0-9.]*\) frames.*/\1/p')
     # A player that falls behind its rate loses nothing but delivers less, and queues let the nodes
@@ -66,7 +68,7 @@ fi
 source "$here/scripts/measure_common.sh" measure_pipeline
 
 echo "measure_pipeline: capturing $frames frames of the world at ${width}x${height}"
-"$bin/capture" --output "$work/world.vcap" --profile "$here/config/profiles/world.yaml" --fps 15 \
+"$bin/capture" --output "$work/world.vcap" --codec "$codec" --profile "$here/config/profiles/world.yaml" --fps 15 \
   -- "$bin/world" --frames "$frames" --width "$width" --height "$height" >/dev/null
 echo "measure_pipeline: captured (${SECONDS} s)"
 # The bridge and the bag player wait 8 s after advertising: output_counter is loaded by then.

@@ -120,9 +120,17 @@ struct DepthTable {
 }  // namespace
 
 std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* camera, Instructions instructions) {
+  std::vector<float> out(frame.pixelCount());
+  depthMetres(frame, camera, out.data(), instructions);
+  return out;
+}
+
+void depthMetres(const CaptureFrame& frame, const FrameCamera* camera, float* out, Instructions instructions) {
   const size_t n = frame.pixelCount();
-  std::vector<float> out(n, kNaN);
-  if (frame.depth_window.size() != n) return out;
+  if (frame.depth_window.size() != n) {
+    std::fill(out, out + n, kNaN);
+    return;
+  }
 
   // One linearizer per draw (index + 1 as in the id image); slot 0 is the frame camera.
   std::vector<std::optional<DepthLinearizer>> by_id(frame.draws.size() + 1);
@@ -143,16 +151,17 @@ std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* cam
     for (size_t id = 0; id < by_id.size(); ++id)
       if (by_id[id]) table.set(id, by_id[id]->rows());
     done = pixel_kernels::depthMetres(path, have_ids ? frame.draw_ids.data() : nullptr, frame.depth_window.data(), n,
-                                      table.rows(), out.data());
+                                      table.rows(), out);
   }
-  // One pixel at a time: the reference, and the pixels after the kernels' blocks.
+  // One pixel at a time: the reference, and the pixels after the kernels' blocks (which write every
+  // pixel of theirs).
+  std::fill(out + done, out + n, kNaN);
   for (size_t i = done; i < n; ++i) {
     uint32_t id = have_ids ? frame.draw_ids[i] : 0;
     if (id >= by_id.size()) id = 0;
     const auto& lin = by_id[id];
     if (lin) out[i] = lin->toMetres(frame.depth_window[i]);
   }
-  return out;
 }
 
 std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,

@@ -79,6 +79,9 @@ std::optional<FrameCamera> chooseFrameCamera(const CaptureFrame& frame);
 /// path of `instructions` gives the same bits.
 std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* camera,
                                Instructions instructions = Instructions::kWidest);
+/// The same into `out` (frame.pixelCount() values): a message's pixels, say.
+void depthMetres(const CaptureFrame& frame, const FrameCamera* camera, float* out,
+                 Instructions instructions = Instructions::kWidest);
 
 /// Converts depth in metres along the optical axis (REP 118) back to OpenGL window depth in [0, 1],
 /// the inverse of depthMetres(): each pixel with the projection of the draw that owns it (draws

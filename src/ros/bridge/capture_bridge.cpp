@@ -218,7 +218,7 @@ void CaptureBridge::publishFrame(const CaptureFrame& frame, double stamp_s) {
   header.frame_id = options_.frame_id;
 
   try {
-    const FrameMessages m = frameMessages(frame, header, mesh_store_);
+    const FrameMessages m = frameMessages(frame, header, mesh_store_, image_pools_);
     if (!m.camera_problem.empty()) {
       ROS_WARN_THROTTLE(kThrottleS, "capture_bridge: frame %lu of '%s': %s", static_cast<unsigned long>(frame.number),
                         options_.file.c_str(), m.camera_problem.c_str());

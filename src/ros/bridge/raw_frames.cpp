@@ -41,7 +41,7 @@ bool CaptureRawFrames::next(FrameMessages& out) {
       warnings_.push_back("frame " + std::to_string(frame_.number) + " of '" + path_ + "' goes back in time (" +
                           std::to_string(frame_.time_s) + " s); stamped 1 ms after the previous frame");
     try {
-      out = frameMessages(frame_, header, meshes_);
+      out = frameMessages(frame_, header, meshes_, pools_);
     } catch (const std::invalid_argument& e) {
       problems_.push_back("dropping frame " + std::to_string(frame_.number) + " of '" + path_ + "' (byte " +
                           std::to_string(offset) + "): " + e.what());

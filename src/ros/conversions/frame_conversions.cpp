@@ -178,14 +178,22 @@ sensor_msgs::Image drawIdImage(const CaptureFrame& frame, const std_msgs::Header
                   frame.draw_ids.data());
 }
 
+namespace {
+
+// The primitive id image's pixels: -1 where no draw is.
+void primitiveIds(const CaptureFrame& frame, int32_t* out) {
+  const uint32_t* ids = frame.draw_ids.data();
+  const uint32_t* primitives = frame.primitive_ids.data();
+  for (size_t i = 0, n = frame.pixelCount(); i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
+}
+
+}  // namespace
+
 sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
   checkSize(frame, frame.primitive_ids.size(), 1, "primitive ids");
   checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
   sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32SC1, 4);
-  auto* out = reinterpret_cast<int32_t*>(img.data.data());
-  for (size_t i = 0; i < frame.pixelCount(); ++i) {
-    out[i] = frame.draw_ids[i] == 0 ? -1 : static_cast<int32_t>(frame.primitive_ids[i]);
-  }
+  primitiveIds(frame, reinterpret_cast<int32_t*>(img.data.data()));
   return img;
 }
 
@@ -246,6 +254,12 @@ bool MeshStoreAccumulator::add(const std::vector<MeshRecord>& meshes) {
 }
 
 FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes) {
+  FrameImagePools once;
+  return frameMessages(frame, header, meshes, once);
+}
+
+FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes,
+                            FrameImagePools& pools) {
   FrameMessages out;
   const std::optional<FrameCamera> camera = chooseFrameCamera(frame);
   std::optional<PinholeIntrinsics> intrinsics;
@@ -261,10 +275,21 @@ FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& h
         "uncalibrated (check the capture profile)";
   }
 
-  out.color = boost::make_shared<sensor_msgs::Image>(colorImage(frame, header));
-  out.depth = boost::make_shared<sensor_msgs::Image>(depthImage(frame, depthMetres(frame, camera ? &*camera : nullptr), header));
-  out.draw_ids = boost::make_shared<sensor_msgs::Image>(drawIdImage(frame, header));
-  out.primitive_ids = boost::make_shared<sensor_msgs::Image>(primitiveIdImage(frame, header));
+  // Each image written once, into its message.
+  const size_t n = frame.pixelCount();
+  checkSize(frame, frame.color_rgb.size(), 3, "color");
+  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
+  checkSize(frame, frame.primitive_ids.size(), 1, "primitive ids");
+  const uint32_t w = frame.width, h = frame.height;
+  out.color = pools.color.take(header, w, h, sensor_msgs::image_encodings::RGB8, 3);
+  std::copy(frame.color_rgb.begin(), frame.color_rgb.end(), out.color->data.begin());
+  out.depth = pools.depth.take(header, w, h, sensor_msgs::image_encodings::TYPE_32FC1, 4);
+  depthMetres(frame, camera ? &*camera : nullptr, reinterpret_cast<float*>(out.depth->data.data()));
+  // Draw ids are index + 1 of at most a few million draws: they fit a signed int unchanged.
+  out.draw_ids = pools.draw_ids.take(header, w, h, sensor_msgs::image_encodings::TYPE_32SC1, 4);
+  std::memcpy(out.draw_ids->data.data(), frame.draw_ids.data(), 4 * n);
+  out.primitive_ids = pools.primitive_ids.take(header, w, h, sensor_msgs::image_encodings::TYPE_32SC1, 4);
+  primitiveIds(frame, reinterpret_cast<int32_t*>(out.primitive_ids->data.data()));
   out.camera_info = boost::make_shared<sensor_msgs::CameraInfo>(
       cameraInfo(intrinsics ? &*intrinsics : nullptr, frame.width, frame.height, header));
   out.draws = boost::make_shared<DrawList>(toDrawListMsg(frame, header));

@@ -84,6 +84,7 @@ class CaptureBridge {
   ros::Publisher color_info_pub_, depth_info_pub_, draws_pub_, mesh_store_pub_, clock_pub_;
 
   MeshStoreAccumulator mesh_store_;
+  FrameImagePools image_pools_;  // the images' messages, recycled
   std::unique_ptr<PaceGate> gate_;
   CpuMeter cpu_{"capture_bridge", private_nh_};  // its thread's CPU a frame (cpu_meter.h)
 

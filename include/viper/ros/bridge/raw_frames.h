@@ -59,6 +59,7 @@ class CaptureRawFrames : public RawFrames {
   ReplayTiming timing_;
   std::string frame_id_;
   MeshStoreAccumulator meshes_;
+  FrameImagePools pools_;  // the images' messages, recycled once whoever took them lets go
   CaptureFrame frame_;
   std::optional<uint64_t> last_number_;
   uint64_t frames_ = 0;

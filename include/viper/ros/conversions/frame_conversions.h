@@ -7,6 +7,7 @@
 #include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/camera_model.h"
 #include "viper/ros/conversions/image_conversions.h"
+#include "viper/ros/conversions/image_msg_pool.h"
 
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -112,6 +113,15 @@ struct FrameMessages {
 /// validateFrame(). Throws std::invalid_argument if an image buffer does not match the frame's size;
 /// `meshes` is then left unchanged.
 FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes);
+
+/// Where a publisher of frame after frame keeps its image messages, recycled (ImageMsgPool): each
+/// image is then written once into a message whose pages are in use already.
+struct FrameImagePools {
+  ImageMsgPool color, depth, draw_ids, primitive_ids;
+};
+/// The same with the images in messages of `pools`.
+FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes,
+                            FrameImagePools& pools);
 
 /// The inverse of frameMessages: the frame of one frame's raw messages. Draws, draw ids,
 /// primitive ids and color come back exactly; window depth comes back from the metres through

@@ -91,7 +91,8 @@ if(CATKIN_ENABLE_TESTING)
     get_filename_component(name ${t} NAME_WE)
     catkin_add_gtest(${name} ${t} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     if(TARGET ${name})
-      target_link_libraries(${name} viper_dataset PkgConfig::LIBZIP gtest_main)
+      # libxxhash: test_xxh32_streams's reference.
+      target_link_libraries(${name} viper_dataset PkgConfig::LIBZIP PkgConfig::XXHASH gtest_main)
       target_compile_definitions(${name} PRIVATE
         VIPER_PYTHON="/usr/bin/python3"
         VIPER_NUMPY_INTEROP_SCRIPT="${PROJECT_SOURCE_DIR}/test/dataset/numpy_interop.py"

@@ -45,8 +45,9 @@ BagChunkDecoder::~BagChunkDecoder() {
 }
 
 std::string BagChunkDecoder::decode(BagCompression compression, const uint8_t* in, size_t in_size, ChunkBytes& out,
-                                    size_t size, ChunkRouter* router) {
-  if (compression == BagCompression::kLz4) return decodeLz4(in, in_size, out, size, router);
+                                    size_t size, ChunkRouter* router, DeferredChecksum* deferred) {
+  if (deferred) *deferred = DeferredChecksum();
+  if (compression == BagCompression::kLz4) return decodeLz4(in, in_size, out, size, router, deferred);
   if (compression == BagCompression::kBz2) return decodeBz2(in, in_size, out, size);
   return "not a compressed chunk";
 }
@@ -91,16 +92,16 @@ std::string BagChunkDecoder::decodeBz2(const uint8_t* in, size_t in_size, ChunkB
 }
 
 std::string BagChunkDecoder::decodeLz4(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size,
-                                       ChunkRouter* router) {
+                                       ChunkRouter* router, DeferredChecksum* deferred) {
   std::string problem;
-  if (decodeLz4Blocks(in, in_size, out, size, router, problem)) return problem;
+  if (decodeLz4Blocks(in, in_size, out, size, router, deferred, problem)) return problem;
   return decodeLz4Frame(in, in_size, out, size);
 }
 
 // The frame format: https://github.com/lz4/lz4/blob/dev/doc/lz4_Frame_format.md. Blocks are
 // independent, so each decompresses alone, to wherever its bytes belong.
 bool BagChunkDecoder::decodeLz4Blocks(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size,
-                                      ChunkRouter* router, std::string& problem) {
+                                      ChunkRouter* router, DeferredChecksum* deferred, std::string& problem) {
   if (in_size < 7 || load32(in) != 0x184D2204u) return false;
   const uint8_t flags = in[4], block = in[5];
   const bool version_1 = (flags >> 6) == 1, independent = flags & 0x20, block_checksums = flags & 0x10,
@@ -119,10 +120,15 @@ bool BagChunkDecoder::decodeLz4Blocks(const uint8_t* in, size_t in_size, ChunkBy
   ChunkRouter::Answer answer = router ? ChunkRouter::kNotYet : ChunkRouter::kNever;
   size_t begin = 0, end = 0;
   uint8_t* to = nullptr;
-  // Bytes [from, from + n) of the chunk, decompressed at `where`: hashed, and their part of the
-  // routed range copied there unless they are there already.
+  // The content checksum: here, block by block, or by the caller (deferred) over these pieces.
+  const bool defer = deferred && content_checksum;
+  std::vector<BytePiece>* pieces = defer ? &deferred->pieces : nullptr;
+  // Bytes [from, from + n) of the chunk, decompressed at `where`: hashed (or listed), and their part
+  // of the routed range copied there unless they are there already.
   auto decoded = [&](size_t from, size_t n, const uint8_t* where) {
-    XXH32_update(xxh_, where, n);
+    if (!pieces) XXH32_update(xxh_, where, n);
+    else if (!pieces->empty() && pieces->back().data + pieces->back().size == where) pieces->back().size += n;
+    else pieces->push_back({where, n});
     if (answer != ChunkRouter::kRouted || where != out.data() + from) return;
     const size_t a = std::max(from, begin), b = std::min(from + n, end);
     if (a < b) std::memcpy(to + (a - begin), out.data() + a, b - a);
@@ -205,7 +211,8 @@ bool BagChunkDecoder::decodeLz4Blocks(const uint8_t* in, size_t in_size, ChunkBy
   }
   if (written != size) problem = sizes(written, size);
   else if (at != in_size) problem = std::to_string(in_size - at) + " bytes after the LZ4 frame";
-  else if (content_checksum && XXH32_digest(xxh_) != checksum) problem = "LZ4: ERROR_contentChecksum_invalid";
+  else if (defer) deferred->pending = true, deferred->expected = checksum;
+  else if (content_checksum && XXH32_digest(xxh_) != checksum) problem = kLz4ChecksumProblem;
   return true;
 }
 
@@ -246,7 +253,7 @@ std::string BagChunkDecoder::decodeLz4Frame(const uint8_t* in, size_t in_size, C
     // The frame ends with the content checksum, little endian (LZ4's frame format).
     const uint8_t* c = in + read - 4;
     const uint32_t stored = c[0] | uint32_t(c[1]) << 8 | uint32_t(c[2]) << 16 | uint32_t(c[3]) << 24;
-    if (XXH32(out.data(), size, 0) != stored) return "LZ4: ERROR_contentChecksum_invalid";
+    if (XXH32(out.data(), size, 0) != stored) return kLz4ChecksumProblem;
   }
   return "";
 }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "viper/dataset/bag_file_writer.h"
+#include "xxh32_streams.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -29,6 +30,17 @@ class ChunkRouter {
   virtual Answer route(const uint8_t* chunk, size_t decoded, size_t& begin, size_t& end, uint8_t*& to) = 0;
 };
 
+/// An LZ4 chunk's content checksum left for the caller to check (with other chunks', side by side:
+/// xxh32_streams.h): the stored value and the decompressed bytes in order.
+/// The problem an LZ4 chunk whose content does not match its checksum has (liblz4's name for it).
+constexpr const char kLz4ChecksumProblem[] = "LZ4: ERROR_contentChecksum_invalid";
+
+struct DeferredChecksum {
+  bool pending = false;
+  uint32_t expected = 0;
+  std::vector<BytePiece> pieces;
+};
+
 class BagChunkDecoder {
  public:
   BagChunkDecoder();
@@ -41,15 +53,17 @@ class BagChunkDecoder {
   /// checksum, more or fewer bytes than `size`, bytes after the frame).
   /// With a router, a range of an LZ4 chunk may go elsewhere (ChunkRouter): `out` then holds the
   /// rest, and the range's place in it is left as it was.
+  /// With `deferred`, an LZ4 frame's content checksum may be left to the caller (deferred->pending).
   std::string decode(BagCompression compression, const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size,
-                     ChunkRouter* router = nullptr);
+                     ChunkRouter* router = nullptr, DeferredChecksum* deferred = nullptr);
 
  private:
-  std::string decodeLz4(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size, ChunkRouter* router);
+  std::string decodeLz4(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size, ChunkRouter* router,
+                        DeferredChecksum* deferred);
   // An LZ4 frame of independent blocks without block checksums or dictionary, block by block;
   // false (nothing done) for other frames.
   bool decodeLz4Blocks(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size, ChunkRouter* router,
-                       std::string& problem);
+                       DeferredChecksum* deferred, std::string& problem);
   std::string decodeLz4Frame(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size);
   std::string decodeBz2(const uint8_t* in, size_t in_size, ChunkBytes& out, size_t size);
 

@@ -271,17 +271,28 @@ class BagFileReader::BulkRouter : public detail::ChunkRouter {
   uint64_t at_;
 };
 
-BagFileReader::CachedChunk& BagFileReader::chunkData(uint32_t chunk, const BagConnection* last) {
-  for (CachedChunk& c : cache_) {
-    if (c.used != 0 && c.chunk == chunk) {
-      c.used = ++uses_;
-      return c;
-    }
+BagFileReader::CachedChunk* BagFileReader::cached(uint32_t chunk) {
+  for (CachedChunk& c : cache_)
+    if (c.used != 0 && c.chunk == chunk) return &c;
+  return nullptr;
+}
+
+uint32_t BagFileReader::chunkAhead(uint32_t chunk) const {
+  constexpr size_t kLookAhead = 64;  // entries: a frame's messages
+  for (size_t i = next_; i < entries_.size() && i < next_ + kLookAhead; ++i) {
+    const uint32_t c = entries_[i].chunk;
+    if (c == chunk) continue;
+    for (const CachedChunk& s : cache_)
+      if (s.used != 0 && s.chunk == c) return UINT32_MAX;  // in already: its own turn comes later
+    return chunks_[c].compression == BagCompression::kLz4 ? c : UINT32_MAX;
   }
-  CachedChunk& slot =
-      *std::min_element(cache_.begin(), cache_.end(), [](const CachedChunk& a, const CachedChunk& b) { return a.used < b.used; });
+  return UINT32_MAX;
+}
+
+void BagFileReader::loadChunk(uint32_t chunk, CachedChunk& slot, detail::DeferredChecksum* deferred) {
   slot.used = 0;  // holds nothing until the chunk is in
   slot.bulk_record = UINT32_MAX, slot.bulk = nullptr;
+  slot.error.clear();
   const Chunk& c = chunks_[chunk];
   if (c.compression == BagCompression::kNone) {
     if (c.data_size != c.size)
@@ -295,22 +306,70 @@ BagFileReader::CachedChunk& BagFileReader::chunkData(uint32_t chunk, const BagCo
     compressed_.resize(c.data_size);
     file_->read(c.data_position, compressed_.data(), c.data_size);
     std::optional<BulkRouter> router;
-    if (sink_ && last && c.compression == BagCompression::kLz4) router.emplace(*sink_, *last, c, slot);
-    const std::string problem =
-        decoder_->decode(c.compression, compressed_.data(), c.data_size, slot.bytes, c.size, router ? &*router : nullptr);
+    if (sink_ && c.last_connection != UINT32_MAX && c.compression == BagCompression::kLz4)
+      router.emplace(*sink_, connections_[c.last_connection], c, slot);
+    const std::string problem = decoder_->decode(c.compression, compressed_.data(), c.data_size, slot.bytes, c.size,
+                                                 router ? &*router : nullptr, deferred);
     if (!problem.empty()) damaged(chunk, problem);
   }
   slot.chunk = chunk;
   slot.used = ++uses_;
-  return slot;
+}
+
+BagFileReader::CachedChunk& BagFileReader::chunkData(uint32_t chunk) {
+  if (CachedChunk* c = cached(chunk)) {
+    if (!c->error.empty()) throw std::runtime_error(c->error);
+    c->used = ++uses_;
+    return *c;
+  }
+  const uint32_t ahead = chunkAhead(chunk);
+  const int count = ahead == UINT32_MAX ? 1 : 2;
+  const uint32_t batch[2] = {chunk, ahead};
+  CachedChunk* slots[2] = {nullptr, nullptr};
+  detail::DeferredChecksum sums[2];
+  for (int i = 0; i < count; ++i) {
+    // The least recently used slot, not this batch's other one.
+    CachedChunk* slot = nullptr;
+    for (CachedChunk& c : cache_)
+      if (&c != slots[0] && (!slot || c.used < slot->used)) slot = &c;
+    slots[i] = slot;
+    if (i == 0) {
+      loadChunk(batch[i], *slot, &sums[i]);  // throws for the chunk asked for
+      continue;
+    }
+    try {
+      loadChunk(batch[i], *slot, &sums[i]);
+    } catch (const std::runtime_error& e) {  // the chunk ahead: named once it is reached
+      sums[i].pending = false;
+      slot->error = e.what(), slot->chunk = batch[i], slot->used = ++uses_;
+    }
+  }
+  std::vector<const std::vector<detail::BytePiece>*> streams;
+  std::vector<int> of;
+  for (int i = 0; i < count; ++i)
+    if (sums[i].pending) streams.push_back(&sums[i].pieces), of.push_back(i);
+  std::vector<uint32_t> hashes(streams.size());
+  detail::xxh32Streams(streams, hashes.data());
+  for (size_t k = 0; k < streams.size(); ++k) {
+    const int i = of[k];
+    if (hashes[k] == sums[i].expected) continue;
+    if (i == 0) {
+      slots[0]->used = 0;
+      damaged(batch[0], detail::kLz4ChecksumProblem);
+    }
+    try {
+      damaged(batch[i], detail::kLz4ChecksumProblem);
+    } catch (const std::runtime_error& e) {
+      slots[i]->error = e.what();
+    }
+  }
+  return *slots[0];
 }
 
 bool BagFileReader::next(BagMessage& message) {
   if (next_ == entries_.size()) return false;
   const Entry& e = entries_[next_];
-  const Chunk& c = chunks_[e.chunk];
-  CachedChunk& slot =
-      chunkData(e.chunk, c.last_connection == UINT32_MAX ? nullptr : &connections_[c.last_connection]);
+  CachedChunk& slot = chunkData(e.chunk);
   const uint8_t* bytes = slot.bytes.data();
   const uint64_t size = chunks_[e.chunk].size;
   // The record at the entry's offset; connection records before it are skipped (rosbag's writer

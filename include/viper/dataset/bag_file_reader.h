@@ -29,6 +29,7 @@ namespace viper::dataset {
 namespace detail {
 class BagChunkDecoder;
 class PreadFile;
+struct DeferredChecksum;
 }  // namespace detail
 
 struct BagConnection {
@@ -118,6 +119,7 @@ class BagFileReader {
     // are not in `bytes`.
     uint32_t bulk_record = UINT32_MAX, bulk_offset = 0;
     uint8_t* bulk = nullptr;
+    std::string error;  // a chunk read ahead that turned out damaged: thrown when it is reached
   };
   struct Record;
   class BulkRouter;
@@ -126,9 +128,14 @@ class BagFileReader {
   void readChunkIndex(uint32_t chunk, const std::map<uint32_t, uint32_t>& ids, uint32_t index_records);
   Record record(uint64_t position, const char* what, bool with_data);
   [[noreturn]] void fail(uint64_t position, const char* what, const std::string& problem) const;
-  // Its chunks_[chunk].size bytes, in .bytes; `last`: the connection of its last indexed record,
-  // whose bulk may go to the sink.
-  CachedChunk& chunkData(uint32_t chunk, const BagConnection* last);
+  // Its chunks_[chunk].size bytes, in .bytes (read with the next chunk to be played, if that is not
+  // in yet: their LZ4 checksums are checked side by side).
+  CachedChunk& chunkData(uint32_t chunk);
+  // Reads and decompresses chunk into slot; an LZ4 content checksum may be left in `deferred`.
+  void loadChunk(uint32_t chunk, CachedChunk& slot, detail::DeferredChecksum* deferred);
+  // The next chunk after `chunk` in play order that is not in the cache (UINT32_MAX: none near).
+  uint32_t chunkAhead(uint32_t chunk) const;
+  CachedChunk* cached(uint32_t chunk);
   [[noreturn]] void damaged(uint32_t chunk, const std::string& problem) const;
 
   std::string path_;
@@ -138,7 +145,7 @@ class BagFileReader {
   std::vector<Chunk> chunks_;  // by position
   std::vector<Entry> entries_;  // in play order
   size_t next_ = 0;
-  std::array<CachedChunk, 4> cache_;
+  std::array<CachedChunk, 6> cache_;
   uint64_t uses_ = 0;
   ChunkBytes compressed_;
   BagBulkSink* sink_ = nullptr;

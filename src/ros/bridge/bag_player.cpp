@@ -179,10 +179,10 @@ uint8_t* BagPlayer::ImageSink::bulk(const dataset::BagConnection& connection, co
     return nullptr;  // not all of its fields are in yet
   }
   if (pixels != size - offset) return nullptr;  // not a whole image: left to publishImage to name
-  sensor_msgs::ImagePtr& msg = pending[connection.topic];
-  msg = pools[connection.topic].takeBytes(pixels);
+  sensor_msgs::ImagePtr msg = pools[connection.topic].takeBytes(pixels);
   if (msg->data.size() != pixels) msg->data.resize(pixels);  // a new message
-  return msg->data.data();
+  // By its pixels: the reader may read the next chunk ahead (another message of the same topic).
+  return (pending[msg->data.data()] = msg)->data.data();
 }
 
 // An image as ROS deserialises it, into a message of the topic's pool (its pages in use already:
@@ -196,10 +196,11 @@ ros::Time BagPlayer::publishImage(ros::Publisher& pub, const dataset::BagMessage
   sensor_msgs::Image fields;
   uint32_t size = 0;
   if (m.bulk) {
-    auto pending = image_sink_.pending.find(m.connection->topic);
-    if (pending == image_sink_.pending.end() || !pending->second || pending->second->data.data() != m.bulk)
+    auto pending = image_sink_.pending.find(m.bulk);
+    if (pending == image_sink_.pending.end())
       throw std::logic_error("bag_player: the pixels of an image on " + m.connection->topic + " are not its message's");
     msg = std::move(pending->second);
+    image_sink_.pending.erase(pending);
     ros::serialization::IStream in(const_cast<uint8_t*>(m.data), m.bulk_offset);
     size = imageFields(in, fields);
   } else {

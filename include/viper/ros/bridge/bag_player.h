@@ -86,12 +86,13 @@ class BagPlayer {
   bool is_node_ = true;
   std::map<std::string, ros::Publisher> pubs_;  // by topic
   // The image messages, recycled (by topic), and where the reader decompresses an image's pixels
-  // straight into its message: the message it takes for each topic until next() gives it out.
+  // straight into its message: the messages it took, by their pixels, until next() gives them out
+  // (one of a chunk that turns out damaged stays until the player stops).
   struct ImageSink : dataset::BagBulkSink {
     uint8_t* bulk(const dataset::BagConnection& connection, const uint8_t* prefix, uint32_t available,
                   uint32_t size, uint32_t& offset) override;
     std::map<std::string, ImageMsgPool> pools;
-    std::map<std::string, sensor_msgs::ImagePtr> pending;
+    std::map<const uint8_t*, sensor_msgs::ImagePtr> pending;
   } image_sink_;
   std::unique_ptr<PaceGate> gate_;
   CpuMeter cpu_{"bag_player", pnh_};  // its thread's CPU a frame (cpu_meter.h)

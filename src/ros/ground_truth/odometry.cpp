@@ -24,13 +24,19 @@ bool Odometry::start() {
     ROS_FATAL("%s: ~%s", me.c_str(), e.what());
     return false;
   }
-  odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", 10);
+  int queue_size = 10;
+  private_nh_.param("queue_size", queue_size, 10);
+  if (queue_size < 1) {
+    ROS_ERROR("%s: ~queue_size must be >= 1 (got %d); using 10", me.c_str(), queue_size);
+    queue_size = 10;
+  }
+  odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", queue_size);
   path_pub_ = nh_.advertise<nav_msgs::Path>("path", 1, true);
   if (publish_tf_) {
     tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
     static_tf_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
   }
-  draws_sub_ = nh_.subscribe("draws", 10, &Odometry::onDraws, this);
+  draws_sub_ = nh_.subscribe("draws", queue_size, &Odometry::onDraws, this);
   return true;
 }
 

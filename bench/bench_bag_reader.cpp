@@ -3,6 +3,8 @@
 // (bag_player now), and BagFileReader's reading alone. Messages are typed as bag_player types them
 // (Image, CameraInfo, DrawList, MeshStore; other types into a ShapeShifter). Reported a frame (the
 // messages of one bag time): the reading thread's CPU time and the wall time, from the page cache.
+// BM_BagFileReaderBulkSink reads as bag_player does now: each large message's bulk (an image's
+// pixels) decompressed straight into storage of the reader's sink (one buffer a topic, reused).
 // Run: VIPER_BENCH_BAG=BAG rosrun viper bench_bag_reader, BAG a ground-truth bag
 // (scripts/bench_bag_writer.sh makes one) or a raw bag (capture_to_bag, as scripts/measure_pipeline.sh).
 #include "viper/dataset/bag_file_reader.h"
@@ -18,8 +20,10 @@
 
 #include <time.h>
 
+#include <array>
 #include <chrono>
 #include <cstdlib>
+#include <map>
 #include <iostream>
 #include <set>
 
@@ -85,8 +89,9 @@ BENCHMARK(BM_RosbagViewInstantiate)->Unit(benchmark::kMillisecond)->MinTime(3.0)
 
 // One reading of the bag by BagFileReader, use(message) for each message; returns its frames.
 template <typename Use>
-size_t readerPass(Use&& use) {
+size_t readerPass(Use&& use, viper::dataset::BagBulkSink* sink = nullptr) {
   viper::dataset::BagFileReader bag(bagPath());
+  bag.setBulkSink(sink);
   viper::dataset::BagMessage m;
   std::set<std::pair<uint32_t, uint32_t>> times;
   while (bag.next(m)) {
@@ -123,6 +128,26 @@ void BM_BagFileReaderBytesOnly(benchmark::State& state) {
   perFrame(state, [] { return readerPass([](const viper::dataset::BagMessage& m) { benchmark::DoNotOptimize(m.data); }); });
 }
 BENCHMARK(BM_BagFileReaderBytesOnly)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+
+// Takes every bulk at the first block boundary it is shown (in BagFileWriter's bags, where an
+// image's pixels start), into one buffer a topic; two, as the reader reads a chunk ahead.
+struct ReusedStorage : viper::dataset::BagBulkSink {
+  uint8_t* bulk(const viper::dataset::BagConnection& connection, const uint8_t*, uint32_t available, uint32_t size,
+                uint32_t& offset) override {
+    offset = available;
+    auto& [buffers, turn] = storage[connection.topic];
+    std::vector<uint8_t>& b = buffers[turn ^= 1];
+    if (b.size() < size - offset + 1) b.resize(size - offset + 1);
+    return b.data();
+  }
+  std::map<std::string, std::pair<std::array<std::vector<uint8_t>, 2>, int>> storage;
+};
+
+void BM_BagFileReaderBulkSink(benchmark::State& state) {
+  ReusedStorage sink;
+  perFrame(state, [&] { return readerPass([](const viper::dataset::BagMessage& m) { benchmark::DoNotOptimize(m.data); }, &sink); });
+}
+BENCHMARK(BM_BagFileReaderBulkSink)->Unit(benchmark::kMillisecond)->MinTime(3.0);
 
 }  // namespace
 

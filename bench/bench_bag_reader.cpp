@@ -5,9 +5,13 @@
 // messages of one bag time): the reading thread's CPU time and the wall time, from the page cache.
 // BM_BagFileReaderBulkSink reads as bag_player does now: each large message's bulk (an image's
 // pixels) decompressed straight into storage of the reader's sink (one buffer a topic, reused).
+// BM_Xxh32* (no bag needed): the content checksums of two 8 MB chunks, one after the other with
+// libxxhash's XXH32 (as liblz4 and rosbag check them) and side by side (xxh32_streams, the reader's).
 // Run: VIPER_BENCH_BAG=BAG rosrun viper bench_bag_reader, BAG a ground-truth bag
 // (scripts/bench_bag_writer.sh makes one) or a raw bag (capture_to_bag, as scripts/measure_pipeline.sh).
 #include "viper/dataset/bag_file_reader.h"
+
+#include "../src/dataset/xxh32_streams.h"
 
 #include <benchmark/benchmark.h>
 #include <rosbag/bag.h>
@@ -19,6 +23,7 @@
 #include <viper/MeshStore.h>
 
 #include <time.h>
+#include <xxhash.h>
 
 #include <array>
 #include <chrono>
@@ -148,6 +153,41 @@ void BM_BagFileReaderBulkSink(benchmark::State& state) {
   perFrame(state, [&] { return readerPass([](const viper::dataset::BagMessage& m) { benchmark::DoNotOptimize(m.data); }, &sink); });
 }
 BENCHMARK(BM_BagFileReaderBulkSink)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+
+// Two 8 MB chunks of noise (they do not compress: the hash's own speed).
+const std::vector<std::vector<uint8_t>>& twoChunks() {
+  static const std::vector<std::vector<uint8_t>> chunks = [] {
+    std::vector<std::vector<uint8_t>> c(2, std::vector<uint8_t>(8u << 20));
+    uint32_t x = 1;
+    for (auto& chunk : c)
+      for (uint8_t& b : chunk) b = static_cast<uint8_t>((x = x * 1664525u + 1013904223u) >> 24);
+    return c;
+  }();
+  return chunks;
+}
+
+void BM_Xxh32OneAfterTheOther(benchmark::State& state) {
+  const auto& c = twoChunks();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(XXH32(c[0].data(), c[0].size(), 0));
+    benchmark::DoNotOptimize(XXH32(c[1].data(), c[1].size(), 0));
+  }
+  state.SetBytesProcessed(state.iterations() * 2 * static_cast<int64_t>(c[0].size()));
+}
+BENCHMARK(BM_Xxh32OneAfterTheOther)->Unit(benchmark::kMillisecond);
+
+void BM_Xxh32SideBySide(benchmark::State& state) {
+  const auto& c = twoChunks();
+  const std::vector<viper::dataset::detail::BytePiece> a = {{c[0].data(), c[0].size()}}, b = {{c[1].data(), c[1].size()}};
+  uint32_t hashes[2];
+  for (auto _ : state) {
+    viper::dataset::detail::xxh32Streams({&a, &b}, hashes);
+    benchmark::DoNotOptimize(hashes);
+  }
+  state.SetBytesProcessed(state.iterations() * 2 * static_cast<int64_t>(c[0].size()));
+  state.SetLabel(viper::dataset::detail::xxh32StreamsVectorised() ? "avx512" : "scalar");
+}
+BENCHMARK(BM_Xxh32SideBySide)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -367,7 +367,8 @@ endif()
 # bench/bench_bag_reader.cpp: rosbag::View against BagFileReader, reading a bag as bag_player does
 # (its messages typed: viper_ros brings the message headers and libraries).
 if(TARGET bench_bag_reader)
-  target_link_libraries(bench_bag_reader viper_ros)
+  # viper_dataset: the reader's side-by-side XXH32 (BM_Xxh32*), libxxhash: the one it replaces.
+  target_link_libraries(bench_bag_reader viper_ros viper_dataset PkgConfig::XXHASH)
 endif()
 if(TARGET bench_viper_layout)
   target_link_libraries(bench_viper_layout viper_layout_ros)

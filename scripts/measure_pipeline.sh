@@ -20,11 +20,12 @@
 #                                    [--throughput [--in-flight K (8)]] [--sweep R1,R2,...]
 #                                    [--bag-compression lz4|none|bz2 (capture_to_bag's, lz4)]
 #                                    [--capture-codec zstd|lz4 (the capture's compression, zstd)]
+#                                    [--manager-threads N (replay.launch's manager_threads, 4)]
 #                                    [--perf FILE (perf record --call-graph dwarf of the manager while it plays)]
 # Needs a built workspace sourced first: source devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out="" codec=zstd
+frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out="" codec=zstd threads=4
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
@@ -40,7 +41,8 @@ while [ $# -gt 0 ]; do
     --bag-compression) compression="$2"; shift 2 ;;
     --perf) perf_out="$2"; shift 2 ;;
     --capture-codec) codec="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...] [--bag-compression lz4|none|bz2] [--capture-codec zstd|lz4] [--perf FILE]" >&2; exit 2 ;;
+    --manager-threads) threads="$2"; shift 2 ;;
+    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...] [--bag-compression lz4|none|bz2] [--capture-codec zstd|lz4] [--manager-threads N] [--perf FILE]" >&2; exit 2 ;;
   esac
 done
 case "$source" in bag|rosbag|capture) ;; *) echo "measure_pipeline: --source is bag, rosbag or capture" >&2; exit 2 ;; esac
@@ -52,7 +54,7 @@ if [ -n "$sweep" ]; then  # one run per rate, each on a capture of its own; the 
   for r in ${sweep//,/ }; do
     echo "measure_pipeline: --sweep: rate $r"
     out=$("$0" --frames "$frames" --width "$width" --height "$height" --source "$source" --rate "$r" \
-        --queue-size "$queue" --bag-compression "$compression" --capture-codec "$codec" $([ "$flow" = true ] || echo --no-flow) 2>&1) && ok=1 || ok=0
+        --queue-size "$queue" --bag-compression "$compression" --capture-codec "$codec" --manager-threads "$threads" $([ "$flow" = true ] || echo --no-flow) 2>&1) && ok=1 || ok=0
     echo "$out" | grep -E "^(nodelet manager|delivered|sustained|measure_pipeline: (no frame|frames))"
     fps=$(echo "$out" | sed -n 's/^sustained: \([0-9.]*\) frames.*/\1/p')
     # A player that falls behind its rate loses nothing but delivers less, and queues let the nodes
@@ -83,6 +85,7 @@ if [ "$source" != capture ]; then
 fi
 [ "$flow" = true ] || export COUNTER_ARGS="_expect_flow:=false"
 start_pipeline label_table:="$here/config/labels/world_labels.yaml" flow:="$flow" queue_size:="$queue" cpu_report_period:=1 \
+  manager_threads:="$threads" \
   "${replay_args[@]}"
 ticks() { awk '{print $14 + $15}' "/proc/$manager/stat"; }
 before=$(ticks)

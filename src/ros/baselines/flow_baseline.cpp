@@ -1,4 +1,5 @@
 #include "viper/ros/baselines/flow_baseline.h"
+#include "viper/ros/node_params.h"
 
 #include "viper/ros/baselines/image_input.h"
 
@@ -19,11 +20,7 @@ bool FlowBaseline::start() {
     ROS_FATAL("flow_baseline: ~method '%s' unknown (dis or farneback)", method_.c_str());
     return false;
   }
-  private_nh_.param("queue_size", queue_size_, queue_size_);
-  if (queue_size_ < 1) {
-    ROS_ERROR("flow_baseline: ~queue_size must be >= 1 (got %d); using 10", queue_size_);
-    queue_size_ = 10;
-  }
+  queue_size_ = queueSizeParam(private_nh_, queue_size_);
   const auto q = static_cast<uint32_t>(queue_size_);
   flow_pub_ = nh_.advertise<sensor_msgs::Image>("flow", q);
   image_sub_ = nh_.subscribe("image", q, &FlowBaseline::onImage, this);

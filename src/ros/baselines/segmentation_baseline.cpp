@@ -1,4 +1,5 @@
 #include "viper/ros/baselines/segmentation_baseline.h"
+#include "viper/ros/node_params.h"
 
 #include "viper/ros/baselines/image_input.h"
 #include "viper/ros/conversions/image_conversions.h"
@@ -36,11 +37,7 @@ bool SegmentationBaseline::start() {
     ROS_ERROR("segmentation_baseline: ~min_instance_px must be >= 1 (got %d); using 10", min_instance_px_);
     min_instance_px_ = 10;
   }
-  private_nh_.param("queue_size", queue_size_, queue_size_);
-  if (queue_size_ < 1) {
-    ROS_ERROR("segmentation_baseline: ~queue_size must be >= 1 (got %d); using 10", queue_size_);
-    queue_size_ = 10;
-  }
+  queue_size_ = queueSizeParam(private_nh_, queue_size_);
   const auto q = static_cast<uint32_t>(queue_size_);
   semantic_pub_ = nh_.advertise<sensor_msgs::Image>("semantic", q);
   if (instances_) instances_pub_ = nh_.advertise<InstancePredictionArray>("instances", q);

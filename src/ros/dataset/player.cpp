@@ -1,4 +1,5 @@
 #include "viper/ros/dataset/player.h"
+#include "viper/ros/node_params.h"
 
 #include "viper/ros/conversions/object_conversions.h"
 #include "viper/ros/conversions/pose_conversions.h"
@@ -93,11 +94,7 @@ std::optional<PlayerOptions> loadPlayerOptions(const ros::NodeHandle& pnh) {
   const auto listed = splitList(modalities);
   o.use_camera = listed.empty() || std::find(listed.begin(), listed.end(), "camera") != listed.end();
   if (listed.empty()) o.modalities.insert(dataset::allViperModalities().begin(), dataset::allViperModalities().end());
-  pnh.param("queue_size", o.queue_size, 10);
-  if (o.queue_size < 1) {
-    ROS_ERROR("%s: ~queue_size must be >= 1 (got %d); using 10", me.c_str(), o.queue_size);
-    o.queue_size = 10;
-  }
+  o.queue_size = queueSizeParam(pnh);
   pnh.param("prefetch", o.prefetch, 3);
   if (o.prefetch < 1 || o.prefetch > 64) {
     ROS_ERROR("%s: ~prefetch must be 1..64 (got %d); using 3", me.c_str(), o.prefetch);

@@ -1,4 +1,5 @@
 #include "viper/ros/evaluation/evaluate.h"
+#include "viper/ros/node_params.h"
 
 #include "viper/evaluation/eval_report.h"
 #include "viper/evaluation/plots.h"
@@ -110,12 +111,7 @@ bool Evaluate::start() {
     ROS_ERROR("%s: ~publish_period_s must be > 0 (got %g); using 1", me.c_str(), period_s);
     period_s = 1.0;
   }
-  int queue_size = 10;
-  private_nh_.param("queue_size", queue_size, 10);
-  if (queue_size < 1) {
-    ROS_ERROR("%s: ~queue_size must be >= 1 (got %d); using 10", me.c_str(), queue_size);
-    queue_size = 10;
-  }
+  const int queue_size = queueSizeParam(private_nh_);
   flow_stamp_second_ = secondParam(private_nh_, "flow_stamp", false);
   sparse_stamp_second_ = secondParam(private_nh_, "sparse_flow_stamp", true);
   sparse_points_ = secondParam(private_nh_, "sparse_flow_points", false) ? SparsePoints::kSecondFrame

@@ -1,4 +1,5 @@
 #include "viper/ros/ground_truth/boxes.h"
+#include "viper/ros/node_params.h"
 
 #include "viper/ros/conversions/object_conversions.h"
 #include "viper/ros/ground_truth/instances.h"  // loadClassTableParam
@@ -13,12 +14,7 @@ bool Boxes::start() {
   if (!classes) return false;
   std::string map_frame;
   private_nh_.param<std::string>("map_frame", map_frame, "map");
-  int queue_size = 10;
-  private_nh_.param("queue_size", queue_size, 10);
-  if (queue_size < 1) {
-    ROS_ERROR("%s: ~queue_size must be >= 1 (got %d); using 10", private_nh_.getNamespace().c_str(), queue_size);
-    queue_size = 10;
-  }
+  const int queue_size = queueSizeParam(private_nh_);
   step_ = std::make_unique<BoxesStep>(std::move(*classes), map_frame);
   boxes_pub_ = nh_.advertise<Box3DArray>("boxes", queue_size);
   boxes_optical_pub_ = nh_.advertise<Box3DArray>("boxes_optical", queue_size);

@@ -1,4 +1,5 @@
 #include "viper/ros/ground_truth/flow.h"
+#include "viper/ros/node_params.h"
 
 #include <algorithm>
 
@@ -32,12 +33,7 @@ bool Flow::start() {
               "0.02", me.c_str(), settings.options.occlusion_relative, settings.options.occlusion_absolute_m);
     settings.options = FlowOptions();
   }
-  int queue_size = 10;
-  private_nh_.param("queue_size", queue_size, 10);
-  if (queue_size < 1) {
-    ROS_ERROR("%s: ~queue_size must be >= 1 (got %d); using 10", me.c_str(), queue_size);
-    queue_size = 10;
-  }
+  const int queue_size = queueSizeParam(private_nh_);
 
   forward_pub_ = it_.advertise("flow/forward", queue_size);
   forward_visible_pub_ = it_.advertise("flow/forward_visible", queue_size);

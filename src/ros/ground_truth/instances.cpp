@@ -1,4 +1,5 @@
 #include "viper/ros/ground_truth/instances.h"
+#include "viper/ros/node_params.h"
 
 #include <ros/package.h>
 
@@ -46,12 +47,7 @@ bool Instances::start() {
     alpha = 0.5;
   }
   overlay_alpha_ = static_cast<float>(alpha);
-  int queue_size = 10;
-  private_nh_.param("queue_size", queue_size, 10);
-  if (queue_size < 1) {
-    ROS_ERROR("%s: ~queue_size must be >= 1 (got %d); using 10", me.c_str(), queue_size);
-    queue_size = 10;
-  }
+  const int queue_size = queueSizeParam(private_nh_);
   try {
     step_ = std::make_unique<InstancesStep>(LabelTable::load(label_path), std::move(*classes), settings);
   } catch (const std::exception& e) {

@@ -1,4 +1,5 @@
 #include "viper/ros/ground_truth/odometry.h"
+#include "viper/ros/node_params.h"
 
 
 namespace viper {
@@ -24,12 +25,7 @@ bool Odometry::start() {
     ROS_FATAL("%s: ~%s", me.c_str(), e.what());
     return false;
   }
-  int queue_size = 10;
-  private_nh_.param("queue_size", queue_size, 10);
-  if (queue_size < 1) {
-    ROS_ERROR("%s: ~queue_size must be >= 1 (got %d); using 10", me.c_str(), queue_size);
-    queue_size = 10;
-  }
+  const int queue_size = queueSizeParam(private_nh_);
   odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", queue_size);
   path_pub_ = nh_.advertise<nav_msgs::Path>("path", 1, true);
   if (publish_tf_) {

@@ -251,9 +251,7 @@ std::string BagChunkDecoder::decodeLz4Frame(const uint8_t* in, size_t in_size, C
   if (read != in_size) return std::to_string(in_size - read) + " bytes after the LZ4 frame";
   if (own_checksum) {
     // The frame ends with the content checksum, little endian (LZ4's frame format).
-    const uint8_t* c = in + read - 4;
-    const uint32_t stored = c[0] | uint32_t(c[1]) << 8 | uint32_t(c[2]) << 16 | uint32_t(c[3]) << 24;
-    if (XXH32(out.data(), size, 0) != stored) return kLz4ChecksumProblem;
+    if (XXH32(out.data(), size, 0) != load32(in + read - 4)) return kLz4ChecksumProblem;
   }
   return "";
 }

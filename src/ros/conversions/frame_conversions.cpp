@@ -34,20 +34,6 @@ void checkSize(const CaptureFrame& frame, size_t have, size_t per_pixel, const c
   }
 }
 
-// The image's fields, its bytes zeroed for the caller to fill.
-sensor_msgs::Image imageHeader(const CaptureFrame& frame, const std_msgs::Header& header, const std::string& encoding,
-                               uint32_t bytes_per_pixel) {
-  sensor_msgs::Image img;
-  img.header = header;
-  img.width = frame.width;
-  img.height = frame.height;
-  img.encoding = encoding;
-  img.is_bigendian = 0;
-  img.step = frame.width * bytes_per_pixel;
-  img.data.resize(static_cast<size_t>(img.step) * frame.height);
-  return img;
-}
-
 }  // namespace
 
 Draw toDrawMsg(const DrawRecord& draw) {
@@ -160,9 +146,42 @@ std::string frameFromDrawMsgs(const DrawList& draws, const sensor_msgs::Image& i
   return problem;
 }
 
-sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header) {
+namespace {
+
+// The raw images of a frame, each written once into a message of `pool` (frameMessages); the
+// converters of one image below take theirs from a pool of their own.
+sensor_msgs::ImagePtr colorMsg(const CaptureFrame& frame, const std_msgs::Header& header, ImageMsgPool& pool) {
   checkSize(frame, frame.color_rgb.size(), 3, "color");
-  return imageMsg(header, frame.width, frame.height, sensor_msgs::image_encodings::RGB8, 3, frame.color_rgb.data());
+  sensor_msgs::ImagePtr m = pool.take(header, frame.width, frame.height, sensor_msgs::image_encodings::RGB8, 3);
+  std::copy(frame.color_rgb.begin(), frame.color_rgb.end(), m->data.begin());
+  return m;
+}
+
+sensor_msgs::ImagePtr drawIdMsg(const CaptureFrame& frame, const std_msgs::Header& header, ImageMsgPool& pool) {
+  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
+  // Draw ids are index + 1 of at most a few million draws: they fit a signed int unchanged.
+  sensor_msgs::ImagePtr m = pool.take(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32SC1, 4);
+  std::memcpy(m->data.data(), frame.draw_ids.data(), m->data.size());
+  return m;
+}
+
+// -1 where no draw is.
+sensor_msgs::ImagePtr primitiveIdMsg(const CaptureFrame& frame, const std_msgs::Header& header, ImageMsgPool& pool) {
+  checkSize(frame, frame.primitive_ids.size(), 1, "primitive ids");
+  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
+  sensor_msgs::ImagePtr m = pool.take(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32SC1, 4);
+  auto* out = reinterpret_cast<int32_t*>(m->data.data());
+  const uint32_t* ids = frame.draw_ids.data();
+  const uint32_t* primitives = frame.primitive_ids.data();
+  for (size_t i = 0, n = frame.pixelCount(); i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
+  return m;
+}
+
+}  // namespace
+
+sensor_msgs::Image colorImage(const CaptureFrame& frame, const std_msgs::Header& header) {
+  ImageMsgPool own(1);
+  return *colorMsg(frame, header, own);
 }
 
 sensor_msgs::Image depthImage(const CaptureFrame& frame, const std::vector<float>& depth_m,
@@ -172,29 +191,13 @@ sensor_msgs::Image depthImage(const CaptureFrame& frame, const std::vector<float
 }
 
 sensor_msgs::Image drawIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
-  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
-  // Draw ids are index + 1 of at most a few million draws: they fit a signed int unchanged.
-  return imageMsg(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32SC1, 4,
-                  frame.draw_ids.data());
+  ImageMsgPool own(1);
+  return *drawIdMsg(frame, header, own);
 }
-
-namespace {
-
-// The primitive id image's pixels: -1 where no draw is.
-void primitiveIds(const CaptureFrame& frame, int32_t* out) {
-  const uint32_t* ids = frame.draw_ids.data();
-  const uint32_t* primitives = frame.primitive_ids.data();
-  for (size_t i = 0, n = frame.pixelCount(); i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
-}
-
-}  // namespace
 
 sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
-  checkSize(frame, frame.primitive_ids.size(), 1, "primitive ids");
-  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
-  sensor_msgs::Image img = imageHeader(frame, header, sensor_msgs::image_encodings::TYPE_32SC1, 4);
-  primitiveIds(frame, reinterpret_cast<int32_t*>(img.data.data()));
-  return img;
+  ImageMsgPool own(1);
+  return *primitiveIdMsg(frame, header, own);
 }
 
 std::string colorFromImage(const sensor_msgs::Image& color, CaptureFrame& frame) {
@@ -275,21 +278,12 @@ FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& h
         "uncalibrated (check the capture profile)";
   }
 
-  // Each image written once, into its message.
-  const size_t n = frame.pixelCount();
-  checkSize(frame, frame.color_rgb.size(), 3, "color");
-  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
-  checkSize(frame, frame.primitive_ids.size(), 1, "primitive ids");
-  const uint32_t w = frame.width, h = frame.height;
-  out.color = pools.color.take(header, w, h, sensor_msgs::image_encodings::RGB8, 3);
-  std::copy(frame.color_rgb.begin(), frame.color_rgb.end(), out.color->data.begin());
-  out.depth = pools.depth.take(header, w, h, sensor_msgs::image_encodings::TYPE_32FC1, 4);
+  // Each image written once, into its message (depth in metres straight from the window depth).
+  out.color = colorMsg(frame, header, pools.color);
+  out.draw_ids = drawIdMsg(frame, header, pools.draw_ids);
+  out.primitive_ids = primitiveIdMsg(frame, header, pools.primitive_ids);
+  out.depth = pools.depth.take(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32FC1, 4);
   depthMetres(frame, camera ? &*camera : nullptr, reinterpret_cast<float*>(out.depth->data.data()));
-  // Draw ids are index + 1 of at most a few million draws: they fit a signed int unchanged.
-  out.draw_ids = pools.draw_ids.take(header, w, h, sensor_msgs::image_encodings::TYPE_32SC1, 4);
-  std::memcpy(out.draw_ids->data.data(), frame.draw_ids.data(), 4 * n);
-  out.primitive_ids = pools.primitive_ids.take(header, w, h, sensor_msgs::image_encodings::TYPE_32SC1, 4);
-  primitiveIds(frame, reinterpret_cast<int32_t*>(out.primitive_ids->data.data()));
   out.camera_info = boost::make_shared<sensor_msgs::CameraInfo>(
       cameraInfo(intrinsics ? &*intrinsics : nullptr, frame.width, frame.height, header));
   out.draws = boost::make_shared<DrawList>(toDrawListMsg(frame, header));

@@ -1,5 +1,6 @@
 #include "viper/capture/capture_frame.h"
 
+#include <algorithm>
 #include <string>
 
 namespace viper {
@@ -13,14 +14,16 @@ std::string sizeProblem(const char* name, size_t actual, size_t expected, const 
 
 }  // namespace
 
-std::string validateFrame(const CaptureFrame& f) {
+std::string validateFrame(const CaptureFrame& f) { return validateFrame(f, FrameImagesElsewhere{}); }
+
+std::string validateFrame(const CaptureFrame& f, const FrameImagesElsewhere& elsewhere) {
   const std::string at = "frame " + std::to_string(f.number) + ": ";
   const size_t pixels = f.pixelCount();
   for (const std::string& problem :
-       {sizeProblem("color_rgb", f.color_rgb.size(), pixels * 3, f, 3),
-        sizeProblem("depth_window", f.depth_window.size(), pixels, f, 1),
-        sizeProblem("draw_ids", f.draw_ids.size(), pixels, f, 1),
-        sizeProblem("primitive_ids", f.primitive_ids.size(), pixels, f, 1)}) {
+       {elsewhere.color_rgb ? std::string() : sizeProblem("color_rgb", f.color_rgb.size(), pixels * 3, f, 3),
+        elsewhere.depth_window ? std::string() : sizeProblem("depth_window", f.depth_window.size(), pixels, f, 1),
+        elsewhere.draw_ids ? std::string() : sizeProblem("draw_ids", f.draw_ids.size(), pixels, f, 1),
+        elsewhere.primitive_ids ? std::string() : sizeProblem("primitive_ids", f.primitive_ids.size(), pixels, f, 1)}) {
     if (!problem.empty()) return at + problem;
   }
   for (size_t i = 0; i < f.draws.size(); ++i) {
@@ -46,10 +49,14 @@ std::string validateFrame(const CaptureFrame& f) {
     }
   }
   const size_t draws = f.draws.size();
-  for (size_t p = 0; p < f.draw_ids.size(); ++p) {
-    if (f.draw_ids[p] > draws)
+  const uint32_t* ids = elsewhere.draw_ids ? elsewhere.draw_ids : f.draw_ids.data();
+  // The largest id first (a reduction the compiler vectorises); only a frame with a bad id is searched.
+  uint32_t largest = 0;
+  for (size_t p = 0; p < pixels; ++p) largest = std::max(largest, ids[p]);
+  for (size_t p = 0; largest > draws && p < pixels; ++p) {
+    if (ids[p] > draws)
       return at + "pixel (" + std::to_string(p % f.width) + ", " + std::to_string(p / f.width) + ") has draw id " +
-             std::to_string(f.draw_ids[p]) + " but the draw list has only " + std::to_string(draws) + " draws";
+             std::to_string(ids[p]) + " but the draw list has only " + std::to_string(draws) + " draws";
   }
   return {};
 }

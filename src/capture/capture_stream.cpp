@@ -35,8 +35,8 @@ void fillChunkHeader(char* h, uint32_t type, uint64_t frame_number, size_t compr
 
 struct CaptureChunkEncoder::Impl {
   std::unique_ptr<PartCodec> codec;
-  std::string payload;  // scratch, reused between frames
-  ByteBuffer chunk;     // chunk header + compressed payload, reused between frames
+  std::string head, rest;  // scratch, reused between frames
+  ByteBuffer chunk;        // chunk header + compressed payload, reused between frames
   size_t size = 0;
 };
 
@@ -46,24 +46,33 @@ CaptureChunkEncoder::CaptureChunkEncoder(CaptureCodec codec, int zstd_level) : i
 
 CaptureChunkEncoder::~CaptureChunkEncoder() = default;
 
+// The six parts of a version 5 payload (head, the four images, rest) compressed one by one, the
+// images straight from the frame's vectors: no copy of the whole payload is made.
 void CaptureChunkEncoder::encode(const CaptureFrame& frame, const std::string& stream) {
   Impl& e = *impl_;
-  encodeFramePayload(frame, e.payload);
-  if (e.payload.size() > kMaxRawPayloadBytes)
+  const size_t raw = payloadSize(frame);
+  if (raw > kMaxRawPayloadBytes)
     throw std::runtime_error("capture stream " + stream + ": frame " + std::to_string(frame.number) +
-                             " payload of " + std::to_string(e.payload.size()) + " bytes exceeds the 1 GiB limit");
-  // Each part of the payload (head, images, rest) compressed on its own, so that a reader can skip the images.
-  const PayloadParts parts = payloadParts(frame);
-  const size_t bound = e.codec->bound(parts);
+                             " payload of " + std::to_string(raw) + " bytes exceeds the 1 GiB limit");
+  encodePayloadHead(frame, e.head);
+  encodePayloadRest(frame, e.rest);
+  const ImageCounts counts = imageCounts(frame);
+  const Piece pieces[kPartsV5] = {{e.head.data(), e.head.size()},
+                                  {frame.color_rgb.data(), counts.bytes(0)},
+                                  {frame.depth_window.data(), counts.bytes(1)},
+                                  {frame.draw_ids.data(), counts.bytes(2)},
+                                  {frame.primitive_ids.data(), counts.bytes(3)},
+                                  {e.rest.data(), e.rest.size()}};
+  const size_t bound = e.codec->bound(pieces, kPartsV5);
   e.chunk.reserveDiscard(kChunkHeaderSize + bound);
   size_t compressed;
   try {
-    compressed = e.codec->compress(e.payload.data(), parts, e.chunk.data() + kChunkHeaderSize, bound);
+    compressed = e.codec->compress(pieces, kPartsV5, e.chunk.data() + kChunkHeaderSize, bound);
   } catch (const std::runtime_error& error) {
     throw std::runtime_error("capture stream " + stream + ": frame " + std::to_string(frame.number) + ": " +
                              error.what());
   }
-  fillChunkHeader(e.chunk.data(), kChunkFrame, frame.number, compressed, e.payload.size());
+  fillChunkHeader(e.chunk.data(), kChunkFrame, frame.number, compressed, raw);
   e.size = kChunkHeaderSize + compressed;
 }
 
@@ -101,17 +110,14 @@ CaptureWriter::CaptureWriter(const std::string& path, const CaptureHeader& heade
   if (!impl_->file)
     throw std::runtime_error("cannot open capture stream " + path + " for writing: " + std::strerror(errno));
 
-  // zstd streams stay version 3 (no codec field), readable by builds that know only versions 1 to 3;
-  // other codecs are version 4, which names the codec after the profile and which those builds reject.
-  const bool codec_field = header.codec != CaptureCodec::kZstd;
-  const uint32_t fields_size =
-      static_cast<uint32_t>(8 + header.program.size() + header.profile.size() + (codec_field ? 4 : 0));
+  // Every stream is version 5, which names its codec after the profile (as version 4 did).
+  const uint32_t fields_size = static_cast<uint32_t>(8 + header.program.size() + header.profile.size() + 4);
   if (fields_size > kMaxHeaderFieldsSize)
     throw std::runtime_error("capture stream " + path + ": program/profile names are too long");
   std::string bytes(kFileHeaderFixedSize + fields_size + 8, '\0');
   char* p = &bytes[0];
   std::memcpy(p, kFileMagic, 8);
-  putU32(p + 8, codec_field ? kCodecCaptureFormatVersion : kCaptureFormatVersion);
+  putU32(p + 8, kCaptureFormatVersion);
   putU32(p + 12, fields_size);
   char* q = p + kFileHeaderFixedSize;
   for (const std::string* s : {&header.program, &header.profile}) {
@@ -119,10 +125,8 @@ CaptureWriter::CaptureWriter(const std::string& path, const CaptureHeader& heade
     std::memcpy(q + 4, s->data(), s->size());
     q += 4 + s->size();
   }
-  if (codec_field) {
-    putU32(q, static_cast<uint32_t>(header.codec));
-    q += 4;
-  }
+  putU32(q, static_cast<uint32_t>(header.codec));
+  q += 4;
   putU64(q, XXH3_64bits(p, kFileHeaderFixedSize + fields_size));
   impl_->writeAll(bytes.data(), bytes.size());
 }

@@ -27,9 +27,9 @@ bool parseCaptureCodec(const std::string& name, CaptureCodec& codec) {
 namespace capture_format {
 namespace {
 
-std::string partName(CaptureCodec codec, int k) {
+std::string partName(CaptureCodec codec, int k, int count) {
   return std::string(codec == CaptureCodec::kLz4 ? "lz4 part " : "zstd frame ") + std::to_string(k + 1) + " of " +
-         std::to_string(kPayloadParts) + ": ";
+         std::to_string(count) + ": ";
 }
 
 }  // namespace
@@ -44,50 +44,52 @@ PartCodec::~PartCodec() {
   ZSTD_freeDCtx(dctx_);
 }
 
-size_t PartCodec::bound(const PayloadParts& parts) const {
+size_t PartCodec::bound(const Piece* pieces, int count) const {
   size_t n = 0;
-  for (size_t part : parts.bytes)
-    n += codec_ == CaptureCodec::kLz4 ? kLz4PartHeaderSize + static_cast<size_t>(LZ4_compressBound(static_cast<int>(part)))
-                                      : ZSTD_compressBound(part);
+  for (int k = 0; k < count; ++k)
+    n += codec_ == CaptureCodec::kLz4
+             ? kLz4PartHeaderSize + static_cast<size_t>(LZ4_compressBound(static_cast<int>(pieces[k].size)))
+             : ZSTD_compressBound(pieces[k].size);
   return n;
 }
 
-size_t PartCodec::compress(const char* payload, const PayloadParts& parts, char* dst, size_t capacity) {
+size_t PartCodec::compress(const Piece* pieces, int count, char* dst, size_t capacity) {
   size_t out = 0;
-  for (size_t part : parts.bytes) {
+  for (int k = 0; k < count; ++k) {
+    const char* src = static_cast<const char*>(pieces[k].data);
+    const size_t part = pieces[k].size;
     if (codec_ == CaptureCodec::kLz4) {
       // Parts are at most kMaxRawPayloadBytes (1 GiB), which LZ4's int sizes hold.
-      const int n = LZ4_compress_default(payload, dst + out + kLz4PartHeaderSize, static_cast<int>(part),
+      const int n = LZ4_compress_default(src, dst + out + kLz4PartHeaderSize, static_cast<int>(part),
                                          static_cast<int>(capacity - out - kLz4PartHeaderSize));
-      if (n <= 0) throw std::runtime_error("lz4 compression failed");
+      if (n <= 0 && part > 0) throw std::runtime_error("lz4 compression failed");
       putU32(dst + out, static_cast<uint32_t>(n));
       putU32(dst + out + 4, static_cast<uint32_t>(part));
       out += kLz4PartHeaderSize + static_cast<size_t>(n);
     } else {
       if (!cctx_ && !(cctx_ = ZSTD_createCCtx())) throw std::runtime_error("cannot create zstd context");
-      const size_t n = ZSTD_compressCCtx(cctx_, dst + out, capacity - out, payload, part, level_);
+      const size_t n = ZSTD_compressCCtx(cctx_, dst + out, capacity - out, src, part, level_);
       if (ZSTD_isError(n)) throw std::runtime_error(std::string("zstd compression failed: ") + ZSTD_getErrorName(n));
       out += n;
     }
-    payload += part;
   }
   return out;
 }
 
 uint64_t PartCodec::maxCompressed() const {
   if (codec_ == CaptureCodec::kLz4)
-    return kPayloadParts * (kLz4PartHeaderSize + static_cast<uint64_t>(LZ4_compressBound(static_cast<int>(kMaxRawPayloadBytes))));
+    return kMaxParts * (kLz4PartHeaderSize + static_cast<uint64_t>(LZ4_compressBound(static_cast<int>(kMaxRawPayloadBytes))));
   return ZSTD_compressBound(kMaxRawPayloadBytes);
 }
 
 // A zstd frame's extent comes from its frame and block headers (ZSTD_findFrameCompressedSize
 // decompresses nothing), an LZ4 part's from its size header; every size is checked against what the
 // chunk holds before anything is allocated or decompressed.
-void PartCodec::find(const char* src, size_t csize, uint64_t rsize, CompressedPart parts[kPayloadParts]) const {
+void PartCodec::find(const char* src, size_t csize, uint64_t rsize, CompressedPart* parts, int count) const {
   size_t at = 0;
   uint64_t total = 0;
-  for (int k = 0; k < kPayloadParts; ++k) {
-    const std::string part = partName(codec_, k);
+  for (int k = 0; k < count; ++k) {
+    const std::string part = partName(codec_, k, count);
     if (at == csize) throw std::runtime_error(part + "missing");
     size_t n;
     uint64_t c;

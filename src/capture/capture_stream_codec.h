@@ -26,6 +26,12 @@ struct CompressedPart {
   uint64_t content = 0;
 };
 
+/// Bytes to compress as one part.
+struct Piece {
+  const void* data = nullptr;
+  size_t size = 0;
+};
+
 /// One codec's compression of payload parts, with its reusable contexts. Errors are
 /// std::runtime_error whose message the writer and reader put behind the file and frame.
 class PartCodec {
@@ -38,18 +44,18 @@ class PartCodec {
 
   CaptureCodec codec() const { return codec_; }
 
-  /// Largest compressed payload of `parts`.
-  size_t bound(const PayloadParts& parts) const;
-  /// Compresses the parts of `payload` (its bytes, parts.bytes one after the other) into `dst`,
-  /// which holds at least bound(parts) bytes; returns the bytes written.
-  size_t compress(const char* payload, const PayloadParts& parts, char* dst, size_t capacity);
+  /// Largest compressed payload of the `count` pieces.
+  size_t bound(const Piece* pieces, int count) const;
+  /// Compresses each of the `count` pieces as one part into `dst`, which holds at least
+  /// bound(pieces, count) bytes; returns the bytes written.
+  size_t compress(const Piece* pieces, int count, char* dst, size_t capacity);
 
   /// Largest compressed payload a chunk may declare (that of a payload of kMaxRawPayloadBytes).
   uint64_t maxCompressed() const;
-  /// Finds the kPayloadParts parts of `csize` compressed bytes from their headers alone (nothing is
+  /// Finds the `count` parts of `csize` compressed bytes from their headers alone (nothing is
   /// decompressed) and checks that they fill `csize` exactly and decompress to `rsize` in all.
-  /// Messages: "zstd frame K of 3: ...", "lz4 part K of 3: ...".
-  void find(const char* src, size_t csize, uint64_t rsize, CompressedPart parts[kPayloadParts]) const;
+  /// Messages: "zstd frame K of N: ...", "lz4 part K of N: ...".
+  void find(const char* src, size_t csize, uint64_t rsize, CompressedPart* parts, int count) const;
   /// Decompresses one part as find() located it (`size` bytes at `src`; for zstd also a version 1 or 2
   /// payload, one zstd frame) into exactly `content` bytes at `dst`.
   void decompress(const char* src, size_t size, char* dst, size_t content);

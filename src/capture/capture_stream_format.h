@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <string>
 
 namespace viper {
 namespace capture_format {
@@ -36,19 +37,42 @@ constexpr uint64_t kMaxRawPayloadBytes = 1ull << 30;
 /// Largest image side the payload decoder accepts.
 constexpr uint32_t kMaxImageSide = 16384;
 
-/// From version 3 a frame payload is compressed as three zstd frames, one after the other: the head
-/// (number to height), the four images (color, depth, draw ids, primitive ids) and the rest (draws,
-/// meshes). A reader that wants only the draws skips the images' zstd frame without decompressing
-/// it (about 95 % of a frame's bytes); the three decompressed one after the other are the payload.
-constexpr int kPayloadParts = 3;
-constexpr int kPayloadImagesPart = 1;
-/// The images part of a frame without images: four empty vectors (a u64 count of 0 each).
+/// Versions 3 and 4 compress a frame payload as three parts, one after the other: the head (number to
+/// height), the four images (color, depth, draw ids, primitive ids) and the rest (draws, meshes). A
+/// reader that wants only the draws skips the images' part without decompressing it (about 95 % of a
+/// frame's bytes); the three decompressed one after the other are the payload.
+constexpr int kPartsV3 = 3;
+constexpr int kImagesPartV3 = 1;
+/// The images part of a version 3 or 4 frame without images: four empty vectors (a u64 count of 0 each).
 constexpr size_t kEmptyImagesBytes = 4 * 8;
-/// Bytes of each part of `frame`'s payload, in payload order (their sum is the payload's size).
-struct PayloadParts {
-  size_t bytes[kPayloadParts];
+/// From version 5 a payload is six parts: the head (number to height, then the four images' element
+/// counts), each image on its own (its bytes only), and the rest. A reader decompresses each image
+/// straight into the storage it is used in (CaptureImageSink) and skips them without decompressing.
+constexpr int kPartsV5 = 6;
+constexpr int kMaxParts = kPartsV5;
+constexpr int kImages = 4;
+/// Bytes of one element of each image, in payload order (color, depth, draw ids, primitive ids).
+constexpr size_t kImageElementBytes[kImages] = {1, 4, 4, 4};
+
+/// The element counts of a version 5 payload's four images, in payload order.
+struct ImageCounts {
+  uint64_t n[kImages] = {0, 0, 0, 0};
+  /// Bytes of image `k` (n[k] is at most the payload's size, so this does not overflow).
+  size_t bytes(int k) const;
 };
-PayloadParts payloadParts(const CaptureFrame& frame);
+ImageCounts imageCounts(const CaptureFrame& frame);
+
+/// A version 5 payload's head part (number to height, the image counts) and rest part (draws,
+/// unrecorded draws, meshes), encoded on their own: the writer compresses them and the frame's images
+/// where they are, without building the whole payload.
+void encodePayloadHead(const CaptureFrame& frame, std::string& out);
+void encodePayloadRest(const CaptureFrame& frame, std::string& out);
+/// Bytes of `frame`'s whole version 5 payload.
+size_t payloadSize(const CaptureFrame& frame);
+/// Decode the head and rest parts of a version 5 payload, bounds-checked like decodeFramePayload()
+/// (each part must be consumed exactly). `at` is the rest's first byte in the payload, for messages.
+void decodePayloadHead(const char* data, size_t size, CaptureFrame& frame, ImageCounts& counts);
+void decodePayloadRest(const char* data, size_t size, size_t at, CaptureFrame& frame, uint32_t version);
 
 inline void putU32(char* p, uint32_t v) { std::memcpy(p, &v, 4); }
 inline void putU64(char* p, uint64_t v) { std::memcpy(p, &v, 8); }

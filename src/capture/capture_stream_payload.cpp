@@ -17,15 +17,16 @@ constexpr size_t kDrawFixedSize = 4 + 8 * 4 + 4 + 1 + 3 * 64 + 3 * 4 + 8 + 1;
 constexpr size_t kDrawFixedSizeV1 = kDrawFixedSize - 1;  // without gaps
 constexpr size_t kMeshFixedSize = 8 + 8 + 8;
 
+// From version 5 the head ends with the four images' element counts.
+size_t headSize(const CaptureFrame& f) { return 8 + 8 + 4 + f.condition.size() + 4 + 4 + 4 * 8; }
+
 template <typename T>
-size_t vectorBytes(const std::vector<T>& v) {
-  return 8 + v.size() * sizeof(T);
+size_t bytesOf(const std::vector<T>& v) {
+  return v.size() * sizeof(T);
 }
 
-size_t headSize(const CaptureFrame& f) { return 8 + 8 + 4 + f.condition.size() + 4 + 4; }
-
 size_t imagesSize(const CaptureFrame& f) {
-  return vectorBytes(f.color_rgb) + vectorBytes(f.depth_window) + vectorBytes(f.draw_ids) + vectorBytes(f.primitive_ids);
+  return bytesOf(f.color_rgb) + bytesOf(f.depth_window) + bytesOf(f.draw_ids) + bytesOf(f.primitive_ids);
 }
 
 size_t restSize(const CaptureFrame& f) {
@@ -58,6 +59,7 @@ class Encoder {
     raw(v.data(), v.size() * sizeof(T));
   }
   void matrix(const GlMatrix& m) { raw(m.data(), 64); }
+  void bytes(const void* src, size_t n) { raw(src, n); }
   char* position() const { return p_; }
 
  private:
@@ -70,12 +72,13 @@ class Encoder {
 };
 
 // Reads fields from [begin, end); every read is checked against the bytes that remain.
+// `base` is the payload byte at `begin` (a part's first byte), for the positions in messages.
 class Decoder {
  public:
-  Decoder(const char* begin, size_t size) : begin_(begin), p_(begin), end_(begin + size) {}
+  Decoder(const char* begin, size_t size, size_t base = 0) : begin_(begin), p_(begin), end_(begin + size), base_(base) {}
 
   size_t remaining() const { return static_cast<size_t>(end_ - p_); }
-  size_t position() const { return static_cast<size_t>(p_ - begin_); }
+  size_t position() const { return base_ + static_cast<size_t>(p_ - begin_); }
 
   uint8_t u8(const char* what) {
     need(1, what);
@@ -111,6 +114,15 @@ class Decoder {
     v.resize(static_cast<size_t>(n));
     raw(v.data(), v.size() * sizeof(T), what);
   }
+  /// The elements of a vector whose count came before (version 5 images).
+  template <typename T>
+  void elements(std::vector<T>& v, uint64_t n, const char* what) {
+    if (n > remaining() / sizeof(T))
+      fail(std::string(what) + " has " + std::to_string(n) + " elements but only " + std::to_string(remaining()) +
+           " bytes remain");
+    v.resize(static_cast<size_t>(n));
+    raw(v.data(), v.size() * sizeof(T), what);
+  }
   void matrix(GlMatrix& m, const char* what) { raw(m.data(), 64, what); }
 
   /// Reads an element count and checks that `n * min_bytes_each` bytes could follow.
@@ -142,6 +154,7 @@ class Decoder {
   const char* begin_;
   const char* p_;
   const char* end_;
+  size_t base_;
 };
 
 void decodeDraw(Decoder& in, DrawRecord& d, uint32_t version) {
@@ -164,24 +177,19 @@ void decodeDraw(Decoder& in, DrawRecord& d, uint32_t version) {
   in.vec(d.deformed_clip_xyzw, "draw deformed_clip_xyzw");
 }
 
-}  // namespace
-
-capture_format::PayloadParts capture_format::payloadParts(const CaptureFrame& f) {
-  return PayloadParts{{headSize(f), imagesSize(f), restSize(f)}};
-}
-
-void encodeFramePayload(const CaptureFrame& f, std::string& out) {
-  out.resize(encodedSize(f));
-  Encoder e(&out[0]);
+void encodeHead(const CaptureFrame& f, Encoder& e) {
   e.u64(f.number);
   e.f64(f.time_s);
   e.str(f.condition);
   e.u32(f.width);
   e.u32(f.height);
-  e.vec(f.color_rgb);
-  e.vec(f.depth_window);
-  e.vec(f.draw_ids);
-  e.vec(f.primitive_ids);
+  e.u64(f.color_rgb.size());
+  e.u64(f.depth_window.size());
+  e.u64(f.draw_ids.size());
+  e.u64(f.primitive_ids.size());
+}
+
+void encodeRest(const CaptureFrame& f, Encoder& e) {
   e.u32(static_cast<uint32_t>(f.draws.size()));
   for (const DrawRecord& d : f.draws) {
     e.u32(d.index);
@@ -208,18 +216,10 @@ void encodeFramePayload(const CaptureFrame& f, std::string& out) {
     e.vec(m.positions_xyz);
     e.vec(m.indices);
   }
-  if (e.position() != out.data() + out.size())
-    throw std::logic_error("encodeFramePayload: size computation does not match the encoder");
 }
 
-std::string encodeFramePayload(const CaptureFrame& frame) {
-  std::string out;
-  encodeFramePayload(frame, out);
-  return out;
-}
-
-void decodeFramePayload(const char* data, size_t size, CaptureFrame& f, uint32_t version) {
-  Decoder in(data, size);
+// Number to height, the fields every version begins with.
+void decodeHeadFields(Decoder& in, CaptureFrame& f) {
   f.number = in.u64("frame number");
   f.time_s = in.f64("time_s");
   in.str(f.condition, "condition");
@@ -228,10 +228,15 @@ void decodeFramePayload(const char* data, size_t size, CaptureFrame& f, uint32_t
   if (f.width > kMaxImageSide || f.height > kMaxImageSide)
     in.fail("image size " + std::to_string(f.width) + "x" + std::to_string(f.height) +
             " exceeds the limit of " + std::to_string(kMaxImageSide) + " per side");
-  in.vec(f.color_rgb, "color_rgb");
-  in.vec(f.depth_window, "depth_window");
-  in.vec(f.draw_ids, "draw_ids");
-  in.vec(f.primitive_ids, "primitive_ids");
+}
+
+void decodeCounts(Decoder& in, capture_format::ImageCounts& counts) {
+  static const char* const kWhat[capture_format::kImages] = {"color_rgb count", "depth_window count",
+                                                             "draw_ids count", "primitive_ids count"};
+  for (int k = 0; k < capture_format::kImages; ++k) counts.n[k] = in.u64(kWhat[k]);
+}
+
+void decodeRestFields(Decoder& in, CaptureFrame& f, uint32_t version) {
   const uint32_t draws = in.count("draw count", version >= 2 ? kDrawFixedSize : kDrawFixedSizeV1);
   f.draws.resize(draws);
   for (DrawRecord& d : f.draws) decodeDraw(in, d, version);
@@ -244,6 +249,80 @@ void decodeFramePayload(const char* data, size_t size, CaptureFrame& f, uint32_t
     in.vec(m.indices, "mesh indices");
   }
   if (in.remaining() != 0) in.fail(std::to_string(in.remaining()) + " trailing bytes after the frame");
+}
+
+}  // namespace
+
+size_t capture_format::ImageCounts::bytes(int k) const { return static_cast<size_t>(n[k]) * kImageElementBytes[k]; }
+
+capture_format::ImageCounts capture_format::imageCounts(const CaptureFrame& f) {
+  return ImageCounts{{f.color_rgb.size(), f.depth_window.size(), f.draw_ids.size(), f.primitive_ids.size()}};
+}
+
+void capture_format::encodePayloadHead(const CaptureFrame& f, std::string& out) {
+  out.resize(headSize(f));
+  Encoder e(&out[0]);
+  encodeHead(f, e);
+}
+
+void capture_format::encodePayloadRest(const CaptureFrame& f, std::string& out) {
+  out.resize(restSize(f));
+  Encoder e(&out[0]);
+  encodeRest(f, e);
+  if (e.position() != out.data() + out.size())
+    throw std::logic_error("encodePayloadRest: size computation does not match the encoder");
+}
+
+void capture_format::decodePayloadHead(const char* data, size_t size, CaptureFrame& f, ImageCounts& counts) {
+  Decoder in(data, size);
+  decodeHeadFields(in, f);
+  decodeCounts(in, counts);
+  if (in.remaining() != 0) in.fail(std::to_string(in.remaining()) + " trailing bytes after the head");
+}
+
+void capture_format::decodePayloadRest(const char* data, size_t size, size_t at, CaptureFrame& f, uint32_t version) {
+  Decoder in(data, size, at);
+  decodeRestFields(in, f, version);
+}
+
+size_t capture_format::payloadSize(const CaptureFrame& f) { return encodedSize(f); }
+
+void encodeFramePayload(const CaptureFrame& f, std::string& out) {
+  out.resize(encodedSize(f));
+  Encoder e(&out[0]);
+  encodeHead(f, e);
+  e.bytes(f.color_rgb.data(), bytesOf(f.color_rgb));
+  e.bytes(f.depth_window.data(), bytesOf(f.depth_window));
+  e.bytes(f.draw_ids.data(), bytesOf(f.draw_ids));
+  e.bytes(f.primitive_ids.data(), bytesOf(f.primitive_ids));
+  encodeRest(f, e);
+  if (e.position() != out.data() + out.size())
+    throw std::logic_error("encodeFramePayload: size computation does not match the encoder");
+}
+
+std::string encodeFramePayload(const CaptureFrame& frame) {
+  std::string out;
+  encodeFramePayload(frame, out);
+  return out;
+}
+
+void decodeFramePayload(const char* data, size_t size, CaptureFrame& f, uint32_t version) {
+  Decoder in(data, size);
+  decodeHeadFields(in, f);
+  if (version >= 5) {
+    capture_format::ImageCounts counts;
+    decodeCounts(in, counts);
+    in.elements(f.color_rgb, counts.n[0], "color_rgb");
+    in.elements(f.depth_window, counts.n[1], "depth_window");
+    in.elements(f.draw_ids, counts.n[2], "draw_ids");
+    in.elements(f.primitive_ids, counts.n[3], "primitive_ids");
+  } else {
+    in.vec(f.color_rgb, "color_rgb");
+    in.vec(f.depth_window, "depth_window");
+    in.vec(f.draw_ids, "draw_ids");
+    in.vec(f.primitive_ids, "primitive_ids");
+  }
+  decodeRestFields(in, f, version);
 }
 
 CaptureFrame decodeFramePayload(const std::string& payload) {

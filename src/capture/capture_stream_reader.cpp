@@ -8,6 +8,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -24,6 +25,7 @@ struct CaptureReader::Impl {
   std::unique_ptr<PartCodec> codec;  // the header's codec
   ByteBuffer compressed;  // reused between frames
   ByteBuffer raw;
+  CaptureImageSink* sink = nullptr;
 
   ~Impl() {
     if (file) std::fclose(file);
@@ -55,6 +57,17 @@ struct CaptureReader::Impl {
   Status readChunk(CaptureFrame& frame, bool follow, bool images);
   void decodeParts(uint64_t start, const std::string& which, uint64_t csize, uint64_t rsize, CaptureFrame& frame,
                    bool images);
+  void decodeSixParts(uint64_t start, const std::string& which, uint64_t csize, uint64_t rsize, CaptureFrame& frame,
+                      bool images);
+  void findParts(uint64_t start, const std::string& which, uint64_t csize, uint64_t rsize, CompressedPart* part,
+                 int count) {
+    try {
+      codec->find(compressed.data(), csize, rsize, part, count);
+    } catch (const std::runtime_error& e) {
+      fail(start, which + e.what());
+    }
+  }
+  void toSink(CaptureFrame& frame);
 
   void decompress(uint64_t start, const std::string& which, const char* src, size_t src_size, char* dst,
                   size_t dst_size) {
@@ -80,6 +93,84 @@ struct CaptureReader::Impl {
     frame.primitive_ids.clear();
   }
 };
+
+namespace {
+
+// The frame's vector of image `k` (payload order), as bytes.
+template <typename Visit>
+void withImage(CaptureFrame& frame, int k, Visit visit) {
+  switch (k) {
+    case 0: visit(frame.color_rgb); break;
+    case 1: visit(frame.depth_window); break;
+    case 2: visit(frame.draw_ids); break;
+    default: visit(frame.primitive_ids); break;
+  }
+}
+
+}  // namespace
+
+// Versions before 5 decode the images into the frame's vectors; each one the sink takes is copied there once.
+void CaptureReader::Impl::toSink(CaptureFrame& frame) {
+  for (int k = 0; k < kImages; ++k) {
+    withImage(frame, k, [&](auto& v) {
+      const size_t bytes = v.size() * sizeof(v[0]);
+      if (bytes == 0) return;
+      void* dst = sink->imageStorage(static_cast<CaptureImage>(k), frame, bytes);
+      if (!dst) return;
+      std::memcpy(dst, v.data(), bytes);
+      v.clear();
+    });
+  }
+}
+
+// A version 5 payload: the head tells the images' sizes, each image is decompressed straight into
+// the sink's storage or the frame's vector (or skipped), then the rest.
+void CaptureReader::Impl::decodeSixParts(uint64_t start, const std::string& which, uint64_t csize, uint64_t rsize,
+                                         CaptureFrame& frame, bool images) {
+  const char* src = compressed.data();
+  CompressedPart part[kPartsV5];
+  findParts(start, which, csize, rsize, part, kPartsV5);
+  const size_t largest = std::max(part[0].content, part[5].content);
+  raw.reserveDiscard(largest);
+  decompress(start, which, src + part[0].begin, part[0].size, raw.data(), part[0].content);
+  ImageCounts counts;
+  try {
+    decodePayloadHead(raw.data(), part[0].content, frame, counts);
+  } catch (const std::runtime_error& e) {
+    fail(start, which + e.what());
+  }
+  static const char* const kName[kImages] = {"color_rgb", "depth_window", "draw_ids", "primitive_ids"};
+  for (int k = 0; k < kImages; ++k) {
+    // A count is at most the payload's bytes, so that the product cannot overflow.
+    if (counts.n[k] > rsize || counts.bytes(k) != part[1 + k].content)
+      fail(start, which + kName[k] + ": the head says " + std::to_string(counts.n[k]) + " elements, its part holds " +
+                      std::to_string(part[1 + k].content) + " bytes");
+  }
+  if (!images) {
+    clearImages(frame);
+  } else {
+    for (int k = 0; k < kImages; ++k) {
+      const size_t bytes = part[1 + k].content;
+      void* dst = sink && bytes > 0 ? sink->imageStorage(static_cast<CaptureImage>(k), frame, bytes) : nullptr;
+      withImage(frame, k, [&](auto& v) {
+        if (dst) {
+          v.clear();
+        } else {
+          v.resize(static_cast<size_t>(counts.n[k]));
+          dst = v.data();
+        }
+      });
+      if (bytes > 0) decompress(start, which, src + part[1 + k].begin, part[1 + k].size, static_cast<char*>(dst), bytes);
+    }
+  }
+  decompress(start, which, src + part[5].begin, part[5].size, raw.data(), part[5].content);
+  try {
+    decodePayloadRest(raw.data(), part[5].content, static_cast<size_t>(rsize - part[5].content), frame,
+                      header.version);
+  } catch (const std::runtime_error& e) {
+    fail(start, which + e.what());
+  }
+}
 
 void CaptureReader::Impl::readHeader() {
   char fixed[kFileHeaderFixedSize];
@@ -136,16 +227,12 @@ void CaptureReader::Impl::readHeader() {
 void CaptureReader::Impl::decodeParts(uint64_t start, const std::string& which, uint64_t csize, uint64_t rsize,
                                       CaptureFrame& frame, bool images) {
   const char* src = compressed.data();
-  CompressedPart part[kPayloadParts];
-  try {
-    codec->find(src, csize, rsize, part);
-  } catch (const std::runtime_error& e) {
-    fail(start, which + e.what());
-  }
+  CompressedPart part[kPartsV3];
+  findParts(start, which, csize, rsize, part, kPartsV3);
   if (images) {
     raw.reserveDiscard(rsize);
     size_t out = 0;
-    for (int k = 0; k < kPayloadParts; ++k) {
+    for (int k = 0; k < kPartsV3; ++k) {
       decompress(start, which, src + part[k].begin, part[k].size, raw.data() + out, part[k].content);
       out += part[k].content;
     }
@@ -212,8 +299,11 @@ CaptureReader::Status CaptureReader::Impl::readChunk(CaptureFrame& frame, bool f
     fail(start, which + "truncated: short read of the payload");
   }
   if (XXH3_64bits(compressed.data(), csize) != getU64(h + 32)) fail(start, which + "payload checksum mismatch");
-  if (header.version >= 3) {
+  if (header.version >= 5) {
+    decodeSixParts(start, which, csize, rsize, frame, images);
+  } else if (header.version >= 3) {
     decodeParts(start, which, csize, rsize, frame, images);
+    if (images && sink) toSink(frame);
   } else {
     // Versions 1 and 2 compress the payload as one zstd frame: the images cannot be skipped.
     const unsigned long long content = ZSTD_getFrameContentSize(compressed.data(), csize);
@@ -225,6 +315,7 @@ CaptureReader::Status CaptureReader::Impl::readChunk(CaptureFrame& frame, bool f
     decompress(start, which, compressed.data(), csize, raw.data(), rsize);
     decode(start, which, raw.data(), rsize, frame);
     if (!images) clearImages(frame);
+    if (images && sink) toSink(frame);
   }
   if (frame.number != number)
     fail(start, which + "payload holds frame number " + std::to_string(frame.number));
@@ -259,6 +350,8 @@ CaptureReader::Status CaptureReader::nextWithoutImages(CaptureFrame& frame, bool
   if (impl_->ended) return Status::kEnd;
   return impl_->readChunk(frame, follow, false);
 }
+
+void CaptureReader::setImageSink(CaptureImageSink* sink) { impl_->sink = sink; }
 
 uint64_t CaptureReader::offset() const { return impl_->offset; }
 

@@ -131,7 +131,13 @@ void depthMetres(const CaptureFrame& frame, const FrameCamera* camera, float* ou
     std::fill(out, out + n, kNaN);
     return;
   }
+  depthMetres(frame, frame.draw_ids.size() == n ? frame.draw_ids.data() : nullptr, frame.depth_window.data(), camera,
+              out, instructions);
+}
 
+void depthMetres(const CaptureFrame& frame, const uint32_t* draw_ids, const float* depth_window,
+                 const FrameCamera* camera, float* out, Instructions instructions) {
+  const size_t n = frame.pixelCount();
   // One linearizer per draw (index + 1 as in the id image); slot 0 is the frame camera.
   std::vector<std::optional<DepthLinearizer>> by_id(frame.draws.size() + 1);
   if (camera) by_id[0].emplace(camera->projection);
@@ -143,24 +149,21 @@ void depthMetres(const CaptureFrame& frame, const FrameCamera* camera, float* ou
       by_id[draw.index + 1] = by_id[0];
     }
   }
-  const bool have_ids = frame.draw_ids.size() == n;
   size_t done = 0;
   const Instructions path = pixel_kernels::kernelPath(instructions);
   if (path != Instructions::kScalar) {
     DepthTable table(by_id.size());
     for (size_t id = 0; id < by_id.size(); ++id)
       if (by_id[id]) table.set(id, by_id[id]->rows());
-    done = pixel_kernels::depthMetres(path, have_ids ? frame.draw_ids.data() : nullptr, frame.depth_window.data(), n,
-                                      table.rows(), out);
+    done = pixel_kernels::depthMetres(path, draw_ids, depth_window, n, table.rows(), out);
   }
   // One pixel at a time: the reference, and the pixels after the kernels' blocks (which write every
-  // pixel of theirs).
-  std::fill(out + done, out + n, kNaN);
+  // pixel of theirs). Each pixel is read before it is written, so that `out` may be `depth_window`.
   for (size_t i = done; i < n; ++i) {
-    uint32_t id = have_ids ? frame.draw_ids[i] : 0;
+    uint32_t id = draw_ids ? draw_ids[i] : 0;
     if (id >= by_id.size()) id = 0;
     const auto& lin = by_id[id];
-    if (lin) out[i] = lin->toMetres(frame.depth_window[i]);
+    out[i] = lin ? lin->toMetres(depth_window[i]) : kNaN;
   }
 }
 

@@ -102,12 +102,14 @@ TEST(CaptureStream, PayloadDecoderReadsVersion1) {
   f.draws[0].gaps = 0;
   f.new_meshes.clear();
   f.unrecorded_draws = 0;
-  const std::string v2 = encodeFramePayload(f);
+  const std::string v2 = test::toVersion4Payload(encodeFramePayload(f));
   // ... u8 gaps, u64 deformed count (0), u32 unrecorded_draws, u32 mesh count (0).
   std::string v1 = v2;
   v1.erase(v1.size() - 8, 4);
   v1.erase(v1.size() - 1 - 8 - 4, 1);
   CaptureFrame read;
+  decodeFramePayload(v2.data(), v2.size(), read, 4);
+  expectFrameEq(read, f);
   decodeFramePayload(v1.data(), v1.size(), read, 1);
   expectFrameEq(read, f);
   EXPECT_THROW(decodeFramePayload(v1.data(), v1.size(), read, 2), std::runtime_error) << "not a version 2 payload";
@@ -155,9 +157,9 @@ TEST(CaptureStream, RejectsNewerVersionBadMagicAndDamagedHeader) {
   const std::string good = test::readBytes(tmp.path);
 
   std::string newer = good;
-  newer[8] = 5;  // version field, little-endian u32 at byte 8
+  newer[8] = 6;  // version field, little-endian u32 at byte 8
   test::writeBytes(tmp.path, newer);
-  expectHeaderError(tmp.path, "version 5 (this reader reads versions 1 to 4)");
+  expectHeaderError(tmp.path, "version 6 (this reader reads versions 1 to 5)");
 
   std::string magic = good;
   magic[0] = 'X';

@@ -1,5 +1,5 @@
-// The stream's codec: LZ4 streams round trip whole and without images, name their codec in a version
-// 4 header (which a reader of versions 1 to 3 rejects), and zstd streams stay version 3 without it.
+// The stream's codec: LZ4 streams round trip whole and without images, and every stream names its
+// codec in a version 5 header (which a reader of versions 1 to 4 rejects by its version).
 // (Empty and full-HD frames of both codecs: test_capture_stream; damage: test_capture_stream_damage.)
 #include "test_capture_stream_frames.h"
 
@@ -45,7 +45,7 @@ TEST(CaptureStreamCodec, Lz4StreamRoundTripsWholeAndWithoutImages) {
   TempPath tmp("lz4_roundtrip");
   const std::vector<uint64_t> offsets = test::writeStream(tmp.path, 5, 64, 48, CaptureCodec::kLz4);
   CaptureReader whole(tmp.path), drawn(tmp.path);
-  EXPECT_EQ(whole.header().version, kCodecCaptureFormatVersion);
+  EXPECT_EQ(whole.header().version, kCaptureFormatVersion);
   EXPECT_EQ(whole.header().codec, CaptureCodec::kLz4);
   EXPECT_EQ(whole.header().program, "town");
   EXPECT_EQ(whole.header().profile, "town_profile.yaml");
@@ -62,26 +62,25 @@ TEST(CaptureStreamCodec, Lz4StreamRoundTripsWholeAndWithoutImages) {
   EXPECT_EQ(drawn.nextWithoutImages(d), CaptureReader::Status::kEnd);
 }
 
-TEST(CaptureStreamCodec, ZstdStreamsStayVersion3WithoutACodecField) {
-  // The default codec writes what builds before LZ4 wrote (and read): version 3, fields program and
-  // profile only.
-  TempPath tmp("zstd_v3");
+TEST(CaptureStreamCodec, ZstdStreamsAreVersion5WithTheirCodecAfterTheProfile) {
+  TempPath tmp("zstd_v5");
   test::writeStream(tmp.path, 1);
   const std::string b = test::readBytes(tmp.path);
-  EXPECT_EQ(getU32(b, 8), 3u);
-  EXPECT_EQ(getU32(b, 12), 8u + 4 + 17) << "program \"town\" and profile \"town_profile.yaml\", nothing more";
+  EXPECT_EQ(getU32(b, 8), 5u);
+  ASSERT_EQ(getU32(b, 12), 8u + 4 + 17 + 4) << "program \"town\", profile \"town_profile.yaml\" and the codec";
+  EXPECT_EQ(getU32(b, 16 + 8 + 4 + 17), 1u) << "zstd";
   CaptureReader reader(tmp.path);
   EXPECT_EQ(reader.header().version, kCaptureFormatVersion);
   EXPECT_EQ(reader.header().codec, CaptureCodec::kZstd);
 }
 
-TEST(CaptureStreamCodec, Lz4StreamsAreVersion4WithTheCodecAfterTheProfile) {
-  TempPath tmp("lz4_v4");
+TEST(CaptureStreamCodec, Lz4StreamsAreVersion5WithTheCodecAfterTheProfile) {
+  TempPath tmp("lz4_v5");
   test::writeStream(tmp.path, 2, 16, 12, CaptureCodec::kLz4);
   const std::string good = test::readBytes(tmp.path);
-  // A reader of versions 1 to 3 checks the version first and rejects the stream there, instead of
-  // taking the LZ4 parts for zstd frames.
-  EXPECT_EQ(getU32(good, 8), 4u);
+  // A reader of versions 1 to 4 checks the version first and rejects the stream there, instead of
+  // taking six parts for three.
+  EXPECT_EQ(getU32(good, 8), 5u);
   const uint32_t fields = getU32(good, 12);
   ASSERT_EQ(fields, 8u + 4 + 17 + 4);
   const size_t codec_at = 16 + fields - 4;
@@ -110,10 +109,10 @@ TEST(CaptureStreamCodec, Lz4StreamsAreVersion4WithTheCodecAfterTheProfile) {
     reader.next(frame);
     FAIL() << "read LZ4 parts as zstd frames";
   } catch (const CaptureFormatError& e) {
-    EXPECT_NE(std::string(e.what()).find("frame 0: zstd frame 1 of 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("frame 0: zstd frame 1 of 6"), std::string::npos) << e.what();
   }
 
-  // A version 4 header cut before its codec.
+  // A version 5 header cut before its codec.
   std::string no_codec = good.substr(0, 16 + fields - 4) + good.substr(16 + fields);
   setHeaderU32(no_codec, 12, fields - 4);
   test::writeBytes(tmp.path, no_codec);

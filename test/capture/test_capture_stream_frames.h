@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -163,6 +164,26 @@ inline std::vector<uint64_t> writeStream(const std::string& path, int count, uin
   offsets.push_back(writer.bytesWritten());
   writer.close();
   return offsets;
+}
+
+/// A version 5 payload (encodeFramePayload's) laid out as versions 2 to 4 lay it out: each image's
+/// element count right before its elements instead of all four counts in the head.
+inline std::string toVersion4Payload(const std::string& v5) {
+  uint32_t condition;
+  std::memcpy(&condition, v5.data() + 16, 4);
+  const size_t fields = 8 + 8 + 4 + condition + 4 + 4;  // number to height
+  std::string v4 = v5.substr(0, fields);
+  size_t at = fields + 4 * 8;
+  const size_t element_bytes[4] = {1, 4, 4, 4};
+  for (int k = 0; k < 4; ++k) {
+    uint64_t count;
+    std::memcpy(&count, v5.data() + fields + 8 * k, 8);
+    v4.append(v5, fields + 8 * k, 8);
+    v4.append(v5, at, count * element_bytes[k]);
+    at += count * element_bytes[k];
+  }
+  v4.append(v5, at, std::string::npos);
+  return v4;
 }
 
 }  // namespace test

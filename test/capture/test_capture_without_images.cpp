@@ -142,7 +142,7 @@ TEST(CaptureWithoutImages, Lz4WorldCaptureGivesExactlyTheZstdCapturesFrames) {
   // Two captures of one deterministic run (cmake/dataset.cmake), one per codec.
   CaptureReader lz4(kWorldLz4Capture);
   ASSERT_EQ(lz4.header().codec, CaptureCodec::kLz4);
-  ASSERT_EQ(lz4.header().version, kCodecCaptureFormatVersion);
+  ASSERT_EQ(lz4.header().version, kCaptureFormatVersion);
   ASSERT_EQ(CaptureReader(kWorldCapture).header().codec, CaptureCodec::kZstd);
   for (bool images : {true, false}) {
     SCOPED_TRACE(images ? "whole" : "without images");
@@ -225,8 +225,8 @@ TEST(CaptureWithoutImages, TruncatedWorldCaptureReportsTheDamageAfterTheIntactFr
 }
 
 TEST(CaptureWithoutImages, Version2StreamsAreReadBothWays) {
-  // A stream of this writer turned into version 2: the header's version, each payload recompressed
-  // as the one zstd frame version 2 has.
+  // A stream of this writer turned into version 2: the header's version, each payload laid out as
+  // version 2 lays it out and recompressed as the one zstd frame version 2 has.
   test::TempPath tmp("version2");
   test::writeStream(tmp.path, 3, 16, 12);
   std::string b = test::readBytes(tmp.path);
@@ -238,9 +238,10 @@ TEST(CaptureWithoutImages, Version2StreamsAreReadBothWays) {
   std::vector<size_t> chunks = chunkOffsets(b);
   for (size_t c = chunks.size() - 1; c-- > 0;) {  // from the last frame: offsets before it stay valid
     const size_t at = chunks[c];
-    const std::string three = b.substr(at + 48, getU64(b, at + 16));
-    std::string raw(getU64(b, at + 24), '\0');
-    ASSERT_EQ(ZSTD_decompress(&raw[0], raw.size(), three.data(), three.size()), raw.size());
+    const std::string six = b.substr(at + 48, getU64(b, at + 16));
+    std::string v5(getU64(b, at + 24), '\0');
+    ASSERT_EQ(ZSTD_decompress(&v5[0], v5.size(), six.data(), six.size()), v5.size());
+    const std::string raw = test::toVersion4Payload(v5);
     std::string one(ZSTD_compressBound(raw.size()), '\0');
     one.resize(ZSTD_compress(&one[0], one.size(), raw.data(), raw.size(), 1));
     replacePayload(b, at, one, raw.size());

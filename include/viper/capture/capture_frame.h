@@ -105,4 +105,17 @@ struct CaptureFrame {
 /// frame is consistent, else a message saying what is wrong.
 std::string validateFrame(const CaptureFrame& frame);
 
+/// Where a frame's images are stored when not in its vectors: each pointer set stands for that
+/// vector and points at width*height values (times 3 for colour) checked for size by whoever set it
+/// (storage a CaptureImageSink gave, say: a message's pixels).
+struct FrameImagesElsewhere {
+  const uint8_t* color_rgb = nullptr;
+  const float* depth_window = nullptr;
+  const uint32_t* draw_ids = nullptr;
+  const uint32_t* primitive_ids = nullptr;
+};
+/// validateFrame() of a frame whose images are partly or wholly elsewhere: the images given there are
+/// not size-checked again, and the draw ids are read where they are.
+std::string validateFrame(const CaptureFrame& frame, const FrameImagesElsewhere& elsewhere);
+
 }  // namespace viper

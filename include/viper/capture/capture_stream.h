@@ -12,15 +12,12 @@
 
 namespace viper {
 
-/// Stream format version CaptureWriter writes for zstd streams, the default (3: a payload's images
-/// in a zstd frame of their own, which CaptureReader::nextWithoutImages skips).
-constexpr uint32_t kCaptureFormatVersion = 3;
-/// Version CaptureWriter writes for streams of any other codec (4: version 3 with the codec named in
-/// the file header). zstd streams stay version 3, so that builds which read only 1 to 3 still read
-/// them; those builds reject an LZ4 stream by its version instead of misreading its payloads.
-constexpr uint32_t kCodecCaptureFormatVersion = 4;
+/// Stream format version CaptureWriter writes, whatever the codec (5: each of a payload's four images
+/// compressed on its own, so that a reader decompresses it straight where it is used, or skips it;
+/// the codec named in the file header). Builds that read only versions 1 to 4 reject it by its version.
+constexpr uint32_t kCaptureFormatVersion = 5;
 /// Newest format version CaptureReader reads.
-constexpr uint32_t kNewestReadableCaptureFormatVersion = 4;
+constexpr uint32_t kNewestReadableCaptureFormatVersion = 5;
 /// Oldest format version CaptureReader still reads (version 1 frames have no gaps; versions 1 and 2
 /// compress a payload as one zstd frame).
 constexpr uint32_t kOldestReadableCaptureFormatVersion = 1;
@@ -53,11 +50,10 @@ class CaptureFormatError : public std::runtime_error {
 
 /// The stream header: format version and free-form metadata about who wrote it.
 struct CaptureHeader {
-  /// Format version read from the file; the writer ignores it and writes kCaptureFormatVersion for
-  /// zstd, kCodecCaptureFormatVersion for any other codec.
+  /// Format version read from the file; the writer ignores it and writes kCaptureFormatVersion.
   uint32_t version = kCaptureFormatVersion;
   /// How the payloads are compressed: the writer compresses with it, the reader reports what it read
-  /// (zstd for versions 1 to 3).
+  /// (zstd for versions 1 to 3, which have no codec field).
   CaptureCodec codec = CaptureCodec::kZstd;
   /// Name of the captured program and the capture profile used (informational).
   std::string program;
@@ -128,6 +124,22 @@ class CaptureWriter {
   std::unique_ptr<Impl> impl_;
 };
 
+/// The four images of a frame, in the order of its payload.
+enum class CaptureImage : int { kColor = 0, kDepth = 1, kDrawIds = 2, kPrimitiveIds = 3 };
+
+/// Storage for a frame's images chosen by whoever uses them (a message's pixels, say). With a sink
+/// set, CaptureReader::next() decompresses each image of a version 5 stream once, straight into the
+/// sink's storage; from older versions it copies each image there once decoded.
+class CaptureImageSink {
+ public:
+  virtual ~CaptureImageSink() = default;
+  /// Writable storage for the `bytes` bytes of `image` of `frame` (bytes > 0), whose head (number,
+  /// time_s, condition, width, height) is already decoded; nullptr keeps the image in the frame's
+  /// vector. An image given storage is left empty in the frame. The reader writes exactly `bytes`
+  /// bytes there, or throws (the storage then holds anything: the frame is not returned).
+  virtual void* imageStorage(CaptureImage image, const CaptureFrame& frame, size_t bytes) = 0;
+};
+
 /// Reads a stream, optionally following it while another process still writes it.
 class CaptureReader {
  public:
@@ -159,9 +171,13 @@ class CaptureReader {
   Status next(CaptureFrame& frame, bool follow = false);
   /// Like next(), but leaves the four images of `frame` empty (color_rgb, depth_window, draw_ids,
   /// primitive_ids): for readers that need only the draws and meshes. From version 3 the images'
-  /// bytes (zstd or LZ4) are checksummed but not decompressed (most of a frame's cost); from older versions the
-  /// whole payload is decompressed. Damage is reported exactly as by next().
+  /// bytes (zstd or LZ4) are checksummed but not decompressed (most of a frame's cost); from older
+  /// versions the whole payload is decompressed. Damage is reported exactly as by next().
   Status nextWithoutImages(CaptureFrame& frame, bool follow = false);
+
+  /// Where next() puts the images of the frames it reads (nullptr, the default: the frame's vectors).
+  /// The sink must outlive the reads; nextWithoutImages() never calls it.
+  void setImageSink(CaptureImageSink* sink);
 
   /// Byte offset of the next chunk to read.
   uint64_t offset() const;

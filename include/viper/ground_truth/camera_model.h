@@ -82,6 +82,11 @@ std::vector<float> depthMetres(const CaptureFrame& frame, const FrameCamera* cam
 /// The same into `out` (frame.pixelCount() values): a message's pixels, say.
 void depthMetres(const CaptureFrame& frame, const FrameCamera* camera, float* out,
                  Instructions instructions = Instructions::kWidest);
+/// The same from the window depth and draw ids at `depth_window` and `draw_ids` (frame.pixelCount()
+/// values each, wherever they are stored; `draw_ids` may be null: every pixel then uses `camera`),
+/// the frame giving its draws and size. `out` may be `depth_window` itself (converted in place).
+void depthMetres(const CaptureFrame& frame, const uint32_t* draw_ids, const float* depth_window,
+                 const FrameCamera* camera, float* out, Instructions instructions = Instructions::kWidest);
 
 /// Converts depth in metres along the optical axis (REP 118) back to OpenGL window depth in [0, 1],
 /// the inverse of depthMetres(): each pixel with the projection of the draw that owns it (draws

@@ -123,6 +123,17 @@ if(CATKIN_ENABLE_TESTING)
       VIPER_TEST_CAPTURE_TRUNCATED="${PROJECT_BINARY_DIR}/test_data/bridge_truncated.vcap")
     add_dependencies(test_capture_to_bag capture_to_bag viper_ros_test_captures)
   endif()
+  # CaptureReader's image sink and FrameImageMessages (the bridge's): on make_test_capture's capture and
+  # on the same frames as an earlier build wrote them (test/capture/data: format versions 3 and 4).
+  catkin_add_gtest(test_frame_image_messages test/ros/test_frame_image_messages.cpp)
+  if(TARGET test_frame_image_messages)
+    target_link_libraries(test_frame_image_messages viper_ros gtest_main)
+    target_compile_definitions(test_frame_image_messages PRIVATE
+      VIPER_TEST_CAPTURE_OK="${PROJECT_BINARY_DIR}/test_data/bridge_ok.vcap"
+      VIPER_TEST_CAPTURE_V3="${PROJECT_SOURCE_DIR}/test/capture/data/test_capture_v3_zstd.vcap"
+      VIPER_TEST_CAPTURE_V4="${PROJECT_SOURCE_DIR}/test/capture/data/test_capture_v4_lz4.vcap")
+    add_dependencies(test_frame_image_messages viper_ros_test_captures)
+  endif()
   # test_bag_writer: BagWriter's files against rosbag's C++ and Python readers and rosbag reindex.
   # test_bag_reader: BagFileReader (bag_player's) against rosbag::View, on rosbag's and BagFileWriter's
   # bags and the committed test bag.

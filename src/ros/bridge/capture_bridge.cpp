@@ -151,10 +151,14 @@ bool CaptureBridge::publishPass(ReplayTiming& timing, bool& first_frame, ros::Wa
   std::unique_ptr<CaptureReader> reader;
   if (!openReader(reader)) return false;
   CaptureFrame frame;
+  // The images are decompressed straight into the messages they are published in.
+  FrameImageMessages images(image_pools_);
+  reader->setImageSink(&images);
   int64_t cpu_mark = CpuMeter::threadCpuNs();  // this thread's CPU, reading included, by frame
   while (running()) {
     const uint64_t offset = reader->offset();
     CaptureReader::Status status;
+    images.clear();
     try {
       status = reader->next(frame, options_.follow);
     } catch (const CaptureFormatError& e) {
@@ -176,7 +180,7 @@ bool CaptureBridge::publishPass(ReplayTiming& timing, bool& first_frame, ros::Wa
       continue;
     }
 
-    const std::string problem = validateFrame(frame);
+    const std::string problem = validateFrame(frame, images.elsewhere());
     if (!problem.empty()) {
       ROS_ERROR_THROTTLE(kThrottleS, "capture_bridge: dropping frame %lu of '%s' (byte %lu): %s",
                          static_cast<unsigned long>(frame.number), options_.file.c_str(),
@@ -203,7 +207,7 @@ bool CaptureBridge::publishPass(ReplayTiming& timing, bool& first_frame, ros::Wa
       if (!sleepFor(wait_s)) return false;
     }
     if (!gate_->waitForRoom(stop_)) return false;
-    publishFrame(frame, stamp_s);
+    publishFrame(frame, images, stamp_s);
     gate_->sent(ros::Time(stamp_s));
     const int64_t now = CpuMeter::threadCpuNs();
     cpu_.add(now - cpu_mark, true);
@@ -212,13 +216,13 @@ bool CaptureBridge::publishPass(ReplayTiming& timing, bool& first_frame, ros::Wa
   return false;
 }
 
-void CaptureBridge::publishFrame(const CaptureFrame& frame, double stamp_s) {
+void CaptureBridge::publishFrame(const CaptureFrame& frame, const FrameImageMessages& images, double stamp_s) {
   std_msgs::Header header;
   header.stamp = ros::Time(stamp_s);
   header.frame_id = options_.frame_id;
 
   try {
-    const FrameMessages m = frameMessages(frame, header, mesh_store_, image_pools_);
+    const FrameMessages m = frameMessages(frame, header, mesh_store_, image_pools_, images);
     if (!m.camera_problem.empty()) {
       ROS_WARN_THROTTLE(kThrottleS, "capture_bridge: frame %lu of '%s': %s", static_cast<unsigned long>(frame.number),
                         options_.file.c_str(), m.camera_problem.c_str());

@@ -165,13 +165,17 @@ sensor_msgs::ImagePtr drawIdMsg(const CaptureFrame& frame, const std_msgs::Heade
   return m;
 }
 
-// -1 where no draw is.
-sensor_msgs::ImagePtr primitiveIdMsg(const CaptureFrame& frame, const std_msgs::Header& header, ImageMsgPool& pool) {
+// -1 where no draw is, in place.
+void maskPrimitiveIds(const uint32_t* ids, size_t n, int32_t* primitives) {
+  for (size_t i = 0; i < n; ++i) primitives[i] = ids[i] == 0 ? -1 : primitives[i];
+}
+
+// -1 where no draw is; `ids` holds the frame's draw ids, checked for size.
+sensor_msgs::ImagePtr primitiveIdMsg(const CaptureFrame& frame, const uint32_t* ids, const std_msgs::Header& header,
+                                     ImageMsgPool& pool) {
   checkSize(frame, frame.primitive_ids.size(), 1, "primitive ids");
-  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
   sensor_msgs::ImagePtr m = pool.take(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32SC1, 4);
   auto* out = reinterpret_cast<int32_t*>(m->data.data());
-  const uint32_t* ids = frame.draw_ids.data();
   const uint32_t* primitives = frame.primitive_ids.data();
   for (size_t i = 0, n = frame.pixelCount(); i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
   return m;
@@ -196,8 +200,9 @@ sensor_msgs::Image drawIdImage(const CaptureFrame& frame, const std_msgs::Header
 }
 
 sensor_msgs::Image primitiveIdImage(const CaptureFrame& frame, const std_msgs::Header& header) {
+  checkSize(frame, frame.draw_ids.size(), 1, "draw ids");
   ImageMsgPool own(1);
-  return *primitiveIdMsg(frame, header, own);
+  return *primitiveIdMsg(frame, frame.draw_ids.data(), header, own);
 }
 
 std::string colorFromImage(const sensor_msgs::Image& color, CaptureFrame& frame) {
@@ -261,8 +266,53 @@ FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& h
   return frameMessages(frame, header, meshes, once);
 }
 
+namespace {
+
+struct SunkImage {
+  const std::string* encoding;
+  uint32_t bytes_per_pixel;
+};
+// How FrameImageMessages holds each image (CaptureImage order).
+const SunkImage kSunk[4] = {{&sensor_msgs::image_encodings::RGB8, 3},
+                            {&sensor_msgs::image_encodings::TYPE_32FC1, 4},
+                            {&sensor_msgs::image_encodings::TYPE_32SC1, 4},
+                            {&sensor_msgs::image_encodings::TYPE_32SC1, 4}};
+
+const uint32_t* words(const sensor_msgs::ImagePtr& m) {
+  return m ? reinterpret_cast<const uint32_t*>(m->data.data()) : nullptr;
+}
+
+}  // namespace
+
+void* FrameImageMessages::imageStorage(CaptureImage image, const CaptureFrame& frame, size_t bytes) {
+  const int k = static_cast<int>(image);
+  if (k < 0 || k > 3 || bytes != frame.pixelCount() * kSunk[k].bytes_per_pixel) return nullptr;
+  ImageMsgPool* pool[4] = {&pools_.color, &pools_.depth, &pools_.draw_ids, &pools_.primitive_ids};
+  held_[k] = pool[k]->take(std_msgs::Header(), frame.width, frame.height, *kSunk[k].encoding, kSunk[k].bytes_per_pixel);
+  return held_[k]->data.data();
+}
+
+void FrameImageMessages::clear() {
+  for (sensor_msgs::ImagePtr& m : held_) m.reset();
+}
+
+FrameImagesElsewhere FrameImageMessages::elsewhere() const {
+  FrameImagesElsewhere at;
+  if (held_[0]) at.color_rgb = held_[0]->data.data();
+  if (held_[1]) at.depth_window = reinterpret_cast<const float*>(held_[1]->data.data());
+  at.draw_ids = words(held_[2]);
+  at.primitive_ids = words(held_[3]);
+  return at;
+}
+
 FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes,
                             FrameImagePools& pools) {
+  const FrameImageMessages none(pools);
+  return frameMessages(frame, header, meshes, pools, none);
+}
+
+FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes,
+                            FrameImagePools& pools, const FrameImageMessages& sunk) {
   FrameMessages out;
   const std::optional<FrameCamera> camera = chooseFrameCamera(frame);
   std::optional<PinholeIntrinsics> intrinsics;
@@ -278,12 +328,31 @@ FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& h
         "uncalibrated (check the capture profile)";
   }
 
-  // Each image written once, into its message (depth in metres straight from the window depth).
-  out.color = colorMsg(frame, header, pools.color);
-  out.draw_ids = drawIdMsg(frame, header, pools.draw_ids);
-  out.primitive_ids = primitiveIdMsg(frame, header, pools.primitive_ids);
-  out.depth = pools.depth.take(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32FC1, 4);
-  depthMetres(frame, camera ? &*camera : nullptr, reinterpret_cast<float*>(out.depth->data.data()));
+  // Each image written once, into its message: the sink's messages hold theirs already; depth in
+  // metres straight from the window depth, in place in the sink's message.
+  const sensor_msgs::ImagePtr& sunk_color = sunk.message(CaptureImage::kColor);
+  const sensor_msgs::ImagePtr& sunk_depth = sunk.message(CaptureImage::kDepth);
+  const sensor_msgs::ImagePtr& sunk_ids = sunk.message(CaptureImage::kDrawIds);
+  const sensor_msgs::ImagePtr& sunk_primitives = sunk.message(CaptureImage::kPrimitiveIds);
+  out.color = sunk_color ? sunk_color : colorMsg(frame, header, pools.color);
+  out.draw_ids = sunk_ids ? sunk_ids : drawIdMsg(frame, header, pools.draw_ids);
+  const uint32_t* ids = words(out.draw_ids);  // the frame's draw ids, checked for size
+  if (sunk_primitives) {
+    out.primitive_ids = sunk_primitives;
+    maskPrimitiveIds(ids, frame.pixelCount(), reinterpret_cast<int32_t*>(out.primitive_ids->data.data()));
+  } else {
+    out.primitive_ids = primitiveIdMsg(frame, ids, header, pools.primitive_ids);
+  }
+  const FrameCamera* cam = camera ? &*camera : nullptr;
+  if (sunk_depth) {
+    out.depth = sunk_depth;
+    auto* metres = reinterpret_cast<float*>(out.depth->data.data());
+    depthMetres(frame, ids, metres, cam, metres);
+  } else {
+    out.depth = pools.depth.take(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32FC1, 4);
+    depthMetres(frame, cam, reinterpret_cast<float*>(out.depth->data.data()));
+  }
+  for (const sensor_msgs::ImagePtr* m : {&out.color, &out.draw_ids, &out.primitive_ids, &out.depth}) (*m)->header = header;
   out.camera_info = boost::make_shared<sensor_msgs::CameraInfo>(
       cameraInfo(intrinsics ? &*intrinsics : nullptr, frame.width, frame.height, header));
   out.draws = boost::make_shared<DrawList>(toDrawListMsg(frame, header));

@@ -67,7 +67,7 @@ class CaptureBridge {
   void run();
   /// One pass over the capture; returns false if the bridge should not loop again.
   bool publishPass(ReplayTiming& timing, bool& first_frame, ros::WallTime& wall_start);
-  void publishFrame(const CaptureFrame& frame, double stamp_s);
+  void publishFrame(const CaptureFrame& frame, const FrameImageMessages& images, double stamp_s);
   bool openReader(std::unique_ptr<CaptureReader>& reader);
   bool waitForSubscribers();
   /// Sleeps up to `seconds` of wall time; returns false if stop was requested meanwhile.

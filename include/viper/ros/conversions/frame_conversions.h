@@ -5,6 +5,7 @@
 #pragma once
 
 #include "viper/capture/capture_frame.h"
+#include "viper/capture/capture_stream.h"
 #include "viper/ground_truth/camera_model.h"
 #include "viper/ros/conversions/image_conversions.h"
 #include "viper/ros/conversions/image_msg_pool.h"
@@ -122,6 +123,32 @@ struct FrameImagePools {
 /// The same with the images in messages of `pools`.
 FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes,
                             FrameImagePools& pools);
+
+/// A CaptureReader's image sink (CaptureImageSink) that takes each image of a frame of the right size
+/// straight into a message of `pools`, so that the capture's pixels are decompressed once, into the
+/// messages that are published. Draw ids and primitive ids go in as 32SC1, colour as rgb8, window
+/// depth as 32FC1, which frameMessages() then turns into metres in place.
+class FrameImageMessages : public CaptureImageSink {
+ public:
+  explicit FrameImageMessages(FrameImagePools& pools) : pools_(pools) {}
+  /// A message's pixels when `bytes` is what the frame's width and height need, else nullptr (the
+  /// reader then keeps the image in the frame, and validateFrame reports its size).
+  void* imageStorage(CaptureImage image, const CaptureFrame& frame, size_t bytes) override;
+  /// Forgets the images of the frame before: call before each read.
+  void clear();
+  /// The images this sink holds, for validateFrame(frame, elsewhere).
+  FrameImagesElsewhere elsewhere() const;
+  /// The message holding `image`, or null when the frame keeps it.
+  const sensor_msgs::ImagePtr& message(CaptureImage image) const { return held_[static_cast<int>(image)]; }
+
+ private:
+  FrameImagePools& pools_;
+  sensor_msgs::ImagePtr held_[4];
+};
+/// The same, the images that `sunk` holds (of this frame, read with it as the reader's sink) taken
+/// from there: primitive ids masked and depth turned into metres in place, nothing else written.
+FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& header, MeshStoreAccumulator& meshes,
+                            FrameImagePools& pools, const FrameImageMessages& sunk);
 
 /// The inverse of frameMessages: the frame of one frame's raw messages. Draws, draw ids,
 /// primitive ids and color come back exactly; window depth comes back from the metres through

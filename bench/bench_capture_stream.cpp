@@ -138,11 +138,13 @@ void BM_DecodePayload(benchmark::State& state) {
 }
 BENCHMARK(BM_DecodePayload)->Unit(benchmark::kMillisecond);
 
-// Arg: zstd level.
+// Args: the codec (1 zstd, 2 LZ4) and zstd's level.
 void BM_EncodeAndWrite(benchmark::State& state) {
   const std::string path = tempPath("write");
   {
-    CaptureWriter writer(path, CaptureHeader{}, int(state.range(0)));
+    CaptureHeader header;
+    header.codec = static_cast<CaptureCodec>(state.range(0));
+    CaptureWriter writer(path, header, int(state.range(1)));
     for (auto _ : state) writer.write(benchFrame());
     state.counters["compressed_MB_per_frame"] =
         double(writer.bytesWritten()) / double(state.iterations()) / 1e6;
@@ -150,7 +152,14 @@ void BM_EncodeAndWrite(benchmark::State& state) {
   std::remove(path.c_str());
   state.SetBytesProcessed(int64_t(state.iterations() * frameBytes()));
 }
-BENCHMARK(BM_EncodeAndWrite)->Arg(-5)->Arg(-1)->Arg(1)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_EncodeAndWrite)
+    ->Args({1, -5})
+    ->Args({1, -1})
+    ->Args({1, 1})
+    ->Args({1, 3})
+    ->Args({2, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // Storage for a frame's images that stays the same from frame to frame, as the bridge's recycled
 // messages do (FrameImageMessages).

@@ -19,13 +19,13 @@
 #                                    [--queue-size Q (30: the nodelets' input queues, replay.launch's queue_size)]
 #                                    [--throughput [--in-flight K (8)]] [--sweep R1,R2,...]
 #                                    [--bag-compression lz4|none|bz2 (capture_to_bag's, lz4)]
-#                                    [--capture-codec zstd|lz4 (the capture's compression, zstd)]
+#                                    [--capture-codec lz4|zstd (the capture's compression, lz4)]
 #                                    [--manager-threads N (replay.launch's manager_threads, 4)]
 #                                    [--perf FILE (perf record --call-graph dwarf of the manager while it plays)]
 # Needs a built workspace sourced first: source devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out="" codec=zstd threads=4
+frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out="" codec=lz4 threads=4
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;

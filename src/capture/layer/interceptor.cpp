@@ -64,8 +64,8 @@ Interceptor::Interceptor() {
     CaptureHeader header;
     header.program = envOr("VIPER_CAPTURE_PROGRAM", "");
     header.profile = profile_.source;
-    // The capture launcher's --codec and --zstd-level (checked there); zstd at level 1 when preloaded by hand.
-    const std::string codec = envOr("VIPER_CAPTURE_CODEC", "zstd");
+    // The capture launcher's --codec and --zstd-level (checked there); LZ4 when preloaded by hand.
+    const std::string codec = envOr("VIPER_CAPTURE_CODEC", "lz4");
     if (!parseCaptureCodec(codec, header.codec))
       throw std::runtime_error("VIPER_CAPTURE_CODEC must be zstd or lz4, not \"" + codec + "\"");
     const int zstd_level = static_cast<int>(std::strtol(envOr("VIPER_CAPTURE_ZSTD_LEVEL", "1").c_str(), nullptr, 10));

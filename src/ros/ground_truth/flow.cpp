@@ -115,6 +115,7 @@ void Flow::onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, 
   {
     std::lock_guard<std::mutex> lock(mutex_);
     kept = step_->process(*draws, depth, draw_ids, primitive_ids, *objects, want, out, problems);
+    cpu_.add(step_->helperCpuNs(), false);  // the backward flow's thread
   }
   log_.log(problems);
   if (!kept) return;

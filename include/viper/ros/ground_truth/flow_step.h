@@ -54,6 +54,9 @@ class FlowStep {
   bool process(const DrawList& draws, const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::ImageConstPtr& draw_ids, const sensor_msgs::ImageConstPtr& primitive_ids,
                const ObjectArray& objects, const Want& want, Output& out, StepProblems& problems);
+  /// CPU time, nanoseconds, that the last process() spent on a thread other than the caller's (the
+  /// backward flow, computed beside the forward one), for the caller's CPU count.
+  int64_t helperCpuNs() const { return helper_cpu_ns_; }
 
   /// Flow, mask and relative pose between two held frames (the ~correspondences service);
   /// `res.success` false with `res.message` saying why when a stamp is not held.
@@ -83,6 +86,8 @@ class FlowStep {
   void flowBetween(const HeldFrame& a, const HeldFrame& b, float* uv, uint8_t* visible, StepProblems& problems);
   /// The same into messages of the pools, with a's header.
   FlowMessages flowBetween(const HeldFrame& a, const HeldFrame& b, StepProblems& problems);
+  /// Forward (prev to cur) and backward flow side by side, on this thread and another.
+  void bothWays(const HeldFrame& prev, const HeldFrame& cur, Output& out, StepProblems& problems);
 
   FlowSettings settings_;
   MeshRegistry meshes_;
@@ -90,6 +95,7 @@ class FlowStep {
   ImageMsgPool flow_pool_, visible_pool_;  // the flows' messages, recycled
   std::vector<float> spare_depth_window_;  // the window depth of the frame last out of the window
   uint64_t frames_lost_ = 0;    // frames missing between consecutive frames seen, in all
+  int64_t helper_cpu_ns_ = 0;   // the last process()'s CPU on the helper thread
 };
 
 }  // namespace viper

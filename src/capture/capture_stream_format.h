@@ -42,7 +42,6 @@ constexpr uint32_t kMaxImageSide = 16384;
 /// reader that wants only the draws skips the images' part without decompressing it (about 95 % of a
 /// frame's bytes); the three decompressed one after the other are the payload.
 constexpr int kPartsV3 = 3;
-constexpr int kImagesPartV3 = 1;
 /// The images part of a version 3 or 4 frame without images: four empty vectors (a u64 count of 0 each).
 constexpr size_t kEmptyImagesBytes = 4 * 8;
 /// From version 5 a payload is six parts: the head (number to height, then the four images' element
@@ -53,6 +52,8 @@ constexpr int kMaxParts = kPartsV5;
 constexpr int kImages = 4;
 /// Bytes of one element of each image, in payload order (color, depth, draw ids, primitive ids).
 constexpr size_t kImageElementBytes[kImages] = {1, 4, 4, 4};
+/// Their names, as CaptureFrame's fields and the decoders' messages call them.
+constexpr const char* kImageNames[kImages] = {"color_rgb", "depth_window", "draw_ids", "primitive_ids"};
 
 /// The element counts of a version 5 payload's four images, in payload order.
 struct ImageCounts {

@@ -231,9 +231,7 @@ void decodeHeadFields(Decoder& in, CaptureFrame& f) {
 }
 
 void decodeCounts(Decoder& in, capture_format::ImageCounts& counts) {
-  static const char* const kWhat[capture_format::kImages] = {"color_rgb count", "depth_window count",
-                                                             "draw_ids count", "primitive_ids count"};
-  for (int k = 0; k < capture_format::kImages; ++k) counts.n[k] = in.u64(kWhat[k]);
+  for (int k = 0; k < capture_format::kImages; ++k) counts.n[k] = in.u64(capture_format::kImageNames[k]);
 }
 
 void decodeRestFields(Decoder& in, CaptureFrame& f, uint32_t version) {

@@ -139,11 +139,10 @@ void CaptureReader::Impl::decodeSixParts(uint64_t start, const std::string& whic
   } catch (const std::runtime_error& e) {
     fail(start, which + e.what());
   }
-  static const char* const kName[kImages] = {"color_rgb", "depth_window", "draw_ids", "primitive_ids"};
   for (int k = 0; k < kImages; ++k) {
     // A count is at most the payload's bytes, so that the product cannot overflow.
     if (counts.n[k] > rsize || counts.bytes(k) != part[1 + k].content)
-      fail(start, which + kName[k] + ": the head says " + std::to_string(counts.n[k]) + " elements, its part holds " +
+      fail(start, which + kImageNames[k] + ": the head says " + std::to_string(counts.n[k]) + " elements, its part holds " +
                       std::to_string(part[1 + k].content) + " bytes");
   }
   if (!images) {

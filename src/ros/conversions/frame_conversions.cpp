@@ -165,9 +165,9 @@ sensor_msgs::ImagePtr drawIdMsg(const CaptureFrame& frame, const std_msgs::Heade
   return m;
 }
 
-// -1 where no draw is, in place.
-void maskPrimitiveIds(const uint32_t* ids, size_t n, int32_t* primitives) {
-  for (size_t i = 0; i < n; ++i) primitives[i] = ids[i] == 0 ? -1 : primitives[i];
+// The primitive ids of `n` pixels, -1 where no draw is; `out` may be `primitives` (masked in place).
+void maskPrimitiveIds(const uint32_t* ids, const uint32_t* primitives, size_t n, int32_t* out) {
+  for (size_t i = 0; i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
 }
 
 // -1 where no draw is; `ids` holds the frame's draw ids, checked for size.
@@ -175,9 +175,7 @@ sensor_msgs::ImagePtr primitiveIdMsg(const CaptureFrame& frame, const uint32_t* 
                                      ImageMsgPool& pool) {
   checkSize(frame, frame.primitive_ids.size(), 1, "primitive ids");
   sensor_msgs::ImagePtr m = pool.take(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32SC1, 4);
-  auto* out = reinterpret_cast<int32_t*>(m->data.data());
-  const uint32_t* primitives = frame.primitive_ids.data();
-  for (size_t i = 0, n = frame.pixelCount(); i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
+  maskPrimitiveIds(ids, frame.primitive_ids.data(), frame.pixelCount(), reinterpret_cast<int32_t*>(m->data.data()));
   return m;
 }
 
@@ -339,7 +337,8 @@ FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& h
   const uint32_t* ids = words(out.draw_ids);  // the frame's draw ids, checked for size
   if (sunk_primitives) {
     out.primitive_ids = sunk_primitives;
-    maskPrimitiveIds(ids, frame.pixelCount(), reinterpret_cast<int32_t*>(out.primitive_ids->data.data()));
+    auto* primitives = reinterpret_cast<int32_t*>(out.primitive_ids->data.data());
+    maskPrimitiveIds(ids, reinterpret_cast<const uint32_t*>(primitives), frame.pixelCount(), primitives);
   } else {
     out.primitive_ids = primitiveIdMsg(frame, ids, header, pools.primitive_ids);
   }

@@ -4,25 +4,18 @@
 #include "viper/ground_truth/ego_motion.h"
 #include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/conversions/image_conversions.h"
+#include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/conversions/pose_conversions.h"
 
 #include <sensor_msgs/image_encodings.h>
 
 #include <algorithm>
 #include <cstdio>
-#include <ctime>
 #include <future>
 #include <stdexcept>
 
 namespace viper {
 namespace {
-
-// This thread's CPU time, nanoseconds.
-int64_t threadCpuNs() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<int64_t>(t.tv_sec) * 1000000000 + t.tv_nsec;
-}
 
 // Draw indices 0..n-1 in order, deformed positions in fours, every draw id naming a draw.
 std::string drawsProblem(const CaptureFrame& f, const uint32_t* draw_ids) {
@@ -167,42 +160,36 @@ void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, float* uv, ui
   computeFlow(a.pixels, b.pixels, a_to_b, b.depth_m, meshes_, uv, visible, settings_.options);
 }
 
-FlowMessages FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, StepProblems& problems) {
+FlowMessages FlowStep::takeMessages(const HeldFrame& a) {
   // computeFlow writes every pixel: a recycled message needs no clearing.
   const uint32_t w = a.frame.width, h = a.frame.height;
-  FlowMessages m{flow_pool_.take(a.header, w, h, sensor_msgs::image_encodings::TYPE_32FC2, 8),
-                 visible_pool_.take(a.header, w, h, sensor_msgs::image_encodings::MONO8, 1)};
+  return FlowMessages{flow_pool_.take(a.header, w, h, sensor_msgs::image_encodings::TYPE_32FC2, 8),
+                      visible_pool_.take(a.header, w, h, sensor_msgs::image_encodings::MONO8, 1)};
+}
+
+void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, FlowMessages& m, StepProblems& problems) {
   flowBetween(a, b, reinterpret_cast<float*>(m.flow->data.data()), m.visible->data.data(), problems);
+}
+
+FlowMessages FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, StepProblems& problems) {
+  FlowMessages m = takeMessages(a);
+  flowBetween(a, b, m, problems);
   return m;
 }
 
 // Forward on this thread, backward on another, side by side: the frame's flow is ready in about half
 // the time where a core is free (the same CPU either way). computeFlow reads only its inputs and
-// writes only its outputs; the messages come from the pools here, on this thread.
+// writes only its outputs; the messages come from the pools here, on this thread. The future of
+// std::async waits for the helper in its destructor, also when the forward flow throws.
 void FlowStep::bothWays(const HeldFrame& prev, const HeldFrame& cur, Output& out, StepProblems& problems) {
-  const uint32_t w = cur.frame.width, h = cur.frame.height;
-  FlowMessages forward{flow_pool_.take(prev.header, w, h, sensor_msgs::image_encodings::TYPE_32FC2, 8),
-                       visible_pool_.take(prev.header, w, h, sensor_msgs::image_encodings::MONO8, 1)};
-  FlowMessages backward{flow_pool_.take(cur.header, w, h, sensor_msgs::image_encodings::TYPE_32FC2, 8),
-                        visible_pool_.take(cur.header, w, h, sensor_msgs::image_encodings::MONO8, 1)};
+  FlowMessages forward = takeMessages(prev), backward = takeMessages(cur);
   StepProblems backward_problems;
   std::future<void> done = std::async(std::launch::async, [&] {
-    const int64_t start = threadCpuNs();
-    try {
-      flowBetween(cur, prev, reinterpret_cast<float*>(backward.flow->data.data()), backward.visible->data.data(),
-                  backward_problems);
-    } catch (...) {
-      helper_cpu_ns_ = threadCpuNs() - start;
-      throw;
-    }
-    helper_cpu_ns_ = threadCpuNs() - start;
+    const int64_t start = CpuMeter::threadCpuNs();
+    flowBetween(cur, prev, backward, backward_problems);
+    helper_cpu_ns_ = CpuMeter::threadCpuNs() - start;
   });
-  try {
-    flowBetween(prev, cur, reinterpret_cast<float*>(forward.flow->data.data()), forward.visible->data.data(), problems);
-  } catch (...) {
-    done.wait();  // the other thread still uses this frame
-    throw;
-  }
+  flowBetween(prev, cur, forward, problems);
   done.get();  // its exception, if any
   problems.insert(problems.end(), backward_problems.begin(), backward_problems.end());
   out.forward = std::move(forward);

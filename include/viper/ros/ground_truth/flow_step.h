@@ -84,6 +84,10 @@ class FlowStep {
                         const ObjectArray& objects, StepProblems& problems);
   /// Flow a -> b into a's width*height (u, v) pairs and mask values.
   void flowBetween(const HeldFrame& a, const HeldFrame& b, float* uv, uint8_t* visible, StepProblems& problems);
+  /// Messages of the pools for the flow from a, with a's header.
+  FlowMessages takeMessages(const HeldFrame& a);
+  /// The same into `m`'s flow and mask.
+  void flowBetween(const HeldFrame& a, const HeldFrame& b, FlowMessages& m, StepProblems& problems);
   /// The same into messages of the pools, with a's header.
   FlowMessages flowBetween(const HeldFrame& a, const HeldFrame& b, StepProblems& problems);
   /// Forward (prev to cur) and backward flow side by side, on this thread and another.

@@ -104,6 +104,41 @@ void BM_FlowForwardAndBackward(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * 2 * size_t(kW) * kH * kFlowBytesPerPixel);
 }
 
+// The flow node's two flows of a frame from the depth topic's metres, both ways: argument 0 as it
+// did until 2026-11-26 (each frame's metres turned back into window depth, windowDepthFromMetres,
+// then flow from window depth), 1 as it does now (flow reads the metres where they are).
+void BM_FlowFromMetres(benchmark::State& state) {
+  const bool direct = state.range(0) == 1;
+  state.SetLabel(direct ? "metres read as they are" : "window depth from metres first");
+  const CaptureFrame a = bench::syntheticFrame(kW, kH, kObjects, kParts, 0, nullptr);
+  const CaptureFrame b = bench::syntheticFrame(kW, kH, kObjects, kParts, 1, nullptr);
+  std::vector<int32_t> ids(a.draws.size());
+  for (size_t k = 0; k < ids.size(); ++k) ids[k] = static_cast<int32_t>(k / kParts + 1);
+  const auto fwd_map = associateDraws(a, ids, b, ids), bwd_map = associateDraws(b, ids, a, ids);
+  const std::vector<float> metres_a = depthMetres(a, nullptr), metres_b = depthMetres(b, nullptr);
+  const size_t n = a.pixelCount();
+  std::vector<float> window_a(n), window_b(n), uv(2 * n);
+  std::vector<uint8_t> visible(n);
+  FlowFramePixels pa = flowFramePixels(a), pb = flowFramePixels(b);
+  const MeshRegistry meshes;
+  FlowStats stats;
+  for (auto _ : state) {
+    if (direct) {
+      pa.depth_window = pb.depth_window = nullptr;
+      pa.depth_metres = metres_a.data(), pb.depth_metres = metres_b.data();
+    } else {
+      windowDepthFromMetres(a.draws, a.draw_ids.data(), metres_a.data(), n, nullptr, window_a);
+      windowDepthFromMetres(b.draws, b.draw_ids.data(), metres_b.data(), n, nullptr, window_b);
+      pa.depth_window = window_a.data(), pb.depth_window = window_b.data();
+    }
+    computeFlow(pa, pb, fwd_map, metres_b.data(), meshes, uv.data(), visible.data(), FlowOptions(), &stats);
+    computeFlow(pb, pa, bwd_map, metres_a.data(), meshes, uv.data(), visible.data());
+    benchmark::DoNotOptimize(uv.data());
+  }
+  state.counters["rigid"] = static_cast<double>(stats.rigid);
+  state.SetBytesProcessed(state.iterations() * 2 * size_t(kW) * kH * kFlowBytesPerPixel);
+}
+
 // The class pictures (semantic_overlay.h) and depth conversions (camera_model.h) of a synthetic
 // frame: argument 0 the path (as flowPath), argument 1 the draws: 0 the synthetic frames' parts,
 // which alternate every 8 pixels, 1 whole objects (one draw a tile, rows of ~100 pixels, as in a
@@ -297,6 +332,7 @@ BENCHMARK(BM_BoxesCapture)->Arg(1)->Arg(20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MemcpyFlowBytes)->Unit(benchmark::kMillisecond);
 // {deformed every, path}: the widest path and AVX2 side by side.
 BENCHMARK(BM_FlowForwardAndBackward)->ArgsProduct({{0, 3}, {0, 2}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FlowFromMetres)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 // {frame, path}: frames 1 -> 2 and 20 -> 21 of the capture, each path (AVX2 and one pixel at a time
 // for comparison with the widest).
 BENCHMARK(BM_FlowForwardAndBackwardCapture)->ArgsProduct({{1, 20}, {0, 2, 3}})->Unit(benchmark::kMillisecond);

@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -41,6 +42,30 @@ void setRigidForms(DrawMapping& m, const Eigen::Matrix4d& M, const Eigen::RowVec
     m.form_x[f] = 2.0 * r[0] / width;
     m.form_e[f] = -2.0 * r[2];
   }
+}
+
+// a's depth in metres m: re-expresses m's forms in s = 1 / m where window depth is affine in s, that
+// is where the projection `p` that turned window depth into metres has P33 = 0 (every perspective
+// projection): z_ndc = P22 / P32 - P23 / (P32 m), so e = 1 - window depth = alpha + beta s. Returns
+// false (forms unchanged) where it is not.
+bool setMetresForms(DrawMapping& m, const GlMatrix& p) {
+  const double p22 = p(2, 2), p23 = p(2, 3), p32 = p(3, 2), p33 = p(3, 3);
+  if (p33 != 0.0 || p32 == 0.0 || !std::isfinite(p22) || !std::isfinite(p23) || !std::isfinite(p32)) return false;
+  const double alpha = 0.5 - 0.5 * p22 / p32, beta = 0.5 * p23 / p32;
+  if (!std::isfinite(alpha) || !std::isfinite(beta)) return false;
+  for (int f = 0; f < 4; ++f) {
+    m.form_c[f] += alpha * m.form_e[f];
+    m.form_e[f] *= beta;
+  }
+  return true;
+}
+
+// A rigid draw of a whose depth comes in metres under `p` (null: none) that setMetresForms cannot
+// take: its pixels are turned into window depth one at a time.
+void convertEachPixel(DrawMapping& m, const GlMatrix* p) {
+  m.kind = DrawMapping::kRigidConverted;
+  m.has_depth_rows = p != nullptr;
+  if (p) m.p22 = (*p)(2, 2), m.p23 = (*p)(2, 3), m.p32 = (*p)(3, 2), m.p33 = (*p)(3, 3);
 }
 
 }  // namespace
@@ -128,8 +153,11 @@ void computeFlow(const FlowFramePixels& a, const FlowFramePixels& b, const std::
   checkSameSize(a.width, a.height, b.width, b.height);
   const size_t n = static_cast<size_t>(a.width) * a.height;
   if (!a.draws || !b.draws || a_to_b.size() != a.draws->size() || (n > 0 && (!b_depth_m || !a.draw_ids ||
-      !a.primitive_ids || !a.depth_window || !uv || !visible)))
+      !a.primitive_ids || !(a.depth_window || a.depth_metres) || !uv || !visible)))
     throw std::invalid_argument("computeFlow: an input's size does not match its frame");
+  if (a.depth_window && a.depth_metres)
+    throw std::invalid_argument("computeFlow: frame a has both window depth and metres");
+  const bool metres = a.depth_metres != nullptr;
   const std::vector<DrawRecord>& a_draws = *a.draws;
   const std::vector<DrawRecord>& b_draws = *b.draws;
 
@@ -160,13 +188,19 @@ void computeFlow(const FlowFramePixels& a, const FlowFramePixels& b, const std::
       m.kind = DrawMapping::kRigid;
       const Eigen::Matrix4d ndc_a_to_object = lu.inverse();
       setRigidForms(m, pvw_b * ndc_a_to_object, ndc_a_to_object.row(3), a.width, a.height);
+      if (metres) {
+        // The projection that turned a's window depth into metres (windowDepthFromMetres' choice).
+        const GlMatrix* p = (da.matrix_flags & kHasProjection) ? &da.projection : a.depth_projection;
+        if (!p || !setMetresForms(m, *p)) convertEachPixel(m, p);
+      }
     }
   }
 
   std::vector<int32_t> row_q(a.width), row_pending(a.width);
   std::vector<float> row_limit(a.width);
   const FlowKernel kernel{a.draw_ids,
-                          a.depth_window,
+                          metres ? a.depth_metres : a.depth_window,
+                          metres,
                           a.primitive_ids,
                           b_depth_m,
                           static_cast<int>(a.width),
@@ -197,6 +231,8 @@ void computeFlow(const FlowFramePixels& a, const FlowFramePixels& b, const std::
   FlowStats stats;
   stats.rigid = counts.rigid, stats.non_rigid = counts.non_rigid, stats.no_surface = counts.no_surface;
   stats.no_association = counts.no_assoc, stats.missing_geometry = counts.missing;
+  for (size_t id = 1; id < maps.size(); ++id)
+    if (maps[id].with_depth > 0) stats.no_depth += maps[id].without_depth;
   if (stats_out) *stats_out = stats;
 }
 

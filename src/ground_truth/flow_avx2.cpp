@@ -36,19 +36,27 @@ struct Avx2Target {
 
 // Flow (u, v), b's pixel index q (clamped into b) and the least depth of b there that does not
 // hide the point (NaN where the point is outside b), for 8 pixels at xf of row y of a rigid draw
-// whose forms are at row y; e = 1 - window depth. Lanes without a surface get garbage.
-VIPER_AVX2_INLINE void rigid8(const DrawMapping& m, const Avx2Target& t, __m256 xf, __m256 yf, __m256 e, __m256& u,
+// whose forms are at row y; g = e = 1 - window depth, or metres with forms in 1 / metres
+// (kMetres: each form times the metres). Lanes without a surface get garbage.
+template <bool kMetres>
+VIPER_AVX2_INLINE void rigid8(const DrawMapping& m, const Avx2Target& t, __m256 xf, __m256 yf, __m256 g, __m256& u,
                               __m256& v, __m256i& q, __m256& limit) {
   const RowForms& f = m.at_row;
-  const __m256 u_cw = _mm256_fmadd_ps(
-      _mm256_fmadd_ps(_mm256_set1_ps(f.ue1), xf, _mm256_set1_ps(f.ue0)), e,
-      _mm256_fmadd_ps(_mm256_fmadd_ps(_mm256_set1_ps(f.u2), xf, _mm256_set1_ps(f.u1)), xf, _mm256_set1_ps(f.u0)));
-  const __m256 v_cw =
-      _mm256_fmadd_ps(_mm256_set1_ps(f.vx), xf, _mm256_fmadd_ps(_mm256_set1_ps(f.ve), e, _mm256_set1_ps(f.v0)));
-  const __m256 cw =
-      _mm256_fmadd_ps(_mm256_set1_ps(f.wx), xf, _mm256_fmadd_ps(_mm256_set1_ps(f.we), e, _mm256_set1_ps(f.w0)));
-  const __m256 co =
-      _mm256_fmadd_ps(_mm256_set1_ps(f.ox), xf, _mm256_fmadd_ps(_mm256_set1_ps(f.oe), e, _mm256_set1_ps(f.o0)));
+  const __m256 quadratic =
+      _mm256_fmadd_ps(_mm256_fmadd_ps(_mm256_set1_ps(f.u2), xf, _mm256_set1_ps(f.u1)), xf, _mm256_set1_ps(f.u0));
+  const __m256 linear = _mm256_fmadd_ps(_mm256_set1_ps(f.ue1), xf, _mm256_set1_ps(f.ue0));
+  __m256 u_cw, v_cw, cw, co;
+  if (kMetres) {
+    u_cw = _mm256_fmadd_ps(quadratic, g, linear);
+    v_cw = _mm256_fmadd_ps(_mm256_fmadd_ps(_mm256_set1_ps(f.vx), xf, _mm256_set1_ps(f.v0)), g, _mm256_set1_ps(f.ve));
+    cw = _mm256_fmadd_ps(_mm256_fmadd_ps(_mm256_set1_ps(f.wx), xf, _mm256_set1_ps(f.w0)), g, _mm256_set1_ps(f.we));
+    co = _mm256_fmadd_ps(_mm256_fmadd_ps(_mm256_set1_ps(f.ox), xf, _mm256_set1_ps(f.o0)), g, _mm256_set1_ps(f.oe));
+  } else {
+    u_cw = _mm256_fmadd_ps(linear, g, quadratic);
+    v_cw = _mm256_fmadd_ps(_mm256_set1_ps(f.vx), xf, _mm256_fmadd_ps(_mm256_set1_ps(f.ve), g, _mm256_set1_ps(f.v0)));
+    cw = _mm256_fmadd_ps(_mm256_set1_ps(f.wx), xf, _mm256_fmadd_ps(_mm256_set1_ps(f.we), g, _mm256_set1_ps(f.w0)));
+    co = _mm256_fmadd_ps(_mm256_set1_ps(f.ox), xf, _mm256_fmadd_ps(_mm256_set1_ps(f.oe), g, _mm256_set1_ps(f.o0)));
+  }
   const __m256 zero = _mm256_setzero_ps(), half = _mm256_set1_ps(0.5f), minus_half = _mm256_set1_ps(-0.5f);
   const __m256 r = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(cw, co));
   const __m256 inv_cw = _mm256_mul_ps(co, r), depth = _mm256_mul_ps(cw, _mm256_mul_ps(cw, r));
@@ -78,25 +86,27 @@ VIPER_AVX2_INLINE void storeFlow8(__m256 u, __m256 v, __m256 surface, float* uv)
   _mm256_storeu_ps(uv, _mm256_permute2f128_ps(lo, hi, 0x20));
   _mm256_storeu_ps(uv + 8, _mm256_permute2f128_ps(lo, hi, 0x31));
 }
-}  // namespace
 
 // Row y from x0 in blocks of 8 pixels, as far as whole blocks go; returns where the rest begins. A block of
 // one rigid draw (the common case) is computed at once; in a block of several draws, each rigid
 // draw is computed over the whole block and blended in by lanes, and non-rigid lanes are redone
 // one at a time. Two passes, each with a short chain of dependent steps per block, so that the
 // CPU overlaps many blocks: flow and target, then b's depth at the target and the mask.
-VIPER_AVX2 int FlowKernel::avx2Pixels(int y, double ndc_y, int x0, Counts& n) const {
-  const Row r = rowAt(y);
-  const Avx2Target t{depth_b,
-                     width * height,
+template <bool kMetres>
+VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts& n) {
+  const FlowKernel::Row r = k.rowAt(y);
+  const int width = k.width;
+  const Avx2Target t{k.depth_b,
+                     width * k.height,
                      _mm256_set1_ps(width - 0.5f),
-                     _mm256_set1_ps(height - 0.5f),
+                     _mm256_set1_ps(k.height - 0.5f),
                      _mm256_set1_ps(static_cast<float>(width - 1)),
-                     _mm256_set1_ps(static_cast<float>(height - 1)),
-                     _mm256_set1_ps(occ_rel),
-                     _mm256_set1_ps(occ_abs),
+                     _mm256_set1_ps(static_cast<float>(k.height - 1)),
+                     _mm256_set1_ps(k.occ_rel),
+                     _mm256_set1_ps(k.occ_abs),
                      _mm256_set1_epi32(width)};
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), nan = _mm256_set1_ps(kNaN);
+  const __m256 infinity = _mm256_set1_ps(kInfinity);
   const __m256 yf = _mm256_set1_ps(static_cast<float>(y));
   __m256 xf = _mm256_add_ps(_mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_ps(static_cast<float>(x0)));
   const int end = width & ~7;
@@ -105,9 +115,12 @@ VIPER_AVX2 int FlowKernel::avx2Pixels(int y, double ndc_y, int x0, Counts& n) co
   for (int x = x0; x < end; x += 8, xf = _mm256_add_ps(xf, _mm256_set1_ps(8.0f))) {
     const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x));
     const __m256 d = _mm256_loadu_ps(r.depth + x);
-    const __m256 surface = _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GE_OQ), _mm256_cmp_ps(d, one, _CMP_LT_OQ));
+    // A surface: window depth in [0, 1), or metres positive and finite.
+    const __m256 surface =
+        kMetres ? _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(d, infinity, _CMP_LT_OQ))
+                : _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GE_OQ), _mm256_cmp_ps(d, one, _CMP_LT_OQ));
     const unsigned surface_bits = static_cast<unsigned>(_mm256_movemask_ps(surface));
-    const __m256 e = _mm256_sub_ps(one, d);
+    const __m256 g = kMetres ? d : _mm256_sub_ps(one, d);
     const uint32_t first = r.ids[x];
     DrawMapping& m = r.mappingOf(first);
     const unsigned first_bits = static_cast<unsigned>(
@@ -115,9 +128,9 @@ VIPER_AVX2 int FlowKernel::avx2Pixels(int y, double ndc_y, int x0, Counts& n) co
     __m256 u, v, limit;
     __m256i q;
     if (first_bits == 0xff && m.kind == DrawMapping::kRigid) {
-      countLanes(m, first_bits, surface_bits, x, r.pending, n_pending, blocks);
+      FlowKernel::countLanes(m, first_bits, surface_bits, x, r.pending, n_pending, blocks);
       m.toRow(y, ndc_y);
-      rigid8(m, t, xf, yf, e, u, v, q, limit);
+      rigid8<kMetres>(m, t, xf, yf, g, u, v, q, limit);
     } else {
       u = v = limit = nan;
       q = _mm256_setzero_si256();
@@ -127,12 +140,12 @@ VIPER_AVX2 int FlowKernel::avx2Pixels(int y, double ndc_y, int x0, Counts& n) co
         const unsigned bits = static_cast<unsigned>(_mm256_movemask_ps(lanes));
         remaining &= ~bits;
         DrawMapping& dm = r.mappingOf(draw);
-        countLanes(dm, bits, surface_bits, x, r.pending, n_pending, blocks);
+        FlowKernel::countLanes(dm, bits, surface_bits, x, r.pending, n_pending, blocks);
         if (dm.kind != DrawMapping::kRigid) continue;
         dm.toRow(y, ndc_y);
         __m256 du, dv, dlimit;
         __m256i dq;
-        rigid8(dm, t, xf, yf, e, du, dv, dq, dlimit);
+        rigid8<kMetres>(dm, t, xf, yf, g, du, dv, dq, dlimit);
         u = _mm256_blendv_ps(u, du, lanes);
         v = _mm256_blendv_ps(v, dv, lanes);
         limit = _mm256_blendv_ps(limit, dlimit, lanes);
@@ -153,8 +166,14 @@ VIPER_AVX2 int FlowKernel::avx2Pixels(int y, double ndc_y, int x0, Counts& n) co
     _mm_storel_epi64(reinterpret_cast<__m128i*>(r.visible + x),
                      _mm_unpacklo_epi32(_mm256_castsi256_si128(bytes), _mm256_extracti128_si256(bytes, 1)));
   }
-  finishRow(y, ndc_y, n_pending, blocks, n);
+  k.finishRow(y, ndc_y, n_pending, blocks, n);
   return end;
+}
+
+}  // namespace
+
+VIPER_AVX2 int FlowKernel::avx2Pixels(int y, double ndc_y, int x0, Counts& n) const {
+  return metres ? avx2Row<true>(*this, y, ndc_y, x0, n) : avx2Row<false>(*this, y, ndc_y, x0, n);
 }
 
 }  // namespace flow_detail

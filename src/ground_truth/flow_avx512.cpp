@@ -40,18 +40,25 @@ struct Avx512Target {
 
 // rigid8 of flow_avx2.cpp for 16 pixels: flow (u, v), b's pixel index q (clamped into b) and the
 // least depth of b there that does not hide the point (NaN where the point is outside b).
-VIPER_AVX512_INLINE void rigid16(const DrawMapping& m, const Avx512Target& t, __m512 xf, __m512 yf, __m512 e,
+template <bool kMetres>
+VIPER_AVX512_INLINE void rigid16(const DrawMapping& m, const Avx512Target& t, __m512 xf, __m512 yf, __m512 g,
                                  __m512& u, __m512& v, __m512i& q, __m512& limit) {
   const RowForms& f = m.at_row;
-  const __m512 u_cw = _mm512_fmadd_ps(
-      _mm512_fmadd_ps(_mm512_set1_ps(f.ue1), xf, _mm512_set1_ps(f.ue0)), e,
-      _mm512_fmadd_ps(_mm512_fmadd_ps(_mm512_set1_ps(f.u2), xf, _mm512_set1_ps(f.u1)), xf, _mm512_set1_ps(f.u0)));
-  const __m512 v_cw =
-      _mm512_fmadd_ps(_mm512_set1_ps(f.vx), xf, _mm512_fmadd_ps(_mm512_set1_ps(f.ve), e, _mm512_set1_ps(f.v0)));
-  const __m512 cw =
-      _mm512_fmadd_ps(_mm512_set1_ps(f.wx), xf, _mm512_fmadd_ps(_mm512_set1_ps(f.we), e, _mm512_set1_ps(f.w0)));
-  const __m512 co =
-      _mm512_fmadd_ps(_mm512_set1_ps(f.ox), xf, _mm512_fmadd_ps(_mm512_set1_ps(f.oe), e, _mm512_set1_ps(f.o0)));
+  const __m512 quadratic =
+      _mm512_fmadd_ps(_mm512_fmadd_ps(_mm512_set1_ps(f.u2), xf, _mm512_set1_ps(f.u1)), xf, _mm512_set1_ps(f.u0));
+  const __m512 linear = _mm512_fmadd_ps(_mm512_set1_ps(f.ue1), xf, _mm512_set1_ps(f.ue0));
+  __m512 u_cw, v_cw, cw, co;
+  if (kMetres) {
+    u_cw = _mm512_fmadd_ps(quadratic, g, linear);
+    v_cw = _mm512_fmadd_ps(_mm512_fmadd_ps(_mm512_set1_ps(f.vx), xf, _mm512_set1_ps(f.v0)), g, _mm512_set1_ps(f.ve));
+    cw = _mm512_fmadd_ps(_mm512_fmadd_ps(_mm512_set1_ps(f.wx), xf, _mm512_set1_ps(f.w0)), g, _mm512_set1_ps(f.we));
+    co = _mm512_fmadd_ps(_mm512_fmadd_ps(_mm512_set1_ps(f.ox), xf, _mm512_set1_ps(f.o0)), g, _mm512_set1_ps(f.oe));
+  } else {
+    u_cw = _mm512_fmadd_ps(linear, g, quadratic);
+    v_cw = _mm512_fmadd_ps(_mm512_set1_ps(f.vx), xf, _mm512_fmadd_ps(_mm512_set1_ps(f.ve), g, _mm512_set1_ps(f.v0)));
+    cw = _mm512_fmadd_ps(_mm512_set1_ps(f.wx), xf, _mm512_fmadd_ps(_mm512_set1_ps(f.we), g, _mm512_set1_ps(f.w0)));
+    co = _mm512_fmadd_ps(_mm512_set1_ps(f.ox), xf, _mm512_fmadd_ps(_mm512_set1_ps(f.oe), g, _mm512_set1_ps(f.o0)));
+  }
   const __m512 zero = _mm512_setzero_ps(), half = _mm512_set1_ps(0.5f), minus_half = _mm512_set1_ps(-0.5f);
   const __m512 r = _mm512_div_ps(_mm512_set1_ps(1.0f), _mm512_mul_ps(cw, co));
   const __m512 inv_cw = _mm512_mul_ps(co, r), depth = _mm512_mul_ps(cw, _mm512_mul_ps(cw, r));
@@ -81,22 +88,23 @@ VIPER_AVX512_INLINE void storeFlow16(__m512 u, __m512 v, __mmask16 surface, floa
   _mm512_storeu_ps(uv + 16, _mm512_permutex2var_ps(u, hi, v));
 }
 
-}  // namespace
-
-// avx2Pixels in blocks of 16 (see there): a block of one rigid draw at once, a block of several
+// avx2Row in blocks of 16 (see there): a block of one rigid draw at once, a block of several
 // draws draw by draw under masks, non-rigid lanes redone one at a time; then b's depth and the mask.
-VIPER_AVX512 int FlowKernel::avx512Pixels(int y, double ndc_y, int x0, Counts& n) const {
-  const Row r = rowAt(y);
-  const Avx512Target t{depth_b,
-                       width * height,
+template <bool kMetres>
+VIPER_AVX512 int avx512Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts& n) {
+  const FlowKernel::Row r = k.rowAt(y);
+  const int width = k.width;
+  const Avx512Target t{k.depth_b,
+                       width * k.height,
                        _mm512_set1_ps(width - 0.5f),
-                       _mm512_set1_ps(height - 0.5f),
+                       _mm512_set1_ps(k.height - 0.5f),
                        _mm512_set1_ps(static_cast<float>(width - 1)),
-                       _mm512_set1_ps(static_cast<float>(height - 1)),
-                       _mm512_set1_ps(occ_rel),
-                       _mm512_set1_ps(occ_abs),
+                       _mm512_set1_ps(static_cast<float>(k.height - 1)),
+                       _mm512_set1_ps(k.occ_rel),
+                       _mm512_set1_ps(k.occ_abs),
                        _mm512_set1_epi32(width)};
   const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f), nan = _mm512_set1_ps(kNaN);
+  const __m512 infinity = _mm512_set1_ps(kInfinity);
   const __m512 yf = _mm512_set1_ps(static_cast<float>(y));
   __m512 xf = _mm512_add_ps(_mm512_setr_ps(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
                             _mm512_set1_ps(static_cast<float>(x0)));
@@ -106,18 +114,21 @@ VIPER_AVX512 int FlowKernel::avx512Pixels(int y, double ndc_y, int x0, Counts& n
   for (int x = x0; x < end; x += 16, xf = _mm512_add_ps(xf, _mm512_set1_ps(16.0f))) {
     const __m512i id = _mm512_loadu_si512(r.ids + x);
     const __m512 d = _mm512_loadu_ps(r.depth + x);
-    const __mmask16 surface = _mm512_cmp_ps_mask(d, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(d, one, _CMP_LT_OQ);
+    // A surface: window depth in [0, 1), or metres positive and finite.
+    const __mmask16 surface =
+        kMetres ? _mm512_cmp_ps_mask(d, zero, _CMP_GT_OQ) & _mm512_cmp_ps_mask(d, infinity, _CMP_LT_OQ)
+                : _mm512_cmp_ps_mask(d, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(d, one, _CMP_LT_OQ);
     const unsigned surface_bits = surface;
-    const __m512 e = _mm512_sub_ps(one, d);
+    const __m512 g = kMetres ? d : _mm512_sub_ps(one, d);
     const uint32_t first = r.ids[x];
     DrawMapping& m = r.mappingOf(first);
     const unsigned first_bits = _mm512_cmpeq_epi32_mask(id, _mm512_set1_epi32(static_cast<int>(first)));
     __m512 u, v, limit;
     __m512i q;
     if (first_bits == 0xffff && m.kind == DrawMapping::kRigid) {
-      countLanes(m, first_bits, surface_bits, x, r.pending, n_pending, blocks);
+      FlowKernel::countLanes(m, first_bits, surface_bits, x, r.pending, n_pending, blocks);
       m.toRow(y, ndc_y);
-      rigid16(m, t, xf, yf, e, u, v, q, limit);
+      rigid16<kMetres>(m, t, xf, yf, g, u, v, q, limit);
     } else {
       u = v = limit = nan;
       q = _mm512_setzero_si512();
@@ -127,12 +138,12 @@ VIPER_AVX512 int FlowKernel::avx512Pixels(int y, double ndc_y, int x0, Counts& n
         const unsigned bits = lanes;
         remaining &= ~bits;
         DrawMapping& dm = r.mappingOf(draw);
-        countLanes(dm, bits, surface_bits, x, r.pending, n_pending, blocks);
+        FlowKernel::countLanes(dm, bits, surface_bits, x, r.pending, n_pending, blocks);
         if (dm.kind != DrawMapping::kRigid) continue;
         dm.toRow(y, ndc_y);
         __m512 du, dv, dlimit;
         __m512i dq;
-        rigid16(dm, t, xf, yf, e, du, dv, dq, dlimit);
+        rigid16<kMetres>(dm, t, xf, yf, g, du, dv, dq, dlimit);
         u = _mm512_mask_blend_ps(lanes, u, du);
         v = _mm512_mask_blend_ps(lanes, v, dv);
         limit = _mm512_mask_blend_ps(lanes, limit, dlimit);
@@ -150,8 +161,14 @@ VIPER_AVX512 int FlowKernel::avx512Pixels(int y, double ndc_y, int x0, Counts& n
     const __mmask16 seen = _mm512_cmp_ps_mask(limit, limit, _CMP_ORD_Q) & _mm512_cmp_ps_mask(there, limit, _CMP_NLT_UQ);
     _mm_storeu_si128(reinterpret_cast<__m128i*>(r.visible + x), _mm_movm_epi8(seen));
   }
-  finishRow(y, ndc_y, n_pending, blocks, n);
+  k.finishRow(y, ndc_y, n_pending, blocks, n);
   return end;
+}
+
+}  // namespace
+
+VIPER_AVX512 int FlowKernel::avx512Pixels(int y, double ndc_y, int x0, Counts& n) const {
+  return metres ? avx512Row<true>(*this, y, ndc_y, x0, n) : avx512Row<false>(*this, y, ndc_y, x0, n);
 }
 
 }  // namespace flow_detail

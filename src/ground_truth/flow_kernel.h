@@ -29,7 +29,10 @@ struct RowForms {
 
 // How the pixels of one draw of frame a map into frame b.
 struct DrawMapping {
-  enum Kind : uint8_t { kNoDraw, kNone, kRigid, kNonRigid, kMissing } kind = kNone;
+  // kRigidConverted: a rigid draw whose depth comes in metres, under a projection in which window
+  // depth is not affine in 1 / metres (an orthographic one, say): each pixel's metres are turned
+  // into window depth one at a time (through p22..p33), as windowDepthFromMetres does.
+  enum Kind : uint8_t { kNoDraw, kNone, kRigid, kNonRigid, kMissing, kRigidConverted } kind = kNone;
   // Rigid: inverse(pvw_a) maps ndc_a to the object point times 1 / clip_w_a, so pvw_b times it is
   // clip_b / clip_w_a. Four affine forms of (ndc_y, x, e) give px, py (b's pixel coordinates times
   // cw), cw (clip_w_b / clip_w_a) and co (1 / clip_w_a / depth scale of b): b's pixel is
@@ -37,9 +40,20 @@ struct DrawMapping {
   // exact for window depths >= 0.5: in e the forms stay well-conditioned for far surfaces, where in
   // the window depth itself large terms would cancel.
   enum Form { kPx, kPy, kCw, kCo };
+  // When a's depth comes in metres m, a rigid draw's forms are in s = 1 / m instead of e (e is
+  // affine in s when the projection's P33 is 0: setMetresForms), and the kernels evaluate each
+  // form times m, (c + x ...) m + (e terms): the ratios u, v and depth are those of the forms, and
+  // no division by m is needed.
   double form_c[4] = {}, form_y[4] = {}, form_x[4] = {}, form_e[4] = {};
   RowForms at_row{};
   int row = -1;
+  // kRigidConverted: rows 2 and 3 of the projection that turns metres into window depth (none:
+  // its pixels have no depth).
+  bool has_depth_rows = false;
+  double p22 = 0, p23 = 0, p32 = 0, p33 = 0;
+  // Pixels of this draw with a surface (depth) and without: pixels without depth in a draw that has
+  // depth elsewhere are reported (FlowStats::no_depth); a draw with none at all is a background.
+  size_t with_depth = 0, without_depth = 0;
   // Non-rigid.
   const std::vector<uint32_t>* indices = nullptr;
   const std::vector<float>* clip_a = nullptr;
@@ -106,11 +120,28 @@ struct Counts {
   size_t rigid = 0, non_rigid = 0, no_surface = 0, no_assoc = 0, missing = 0;
 };
 
+const float kInfinity = std::numeric_limits<float>::infinity();
+
+// Whether a pixel's depth is a surface: window depth in [0, 1), or metres positive and finite.
+inline bool hasSurface(float depth, bool metres) {
+  return metres ? depth > 0.0f && depth < kInfinity : depth >= 0.0f && depth < 1.0f;
+}
+
+// The window depth of `metres` under rows 2 and 3 of a projection (windowDepthFromMetres'
+// arithmetic), or 1 (no surface) where there is none.
+inline float windowDepthOf(const DrawMapping& m, float metres) {
+  if (!m.has_depth_rows || !(metres > 0.0f) || !(metres < kInfinity)) return 1.0f;
+  const double z = -static_cast<double>(metres);
+  const double d = 0.5 * ((m.p22 * z + m.p23) / (m.p32 * z + m.p33) + 1.0);
+  return d >= 0.0 && d < 1.0 ? static_cast<float>(d) : 1.0f;
+}
+
 // One flow computation a -> b over plain pointers: stores through the uint8_t mask may alias
 // anything that lives in memory, which would force reloads of state held in vectors.
 struct FlowKernel {
   const uint32_t* ids;        // a's draw ids
-  const float* depth_a;       // a's window depth
+  const float* depth_a;       // a's window depth, or its metres if `metres`
+  bool metres;
   const uint32_t* primitives;  // a's primitive ids
   const float* depth_b;       // b's depth in metres, NaN = no surface
   int width, height;
@@ -145,13 +176,29 @@ struct FlowKernel {
   }
 
   // Writes pixel p = (x, y) of a rigid draw, which must be at row y; returns whether it has a surface.
-  bool rigidPixel(const DrawMapping& m, int x, int y, size_t p) const {
-    const RowForms& f = m.at_row;
+  bool rigidPixel(DrawMapping& m, int x, int y, size_t p) const {
     const float d = depth_a[p];
-    const float xf = static_cast<float>(x), e = 1.0f - d;
-    const float u_cw = (f.u2 * xf + f.u1) * xf + f.u0 + (f.ue1 * xf + f.ue0) * e;
-    const float v_cw = f.vx * xf + (f.ve * e + f.v0);
-    const float cw = f.wx * xf + (f.we * e + f.w0), co = f.ox * xf + (f.oe * e + f.o0);
+    const bool surface = hasSurface(d, metres);
+    ++(surface ? m.with_depth : m.without_depth);
+    return metres ? rigidFrom<true>(m, x, y, p, d, surface) : rigidFrom<false>(m, x, y, p, 1.0f - d, surface);
+  }
+
+  // The same from g: e = 1 - window depth with forms in e, or metres with forms in 1 / metres
+  // (kMetres).
+  template <bool kMetres>
+  bool rigidFrom(const DrawMapping& m, int x, int y, size_t p, float g, bool surface) const {
+    const RowForms& f = m.at_row;
+    const float xf = static_cast<float>(x);
+    float u_cw, v_cw, cw, co;
+    if (kMetres) {
+      u_cw = ((f.u2 * xf + f.u1) * xf + f.u0) * g + (f.ue1 * xf + f.ue0);
+      v_cw = (f.vx * xf + f.v0) * g + f.ve;
+      cw = (f.wx * xf + f.w0) * g + f.we, co = (f.ox * xf + f.o0) * g + f.oe;
+    } else {
+      u_cw = (f.u2 * xf + f.u1) * xf + f.u0 + (f.ue1 * xf + f.ue0) * g;
+      v_cw = f.vx * xf + (f.ve * g + f.v0);
+      cw = f.wx * xf + (f.we * g + f.w0), co = f.ox * xf + (f.oe * g + f.o0);
+    }
     const float r = 1.0f / (cw * co);
     const float inv_cw = co * r, depth = cw * (cw * r);
     const float u = u_cw * inv_cw, v = v_cw * inv_cw;
@@ -162,7 +209,6 @@ struct FlowKernel {
       // NaN in b's depth (no surface) counts as visible: nothing is in front of the point.
       seen = !(depth_b[q] < depth * occ_rel - occ_abs);
     }
-    const bool surface = d >= 0.0f && d < 1.0f;
     uv[2 * p] = surface ? u : kNaN;
     uv[2 * p + 1] = surface ? v : kNaN;
     visible[p] = surface && seen ? 255 : 0;
@@ -183,10 +229,24 @@ struct FlowKernel {
   }
 
   // Pixel (x, y) of any draw but a rigid one.
-  void otherPixel(const DrawMapping& m, int x, int y, double ndc_y, Counts& n) const {
+  void otherPixel(DrawMapping& m, int x, int y, double ndc_y, Counts& n) const {
     const size_t p = static_cast<size_t>(y) * width + x;
-    const float d = depth_a[p];
-    if (m.kind == DrawMapping::kNoDraw || !(d >= 0.0f && d < 1.0f)) {
+    if (m.kind == DrawMapping::kNoDraw) {
+      ++n.no_surface;
+      undefined(p);
+      return;
+    }
+    if (m.kind == DrawMapping::kRigidConverted) {
+      const float d = windowDepthOf(m, depth_a[p]);
+      const bool surface = d < 1.0f;
+      ++(surface ? m.with_depth : m.without_depth);
+      m.toRow(y, ndc_y);
+      ++(rigidFrom<false>(m, x, y, p, 1.0f - d, surface) ? n.rigid : n.no_surface);
+      return;
+    }
+    const bool surface = hasSurface(depth_a[p], metres);
+    ++(surface ? m.with_depth : m.without_depth);
+    if (!surface) {
       ++n.no_surface;
       undefined(p);
     } else if (m.kind != DrawMapping::kNonRigid) {
@@ -226,15 +286,18 @@ struct FlowKernel {
   // Counts the lanes `bits` of the block at x whose draw is m (the lanes with a surface in
   // surface_bits) and queues its non-rigid lanes in `pending`, to be done one at a time after the
   // row's blocks (finishRow). Rigid lanes the block kernel computes itself.
-  static void countLanes(const DrawMapping& m, unsigned bits, unsigned surface_bits, int x, int32_t* pending,
+  static void countLanes(DrawMapping& m, unsigned bits, unsigned surface_bits, int x, int32_t* pending,
                          int& n_pending, Counts& c) {
     const int with_surface = __builtin_popcount(bits & surface_bits), without = __builtin_popcount(bits & ~surface_bits);
+    if (m.kind != DrawMapping::kNonRigid && m.kind != DrawMapping::kRigidConverted)
+      m.with_depth += with_surface, m.without_depth += without;  // those count in otherPixel
     switch (m.kind) {
       case DrawMapping::kRigid:
         c.rigid += with_surface;
         c.no_surface += without;
         break;
       case DrawMapping::kNonRigid:
+      case DrawMapping::kRigidConverted:
         for (unsigned b = bits; b; b &= b - 1) pending[n_pending++] = x + __builtin_ctz(b);
         break;
       case DrawMapping::kNoDraw:
@@ -257,7 +320,7 @@ struct FlowKernel {
     Counts others;
     for (int i = 0; i < n_pending; ++i)
       otherPixel(mappingOf(row_ids[row_pending[i]]), row_pending[i], y, ndc_y, others);
-    n.rigid += blocks.rigid;
+    n.rigid += blocks.rigid + others.rigid;
     n.non_rigid += others.non_rigid;
     n.no_surface += blocks.no_surface + others.no_surface;
     n.no_assoc += blocks.no_assoc;

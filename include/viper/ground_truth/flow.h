@@ -37,6 +37,10 @@ struct FlowStats {
   size_t no_surface = 0;             ///< no draw, or no depth
   size_t no_association = 0;         ///< the draw has no counterpart in frame b
   size_t missing_geometry = 0;       ///< deformed draw without positions / mesh, or singular matrices
+  /// Pixels of a draw without depth (not in [0, 1) as window depth; not positive and finite as
+  /// metres, or no projection to read them with) where the same draw has depth elsewhere: a draw
+  /// with none at all is a background (a sky), not an error. Also counted in no_surface.
+  size_t no_depth = 0;
 };
 
 /// The instructions that compute a row's pixels in blocks (instructions.h). Every path gives the
@@ -63,13 +67,22 @@ struct FlowOptions {
 };
 
 /// A frame's pixels as computeFlow reads them, wherever they are stored (a CaptureFrame's vectors,
-/// or the messages the frame came in): width*height draw ids, primitive ids and window depths.
+/// or the messages the frame came in): width*height draw ids, primitive ids, and depths, either
+/// as window depth (as captured) or in metres along the optical axis (REP 118, NaN = no surface; as
+/// the depth topic carries them). Only frame a's ids and depth are read.
+///
+/// Metres are read as they are: a draw's flow comes from its forms in 1 / metres where its
+/// projection has P33 = 0 (every perspective one), with no per-pixel conversion. Under other
+/// projections each pixel's metres are turned into window depth first, as windowDepthFromMetres
+/// does (the draw's own projection, or `depth_projection` for draws without one; neither: no flow).
 struct FlowFramePixels {
   uint32_t width = 0, height = 0;
   const std::vector<DrawRecord>* draws = nullptr;
   const uint32_t* draw_ids = nullptr;
   const uint32_t* primitive_ids = nullptr;
-  const float* depth_window = nullptr;
+  const float* depth_window = nullptr;  ///< window depth in [0, 1); or
+  const float* depth_metres = nullptr;  ///< metres (exactly one of the two)
+  const GlMatrix* depth_projection = nullptr;  ///< with depth_metres: for draws without a projection
 };
 /// The pixels of `frame`; throws std::invalid_argument if an image does not hold width*height values.
 FlowFramePixels flowFramePixels(const CaptureFrame& frame);

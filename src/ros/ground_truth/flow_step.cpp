@@ -26,12 +26,17 @@ std::string drawsProblem(const CaptureFrame& f, const uint32_t* draw_ids) {
       return "draw " + std::to_string(i) + " has " + std::to_string(f.draws[i].deformed_clip_xyzw.size()) +
              " deformed_clip_xyzw floats, not a multiple of 4";
   }
-  for (size_t p = 0, n = f.pixelCount(); p < n; ++p) {
-    const uint32_t id = draw_ids[p];
-    if (id > f.draws.size())
-      return "draw id " + std::to_string(id) + " in draw_ids, but only " + std::to_string(f.draws.size()) + " draws";
-  }
-  return {};
+  // The largest id first, in a loop without an early exit (which the compiler vectorises); the
+  // culprit only where there is one.
+  const size_t n = f.pixelCount();
+  uint32_t largest = 0;
+  for (size_t p = 0; p < n; ++p) largest = std::max(largest, draw_ids[p]);
+  if (largest <= f.draws.size()) return {};
+  const size_t p = static_cast<size_t>(std::find_if(draw_ids, draw_ids + n, [&](uint32_t id) {
+                                         return id > f.draws.size();
+                                       }) - draw_ids);
+  return "draw id " + std::to_string(draw_ids[p]) + " at pixel " + std::to_string(p) + " in draw_ids, but only " +
+         std::to_string(f.draws.size()) + " draws";
 }
 
 std::string frameText(unsigned long number) { return " (frame " + std::to_string(number) + "): "; }
@@ -78,17 +83,14 @@ FlowStep::HeldPtr FlowStep::makeHeldFrame(const DrawList& draws, const sensor_ms
   held->depth = depth, held->draw_ids = draw_ids, held->primitive_ids = primitive_ids;
   held->depth_m = reinterpret_cast<const float*>(depth->data.data());
 
+  // computeFlow reads the metres where they are (FlowFramePixels): no window depth is made.
   const std::optional<FrameCamera> camera = chooseFrameCamera(f);
-  size_t bad_depth = 0;
-  f.depth_window = std::move(spare_depth_window_);
-  windowDepthFromMetres(f.draws, ids, held->depth_m, f.pixelCount(), camera ? &camera->projection : nullptr,
-                        f.depth_window, &bad_depth);
-  held->pixels = {f.width, f.height, &f.draws, ids, reinterpret_cast<const uint32_t*>(primitive_ids->data.data()),
-                  f.depth_window.data()};
-  if (bad_depth > 0)
-    problems.push_back({StepInput::kDepth, StepSeverity::kError, "bad_depth",
-                        format(" (frame %lu): %zu pixels of a draw have no finite positive depth (or no projection); "
-                               "their flow is undefined", number, bad_depth)});
+  if (camera) held->camera_projection = camera->projection;
+  held->pixels.width = f.width, held->pixels.height = f.height, held->pixels.draws = &f.draws;
+  held->pixels.draw_ids = ids;
+  held->pixels.primitive_ids = reinterpret_cast<const uint32_t*>(primitive_ids->data.data());
+  held->pixels.depth_metres = held->depth_m;
+  held->pixels.depth_projection = held->camera_projection ? &*held->camera_projection : nullptr;
   if (camera) {
     try {
       egoPoseFromView(camera->view, 0.0);  // throws unless the view matrix is rigid
@@ -157,7 +159,13 @@ void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, float* uv, ui
                                  db.deformed_clip_xyzw.size() / 4, static_cast<unsigned long>(b.frame.number))});
     }
   }
-  computeFlow(a.pixels, b.pixels, a_to_b, b.depth_m, meshes_, uv, visible, settings_.options);
+  FlowStats stats;
+  computeFlow(a.pixels, b.pixels, a_to_b, b.depth_m, meshes_, uv, visible, settings_.options, &stats);
+  // The first flow out of a frame reports its pixels without depth (the same in every flow from it).
+  if (stats.no_depth > 0 && !a.depth_reported.exchange(true))
+    problems.push_back({StepInput::kDepth, StepSeverity::kError, "bad_depth",
+                        format(" (frame %lu): %zu pixels of a draw have no finite positive depth (or no projection); "
+                               "their flow is undefined", static_cast<unsigned long>(a.frame.number), stats.no_depth)});
 }
 
 FlowMessages FlowStep::takeMessages(const HeldFrame& a) {
@@ -246,9 +254,6 @@ bool FlowStep::process(const DrawList& draws, const sensor_msgs::ImageConstPtr& 
   }
   window_.push_back(cur);
   while (window_.size() > settings_.window_size) {
-    // Its window depth's buffer serves the next frame, unless something else still holds the frame.
-    if (window_.front().use_count() == 1)
-      spare_depth_window_ = std::move(const_cast<HeldFrame&>(*window_.front()).frame.depth_window);
     window_.pop_front();
   }
 

@@ -18,6 +18,7 @@
 
 #include <Eigen/Geometry>
 
+#include <atomic>
 #include <deque>
 #include <memory>
 #include <optional>
@@ -69,10 +70,14 @@ class FlowStep {
   /// One frame kept for later flow computations: its messages, not copies of their pixels.
   struct HeldFrame {
     std_msgs::Header header;
-    CaptureFrame frame;  ///< size, number, draws and window depth (from the depth image); no ids
+    CaptureFrame frame;  ///< size, number and draws; no images
     sensor_msgs::ImageConstPtr depth, draw_ids, primitive_ids;
-    FlowFramePixels pixels;           ///< ids from the messages, window depth from `frame`
+    FlowFramePixels pixels;           ///< ids and metres from the messages
     const float* depth_m = nullptr;   ///< the depth message's metres
+    std::optional<GlMatrix> camera_projection;  ///< for draws without a projection of their own
+    /// Whether a flow from this frame has reported its pixels without depth (once a frame; flows
+    /// from it may run on two threads).
+    mutable std::atomic<bool> depth_reported{false};
     std::vector<int32_t> object_ids;  ///< per draw: track id of its object, 0 for none / stuff
     std::vector<bool> excluded;       ///< per draw: visible, placed (kHasWorld), but in no object
     std::optional<Eigen::Isometry3d> optical_from_world;  ///< nullopt: no usable camera
@@ -97,7 +102,6 @@ class FlowStep {
   MeshRegistry meshes_;
   std::deque<HeldPtr> window_;  // oldest first; consecutive capture frames
   ImageMsgPool flow_pool_, visible_pool_;  // the flows' messages, recycled
-  std::vector<float> spare_depth_window_;  // the window depth of the frame last out of the window
   uint64_t frames_lost_ = 0;    // frames missing between consecutive frames seen, in all
   int64_t helper_cpu_ns_ = 0;   // the last process()'s CPU on the helper thread
 };

@@ -1,10 +1,27 @@
 #include "viper/capture/capture_frame.h"
 
+#include "../ground_truth/x86_kernels.h"
+
 #include <algorithm>
 #include <string>
 
 namespace viper {
 namespace {
+
+// The same loop twice: compiled for AVX2 (vpmaxud, 8 ids a step) and for the baseline.
+#ifdef VIPER_X86
+__attribute__((target("avx2"))) uint32_t largestAvx2(const uint32_t* ids, size_t n) {
+  uint32_t largest = 0;
+  for (size_t p = 0; p < n; ++p) largest = std::max(largest, ids[p]);
+  return largest;
+}
+#endif
+
+uint32_t largestBaseline(const uint32_t* ids, size_t n) {
+  uint32_t largest = 0;
+  for (size_t p = 0; p < n; ++p) largest = std::max(largest, ids[p]);
+  return largest;
+}
 
 std::string sizeProblem(const char* name, size_t actual, size_t expected, const CaptureFrame& f, int channels) {
   if (actual == expected) return {};
@@ -50,15 +67,22 @@ std::string validateFrame(const CaptureFrame& f, const FrameImagesElsewhere& els
   }
   const size_t draws = f.draws.size();
   const uint32_t* ids = elsewhere.draw_ids ? elsewhere.draw_ids : f.draw_ids.data();
-  // The largest id first (a reduction the compiler vectorises); only a frame with a bad id is searched.
-  uint32_t largest = 0;
-  for (size_t p = 0; p < pixels; ++p) largest = std::max(largest, ids[p]);
+  // The largest id first; only a frame with a bad id is searched.
+  const uint32_t largest = largestDrawId(ids, pixels);
   for (size_t p = 0; largest > draws && p < pixels; ++p) {
     if (ids[p] > draws)
       return at + "pixel (" + std::to_string(p % f.width) + ", " + std::to_string(p / f.width) + ") has draw id " +
              std::to_string(ids[p]) + " but the draw list has only " + std::to_string(draws) + " draws";
   }
   return {};
+}
+
+uint32_t largestDrawId(const uint32_t* ids, size_t n) {
+#ifdef VIPER_X86
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return largestAvx2(ids, n);
+#endif
+  return largestBaseline(ids, n);
 }
 
 }  // namespace viper

@@ -1,6 +1,7 @@
 // Round trips, header checks, live following and frame validation of the capture stream.
 #include "test_capture_stream_frames.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -269,6 +270,25 @@ TEST(ValidateFrame, RejectsIdPastTheDrawList) {
   CaptureFrame f = makeFrame(1);
   f.draw_ids[64 * 10 + 3] = 4;  // only 3 draws: ids 1..3
   expectInvalid(f, "pixel (3, 10) has draw id 4 but the draw list has only 3 draws");
+}
+
+// The largest id at every position and every length around the vector blocks (8 ids), and ids of
+// the top bit (unsigned, not signed, comparison), against std::max_element.
+TEST(ValidateFrame, LargestDrawIdIsTheMaximumAnywhere) {
+  EXPECT_EQ(largestDrawId(nullptr, 0), 0u);
+  for (size_t n : {1, 7, 8, 9, 31, 64, 1000}) {
+    for (size_t at = 0; at < n; at += std::max<size_t>(1, n / 9)) {
+      std::vector<uint32_t> ids(n);
+      for (size_t i = 0; i < n; ++i) ids[i] = static_cast<uint32_t>((i * 2654435761u) % 50);
+      for (uint32_t top : {77u, 0x80000001u, 0xffffffffu}) {
+        ids[at] = top;
+        EXPECT_EQ(largestDrawId(ids.data(), n), *std::max_element(ids.begin(), ids.end())) << n << " " << at;
+      }
+    }
+  }
+  CaptureFrame f = makeFrame(1);
+  f.draw_ids.back() = 0x80000000u;  // negative as a signed id
+  expectInvalid(f, "has draw id 2147483648 but the draw list has only 3 draws");
 }
 
 TEST(ValidateFrame, RejectsMalformedGeometry) {

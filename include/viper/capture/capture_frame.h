@@ -118,4 +118,9 @@ struct FrameImagesElsewhere {
 /// not size-checked again, and the draw ids are read where they are.
 std::string validateFrame(const CaptureFrame& frame, const FrameImagesElsewhere& elsewhere);
 
+/// The largest of the `n` draw ids at `ids` (0 for none): whether every id names one of a frame's
+/// draws, at the speed of reading them (AVX2 where the CPU has it; the baseline x86-64 has no
+/// vector maximum of unsigned 32-bit values, and the plain loop stays one value at a time).
+uint32_t largestDrawId(const uint32_t* ids, size_t n);
+
 }  // namespace viper

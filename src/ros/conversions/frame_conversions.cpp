@@ -4,10 +4,15 @@
 #include <sensor_msgs/image_encodings.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace viper {
 
@@ -166,8 +171,20 @@ sensor_msgs::ImagePtr drawIdMsg(const CaptureFrame& frame, const std_msgs::Heade
 }
 
 // The primitive ids of `n` pixels, -1 where no draw is; `out` may be `primitives` (masked in place).
+// Four pixels a step with SSE2 (every x86-64 has it): this library is built at -O2, where GCC does
+// not vectorise a loop whose output may overlap its input, and the plain loop cost a 1080p frame
+// about 1.5 ms of the bridge's time (perf). The id test as a mask: -1 | p = -1, 0 | p = p.
 void maskPrimitiveIds(const uint32_t* ids, const uint32_t* primitives, size_t n, int32_t* out) {
-  for (size_t i = 0; i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
+  size_t i = 0;
+#ifdef __SSE2__
+  const __m128i zero = _mm_setzero_si128();
+  for (; i + 4 <= n; i += 4) {
+    const __m128i none = _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(ids + i)), zero);
+    const __m128i p = _mm_loadu_si128(reinterpret_cast<const __m128i*>(primitives + i));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm_or_si128(p, none));
+  }
+#endif
+  for (; i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
 }
 
 // -1 where no draw is; `ids` holds the frame's draw ids, checked for size.

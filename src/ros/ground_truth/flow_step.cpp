@@ -26,12 +26,9 @@ std::string drawsProblem(const CaptureFrame& f, const uint32_t* draw_ids) {
       return "draw " + std::to_string(i) + " has " + std::to_string(f.draws[i].deformed_clip_xyzw.size()) +
              " deformed_clip_xyzw floats, not a multiple of 4";
   }
-  // The largest id first, in a loop without an early exit (which the compiler vectorises); the
-  // culprit only where there is one.
+  // The largest id first; the culprit only where there is one.
   const size_t n = f.pixelCount();
-  uint32_t largest = 0;
-  for (size_t p = 0; p < n; ++p) largest = std::max(largest, draw_ids[p]);
-  if (largest <= f.draws.size()) return {};
+  if (largestDrawId(draw_ids, n) <= f.draws.size()) return {};
   const size_t p = static_cast<size_t>(std::find_if(draw_ids, draw_ids + n, [&](uint32_t id) {
                                          return id > f.draws.size();
                                        }) - draw_ids);

@@ -132,6 +132,25 @@ TEST(FrameConversions, ImagesHaveEncodingsSizesAndValues) {
   EXPECT_EQ(prims_back, (std::vector<int32_t>{0, 7, -1, 3, 4, -1}));  // -1 where no draw owns the pixel
 }
 
+// Many pixels (the mask goes four at a time, the rest one by one): -1 exactly where no draw is,
+// every other primitive id unchanged, also ids and primitive ids of the top bit.
+TEST(FrameConversions, PrimitiveIdsMaskedWhereNoDrawIs) {
+  CaptureFrame frame = sampleFrame();
+  frame.width = 37, frame.height = 3;
+  const size_t n = frame.pixelCount();
+  frame.draw_ids.resize(n), frame.primitive_ids.resize(n);
+  for (size_t p = 0; p < n; ++p) {
+    frame.draw_ids[p] = (p * 7 % 5 == 0) ? 0 : (p % 2 ? 1 : 0x80000000u);
+    frame.primitive_ids[p] = static_cast<uint32_t>(p * 2654435761u);
+  }
+  const sensor_msgs::Image prims = primitiveIdImage(frame, sampleHeader());
+  std::vector<int32_t> back(n);
+  ASSERT_EQ(prims.data.size(), 4 * n);
+  std::memcpy(back.data(), prims.data.data(), 4 * n);
+  for (size_t p = 0; p < n; ++p)
+    EXPECT_EQ(back[p], frame.draw_ids[p] == 0 ? -1 : static_cast<int32_t>(frame.primitive_ids[p])) << "pixel " << p;
+}
+
 TEST(FrameConversions, ImageSizeMismatchThrows) {
   CaptureFrame frame = sampleFrame();
   frame.color_rgb.pop_back();

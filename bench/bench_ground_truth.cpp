@@ -176,6 +176,22 @@ void BM_ColorizeClasses(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * rgb.size());
 }
 
+// VIPER's instance picture (instances_viper) of a frame's classes and track ids: argument 0 the path.
+void BM_EncodeViperInstances(benchmark::State& state) {
+  const Instructions path = instructionsArg(state, state.range(0));
+  const CaptureFrame f = bench::syntheticFrame(kW, kH, kObjects, kParts, 0, nullptr);
+  const std::vector<uint8_t> classes = classIds(f);
+  std::vector<int32_t> tracks(f.draw_ids.size());
+  for (size_t i = 0; i < tracks.size(); ++i) tracks[i] = static_cast<int32_t>((f.draw_ids[i] + kParts - 1) / kParts);
+  std::vector<uint8_t> rgb(3 * tracks.size());
+  for (auto _ : state) {
+    encodeViperInstances(classes.data(), tracks.data(), tracks.size(), rgb.data(), path);
+    benchmark::DoNotOptimize(rgb.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetBytesProcessed(state.iterations() * rgb.size());
+}
+
 void BM_OverlayClasses(benchmark::State& state) {
   const Instructions path = instructionsArg(state, state.range(0));
   const std::vector<uint8_t> ids = classIds(pixelFrame(state));
@@ -340,6 +356,7 @@ BENCHMARK(BM_FlowForwardAndBackwardCapture)->ArgsProduct({{1, 20}, {0, 2, 3}})->
 // objects.
 BENCHMARK(BM_MemcpyRgbImage)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ColorizeClasses)->ArgsProduct({{4, 1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EncodeViperInstances)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OverlayClasses)->ArgsProduct({{4, 1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MemcpyFloatImage)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DepthMetres)->ArgsProduct({{1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);

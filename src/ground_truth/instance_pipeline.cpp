@@ -1,5 +1,7 @@
 #include "viper/ground_truth/instance_pipeline.h"
 
+#include "pixel_kernels.h"
+
 #include <stdexcept>
 
 namespace viper {
@@ -88,8 +90,13 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, co
   }
 }
 
-void encodeViperInstances(const uint8_t* class_ids, const int32_t* instance_ids, size_t n, uint8_t* rgb) {
-  for (size_t i = 0; i < n; ++i) {
+void encodeViperInstances(const uint8_t* class_ids, const int32_t* instance_ids, size_t n, uint8_t* rgb,
+                          Instructions instructions) {
+  // The kernel's blocks, then one pixel at a time: the reference, and the pixels after the blocks.
+  const Instructions path = pixel_kernels::kernelPath(instructions);
+  const size_t done = path == Instructions::kScalar ? 0
+                                                    : pixel_kernels::encodeViper(path, class_ids, instance_ids, n, rgb);
+  for (size_t i = done; i < n; ++i) {
     const uint32_t id = static_cast<uint32_t>(instance_ids[i]) & 0xffffu;
     rgb[3 * i] = class_ids[i];
     rgb[3 * i + 1] = static_cast<uint8_t>(id >> 8);

@@ -38,6 +38,9 @@ size_t windowDepth(Instructions path, const uint32_t* ids, const float* metres, 
   return path == Instructions::kAvx2 ? windowDepthAvx2(ids, metres, n, rows, window, good, bad)
                                      : windowDepthAvx512(ids, metres, n, rows, window, good, bad);
 }
+size_t encodeViper(Instructions, const uint8_t* class_ids, const int32_t* instance_ids, size_t n, uint8_t* rgb) {
+  return encodeViperAvx2(class_ids, instance_ids, n, rgb);
+}
 #else
 // Never called: kernelPath is kScalar.
 size_t colorize(Instructions, const uint8_t*, size_t, const uint32_t*, uint8_t*) { return 0; }
@@ -47,6 +50,7 @@ size_t windowDepth(Instructions, const uint32_t*, const float*, size_t, const De
                    uint32_t*) {
   return 0;
 }
+size_t encodeViper(Instructions, const uint8_t*, const int32_t*, size_t, uint8_t*) { return 0; }
 #endif
 
 }  // namespace pixel_kernels

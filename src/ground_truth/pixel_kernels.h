@@ -64,11 +64,14 @@ size_t depthMetres(Instructions path, const uint32_t* ids, const float* window, 
                    float* metres);
 size_t windowDepth(Instructions path, const uint32_t* ids, const float* metres, size_t n, const DepthRows& rows,
                    float* window, uint32_t* good, uint32_t* bad);
+// VIPER's instance picture (encodeViperInstances); every vector path takes the AVX2 kernel.
+size_t encodeViper(Instructions path, const uint8_t* class_ids, const int32_t* instance_ids, size_t n, uint8_t* rgb);
 
 #ifdef VIPER_X86
 // Class pictures: `palette` holds 256 class colors as r | g << 8 | b << 16, indexed by class id.
 // Overlay blends with the 8.8 fixed-point weight `weight`, 0..256.
 size_t colorizeAvx2(const uint8_t* ids, size_t n, const uint32_t* palette, uint8_t* rgb);
+size_t encodeViperAvx2(const uint8_t* class_ids, const int32_t* instance_ids, size_t n, uint8_t* rgb);
 size_t colorizeAvx512(const uint8_t* ids, size_t n, const uint32_t* palette, uint8_t* rgb);
 size_t overlayAvx2(const uint8_t* color, const uint8_t* ids, size_t n, const uint32_t* palette, int weight,
                    uint8_t* rgb);

@@ -1,5 +1,7 @@
 #include "viper/ground_truth/instance_pipeline.h"
 
+#include "../common/vector_paths.h"
+
 #include <gtest/gtest.h>
 
 namespace viper {
@@ -71,6 +73,31 @@ TEST(InstancePipeline, StableIdsClassesImagesAndBoxes) {
   const int32_t ids[2] = {258, 0};
   encodeViperInstances(cls, ids, 2, rgb.data());
   EXPECT_EQ(rgb, (std::vector<uint8_t>{24, 1, 2, 3, 0, 0}));
+}
+
+// VIPER's instance picture on every path: the bytes of one pixel at a time, for lengths around the
+// vector blocks (32 pixels), ids above 65535 and negative (their low 16 bits).
+TEST(InstancePipeline, ViperInstancePictureIsTheSameOnEveryPath) {
+  for (size_t n : {0, 1, 31, 32, 33, 64, 100, 1027}) {
+    std::vector<uint8_t> cls(n);
+    std::vector<int32_t> ids(n);
+    for (size_t i = 0; i < n; ++i) {
+      cls[i] = static_cast<uint8_t>(i * 37 + 5);
+      ids[i] = static_cast<int32_t>(i * 2654435761u);  // large and negative ones too
+    }
+    std::vector<uint8_t> want(3 * n, 0xee);
+    encodeViperInstances(cls.data(), ids.data(), n, want.data(), Instructions::kScalar);
+    for (size_t i = 0; i < n; ++i) {
+      ASSERT_EQ(want[3 * i], cls[i]);
+      ASSERT_EQ(want[3 * i + 1], (static_cast<uint32_t>(ids[i]) >> 8) & 0xff);
+      ASSERT_EQ(want[3 * i + 2], static_cast<uint32_t>(ids[i]) & 0xff);
+    }
+    for (Instructions path : test::vectorPaths()) {
+      std::vector<uint8_t> got(3 * n, 0xee);
+      encodeViperInstances(cls.data(), ids.data(), n, got.data(), path);
+      EXPECT_EQ(got, want) << test::pathName(path) << ", " << n << " pixels";
+    }
+  }
 }
 
 // Instance ids and boundaries rendered into caller storage (the instances node's messages): the

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "viper/ground_truth/boxes.h"
+#include "viper/ground_truth/instructions.h"
 #include "viper/ground_truth/label_table.h"
 #include "viper/ground_truth/objects.h"
 #include "viper/ground_truth/tracking.h"
@@ -86,6 +87,8 @@ class InstancePipeline {
 };
 
 /// VIPER's instance encoding: R = class id, G = id / 256, B = id % 256 (ids above 65535 wrap).
-void encodeViperInstances(const uint8_t* class_ids, const int32_t* instance_ids, size_t n, uint8_t* rgb);
+/// Every path of `instructions` gives the same bytes (AVX2 32 pixels a step).
+void encodeViperInstances(const uint8_t* class_ids, const int32_t* instance_ids, size_t n, uint8_t* rgb,
+                          Instructions instructions = Instructions::kWidest);
 
 }  // namespace viper

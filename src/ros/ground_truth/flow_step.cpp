@@ -2,9 +2,9 @@
 
 #include "viper/ground_truth/camera_model.h"
 #include "viper/ground_truth/ego_motion.h"
+#include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/conversions/image_conversions.h"
-#include "viper/ros/bridge/cpu_meter.h"
 #include "viper/ros/conversions/pose_conversions.h"
 
 #include <sensor_msgs/image_encodings.h>

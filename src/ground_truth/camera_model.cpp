@@ -75,9 +75,11 @@ float DepthLinearizer::toMetres(float depth_window) const {
   // z_ndc (P32 z + P33) = P22 z + P23, solved for z; the optical depth is -z.
   const double denom = p22_ - z_ndc * p32_;
   if (denom == 0.0) return kNaN;
-  const double depth_m = (p23_ - z_ndc * p33_) / denom;
-  if (!(depth_m > 0.0) || !std::isfinite(depth_m)) return kNaN;
-  return static_cast<float>(depth_m);
+  // Checked as the float it is published as (the vector kernels check 8 or 16 floats at once): a
+  // distance that rounds to 0 or to infinity has no depth either.
+  const float depth_m = static_cast<float>((p23_ - z_ndc * p33_) / denom);
+  if (!(depth_m > 0.0f) || !(depth_m < std::numeric_limits<float>::infinity())) return kNaN;
+  return depth_m;
 }
 
 std::optional<FrameCamera> chooseFrameCamera(const CaptureFrame& frame) {

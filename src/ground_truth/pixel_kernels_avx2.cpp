@@ -181,22 +181,25 @@ VIPER_AVX2_INLINE __m128 floatLanes(__m256d mask) {
 }
 
 // As DepthLinearizer::toMetres for 8 pixels: d in [0, 1), z_ndc = 2 d - 1,
-// (P23 - z_ndc P33) / (P22 - z_ndc P32) positive and finite (a zero denominator gives an infinity or
-// NaN), else NaN.
+// (P23 - z_ndc P33) / (P22 - z_ndc P32) in double, rounded to float, positive and finite (a zero
+// denominator gives an infinity or NaN), else NaN. The checks are made on the 8 floats at once.
 VIPER_AVX2_INLINE void metres8(const Rows8& r, const float* window, float* metres) {
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0),
-                inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+  const __m256d one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0);
+  const __m256 w = _mm256_loadu_ps(window);
+  __m128 half[2];
   for (int h = 0; h < 2; ++h) {
-    const __m256d d = _mm256_cvtps_pd(_mm_loadu_ps(window + 4 * h));
+    const __m256d d = _mm256_cvtps_pd(h == 0 ? _mm256_castps256_ps128(w) : _mm256_extractf128_ps(w, 1));
     const __m256d z_ndc = _mm256_sub_pd(_mm256_mul_pd(two, d), one);
     const __m256d denom = _mm256_sub_pd(r.p22[h], _mm256_mul_pd(z_ndc, r.p32[h]));
-    const __m256d depth = _mm256_div_pd(_mm256_sub_pd(r.p23[h], _mm256_mul_pd(z_ndc, r.p33[h])), denom);
-    const __m256d ok =
-        _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(d, zero, _CMP_GE_OQ), _mm256_cmp_pd(d, one, _CMP_LT_OQ)),
-                      _mm256_and_pd(_mm256_cmp_pd(depth, zero, _CMP_GT_OQ), _mm256_cmp_pd(depth, inf, _CMP_LT_OQ)));
-    _mm_storeu_ps(metres + 4 * h, _mm_blendv_ps(_mm_set1_ps(std::numeric_limits<float>::quiet_NaN()),
-                                                _mm256_cvtpd_ps(depth), floatLanes(ok)));
+    half[h] = _mm256_cvtpd_ps(_mm256_div_pd(_mm256_sub_pd(r.p23[h], _mm256_mul_pd(z_ndc, r.p33[h])), denom));
   }
+  const __m256 depth = _mm256_insertf128_ps(_mm256_castps128_ps256(half[0]), half[1], 1);
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256 ok = _mm256_and_ps(
+      _mm256_and_ps(_mm256_cmp_ps(w, zero, _CMP_GE_OQ), _mm256_cmp_ps(w, _mm256_set1_ps(1.0f), _CMP_LT_OQ)),
+      _mm256_and_ps(_mm256_cmp_ps(depth, zero, _CMP_GT_OQ),
+                    _mm256_cmp_ps(depth, _mm256_set1_ps(std::numeric_limits<float>::infinity()), _CMP_LT_OQ)));
+  _mm256_storeu_ps(metres, _mm256_blendv_ps(_mm256_set1_ps(std::numeric_limits<float>::quiet_NaN()), depth, ok));
 }
 
 // As windowDepthFromMetres for 8 pixels: m positive and finite, z = -m,

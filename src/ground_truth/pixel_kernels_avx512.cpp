@@ -259,13 +259,12 @@ VIPER_AVX512_INLINE void metres8(const Rows8& r, const float* window, float* met
   const __m512d d = _mm512_cvtps_pd(w);
   const __m512d z_ndc = _mm512_sub_pd(_mm512_mul_pd(_mm512_set1_pd(2.0), d), one);
   const __m512d denom = _mm512_sub_pd(r.p22, _mm512_mul_pd(z_ndc, r.p32));
-  const __m512d depth = _mm512_div_pd(_mm512_sub_pd(r.p23, _mm512_mul_pd(z_ndc, r.p33)), denom);
-  // Not NaN, +-0, +-infinity or negative.
+  const __m256 depth = _mm512_cvtpd_ps(_mm512_div_pd(_mm512_sub_pd(r.p23, _mm512_mul_pd(z_ndc, r.p33)), denom));
+  // As a float: not NaN, +-0, +-infinity or negative.
   const __mmask8 ok =
       _mm256_cmp_ps_mask(w, _mm256_setzero_ps(), _CMP_GE_OQ) & _mm256_cmp_ps_mask(w, _mm256_set1_ps(1.0f), _CMP_LT_OQ) &
-      static_cast<__mmask8>(~_mm512_fpclass_pd_mask(depth, 0x01 | 0x02 | 0x04 | 0x08 | 0x10 | 0x40 | 0x80));
-  _mm256_storeu_ps(metres, _mm256_mask_blend_ps(ok, _mm256_set1_ps(std::numeric_limits<float>::quiet_NaN()),
-                                                _mm512_cvtpd_ps(depth)));
+      static_cast<__mmask8>(~_mm256_fpclass_ps_mask(depth, 0x01 | 0x02 | 0x04 | 0x08 | 0x10 | 0x40 | 0x80));
+  _mm256_storeu_ps(metres, _mm256_mask_blend_ps(ok, _mm256_set1_ps(std::numeric_limits<float>::quiet_NaN()), depth));
 }
 
 // As windowDepthFromMetres for 8 pixels: m positive and finite, z = -m,

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -162,6 +163,31 @@ TEST(CameraModel, DepthIsNaNWithoutSurface) {
   EXPECT_NEAR(lin.toMetres(0.0f), 0.1, 1e-6);  // the near plane
   // A degenerate matrix must not produce a finite depth.
   EXPECT_TRUE(std::isnan(DepthLinearizer(GlMatrix::Zero()).toMetres(0.5f)));
+}
+
+// A distance that is positive and finite in double but rounds to 0 or to infinity as the float
+// published has no depth either, on every path (the vector kernels check the floats).
+TEST(CameraModel, DepthNoFloatHoldsIsNaN) {
+  for (const auto& [p23, p22] : {std::pair<float, float>{3e38f, 1e-3f}, {1e-30f, 1e30f}}) {
+    GlMatrix p = GlMatrix::Zero();
+    p(2, 3) = p23, p(2, 2) = p22;
+    EXPECT_TRUE(std::isnan(DepthLinearizer(p).toMetres(0.5f))) << p23 << " / " << p22;
+    CaptureFrame f;
+    f.width = 40, f.height = 1;
+    DrawRecord d;
+    d.matrix_flags = kHasProjection;
+    d.projection = p;
+    f.draws.push_back(d);
+    f.draw_ids.assign(40, 1);
+    f.depth_window.assign(40, 0.5f);
+    std::vector<Instructions> paths = test::vectorPaths();
+    paths.push_back(Instructions::kScalar);
+    for (Instructions path : paths) {
+      const std::vector<float> m = depthMetres(f, nullptr, path);
+      EXPECT_EQ(std::count_if(m.begin(), m.end(), [](float x) { return std::isnan(x); }), 40)
+          << test::pathName(path) << ", " << p23 << " / " << p22;
+    }
+  }
 }
 
 DrawRecord cameraDraw(uint32_t index, const GlMatrix& view, const GlMatrix& projection, uint32_t visible) {

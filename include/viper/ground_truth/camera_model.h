@@ -49,7 +49,7 @@ class DepthLinearizer {
   /// Precomputes the coefficients of `projection`.
   explicit DepthLinearizer(const GlMatrix& projection);
   /// Metres along the optical axis; NaN where `depth_window` >= 1 (no surface), < 0, not finite,
-  /// or where the matrix maps it to a non-positive or non-finite distance.
+  /// or where the matrix maps it to a distance that is not positive and finite as a float.
   float toMetres(float depth_window) const;
   /// The coefficients: P(2,2), P(2,3), P(3,2), P(3,3).
   std::array<double, 4> rows() const { return {p22_, p23_, p32_, p33_}; }

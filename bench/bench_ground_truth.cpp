@@ -217,6 +217,39 @@ void BM_DepthMetres(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * f.pixelCount() * sizeof(float));
 }
 
+// The capture bridge's pass over a 1080p frame's depth, draw ids and primitive ids, in place in
+// their messages: argument 1 is 0 for three passes (depthMetres, maskPrimitiveIds, largestDrawId),
+// 1 for depthMetresMaskingPrimitives' one. The inputs are restored before each iteration, untimed.
+void BM_BridgeDepthPass(benchmark::State& state) {
+  const Instructions path = instructionsArg(state, state.range(0));
+  const bool one_pass = state.range(1) == 1;
+  const CaptureFrame f = bench::syntheticFrame(kW, kH, kObjects, kParts, 0, nullptr);
+  const auto camera = chooseFrameCamera(f);
+  const size_t n = f.pixelCount();
+  std::vector<float> depth(n);
+  std::vector<uint32_t> primitives(n);
+  uint32_t largest = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::copy(f.depth_window.begin(), f.depth_window.end(), depth.begin());
+    std::copy(f.primitive_ids.begin(), f.primitive_ids.end(), primitives.begin());
+    state.ResumeTiming();
+    auto* masked = reinterpret_cast<int32_t*>(primitives.data());
+    if (one_pass) {
+      largest = depthMetresMaskingPrimitives(f, f.draw_ids.data(), depth.data(), &*camera, depth.data(), masked, path);
+    } else {
+      depthMetres(f, f.draw_ids.data(), depth.data(), &*camera, depth.data(), path);
+      maskPrimitiveIds(f.draw_ids.data(), primitives.data(), n, masked);
+      largest = largestDrawId(f.draw_ids.data(), n);
+    }
+    benchmark::DoNotOptimize(largest);
+    benchmark::ClobberMemory();
+  }
+  state.SetLabel(std::string(one_pass ? "one pass, " : "three passes, ") +
+                 (path == Instructions::kScalar ? "scalar" : "widest"));
+  state.SetBytesProcessed(state.iterations() * n * 12);
+}
+
 void BM_WindowDepthFromMetres(benchmark::State& state) {
   const Instructions path = instructionsArg(state, state.range(0));
   const CaptureFrame f = pixelFrame(state);
@@ -360,6 +393,7 @@ BENCHMARK(BM_EncodeViperInstances)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond
 BENCHMARK(BM_OverlayClasses)->ArgsProduct({{4, 1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MemcpyFloatImage)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DepthMetres)->ArgsProduct({{1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BridgeDepthPass)->ArgsProduct({{0, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WindowDepthFromMetres)->ArgsProduct({{1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 }  // namespace

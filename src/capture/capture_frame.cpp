@@ -5,6 +5,10 @@
 #include <algorithm>
 #include <string>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 namespace viper {
 namespace {
 
@@ -61,16 +65,37 @@ std::string validateFrame(const CaptureFrame& f, const FrameImagesElsewhere& els
                std::to_string(vertices) + " vertices";
     }
   }
-  const size_t draws = f.draws.size();
+  if (elsewhere.draw_id_range_later) return {};
   const uint32_t* ids = elsewhere.draw_ids ? elsewhere.draw_ids : f.draw_ids.data();
+  return drawIdsProblem(f, ids, largestDrawId(ids, pixels));
+}
+
+std::string drawIdsProblem(const CaptureFrame& f, const uint32_t* ids, uint32_t largest) {
   // The largest id first; only a frame with a bad id is searched.
-  const uint32_t largest = largestDrawId(ids, pixels);
+  const size_t draws = f.draws.size(), pixels = f.pixelCount();
   for (size_t p = 0; largest > draws && p < pixels; ++p) {
     if (ids[p] > draws)
-      return at + "pixel (" + std::to_string(p % f.width) + ", " + std::to_string(p / f.width) + ") has draw id " +
-             std::to_string(ids[p]) + " but the draw list has only " + std::to_string(draws) + " draws";
+      return "frame " + std::to_string(f.number) + ": pixel (" + std::to_string(p % f.width) + ", " +
+             std::to_string(p / f.width) + ") has draw id " + std::to_string(ids[p]) +
+             " but the draw list has only " + std::to_string(draws) + " draws";
   }
   return {};
+}
+
+// Where the draw id is 0, the mask is -1: -1 | p = -1, 0 | p = p. This library is built at -O2, where
+// GCC does not vectorise a loop whose output may overlap its input; the plain loop cost a 1080p
+// frame about 1.5 ms of the bridge's time (perf).
+void maskPrimitiveIds(const uint32_t* ids, const uint32_t* primitives, size_t n, int32_t* out) {
+  size_t i = 0;
+#ifdef __SSE2__
+  const __m128i zero = _mm_setzero_si128();
+  for (; i + 4 <= n; i += 4) {
+    const __m128i none = _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(ids + i)), zero);
+    const __m128i p = _mm_loadu_si128(reinterpret_cast<const __m128i*>(primitives + i));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm_or_si128(p, none));
+  }
+#endif
+  for (; i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
 }
 
 uint32_t largestDrawId(const uint32_t* ids, size_t n) {

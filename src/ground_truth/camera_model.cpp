@@ -137,10 +137,10 @@ void depthMetres(const CaptureFrame& frame, const FrameCamera* camera, float* ou
               out, instructions);
 }
 
-void depthMetres(const CaptureFrame& frame, const uint32_t* draw_ids, const float* depth_window,
-                 const FrameCamera* camera, float* out, Instructions instructions) {
-  const size_t n = frame.pixelCount();
-  // One linearizer per draw (index + 1 as in the id image); slot 0 is the frame camera.
+namespace {
+
+// Each pixel's linearizer, by draw id (index + 1 as in the id image); slot 0 is the frame camera.
+std::vector<std::optional<DepthLinearizer>> linearizersOf(const CaptureFrame& frame, const FrameCamera* camera) {
   std::vector<std::optional<DepthLinearizer>> by_id(frame.draws.size() + 1);
   if (camera) by_id[0].emplace(camera->projection);
   for (const DrawRecord& draw : frame.draws) {
@@ -151,22 +151,63 @@ void depthMetres(const CaptureFrame& frame, const uint32_t* draw_ids, const floa
       by_id[draw.index + 1] = by_id[0];
     }
   }
-  size_t done = 0;
-  const Instructions path = pixel_kernels::kernelPath(instructions);
-  if (path != Instructions::kScalar) {
-    DepthTable table(by_id.size());
-    for (size_t id = 0; id < by_id.size(); ++id)
-      if (by_id[id]) table.set(id, by_id[id]->rows());
-    done = pixel_kernels::depthMetres(path, draw_ids, depth_window, n, table.rows(), out);
-  }
-  // One pixel at a time: the reference, and the pixels after the kernels' blocks (which write every
-  // pixel of theirs). Each pixel is read before it is written, so that `out` may be `depth_window`.
-  for (size_t i = done; i < n; ++i) {
+  return by_id;
+}
+
+DepthTable tableOf(const std::vector<std::optional<DepthLinearizer>>& by_id) {
+  DepthTable table(by_id.size());
+  for (size_t id = 0; id < by_id.size(); ++id)
+    if (by_id[id]) table.set(id, by_id[id]->rows());
+  return table;
+}
+
+// One pixel at a time from `from`: the reference, and the pixels after the kernels' blocks (which
+// write every pixel of theirs). Each pixel is read before it is written, so that `out` may be
+// `depth_window`.
+void metresFrom(size_t from, size_t n, const std::vector<std::optional<DepthLinearizer>>& by_id,
+                const uint32_t* draw_ids, const float* depth_window, float* out) {
+  for (size_t i = from; i < n; ++i) {
     uint32_t id = draw_ids ? draw_ids[i] : 0;
     if (id >= by_id.size()) id = 0;
     const auto& lin = by_id[id];
     out[i] = lin ? lin->toMetres(depth_window[i]) : kNaN;
   }
+}
+
+}  // namespace
+
+void depthMetres(const CaptureFrame& frame, const uint32_t* draw_ids, const float* depth_window,
+                 const FrameCamera* camera, float* out, Instructions instructions) {
+  const size_t n = frame.pixelCount();
+  const auto by_id = linearizersOf(frame, camera);
+  size_t done = 0;
+  const Instructions path = pixel_kernels::kernelPath(instructions);
+  if (path != Instructions::kScalar)
+    done = pixel_kernels::depthMetres(path, draw_ids, depth_window, n, tableOf(by_id).rows(), out);
+  metresFrom(done, n, by_id, draw_ids, depth_window, out);
+}
+
+uint32_t depthMetresMaskingPrimitives(const CaptureFrame& frame, const uint32_t* draw_ids, const float* depth_window,
+                                      const FrameCamera* camera, float* out, int32_t* primitives,
+                                      Instructions instructions) {
+  const size_t n = frame.pixelCount();
+  auto* const words = reinterpret_cast<uint32_t*>(primitives);
+  if (pixel_kernels::kernelPath(instructions) != Instructions::kAvx2) {
+    // Three passes (on AVX-512 CPUs the depth kernel is AVX-512's, not fused).
+    depthMetres(frame, draw_ids, depth_window, camera, out, instructions);
+    maskPrimitiveIds(draw_ids, words, n, primitives);
+    return largestDrawId(draw_ids, n);
+  }
+  const auto by_id = linearizersOf(frame, camera);
+  uint32_t largest = 0;
+  size_t done = 0;
+#ifdef VIPER_X86
+  done = pixel_kernels::depthMetresMaskingAvx2(draw_ids, depth_window, n, tableOf(by_id).rows(), out, primitives,
+                                               largest);
+#endif
+  metresFrom(done, n, by_id, draw_ids, depth_window, out);
+  maskPrimitiveIds(draw_ids + done, words + done, n - done, primitives + done);
+  return std::max(largest, largestDrawId(draw_ids + done, n - done));
 }
 
 std::vector<float> windowDepthFromMetres(const CaptureFrame& frame, const std::vector<float>& depth_m,

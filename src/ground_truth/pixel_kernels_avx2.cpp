@@ -241,13 +241,22 @@ VIPER_AVX2_INLINE int window8(const Rows8& r, const float* metres, float* window
 }  // namespace
 
 // Blocks of 8 pixels of the slot of the block before (nearly all: draws cover runs of pixels) reuse
-// its rows.
-VIPER_AVX2 size_t depthMetresAvx2(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows,
-                                  float* metres) {
+// its rows. kMask: in the same pass over the ids, their largest and the primitive ids masked.
+template <bool kMask>
+VIPER_AVX2_INLINE size_t metresBlocks(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows,
+                                      float* metres, int32_t* primitives, uint32_t* largest) {
   size_t i = 0;
   uint32_t slot = 0;
   Rows8 r = rowsOf(rows, slot);
+  const __m256i zero = _mm256_setzero_si256();
+  __m256i top = zero;
   for (; i + 8 <= n; i += 8) {
+    if (kMask) {
+      const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids + i));
+      top = _mm256_max_epu32(top, id);
+      auto* p = reinterpret_cast<__m256i*>(primitives + i);
+      _mm256_storeu_si256(p, _mm256_or_si256(_mm256_loadu_si256(p), _mm256_cmpeq_epi32(id, zero)));
+    }
     if (!ids || all8(ids + i, slot)) {
       metres8(r, window + i, metres + i);
     } else {
@@ -257,7 +266,23 @@ VIPER_AVX2 size_t depthMetresAvx2(const uint32_t* ids, const float* window, size
       if (g.count == 1) slot = g.slot[0], r = mixed;
     }
   }
+  if (kMask) {
+    alignas(32) uint32_t lanes[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), top);
+    *largest = 0;
+    for (uint32_t v : lanes) *largest = v > *largest ? v : *largest;
+  }
   return i;
+}
+
+VIPER_AVX2 size_t depthMetresAvx2(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows,
+                                  float* metres) {
+  return metresBlocks<false>(ids, window, n, rows, metres, nullptr, nullptr);
+}
+
+VIPER_AVX2 size_t depthMetresMaskingAvx2(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows,
+                                         float* metres, int32_t* primitives, uint32_t& largest) {
+  return metresBlocks<true>(ids, window, n, rows, metres, primitives, &largest);
 }
 
 VIPER_AVX2 size_t windowDepthAvx2(const uint32_t* ids, const float* metres, size_t n, const DepthRows& rows,

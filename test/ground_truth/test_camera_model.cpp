@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -399,6 +400,39 @@ TEST(CameraModel, DepthVectorPathsGiveTheScalarBits) {
             }
           }
         }
+      }
+    }
+  }
+}
+
+// depthMetresMaskingPrimitives is depthMetres, maskPrimitiveIds and largestDrawId, on every path
+// (AVX2's one pass among them), at sizes around the blocks: ids 0, valid, out of range and with the
+// top bit set.
+TEST(CameraModel, DepthMaskingPrimitivesIsTheThreePasses) {
+  std::vector<Instructions> paths = test::vectorPaths();
+  paths.push_back(Instructions::kScalar);
+  std::mt19937 rng(5);
+  for (size_t n : {0, 1, 7, 8, 9, 15, 16, 17, 33, 1000, 1921 * 3 + 5}) {
+    for (uint32_t draws : {0u, 6u, 300u}) {
+      const CaptureFrame f = randomDepthFrame(rng, n, draws);
+      const FrameCamera camera{GlMatrix::Identity(), randomProjection(rng), 1};
+      std::vector<uint32_t> primitives(n);
+      for (uint32_t& p : primitives) p = static_cast<uint32_t>(rng());
+      const std::vector<float> want_metres = depthMetres(f, &camera, Instructions::kScalar);
+      std::vector<int32_t> want_primitives(n);
+      maskPrimitiveIds(f.draw_ids.data(), primitives.data(), n, want_primitives.data());
+      const uint32_t want_largest = n ? *std::max_element(f.draw_ids.begin(), f.draw_ids.end()) : 0;
+      for (Instructions path : paths) {
+        const std::string what =
+            std::string(test::pathName(path)) + " n " + std::to_string(n) + " draws " + std::to_string(draws);
+        std::vector<float> metres = f.depth_window;  // in place, as the bridge converts
+        std::vector<uint32_t> masked = primitives;
+        auto* out = reinterpret_cast<int32_t*>(masked.data());
+        const uint32_t largest =
+            depthMetresMaskingPrimitives(f, f.draw_ids.data(), metres.data(), &camera, metres.data(), out, path);
+        EXPECT_EQ(largest, want_largest) << what;
+        EXPECT_EQ(test::firstDifference(want_metres.data(), metres.data(), n), -1) << what;
+        EXPECT_EQ(std::memcmp(want_primitives.data(), out, 4 * n), 0) << what;
       }
     }
   }

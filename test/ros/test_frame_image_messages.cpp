@@ -203,20 +203,26 @@ TEST(FrameImageMessages, MakeTheMessagesTheFrameMakes) {
   }
 }
 
+// Writes `frame` alone to a capture at `path` and reads it back with `images` as the sink.
+CaptureFrame writeAndReadWithSink(const std::string& path, const CaptureFrame& frame, FrameImageMessages& images) {
+  {
+    CaptureWriter writer(path, CaptureHeader());
+    writer.write(frame);
+  }
+  CaptureReader reader(path);
+  reader.setImageSink(&images);
+  CaptureFrame read;
+  EXPECT_EQ(reader.next(read), CaptureReader::Status::kFrame);
+  return read;
+}
+
 TEST(FrameImageMessages, DeclinesAnImageOfTheWrongSizeAndTheFrameIsReported) {
   test::TempPath tmp("sink_wrong_size");
   CaptureFrame frame = test::makeFrame(0, 16, 12);
   frame.depth_window.pop_back();
-  {
-    CaptureWriter writer(tmp.path, CaptureHeader());
-    writer.write(frame);
-  }
-  CaptureReader reader(tmp.path);
   FrameImagePools pools;
   FrameImageMessages images(pools);
-  reader.setImageSink(&images);
-  CaptureFrame read;
-  ASSERT_EQ(reader.next(read), CaptureReader::Status::kFrame);
+  const CaptureFrame read = writeAndReadWithSink(tmp.path, frame, images);
   EXPECT_FALSE(images.message(CaptureImage::kDepth));
   EXPECT_TRUE(images.message(CaptureImage::kColor));
   EXPECT_EQ(read.depth_window.size(), frame.depth_window.size()) << "kept in the frame";
@@ -226,6 +232,31 @@ TEST(FrameImageMessages, DeclinesAnImageOfTheWrongSizeAndTheFrameIsReported) {
   for (CaptureImage k :
        {CaptureImage::kColor, CaptureImage::kDepth, CaptureImage::kDrawIds, CaptureImage::kPrimitiveIds})
     EXPECT_FALSE(images.message(k));
+}
+
+// With every image in its message, validateFrame leaves the draw ids' range to frameMessages, which
+// checks it in its one pass over the ids (depth, primitive ids) and throws with validateFrame's words:
+// the frame is dropped, not published.
+TEST(FrameImageMessages, ADrawIdNamingNoDrawIsReportedByFrameMessages) {
+  test::TempPath tmp("sink_bad_id");
+  CaptureFrame frame = test::makeFrame(0, 40, 12);
+  frame.draw_ids[3 * 40 + 37] = static_cast<uint32_t>(frame.draws.size() + 2);
+  const std::string want = validateFrame(frame);
+  ASSERT_NE(want.find("pixel (37, 3) has draw id"), std::string::npos) << want;
+  FrameImagePools pools;
+  FrameImageMessages images(pools);
+  const CaptureFrame read = writeAndReadWithSink(tmp.path, frame, images);
+  ASSERT_TRUE(images.elsewhere().draw_id_range_later);
+  EXPECT_EQ(validateFrame(read, images.elsewhere()), "");
+  MeshStoreAccumulator meshes;
+  std_msgs::Header header;
+  try {
+    frameMessages(read, header, meshes, pools, images);
+    ADD_FAILURE() << "frameMessages took a draw id that names no draw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), want);
+  }
+  EXPECT_TRUE(meshes.store().meshes.empty()) << "the meshes of a dropped frame are not kept";
 }
 
 }  // namespace

@@ -113,10 +113,22 @@ struct FrameImagesElsewhere {
   const float* depth_window = nullptr;
   const uint32_t* draw_ids = nullptr;
   const uint32_t* primitive_ids = nullptr;
+  /// The caller checks that every draw id names a draw itself, with drawIdsProblem() and the
+  /// largest id found in a pass over the ids of its own (the bridge's depth conversion).
+  bool draw_id_range_later = false;
 };
 /// validateFrame() of a frame whose images are partly or wholly elsewhere: the images given there are
 /// not size-checked again, and the draw ids are read where they are.
 std::string validateFrame(const CaptureFrame& frame, const FrameImagesElsewhere& elsewhere);
+
+/// validateFrame()'s check of the draw ids at `ids` (frame.pixelCount() of them) given their
+/// `largest`: "" when it names one of the frame's draws (or none), else the first pixel whose id
+/// names none, prefixed with the frame's number as validateFrame() words it.
+std::string drawIdsProblem(const CaptureFrame& frame, const uint32_t* ids, uint32_t largest);
+
+/// The primitive ids of `n` pixels with -1 where the draw id is 0 (no draw), into `out`, which may
+/// be `primitives` (masked in place). Four pixels a step with SSE2.
+void maskPrimitiveIds(const uint32_t* draw_ids, const uint32_t* primitives, size_t n, int32_t* out);
 
 /// The largest of the `n` draw ids at `ids` (0 for none): whether every id names one of a frame's
 /// draws, at the speed of reading them (AVX2 where the CPU has it; the baseline x86-64 has no

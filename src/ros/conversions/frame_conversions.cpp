@@ -10,10 +10,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#ifdef __SSE2__
-#include <emmintrin.h>
-#endif
-
 namespace viper {
 
 namespace {
@@ -170,23 +166,6 @@ sensor_msgs::ImagePtr drawIdMsg(const CaptureFrame& frame, const std_msgs::Heade
   return m;
 }
 
-// The primitive ids of `n` pixels, -1 where no draw is; `out` may be `primitives` (masked in place).
-// Four pixels a step with SSE2 (every x86-64 has it): this library is built at -O2, where GCC does
-// not vectorise a loop whose output may overlap its input, and the plain loop cost a 1080p frame
-// about 1.5 ms of the bridge's time (perf). The id test as a mask: -1 | p = -1, 0 | p = p.
-void maskPrimitiveIds(const uint32_t* ids, const uint32_t* primitives, size_t n, int32_t* out) {
-  size_t i = 0;
-#ifdef __SSE2__
-  const __m128i zero = _mm_setzero_si128();
-  for (; i + 4 <= n; i += 4) {
-    const __m128i none = _mm_cmpeq_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(ids + i)), zero);
-    const __m128i p = _mm_loadu_si128(reinterpret_cast<const __m128i*>(primitives + i));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), _mm_or_si128(p, none));
-  }
-#endif
-  for (; i < n; ++i) out[i] = ids[i] == 0 ? -1 : static_cast<int32_t>(primitives[i]);
-}
-
 // -1 where no draw is; `ids` holds the frame's draw ids, checked for size.
 sensor_msgs::ImagePtr primitiveIdMsg(const CaptureFrame& frame, const uint32_t* ids, const std_msgs::Header& header,
                                      ImageMsgPool& pool) {
@@ -317,6 +296,8 @@ FrameImagesElsewhere FrameImageMessages::elsewhere() const {
   if (held_[1]) at.depth_window = reinterpret_cast<const float*>(held_[1]->data.data());
   at.draw_ids = words(held_[2]);
   at.primitive_ids = words(held_[3]);
+  // frameMessages checks them in its pass over depth and primitive ids (depthMetresMaskingPrimitives).
+  at.draw_id_range_later = held_[1] && held_[2] && held_[3];
   return at;
 }
 
@@ -352,21 +333,33 @@ FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& h
   out.color = sunk_color ? sunk_color : colorMsg(frame, header, pools.color);
   out.draw_ids = sunk_ids ? sunk_ids : drawIdMsg(frame, header, pools.draw_ids);
   const uint32_t* ids = words(out.draw_ids);  // the frame's draw ids, checked for size
-  if (sunk_primitives) {
-    out.primitive_ids = sunk_primitives;
-    auto* primitives = reinterpret_cast<int32_t*>(out.primitive_ids->data.data());
-    maskPrimitiveIds(ids, reinterpret_cast<const uint32_t*>(primitives), frame.pixelCount(), primitives);
-  } else {
-    out.primitive_ids = primitiveIdMsg(frame, ids, header, pools.primitive_ids);
-  }
   const FrameCamera* cam = camera ? &*camera : nullptr;
-  if (sunk_depth) {
+  if (sunk_ids && sunk_primitives && sunk_depth) {
+    // All three in their messages (the bridge): depth in metres, the primitive ids masked and the
+    // draw ids' range checked (validateFrame left it, FrameImageMessages::elsewhere) in one pass.
+    out.primitive_ids = sunk_primitives;
     out.depth = sunk_depth;
     auto* metres = reinterpret_cast<float*>(out.depth->data.data());
-    depthMetres(frame, ids, metres, cam, metres);
+    const uint32_t largest = depthMetresMaskingPrimitives(
+        frame, ids, metres, cam, metres, reinterpret_cast<int32_t*>(out.primitive_ids->data.data()));
+    const std::string problem = drawIdsProblem(frame, ids, largest);
+    if (!problem.empty()) throw std::invalid_argument(problem);
   } else {
-    out.depth = pools.depth.take(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32FC1, 4);
-    depthMetres(frame, cam, reinterpret_cast<float*>(out.depth->data.data()));
+    if (sunk_primitives) {
+      out.primitive_ids = sunk_primitives;
+      auto* primitives = reinterpret_cast<int32_t*>(out.primitive_ids->data.data());
+      maskPrimitiveIds(ids, reinterpret_cast<const uint32_t*>(primitives), frame.pixelCount(), primitives);
+    } else {
+      out.primitive_ids = primitiveIdMsg(frame, ids, header, pools.primitive_ids);
+    }
+    if (sunk_depth) {
+      out.depth = sunk_depth;
+      auto* metres = reinterpret_cast<float*>(out.depth->data.data());
+      depthMetres(frame, ids, metres, cam, metres);
+    } else {
+      out.depth = pools.depth.take(header, frame.width, frame.height, sensor_msgs::image_encodings::TYPE_32FC1, 4);
+      depthMetres(frame, cam, reinterpret_cast<float*>(out.depth->data.data()));
+    }
   }
   for (const sensor_msgs::ImagePtr* m : {&out.color, &out.draw_ids, &out.primitive_ids, &out.depth}) (*m)->header = header;
   out.camera_info = boost::make_shared<sensor_msgs::CameraInfo>(

@@ -59,6 +59,14 @@ struct DrawMapping {
   const std::vector<float>* clip_a = nullptr;
   const std::vector<float>* clip_b = nullptr;
   double depth_scale_b = 1.0;  // clip w -> metres along b's optical axis
+  // Non-rigid: the last triangle looked up (nonRigidClip), for the pixels after it in the row that
+  // lie in it too: the rows of adj(M) and b's vertices, or none (the triangle maps nothing).
+  struct Triangle {
+    bool cached = false, maps = false;
+    uint32_t primitive = 0;
+    double n[9];
+    const float* b[3];
+  } triangle;
 
   // Sets at_row to row y (at ndc_y); each coefficient is rounded to float once, from double.
   void toRow(int y, double ndc_y) {
@@ -84,34 +92,48 @@ struct DrawMapping {
   }
 };
 
-// The point of a non-rigid pixel in b's clip space: the pixel centre's perspective-correct
-// barycentrics in its triangle of a, applied to b's vertices. With a's vertices (x_i, y_i, w_i) as
-// the columns of M, the point sum(l_i c_i) (sum(l_i) = 1) projects to the centre q when
-// M l = s (q, 1), s its clip w; so by Cramer's rule l_i is proportional to det(M with column i
-// replaced by (q, 1)): one division per pixel for the normalisation instead of one per vertex.
-// Inlined: called once per non-rigid pixel.
-__attribute__((always_inline)) inline std::optional<Eigen::Vector4d> nonRigidClip(const DrawMapping& m, uint32_t primitive,
-                                                                                double ndc_x, double ndc_y) {
+// The triangle `primitive` of a non-rigid draw into m.triangle: whether it maps a pixel.
+inline bool setTriangle(DrawMapping& m, uint32_t primitive) {
+  DrawMapping::Triangle& tri = m.triangle;
+  tri.cached = true, tri.primitive = primitive, tri.maps = false;
   const size_t t = 3 * static_cast<size_t>(primitive);
   const auto& idx = *m.indices;
   const size_t verts = m.clip_a->size() / 4;
-  if (t + 2 >= idx.size() || idx[t] >= verts || idx[t + 1] >= verts || idx[t + 2] >= verts) return std::nullopt;
+  if (t + 2 >= idx.size() || idx[t] >= verts || idx[t + 1] >= verts || idx[t + 2] >= verts) return false;
   // Plain doubles: GCC leaves Eigen's small cross and dot products out of line here.
   const float *a0 = m.clip_a->data() + 4 * size_t{idx[t]}, *a1 = m.clip_a->data() + 4 * size_t{idx[t + 1]},
               *a2 = m.clip_a->data() + 4 * size_t{idx[t + 2]};
   const double x0 = a0[0], y0 = a0[1], w0 = a0[3], x1 = a1[0], y1 = a1[1], w1 = a1[3], x2 = a2[0], y2 = a2[1], w2 = a2[3];
   // Rows of adj(M): the cross products p1 x p2, p2 x p0, p0 x p1 of M's columns p_i = (x_i, y_i, w_i).
-  const double n0x = y1 * w2 - w1 * y2, n0y = w1 * x2 - x1 * w2, n0z = x1 * y2 - y1 * x2;
-  const double n1x = y2 * w0 - w2 * y0, n1y = w2 * x0 - x2 * w0, n1z = x2 * y0 - y2 * x0;
-  const double n2x = y0 * w1 - w0 * y1, n2y = w0 * x1 - x0 * w1, n2z = x0 * y1 - y0 * x1;
-  if (x0 * n0x + y0 * n0y + w0 * n0z == 0.0) return std::nullopt;  // det(M) = 0: a line on screen
-  const double l0 = ndc_x * n0x + ndc_y * n0y + n0z, l1 = ndc_x * n1x + ndc_y * n1y + n1z,
-               l2 = ndc_x * n2x + ndc_y * n2y + n2z;
+  double* n = tri.n;
+  n[0] = y1 * w2 - w1 * y2, n[1] = w1 * x2 - x1 * w2, n[2] = x1 * y2 - y1 * x2;
+  n[3] = y2 * w0 - w2 * y0, n[4] = w2 * x0 - x2 * w0, n[5] = x2 * y0 - y2 * x0;
+  n[6] = y0 * w1 - w0 * y1, n[7] = w0 * x1 - x0 * w1, n[8] = x0 * y1 - y0 * x1;
+  if (x0 * n[0] + y0 * n[1] + w0 * n[2] == 0.0) return false;  // det(M) = 0: a line on screen
+  for (int i = 0; i < 3; ++i) tri.b[i] = m.clip_b->data() + 4 * size_t{idx[t + i]};
+  tri.maps = true;
+  return true;
+}
+
+// The point of a non-rigid pixel in b's clip space: the pixel centre's perspective-correct
+// barycentrics in its triangle of a, applied to b's vertices. With a's vertices (x_i, y_i, w_i) as
+// the columns of M, the point sum(l_i c_i) (sum(l_i) = 1) projects to the centre q when
+// M l = s (q, 1), s its clip w; so by Cramer's rule l_i is proportional to det(M with column i
+// replaced by (q, 1)): one division per pixel for the normalisation instead of one per vertex.
+// Inlined: called once per non-rigid pixel. The triangle's own part (adj(M), setTriangle) is kept
+// for the pixels after it in the same triangle.
+__attribute__((always_inline)) inline std::optional<Eigen::Vector4d> nonRigidClip(DrawMapping& m, uint32_t primitive,
+                                                                                double ndc_x, double ndc_y) {
+  const DrawMapping::Triangle& tri = m.triangle;
+  if (!(tri.cached && tri.primitive == primitive) && !setTriangle(m, primitive)) return std::nullopt;
+  if (!tri.maps) return std::nullopt;
+  const double* n = tri.n;
+  const double l0 = ndc_x * n[0] + ndc_y * n[1] + n[2], l1 = ndc_x * n[3] + ndc_y * n[4] + n[5],
+               l2 = ndc_x * n[6] + ndc_y * n[7] + n[8];
   const double sum = l0 + l1 + l2;
   if (sum == 0.0 || !std::isfinite(sum)) return std::nullopt;
   const double inv_sum = 1.0 / sum, k0 = l0 * inv_sum, k1 = l1 * inv_sum, k2 = l2 * inv_sum;
-  const float *b0 = m.clip_b->data() + 4 * size_t{idx[t]}, *b1 = m.clip_b->data() + 4 * size_t{idx[t + 1]},
-              *b2 = m.clip_b->data() + 4 * size_t{idx[t + 2]};
+  const float *b0 = tri.b[0], *b1 = tri.b[1], *b2 = tri.b[2];
   return Eigen::Vector4d(k0 * b0[0] + k1 * b1[0] + k2 * b2[0], k0 * b0[1] + k1 * b1[1] + k2 * b2[1],
                          k0 * b0[2] + k1 * b1[2] + k2 * b2[2], k0 * b0[3] + k1 * b1[3] + k2 * b2[3]);
 }

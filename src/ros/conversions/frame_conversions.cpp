@@ -296,8 +296,7 @@ FrameImagesElsewhere FrameImageMessages::elsewhere() const {
   if (held_[1]) at.depth_window = reinterpret_cast<const float*>(held_[1]->data.data());
   at.draw_ids = words(held_[2]);
   at.primitive_ids = words(held_[3]);
-  // frameMessages checks them in its pass over depth and primitive ids (depthMetresMaskingPrimitives).
-  at.draw_id_range_later = held_[1] && held_[2] && held_[3];
+  at.draw_id_range_later = holdsIdsAndDepth();  // frameMessages checks them
   return at;
 }
 
@@ -334,7 +333,7 @@ FrameMessages frameMessages(const CaptureFrame& frame, const std_msgs::Header& h
   out.draw_ids = sunk_ids ? sunk_ids : drawIdMsg(frame, header, pools.draw_ids);
   const uint32_t* ids = words(out.draw_ids);  // the frame's draw ids, checked for size
   const FrameCamera* cam = camera ? &*camera : nullptr;
-  if (sunk_ids && sunk_primitives && sunk_depth) {
+  if (sunk.holdsIdsAndDepth()) {
     // All three in their messages (the bridge): depth in metres, the primitive ids masked and the
     // draw ids' range checked (validateFrame left it, FrameImageMessages::elsewhere) in one pass.
     out.primitive_ids = sunk_primitives;

@@ -140,6 +140,11 @@ class FrameImageMessages : public CaptureImageSink {
   FrameImagesElsewhere elsewhere() const;
   /// The message holding `image`, or null when the frame keeps it.
   const sensor_msgs::ImagePtr& message(CaptureImage image) const { return held_[static_cast<int>(image)]; }
+  /// Whether it holds depth, draw ids and primitive ids: frameMessages() then converts, masks and
+  /// checks the draw ids' range in one pass, and elsewhere() leaves that check to it.
+  bool holdsIdsAndDepth() const {
+    return message(CaptureImage::kDepth) && message(CaptureImage::kDrawIds) && message(CaptureImage::kPrimitiveIds);
+  }
 
  private:
   FrameImagePools& pools_;

@@ -192,19 +192,13 @@ uint32_t depthMetresMaskingPrimitives(const CaptureFrame& frame, const uint32_t*
                                       Instructions instructions) {
   const size_t n = frame.pixelCount();
   auto* const words = reinterpret_cast<uint32_t*>(primitives);
-  if (pixel_kernels::kernelPath(instructions) != Instructions::kAvx2) {
-    // Three passes (on AVX-512 CPUs the depth kernel is AVX-512's, not fused).
-    depthMetres(frame, draw_ids, depth_window, camera, out, instructions);
-    maskPrimitiveIds(draw_ids, words, n, primitives);
-    return largestDrawId(draw_ids, n);
-  }
   const auto by_id = linearizersOf(frame, camera);
   uint32_t largest = 0;
   size_t done = 0;
-#ifdef VIPER_X86
-  done = pixel_kernels::depthMetresMaskingAvx2(draw_ids, depth_window, n, tableOf(by_id).rows(), out, primitives,
-                                               largest);
-#endif
+  const Instructions path = pixel_kernels::kernelPath(instructions);
+  if (path != Instructions::kScalar)
+    done = pixel_kernels::depthMetresMasking(path, draw_ids, depth_window, n, tableOf(by_id).rows(), out, primitives,
+                                             largest);
   metresFrom(done, n, by_id, draw_ids, depth_window, out);
   maskPrimitiveIds(draw_ids + done, words + done, n - done, primitives + done);
   return std::max(largest, largestDrawId(draw_ids + done, n - done));

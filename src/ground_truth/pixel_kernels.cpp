@@ -33,6 +33,12 @@ size_t depthMetres(Instructions path, const uint32_t* ids, const float* window, 
                                      : depthMetresAvx512(ids, window, n, rows, metres);
 }
 
+size_t depthMetresMasking(Instructions path, const uint32_t* ids, const float* window, size_t n,
+                          const DepthRows& rows, float* metres, int32_t* primitives, uint32_t& largest) {
+  return path == Instructions::kAvx2 ? depthMetresMaskingAvx2(ids, window, n, rows, metres, primitives, largest)
+                                     : depthMetresMaskingAvx512(ids, window, n, rows, metres, primitives, largest);
+}
+
 size_t windowDepth(Instructions path, const uint32_t* ids, const float* metres, size_t n, const DepthRows& rows,
                    float* window, uint32_t* good, uint32_t* bad) {
   return path == Instructions::kAvx2 ? windowDepthAvx2(ids, metres, n, rows, window, good, bad)
@@ -46,6 +52,10 @@ size_t encodeViper(Instructions, const uint8_t* class_ids, const int32_t* instan
 size_t colorize(Instructions, const uint8_t*, size_t, const uint32_t*, uint8_t*) { return 0; }
 size_t overlay(Instructions, const uint8_t*, const uint8_t*, size_t, const uint32_t*, int, uint8_t*) { return 0; }
 size_t depthMetres(Instructions, const uint32_t*, const float*, size_t, const DepthRows&, float*) { return 0; }
+size_t depthMetresMasking(Instructions, const uint32_t*, const float*, size_t, const DepthRows&, float*, int32_t*,
+                          uint32_t&) {
+  return 0;
+}
 size_t windowDepth(Instructions, const uint32_t*, const float*, size_t, const DepthRows&, float*, uint32_t*,
                    uint32_t*) {
   return 0;

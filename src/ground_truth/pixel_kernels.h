@@ -62,6 +62,8 @@ size_t overlay(Instructions path, const uint8_t* color, const uint8_t* ids, size
                int weight, uint8_t* rgb);
 size_t depthMetres(Instructions path, const uint32_t* ids, const float* window, size_t n, const DepthRows& rows,
                    float* metres);
+size_t depthMetresMasking(Instructions path, const uint32_t* ids, const float* window, size_t n,
+                          const DepthRows& rows, float* metres, int32_t* primitives, uint32_t& largest);
 size_t windowDepth(Instructions path, const uint32_t* ids, const float* metres, size_t n, const DepthRows& rows,
                    float* window, uint32_t* good, uint32_t* bad);
 // VIPER's instance picture (encodeViperInstances); every vector path takes the AVX2 kernel.
@@ -86,10 +88,12 @@ size_t overlayAvx512Vbmi(const uint8_t* color, const uint8_t* ids, size_t n, con
 // depth.
 size_t depthMetresAvx2(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows, float* metres);
 size_t depthMetresAvx512(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows, float* metres);
-// depthMetresAvx2 and, in the same pass over the ids (not null): `largest` of them, and the
+// depthMetres and, in the same pass over the ids (not null): `largest` of them, and the
 // primitive ids at `primitives` set to -1 where the draw id is 0 (camera_model.h).
 size_t depthMetresMaskingAvx2(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows, float* metres,
                               int32_t* primitives, uint32_t& largest);
+size_t depthMetresMaskingAvx512(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows,
+                                float* metres, int32_t* primitives, uint32_t& largest);
 
 // windowDepthFromMetres: writes 1 where there is no depth, and counts per slot the pixels with
 // (good) and without (bad) depth; slot 0's counts mean nothing.

@@ -291,9 +291,11 @@ VIPER_AVX512_INLINE bool all16(const uint32_t* ids, uint32_t slot) {
 }  // namespace
 
 // Blocks of 16 pixels of the slot of the block before (nearly all: draws cover runs of pixels)
-// reuse its rows; the others go in two blocks of 8, each of one slot or of several.
-VIPER_AVX512 size_t depthMetresAvx512(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows,
-                                      float* metres) {
+// reuse its rows; the others go in two blocks of 8, each of one slot or of several. kMask: in the
+// same pass over the ids (not null), their largest and the primitive ids masked.
+template <bool kMask>
+VIPER_AVX512_INLINE size_t metresBlocks(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows,
+                                        float* metres, int32_t* primitives, uint32_t* largest) {
   size_t i = 0;
   uint32_t slot = 0;
   Rows8 r = rowsOf(rows, slot);
@@ -301,7 +303,14 @@ VIPER_AVX512 size_t depthMetresAvx512(const uint32_t* ids, const float* window, 
     for (; i + 8 <= n; i += 8) metres8(r, window + i, metres + i);
     return i;
   }
+  __m512i top = _mm512_setzero_si512();
   for (; i + 16 <= n; i += 16) {
+    if (kMask) {
+      const __m512i id = _mm512_loadu_si512(ids + i);
+      top = _mm512_max_epu32(top, id);
+      // Only the pixels no draw covers are written.
+      _mm512_mask_storeu_epi32(primitives + i, _mm512_testn_epi32_mask(id, id), _mm512_set1_epi32(-1));
+    }
     if (all16(ids + i, slot)) {
       metres8(r, window + i, metres + i);
       metres8(r, window + i + 8, metres + i + 8);
@@ -318,7 +327,19 @@ VIPER_AVX512 size_t depthMetresAvx512(const uint32_t* ids, const float* window, 
       }
     }
   }
+  if (kMask) *largest = _mm512_reduce_max_epu32(top);
   return i;
+}
+
+VIPER_AVX512 size_t depthMetresAvx512(const uint32_t* ids, const float* window, size_t n, const DepthRows& rows,
+                                      float* metres) {
+  return metresBlocks<false>(ids, window, n, rows, metres, nullptr, nullptr);
+}
+
+VIPER_AVX512 size_t depthMetresMaskingAvx512(const uint32_t* ids, const float* window, size_t n,
+                                             const DepthRows& rows, float* metres, int32_t* primitives,
+                                             uint32_t& largest) {
+  return metresBlocks<true>(ids, window, n, rows, metres, primitives, &largest);
 }
 
 VIPER_AVX512 size_t windowDepthAvx512(const uint32_t* ids, const float* metres, size_t n, const DepthRows& rows,

@@ -90,7 +90,7 @@ void depthMetres(const CaptureFrame& frame, const uint32_t* draw_ids, const floa
 /// depthMetres() from `draw_ids` (not null) and, in the same pass over them: the primitive ids at
 /// `primitives` set to -1 where the draw id is 0 (maskPrimitiveIds() in place), and their largest
 /// id returned (for drawIdsProblem()). The capture bridge's three passes over a frame's ids in one
-/// where AVX2 runs (each pass reads 8 MB of ids a 1080p frame); every path gives the same bits.
+/// where AVX2 or AVX-512 runs (each pass reads 8 MB of ids a 1080p frame); every path gives the same bits.
 uint32_t depthMetresMaskingPrimitives(const CaptureFrame& frame, const uint32_t* draw_ids, const float* depth_window,
                                       const FrameCamera* camera, float* out, int32_t* primitives,
                                       Instructions instructions = Instructions::kWidest);

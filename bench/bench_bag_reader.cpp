@@ -185,7 +185,7 @@ void BM_Xxh32SideBySide(benchmark::State& state) {
     benchmark::DoNotOptimize(hashes);
   }
   state.SetBytesProcessed(state.iterations() * 2 * static_cast<int64_t>(c[0].size()));
-  state.SetLabel(viper::dataset::detail::xxh32StreamsVectorised() ? "avx512" : "scalar");
+  state.SetLabel(viper::dataset::detail::xxh32StreamsKernel());
 }
 BENCHMARK(BM_Xxh32SideBySide)->Unit(benchmark::kMillisecond);
 

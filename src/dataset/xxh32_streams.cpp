@@ -106,35 +106,67 @@ VIPER_XXH_AVX512 void runSideBySide(Stream* const* s, int k, size_t steps) {
   }
 }
 
-// Two streams in one 256-bit register: half the work of the four-lane kernel for the common case.
-VIPER_XXH_AVX512 void runPair(Stream& x, Stream& y, size_t steps) {
-  const uint8_t* px = x.current().data + x.at;
-  const uint8_t* py = y.current().data + y.at;
-  const __m256i p1 = _mm256_set1_epi32(static_cast<int>(kP1)), p2 = _mm256_set1_epi32(static_cast<int>(kP2));
-  __m256i a = _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(x.acc))),
-                                      _mm_loadu_si128(reinterpret_cast<const __m128i*>(y.acc)), 1);
-  for (size_t i = 0; i < steps; ++i) {
-    const __m256i in =
-        _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(px + 16 * i))),
-                                _mm_loadu_si128(reinterpret_cast<const __m128i*>(py + 16 * i)), 1);
-    a = _mm256_mullo_epi32(_mm256_rol_epi32(_mm256_add_epi32(a, _mm256_mullo_epi32(in, p2)), 13), p1);
-  }
+#define VIPER_XXH_AVX2 __attribute__((target("avx2")))
+#define VIPER_XXH_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
+
+// Two streams in one 256-bit register (x in the low half, y in the high): their accumulators, and
+// stripe i of each.
+VIPER_XXH_AVX2_INLINE __m256i halves(const void* x, const void* y) {
+  return _mm256_inserti128_si256(_mm256_castsi128_si256(_mm_loadu_si128(static_cast<const __m128i*>(x))),
+                                 _mm_loadu_si128(static_cast<const __m128i*>(y)), 1);
+}
+
+VIPER_XXH_AVX2_INLINE void storePair(__m256i a, Stream& x, Stream& y, size_t steps) {
   _mm_storeu_si128(reinterpret_cast<__m128i*>(x.acc), _mm256_castsi256_si128(a));
   _mm_storeu_si128(reinterpret_cast<__m128i*>(y.acc), _mm256_extracti128_si256(a, 1));
   x.at += 16 * steps, y.at += 16 * steps;
 }
 
-bool vectorised() {
-  static const bool yes = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
-  return yes;
+// Two streams in one 256-bit register: half the work of the four-lane kernel for the common case.
+VIPER_XXH_AVX512 void runPair(Stream& x, Stream& y, size_t steps) {
+  const uint8_t* px = x.current().data + x.at;
+  const uint8_t* py = y.current().data + y.at;
+  const __m256i p1 = _mm256_set1_epi32(static_cast<int>(kP1)), p2 = _mm256_set1_epi32(static_cast<int>(kP2));
+  __m256i a = halves(x.acc, y.acc);
+  for (size_t i = 0; i < steps; ++i) {
+    const __m256i sum = _mm256_add_epi32(a, _mm256_mullo_epi32(halves(px + 16 * i, py + 16 * i), p2));
+    a = _mm256_mullo_epi32(_mm256_rol_epi32(sum, 13), p1);
+  }
+  storePair(a, x, y, steps);
 }
-#else
-bool vectorised() { return false; }
+
+// runPair without AVX-512's rotate: two shifts and an or.
+VIPER_XXH_AVX2 void runPairAvx2(Stream& x, Stream& y, size_t steps) {
+  const uint8_t* px = x.current().data + x.at;
+  const uint8_t* py = y.current().data + y.at;
+  const __m256i p1 = _mm256_set1_epi32(static_cast<int>(kP1)), p2 = _mm256_set1_epi32(static_cast<int>(kP2));
+  __m256i a = halves(x.acc, y.acc);
+  for (size_t i = 0; i < steps; ++i) {
+    const __m256i sum = _mm256_add_epi32(a, _mm256_mullo_epi32(halves(px + 16 * i, py + 16 * i), p2));
+    a = _mm256_mullo_epi32(_mm256_or_si256(_mm256_slli_epi32(sum, 13), _mm256_srli_epi32(sum, 19)), p1);
+  }
+  storePair(a, x, y, steps);
+}
+
+enum class Kernel { kScalar, kAvx2, kAvx512 };
+
+Kernel kernel() {
+  static const Kernel k = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") ? Kernel::kAvx512
+                          : __builtin_cpu_supports("avx2")                                        ? Kernel::kAvx2
+                                                                                                  : Kernel::kScalar;
+  return k;
+}
 #endif
 
 }  // namespace
 
-bool xxh32StreamsVectorised() { return vectorised(); }
+const char* xxh32StreamsKernel() {
+#ifdef VIPER_XXH_X86
+  return kernel() == Kernel::kAvx512 ? "avx512" : kernel() == Kernel::kAvx2 ? "avx2" : "scalar";
+#else
+  return "scalar";
+#endif
+}
 
 void xxh32Streams(const std::vector<const std::vector<BytePiece>*>& streams, uint32_t* hashes) {
   std::vector<Stream> all(streams.size());
@@ -146,12 +178,14 @@ void xxh32Streams(const std::vector<const std::vector<BytePiece>*>& streams, uin
   for (Stream& s : all)
     if (s.ready()) active.push_back(&s);
 #ifdef VIPER_XXH_X86
-  // Side by side while two or more streams have whole stripes in their current pieces.
-  while (vectorised() && active.size() >= 2) {
-    const int k = static_cast<int>(std::min<size_t>(active.size(), 4));
+  // Side by side while two or more streams have whole stripes in their current pieces (AVX2: two
+  // at a time).
+  while (kernel() != Kernel::kScalar && active.size() >= 2) {
+    const int k = kernel() == Kernel::kAvx2 ? 2 : static_cast<int>(std::min<size_t>(active.size(), 4));
     size_t steps = active[0]->left() / 16;
     for (int j = 1; j < k; ++j) steps = std::min(steps, active[j]->left() / 16);
-    if (k == 2) runPair(*active[0], *active[1], steps);
+    if (kernel() == Kernel::kAvx2) runPairAvx2(*active[0], *active[1], steps);
+    else if (k == 2) runPair(*active[0], *active[1], steps);
     else runSideBySide(active.data(), k, steps);
     active.erase(std::remove_if(active.begin(), active.end(), [](Stream* s) { return !s->ready(); }), active.end());
   }

@@ -28,7 +28,7 @@ std::vector<BytePiece> cut(const std::vector<uint8_t>& bytes, std::mt19937& rand
 
 TEST(Xxh32Streams, EachStreamHashesAsLibxxhashHashesItWhole) {
   std::mt19937 random(11);
-  std::cout << "side by side: " << (viper::dataset::detail::xxh32StreamsVectorised() ? "AVX-512" : "no") << "\n";
+  std::cout << "side by side: " << viper::dataset::detail::xxh32StreamsKernel() << "\n";
   for (int round = 0; round < 400; ++round) {
     const size_t count = 1 + random() % 6;
     std::vector<std::vector<uint8_t>> bytes(count);

@@ -346,6 +346,47 @@ void BM_InstancesAndTrackingCapture(benchmark::State& state) {
   state.counters["objects"] = static_cast<double>(out.objects.size());
 }
 
+// The instances node's pipeline with the pictures it publishes (semantic_color, instances_viper):
+// argument 0 the frames (0 synthetic, parts alternating every 8 pixels; 1 the world capture of
+// VIPER_BENCH_CAPTURE), argument 1 how the pictures are made (0 colorizeClasses and
+// encodeViperInstances of the pipeline's images, 1 by the pipeline from its runs of draws).
+void BM_InstancePictures(benchmark::State& state) {
+  std::vector<CaptureFrame> frames;
+  std::optional<LabelTable> labels;
+  if (state.range(0) == 1) {
+    if (!benchCapture(state, 8, frames, labels)) return;
+  } else {
+    labels.emplace();
+    for (int s = 0; s < 8; ++s) frames.push_back(bench::syntheticFrame(kW, kH, kObjects, kParts, s, &*labels));
+  }
+  const bool from_runs = state.range(1) == 1;
+  const ClassTable classes = benchClasses();
+  InstancePipelineOptions options;
+  options.compute_boxes = false;  // as the instances node runs it
+  InstancePipeline pipeline(*labels, options);
+  const size_t n = frames[0].pixelCount();
+  std::vector<int32_t> ids(n);
+  std::vector<uint8_t> color(3 * n), viper(3 * n);
+  InstanceImagesInto into;
+  into.instance_ids = ids.data();
+  if (from_runs) into.semantic_color = color.data(), into.classes = &classes, into.instances_viper = viper.data();
+  InstanceFrame out;
+  size_t i = 0;
+  for (auto _ : state) {
+    CaptureFrame& f = frames[i % frames.size()];
+    f.time_s = static_cast<double>(i) / 15.0;
+    pipeline.process(f, out, into);
+    if (!from_runs) {
+      colorizeClasses(out.semantic.data(), n, classes, color.data());
+      encodeViperInstances(out.semantic.data(), ids.data(), n, viper.data());
+    }
+    benchmark::DoNotOptimize(color.data());
+    benchmark::DoNotOptimize(viper.data());
+    ++i;
+  }
+  state.SetLabel(from_runs ? "pictures from runs" : "pictures from images");
+}
+
 // boxes: every thing object of a real capture's frame (VIPER_BENCH_CAPTURE, as above), from the
 // mesh store; the world has ~200 objects, most with several parts of hundreds of vertices.
 void BM_BoxesCapture(benchmark::State& state) {
@@ -379,6 +420,7 @@ void BM_BoxesCapture(benchmark::State& state) {
 BENCHMARK(BM_MemcpyInstanceBytes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_InstancesAndTracking)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_InstancesAndTrackingCapture)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_InstancePictures)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BoxesCapture)->Arg(1)->Arg(20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MemcpyFlowBytes)->Unit(benchmark::kMillisecond);
 // {deformed every, path}: the widest path and AVX2 side by side.

@@ -23,10 +23,34 @@ InstanceFrame InstancePipeline::process(const CaptureFrame& frame) {
 
 void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) { process(frame, out, {}); }
 
+void InstancePipeline::renderPictures(const DrawAssignment& a, const std::vector<int32_t>& track_ids,
+                                      const InstanceImagesInto& into) const {
+  const size_t n = a.draw_class.size();
+  // Per draw id (0: no draw), as renderSemantic and renderInstances give them.
+  const auto classOf = [&](size_t id) -> uint8_t { return id != 0 && id <= n ? a.draw_class[id - 1] : 0; };
+  std::vector<std::array<uint8_t, 3>> colors(n + 1);
+  if (into.semantic_color) {
+    const ClassTable& classes = *into.classes;
+    const auto colorOf = [&](uint8_t c) { return c < classes.size() ? classes.at(c).rgb : std::array<uint8_t, 3>{}; };
+    for (size_t id = 0; id <= n; ++id) colors[id] = colorOf(classOf(id));
+    renderRgbOfDraws(runs_, colors, colorOf(0), into.semantic_color);
+  }
+  if (into.instances_viper) {
+    for (size_t id = 0; id <= n; ++id) {
+      const int32_t k = id == 0 ? -1 : a.draw_object[id - 1];
+      const uint32_t t =
+          k >= 0 && static_cast<size_t>(k) < track_ids.size() ? static_cast<uint32_t>(track_ids[k]) & 0xffffu : 0;
+      colors[id] = {classOf(id), static_cast<uint8_t>(t >> 8), static_cast<uint8_t>(t & 0xff)};
+    }
+    renderRgbOfDraws(runs_, colors, {0, 0, 0}, into.instances_viper);
+  }
+}
+
 void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, const InstanceImagesInto& into) {
   // Only draws and draw ids are used (a node may have nothing else); ids past the draw list are
   // ignored by every kernel, so they need no pass of their own.
   const std::string at = "frame " + std::to_string(frame.number) + ": ";
+  if (into.semantic_color && !into.classes) throw std::invalid_argument(at + "semantic_color asked for without classes");
   if (!into.draw_ids && frame.draw_ids.size() != frame.pixelCount())
     throw std::invalid_argument(at + "draw id image has " + std::to_string(frame.draw_ids.size()) + " pixels, " +
                                 std::to_string(frame.width) + "x" + std::to_string(frame.height) + " expected");
@@ -75,6 +99,7 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, co
   renderInstances(runs_, assignment, ids, instance_ids);
   renderBoundaries(instance_ids, static_cast<int>(frame.width), static_cast<int>(frame.height),
                    into.boundaries ? into.boundaries : out.boundaries.data());
+  renderPictures(assignment, ids, into);
 
   for (size_t k = 0; k < objects.size(); ++k) {
     TrackedObject t;

@@ -202,6 +202,32 @@ void renderSemantic(const DrawRuns& runs, const DrawAssignment& a, uint8_t* out)
     fillBytes(out + r.start, r.id != 0 && r.id <= n ? a.draw_class[r.id - 1] : 0, r.length);
 }
 
+void renderRgbOfDraws(const DrawRuns& runs, const std::vector<std::array<uint8_t, 3>>& colors,
+                      std::array<uint8_t, 3> other, uint8_t* rgb) {
+  // Each color repeated over 16 pixels (48 bytes, whole pixels), copied in blocks of 48 or 12 bytes;
+  // the last block of a run ends at the run's end, overlapping the one before.
+  constexpr size_t kBlock = 48;
+  std::vector<uint8_t> patterns((colors.size() + 1) * kBlock);
+  for (size_t id = 0; id <= colors.size(); ++id) {
+    const std::array<uint8_t, 3>& c = id < colors.size() ? colors[id] : other;
+    for (size_t b = 0; b < kBlock; ++b) patterns[id * kBlock + b] = c[b % 3];
+  }
+  for (const DrawRuns::Run& r : runs.runs) {
+    const uint8_t* pattern = patterns.data() + std::min<size_t>(r.id, colors.size()) * kBlock;
+    uint8_t* out = rgb + 3 * size_t{r.start};
+    const size_t bytes = 3 * size_t{r.length};
+    if (bytes >= kBlock) {
+      for (size_t i = 0; i + kBlock < bytes; i += kBlock) std::memcpy(out + i, pattern, kBlock);
+      std::memcpy(out + bytes - kBlock, pattern, kBlock);
+    } else if (bytes >= 12) {
+      for (size_t i = 0; i + 12 < bytes; i += 12) std::memcpy(out + i, pattern, 12);
+      std::memcpy(out + bytes - 12, pattern, 12);
+    } else {
+      std::memcpy(out, pattern, bytes);
+    }
+  }
+}
+
 void renderInstances(const DrawRuns& runs, const DrawAssignment& a, const std::vector<int32_t>& object_ids,
                      int32_t* out) {
   std::vector<int32_t> lut(a.draw_object.size() + 1, 0);

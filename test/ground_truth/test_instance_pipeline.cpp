@@ -1,8 +1,14 @@
 #include "viper/ground_truth/instance_pipeline.h"
+#include "viper/ground_truth/semantic_overlay.h"
 
 #include "../common/vector_paths.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <random>
 
 namespace viper {
 namespace {
@@ -139,6 +145,67 @@ TEST(InstancePipeline, DrawIdsFromCallerStorageGiveTheSameImages) {
     ASSERT_EQ(got.objects.size(), expected.objects.size());
     for (size_t k = 0; k < got.objects.size(); ++k) EXPECT_EQ(got.objects[k].track_id, expected.objects[k].track_id);
   }
+}
+
+// semantic_color and instances_viper rendered from the runs of draws are colorizeClasses() and
+// encodeViperInstances() of the class and instance images: runs of 1 to 70 pixels, id 0, ids past
+// the draw list, classes past the class table (black), cars tracked over frames.
+TEST(InstancePipeline, PicturesFromRunsAreThoseOfTheImages) {
+  const std::string csv = testing::TempDir() + "viper_ten_classes.csv";
+  {
+    std::ofstream out(csv);
+    out << "id,classname,red,green,blue,class_eval,trainid,instance_eval\n";
+    for (int c = 0; c < 10; ++c) out << c << ",c" << c << "," << 20 * c << "," << 255 - c << "," << 7 * c << ",1,0,0\n";
+  }
+  const ClassTable classes = ClassTable::load(csv);
+  std::remove(csv.c_str());
+  LabelTable labels;
+  labels.setMesh(1, 3);    // road: in the table
+  labels.setMesh(10, 24);  // car: a thing past the table (black)
+  labels.setMesh(11, 24);
+  labels.setMesh(12, 7);
+  InstancePipeline own(labels), caller(labels);
+  std::mt19937 random(5);
+  for (int f = 0; f < 4; ++f) {
+    CaptureFrame fr;
+    fr.number = f, fr.time_s = f / 15.0, fr.width = 203, fr.height = 9;
+    for (uint64_t mesh : {1, 10, 11, 10, 11, 12, 13}) {
+      DrawRecord d;
+      d.index = static_cast<uint32_t>(fr.draws.size());
+      d.mesh_key = mesh;
+      d.matrix_flags = kHasWorld;
+      d.world(0, 3) = static_cast<float>(d.index / 2 * 10 + f);
+      fr.draws.push_back(d);
+    }
+    while (fr.draw_ids.size() < fr.pixelCount()) {
+      const uint32_t id = random() % 10;  // 0, the 7 draws, and 2 past them
+      fr.draw_ids.insert(fr.draw_ids.end(), 1 + random() % 70, id);
+    }
+    fr.draw_ids.resize(fr.pixelCount());
+    const InstanceFrame expected = own.process(fr);
+    const size_t n = fr.pixelCount();
+    ASSERT_NE(std::count_if(expected.instance_ids.begin(), expected.instance_ids.end(), [](int32_t i) { return i > 0; }),
+              0);
+    std::vector<uint8_t> color(3 * n), viper(3 * n);
+    colorizeClasses(expected.semantic.data(), n, classes, color.data());
+    encodeViperInstances(expected.semantic.data(), expected.instance_ids.data(), n, viper.data());
+    std::vector<uint8_t> got_color(3 * n, 0xee), got_viper(3 * n, 0xee);
+    InstanceImagesInto into;
+    into.semantic_color = got_color.data();
+    into.classes = &classes;
+    into.instances_viper = got_viper.data();
+    InstanceFrame got;
+    caller.process(fr, got, into);
+    EXPECT_EQ(got_color, color) << "frame " << f;
+    EXPECT_EQ(got_viper, viper) << "frame " << f;
+    EXPECT_EQ(got.instance_ids, expected.instance_ids);
+  }
+  CaptureFrame fr;
+  InstanceImagesInto without_classes;
+  std::vector<uint8_t> unused(3);
+  without_classes.semantic_color = unused.data();
+  InstanceFrame got;
+  EXPECT_THROW(caller.process(fr, got, without_classes), std::invalid_argument);
 }
 
 TEST(InstancePipeline, InconsistentFramesAreRejectedWithoutSideEffects) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "viper/ground_truth/boxes.h"
+#include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/instructions.h"
 #include "viper/ground_truth/label_table.h"
 #include "viper/ground_truth/objects.h"
@@ -56,6 +57,13 @@ struct InstanceImagesInto {
   int32_t* instance_ids = nullptr;
   uint8_t* boundaries = nullptr;
   const uint32_t* draw_ids = nullptr;
+  /// Also rendered where not null (rgb8, width*height*3 bytes), from the same runs of draws as the
+  /// images above: colorizeClasses() of the class image with `classes` (which must then be set),
+  /// and encodeViperInstances() of the class and instance images. The same bytes, without another
+  /// pass over those images.
+  uint8_t* semantic_color = nullptr;
+  const ClassTable* classes = nullptr;
+  uint8_t* instances_viper = nullptr;
 };
 
 /// Keeps the mesh store and the tracker across frames.
@@ -79,6 +87,9 @@ class InstancePipeline {
   void reset() { tracker_.reset(); }
 
  private:
+  // into's semantic_color and instances_viper, from runs_.
+  void renderPictures(const DrawAssignment& assignment, const std::vector<int32_t>& track_ids,
+                      const InstanceImagesInto& into) const;
   LabelTable labels_;
   InstancePipelineOptions options_;
   MeshRegistry meshes_;

@@ -6,6 +6,7 @@
 #include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/label_table.h"
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -75,6 +76,13 @@ void measureObjects(const DrawRuns& runs, const DrawAssignment& assignment, std:
 
 /// Semantic class id image (one byte per pixel; 0 where no draw).
 void renderSemantic(const DrawRuns& runs, const DrawAssignment& assignment, uint8_t* class_ids);
+
+/// An rgb8 image of one color per draw id, filled run by run: `colors[id]` for draw ids below
+/// colors.size(), `other` for the ids past them. What a per-pixel picture of the class or instance
+/// images gives where each is constant over a draw (semantic_color, instances_viper), without
+/// reading those images again.
+void renderRgbOfDraws(const DrawRuns& runs, const std::vector<std::array<uint8_t, 3>>& colors,
+                      std::array<uint8_t, 3> other, uint8_t* rgb);
 
 /// Instance id image: `object_ids[k]` is the id to write for objects[k] (0 = none, e.g. stuff).
 void renderInstances(const DrawRuns& runs, const DrawAssignment& assignment, const std::vector<int32_t>& object_ids,

@@ -58,14 +58,19 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
   // messages need no clearing).
   const std_msgs::Header& header = ids.header;
   const uint32_t w = frame_.width, h = frame_.height;
-  const size_t n = frame_.pixelCount();
-  // Instance ids are needed for the VIPER image even when nobody wants them: then in result_.
+  // The pipeline renders the instance ids in result_ when nobody wants them (boundaries need them).
   sensor_msgs::ImagePtr instance_ids = want.instance_ids ? ids_pool_.take(header, w, h, "32SC1", 4) : nullptr;
   sensor_msgs::ImagePtr boundaries = want.boundaries ? mono_pool_.take(header, w, h, "mono8", 1) : nullptr;
+  sensor_msgs::ImagePtr semantic_color = want.semantic_color ? rgb_pool_.take(header, w, h, "rgb8", 3) : nullptr;
+  sensor_msgs::ImagePtr instances_viper = want.instances_viper ? rgb_pool_.take(header, w, h, "rgb8", 3) : nullptr;
   InstanceImagesInto into;
   into.draw_ids = id_words;
   if (instance_ids) into.instance_ids = reinterpret_cast<int32_t*>(instance_ids->data.data());
   if (boundaries) into.boundaries = boundaries->data.data();
+  // The class and VIPER pictures from the pipeline's runs of draws (colorizeClasses and
+  // encodeViperInstances of the images, without reading them again).
+  if (semantic_color) into.semantic_color = semantic_color->data.data(), into.classes = &classes_;
+  if (instances_viper) into.instances_viper = instances_viper->data.data();
   try {
     pipeline_->process(frame_, result_, into);
   } catch (const std::exception& e) {
@@ -76,21 +81,14 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
   for (const std::string& p : result_.problems)
     problems.push_back({StepInput::kDrawIds, StepSeverity::kWarning, "objects", ": " + p});
 
-  const int32_t* track_ids = into.instance_ids ? into.instance_ids : result_.instance_ids.data();
   if (want.semantic) {
     out.semantic = mono_pool_.take(header, w, h, "mono8", 1);
     std::copy(result_.semantic.begin(), result_.semantic.end(), out.semantic->data.begin());
   }
-  if (want.semantic_color) {
-    out.semantic_color = rgb_pool_.take(header, w, h, "rgb8", 3);
-    colorizeClasses(result_.semantic.data(), n, classes_, out.semantic_color->data.data());
-  }
+  out.semantic_color = semantic_color;
   out.instance_ids = instance_ids;
   out.boundaries = boundaries;
-  if (want.instances_viper) {
-    out.instances_viper = rgb_pool_.take(header, w, h, "rgb8", 3);
-    encodeViperInstances(result_.semantic.data(), track_ids, n, out.instances_viper->data.data());
-  }
+  out.instances_viper = instances_viper;
   out.objects = boost::make_shared<ObjectArray>(toObjectArrayMsg(result_.objects, classes_, header));
   return true;
 }

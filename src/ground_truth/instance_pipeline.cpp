@@ -23,7 +23,7 @@ InstanceFrame InstancePipeline::process(const CaptureFrame& frame) {
 
 void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out) { process(frame, out, {}); }
 
-void InstancePipeline::renderPictures(const DrawAssignment& a, const std::vector<int32_t>& track_ids,
+void InstancePipeline::renderPictures(const DrawAssignment& a, const std::vector<int32_t>& instance_of_draw,
                                       const InstanceImagesInto& into) const {
   const size_t n = a.draw_class.size();
   // Per draw id (0: no draw), as renderSemantic and renderInstances give them.
@@ -37,9 +37,7 @@ void InstancePipeline::renderPictures(const DrawAssignment& a, const std::vector
   }
   if (into.instances_viper) {
     for (size_t id = 0; id <= n; ++id) {
-      const int32_t k = id == 0 ? -1 : a.draw_object[id - 1];
-      const uint32_t t =
-          k >= 0 && static_cast<size_t>(k) < track_ids.size() ? static_cast<uint32_t>(track_ids[k]) & 0xffffu : 0;
+      const uint32_t t = static_cast<uint32_t>(instance_of_draw[id]) & 0xffffu;
       colors[id] = {classOf(id), static_cast<uint8_t>(t >> 8), static_cast<uint8_t>(t & 0xff)};
     }
     renderRgbOfDraws(runs_, colors, {0, 0, 0}, into.instances_viper);
@@ -50,7 +48,8 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, co
   // Only draws and draw ids are used (a node may have nothing else); ids past the draw list are
   // ignored by every kernel, so they need no pass of their own.
   const std::string at = "frame " + std::to_string(frame.number) + ": ";
-  if (into.semantic_color && !into.classes) throw std::invalid_argument(at + "semantic_color asked for without classes");
+  if (into.semantic_color && !into.classes)
+    throw std::invalid_argument(at + "semantic_color asked for without classes");
   if (!into.draw_ids && frame.draw_ids.size() != frame.pixelCount())
     throw std::invalid_argument(at + "draw id image has " + std::to_string(frame.draw_ids.size()) + " pixels, " +
                                 std::to_string(frame.width) + "x" + std::to_string(frame.height) + " expected");
@@ -97,9 +96,10 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, co
   int32_t* instance_ids = into.instance_ids ? into.instance_ids : out.instance_ids.data();
   renderSemantic(runs_, assignment, out.semantic.data());
   renderInstances(runs_, assignment, ids, instance_ids);
-  renderBoundaries(instance_ids, static_cast<int>(frame.width), static_cast<int>(frame.height),
-                   into.boundaries ? into.boundaries : out.boundaries.data());
-  renderPictures(assignment, ids, into);
+  // The boundaries and pictures from the runs of draws (the same bytes as from the images).
+  const std::vector<int32_t> instance_of_draw = instanceOfDraws(assignment, ids);
+  renderBoundariesOfRuns(runs_, instance_of_draw, into.boundaries ? into.boundaries : out.boundaries.data());
+  renderPictures(assignment, instance_of_draw, into);
 
   for (size_t k = 0; k < objects.size(); ++k) {
     TrackedObject t;

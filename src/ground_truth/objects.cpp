@@ -228,13 +228,18 @@ void renderRgbOfDraws(const DrawRuns& runs, const std::vector<std::array<uint8_t
   }
 }
 
-void renderInstances(const DrawRuns& runs, const DrawAssignment& a, const std::vector<int32_t>& object_ids,
-                     int32_t* out) {
+std::vector<int32_t> instanceOfDraws(const DrawAssignment& a, const std::vector<int32_t>& object_ids) {
   std::vector<int32_t> lut(a.draw_object.size() + 1, 0);
   for (size_t i = 0; i < a.draw_object.size(); ++i) {
     const int32_t k = a.draw_object[i];
     lut[i + 1] = (k >= 0 && static_cast<size_t>(k) < object_ids.size()) ? object_ids[k] : 0;
   }
+  return lut;
+}
+
+void renderInstances(const DrawRuns& runs, const DrawAssignment& a, const std::vector<int32_t>& object_ids,
+                     int32_t* out) {
+  const std::vector<int32_t> lut = instanceOfDraws(a, object_ids);
   const uint32_t n = static_cast<uint32_t>(lut.size());
   for (const DrawRuns::Run& r : runs.runs) fillInts(out + r.start, r.id < n ? lut[r.id] : 0, r.length);
 }
@@ -259,6 +264,61 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void renderBoundarie
       o[x] = static_cast<uint8_t>(-static_cast<int>((v != row[x - 1]) | (v != row[x + 1]) | (v != up[x]) | (v != down[x])));
     }
     o[w - 1] = (row[w - 1] != row[w - 2] || row[w - 1] != up[w - 1] || row[w - 1] != down[w - 1]) ? 255 : 0;
+  }
+}
+
+namespace {
+
+// A row's pixels x0..x1-1 of one instance (neighbouring runs of the same instance merged).
+struct Span {
+  uint32_t x0, x1;
+  int32_t instance;
+};
+
+// The spans of the runs runs[*at..] of row y (advancing *at past them).
+void rowSpans(const DrawRuns& runs, const std::vector<int32_t>& instance_of_draw, uint32_t y, size_t* at,
+              std::vector<Span>& spans) {
+  spans.clear();
+  const size_t n = instance_of_draw.size();
+  const uint32_t row_start = y * runs.width;
+  for (; *at < runs.runs.size() && runs.runs[*at].y == y; ++*at) {
+    const DrawRuns::Run& r = runs.runs[*at];
+    const int32_t instance = r.id < n ? instance_of_draw[r.id] : 0;
+    const uint32_t x0 = r.start - row_start, x1 = x0 + r.length;
+    if (!spans.empty() && spans.back().instance == instance) spans.back().x1 = x1;
+    else spans.push_back({x0, x1, instance});
+  }
+}
+
+// 255 over the pixels where `row` and its neighbour row `other` hold different instances.
+void markAgainst(const std::vector<Span>& row, const std::vector<Span>& other, uint8_t* out) {
+  size_t j = 0;
+  for (const Span& a : row) {
+    while (j < other.size() && other[j].x1 <= a.x0) ++j;
+    for (size_t k = j; k < other.size() && other[k].x0 < a.x1; ++k) {
+      if (other[k].instance == a.instance) continue;
+      const uint32_t x0 = std::max(a.x0, other[k].x0), x1 = std::min(a.x1, other[k].x1);
+      std::memset(out + x0, 255, x1 - x0);
+    }
+  }
+}
+
+}  // namespace
+
+void renderBoundariesOfRuns(const DrawRuns& runs, const std::vector<int32_t>& instance_of_draw, uint8_t* out) {
+  const uint32_t w = runs.width, h = runs.height;
+  std::vector<Span> up, row, down;
+  size_t at = 0;  // the first run of the row after the spans in `down`
+  if (h > 0) rowSpans(runs, instance_of_draw, 0, &at, down);
+  for (uint32_t y = 0; y < h; ++y) {
+    std::swap(up, row);
+    std::swap(row, down);
+    if (y + 1 < h) rowSpans(runs, instance_of_draw, y + 1, &at, down);
+    uint8_t* o = out + static_cast<size_t>(y) * w;
+    std::memset(o, 0, w);
+    for (size_t k = 1; k < row.size(); ++k) o[row[k].x0 - 1] = o[row[k].x0] = 255;  // the instance changes
+    if (y > 0) markAgainst(row, up, o);
+    if (y + 1 < h) markAgainst(row, down, o);
   }
 }
 

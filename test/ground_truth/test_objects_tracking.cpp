@@ -97,25 +97,42 @@ TEST(Objects, SharedWorldMatrixFormsOneObjectAndTheVoteOverridesSharedParts) {
   EXPECT_EQ(objs[1].y_max, 1);
 }
 
+// A w x h frame of 12 draws (every `road_every`-th labelled road, the others car) whose draw ids
+// are random runs of 1..max_run pixels, ids past the draw list and id 0 among them; its objects,
+// their draws' assignment and object ids from 40.
+struct RandomRunsFrame {
+  static constexpr uint32_t kDraws = 12;
+  CaptureFrame f;
+  std::vector<FrameObject> objects;
+  DrawAssignment a;
+  std::vector<int32_t> object_ids;
+  RandomRunsFrame(uint32_t w, uint32_t h, size_t max_run, uint32_t road_every, std::mt19937& rng) {
+    f.width = w, f.height = h;
+    for (uint32_t i = 0; i < kDraws; ++i) f.draws.push_back(draw(i, 100 + i, translation(float(i % 4), 0, 0)));
+    while (f.draw_ids.size() < f.pixelCount()) {
+      const uint32_t id = std::uniform_int_distribution<uint32_t>(0, kDraws + 2)(rng);
+      const size_t length = std::uniform_int_distribution<size_t>(1, max_run)(rng);
+      f.draw_ids.insert(f.draw_ids.end(), std::min(length, f.pixelCount() - f.draw_ids.size()), id);
+    }
+    LabelTable labels;
+    for (uint32_t i = 0; i < kDraws; ++i) labels.setMesh(100 + i, i % road_every ? kCar : kRoad);
+    objects = groupObjects(f, labels, thingMask());
+    a = assignDraws(f, labels, objects);
+    object_ids.resize(objects.size());
+    std::iota(object_ids.begin(), object_ids.end(), 40);
+  }
+};
+
 // The run-based kernels against the per-pixel definition, on rows whose width is no multiple of
 // the four ids compared at once, with runs of 1..37 pixels, ids past the draw list and id 0.
 TEST(Objects, DrawRunsGiveThePerPixelImagesAndMeasures) {
   std::mt19937 rng(7);
-  CaptureFrame f;
-  f.width = 67, f.height = 9;
-  constexpr uint32_t kDraws = 12;
-  for (uint32_t i = 0; i < kDraws; ++i) f.draws.push_back(draw(i, 100 + i, translation(float(i % 4), 0, 0)));
-  while (f.draw_ids.size() < f.pixelCount()) {
-    const uint32_t id = std::uniform_int_distribution<uint32_t>(0, kDraws + 2)(rng);
-    const size_t length = std::uniform_int_distribution<size_t>(1, 37)(rng);
-    f.draw_ids.insert(f.draw_ids.end(), std::min(length, f.pixelCount() - f.draw_ids.size()), id);
-  }
-  LabelTable labels;
-  for (uint32_t i = 0; i < kDraws; ++i) labels.setMesh(100 + i, i % 2 ? kCar : kRoad);
-  auto objects = groupObjects(f, labels, thingMask());
-  const DrawAssignment a = assignDraws(f, labels, objects);
-  std::vector<int32_t> object_ids(objects.size());
-  std::iota(object_ids.begin(), object_ids.end(), 40);
+  const RandomRunsFrame r(67, 9, 37, 2, rng);
+  const CaptureFrame& f = r.f;
+  const auto& objects = r.objects;
+  const DrawAssignment& a = r.a;
+  const std::vector<int32_t>& object_ids = r.object_ids;
+  constexpr uint32_t kDraws = RandomRunsFrame::kDraws;
 
   DrawRuns runs;
   findDrawRuns(f, runs);
@@ -160,6 +177,30 @@ TEST(Objects, DrawRunsGiveThePerPixelImagesAndMeasures) {
     EXPECT_EQ(measured[k].x_max, x_max[k]) << "object " << k;
     EXPECT_EQ(measured[k].y_min, y_min[k]) << "object " << k;
     EXPECT_EQ(measured[k].y_max, y_max[k]) << "object " << k;
+  }
+}
+
+// Boundaries from the runs of draws are renderBoundaries() of the instance image: random runs of
+// 1 to 40 pixels (draws of one object and stuff side by side, ids past the list, id 0), rows and
+// columns of one pixel.
+TEST(Objects, BoundariesOfRunsAreThoseOfTheInstanceImage) {
+  std::mt19937 rng(3);
+  const std::vector<std::pair<uint32_t, uint32_t>> sizes = {{67, 9}, {203, 7}, {1, 5}, {5, 1}, {1, 1}, {2, 2}};
+  for (const auto& [w, h] : sizes) {
+    const RandomRunsFrame r(w, h, 40, 3, rng);
+    const CaptureFrame& f = r.f;
+    DrawRuns runs;
+    findDrawRuns(f, runs);
+    std::vector<int32_t> inst(f.pixelCount());
+    renderInstances(runs, r.a, r.object_ids, inst.data());
+    std::vector<uint8_t> want(f.pixelCount(), 7), got(f.pixelCount(), 7);
+    renderBoundaries(inst.data(), static_cast<int>(w), static_cast<int>(h), want.data());
+    renderBoundariesOfRuns(runs, instanceOfDraws(r.a, r.object_ids), got.data());
+    EXPECT_EQ(got, want) << w << "x" << h;
+    if (w * h > 100) {
+      EXPECT_GT(std::count(want.begin(), want.end(), 0), 0);
+      EXPECT_GT(std::count(want.begin(), want.end(), 255), 0);
+    }
   }
 }
 

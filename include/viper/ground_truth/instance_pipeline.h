@@ -88,7 +88,7 @@ class InstancePipeline {
 
  private:
   // into's semantic_color and instances_viper, from runs_.
-  void renderPictures(const DrawAssignment& assignment, const std::vector<int32_t>& track_ids,
+  void renderPictures(const DrawAssignment& assignment, const std::vector<int32_t>& instance_of_draw,
                       const InstanceImagesInto& into) const;
   LabelTable labels_;
   InstancePipelineOptions options_;

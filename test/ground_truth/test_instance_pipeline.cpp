@@ -148,8 +148,8 @@ TEST(InstancePipeline, DrawIdsFromCallerStorageGiveTheSameImages) {
 }
 
 // semantic_color and instances_viper rendered from the runs of draws are colorizeClasses() and
-// encodeViperInstances() of the class and instance images: runs of 1 to 70 pixels, id 0, ids past
-// the draw list, classes past the class table (black), cars tracked over frames.
+// encodeViperInstances() of the class and instance images: runs of 1 pixel to a whole row, id 0,
+// ids past the draw list, classes past the class table (black), cars tracked over frames.
 TEST(InstancePipeline, PicturesFromRunsAreThoseOfTheImages) {
   const std::string csv = testing::TempDir() + "viper_ten_classes.csv";
   {
@@ -177,9 +177,10 @@ TEST(InstancePipeline, PicturesFromRunsAreThoseOfTheImages) {
       d.world(0, 3) = static_cast<float>(d.index / 2 * 10 + f);
       fr.draws.push_back(d);
     }
+    const uint32_t longest = f < 2 ? 70 : 400;  // runs of up to 203 pixels: a whole row
     while (fr.draw_ids.size() < fr.pixelCount()) {
       const uint32_t id = random() % 10;  // 0, the 7 draws, and 2 past them
-      fr.draw_ids.insert(fr.draw_ids.end(), 1 + random() % 70, id);
+      fr.draw_ids.insert(fr.draw_ids.end(), 1 + random() % longest, id);
     }
     fr.draw_ids.resize(fr.pixelCount());
     const InstanceFrame expected = own.process(fr);

@@ -90,11 +90,11 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, co
   out.tracker_reset = tracker_.wasReset();
 
   const size_t n = frame.pixelCount();
-  out.semantic.resize(n);
+  out.semantic.resize(into.semantic ? 0 : n);
   out.instance_ids.resize(into.instance_ids ? 0 : n);
   out.boundaries.resize(into.boundaries ? 0 : n);
   int32_t* instance_ids = into.instance_ids ? into.instance_ids : out.instance_ids.data();
-  renderSemantic(runs_, assignment, out.semantic.data());
+  renderSemantic(runs_, assignment, into.semantic ? into.semantic : out.semantic.data());
   renderInstances(runs_, assignment, ids, instance_ids);
   // The boundaries and pictures from the runs of draws (the same bytes as from the images).
   const std::vector<int32_t> instance_of_draw = instanceOfDraws(assignment, ids);

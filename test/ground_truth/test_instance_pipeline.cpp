@@ -106,22 +106,27 @@ TEST(InstancePipeline, ViperInstancePictureIsTheSameOnEveryPath) {
   }
 }
 
-// Instance ids and boundaries rendered into caller storage (the instances node's messages): the
-// same images and objects as in the frame's own vectors, which are left empty.
+// Class ids, instance ids and boundaries rendered into caller storage (the instances node's
+// messages): the same images and objects as in the frame's own vectors, which are left empty.
 TEST(InstancePipeline, ImagesIntoCallerStorageAreTheSame) {
   Sequence s;
   InstancePipeline own(s.labels), caller(s.labels);
   for (const CaptureFrame& f : s.frames) {
     const InstanceFrame expected = own.process(f);
     std::vector<int32_t> ids(f.pixelCount(), -7);
-    std::vector<uint8_t> boundaries(f.pixelCount(), 7);
+    std::vector<uint8_t> boundaries(f.pixelCount(), 7), semantic(f.pixelCount(), 7);
+    InstanceImagesInto into;
+    into.instance_ids = ids.data();
+    into.boundaries = boundaries.data();
+    into.semantic = semantic.data();
     InstanceFrame got;
-    caller.process(f, got, {ids.data(), boundaries.data()});
+    caller.process(f, got, into);
     EXPECT_EQ(ids, expected.instance_ids);
     EXPECT_EQ(boundaries, expected.boundaries);
+    EXPECT_EQ(semantic, expected.semantic);
     EXPECT_TRUE(got.instance_ids.empty());
     EXPECT_TRUE(got.boundaries.empty());
-    EXPECT_EQ(got.semantic, expected.semantic);
+    EXPECT_TRUE(got.semantic.empty());
     ASSERT_EQ(got.objects.size(), expected.objects.size());
     for (size_t k = 0; k < got.objects.size(); ++k) EXPECT_EQ(got.objects[k].track_id, expected.objects[k].track_id);
   }

@@ -57,6 +57,7 @@ struct InstanceImagesInto {
   int32_t* instance_ids = nullptr;
   uint8_t* boundaries = nullptr;
   const uint32_t* draw_ids = nullptr;
+  uint8_t* semantic = nullptr;
   /// Also rendered where not null (rgb8, width*height*3 bytes), from the same runs of draws as the
   /// images above: colorizeClasses() of the class image with `classes` (which must then be set),
   /// and encodeViperInstances() of the class and instance images. The same bytes, without another

@@ -97,7 +97,7 @@ void Instances::onColor(const sensor_msgs::Image::ConstPtr& color) {
   if (overlay_pub_.getNumSubscribers() == 0) return;
   auto semantic = pending_semantic_.find(color->header.stamp);
   if (semantic != pending_semantic_.end()) {
-    publishOverlay(*color, semantic->second);
+    publishOverlay(*color, *semantic->second);
     pending_semantic_.erase(pending_semantic_.begin(), std::next(semantic));
     return;
   }
@@ -105,7 +105,7 @@ void Instances::onColor(const sensor_msgs::Image::ConstPtr& color) {
   while (pending_color_.size() > 8) pending_color_.erase(pending_color_.begin());
 }
 
-void Instances::publishOverlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic) {
+void Instances::publishOverlay(const sensor_msgs::Image& color, const sensor_msgs::Image& semantic) {
   StepProblems problems;
   sensor_msgs::ImagePtr overlay = step_->overlay(color, semantic, overlay_alpha_, problems);
   log_.log(problems);
@@ -131,7 +131,7 @@ void Instances::onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Imag
   if (overlay_pub_.getNumSubscribers() > 0) {
     auto color = pending_color_.find(ids->header.stamp);
     if (color != pending_color_.end()) {
-      publishOverlay(*color->second, step_->lastSemantic());
+      publishOverlay(*color->second, *step_->lastSemantic());
       pending_color_.erase(pending_color_.begin(), std::next(color));
     } else {
       pending_semantic_[ids->header.stamp] = step_->lastSemantic();

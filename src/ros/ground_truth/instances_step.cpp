@@ -59,12 +59,15 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
   const std_msgs::Header& header = ids.header;
   const uint32_t w = frame_.width, h = frame_.height;
   // The pipeline renders the instance ids in result_ when nobody wants them (boundaries need them).
+  // The class ids always go into a message: the overlay reads them when the color image comes.
+  sensor_msgs::ImagePtr semantic = mono_pool_.take(header, w, h, "mono8", 1);
   sensor_msgs::ImagePtr instance_ids = want.instance_ids ? ids_pool_.take(header, w, h, "32SC1", 4) : nullptr;
   sensor_msgs::ImagePtr boundaries = want.boundaries ? mono_pool_.take(header, w, h, "mono8", 1) : nullptr;
   sensor_msgs::ImagePtr semantic_color = want.semantic_color ? rgb_pool_.take(header, w, h, "rgb8", 3) : nullptr;
   sensor_msgs::ImagePtr instances_viper = want.instances_viper ? rgb_pool_.take(header, w, h, "rgb8", 3) : nullptr;
   InstanceImagesInto into;
   into.draw_ids = id_words;
+  into.semantic = semantic->data.data();
   if (instance_ids) into.instance_ids = reinterpret_cast<int32_t*>(instance_ids->data.data());
   if (boundaries) into.boundaries = boundaries->data.data();
   // The class and VIPER pictures from the pipeline's runs of draws (colorizeClasses and
@@ -81,10 +84,8 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
   for (const std::string& p : result_.problems)
     problems.push_back({StepInput::kDrawIds, StepSeverity::kWarning, "objects", ": " + p});
 
-  if (want.semantic) {
-    out.semantic = mono_pool_.take(header, w, h, "mono8", 1);
-    std::copy(result_.semantic.begin(), result_.semantic.end(), out.semantic->data.begin());
-  }
+  last_semantic_ = semantic;
+  if (want.semantic) out.semantic = semantic;
   out.semantic_color = semantic_color;
   out.instance_ids = instance_ids;
   out.boundaries = boundaries;
@@ -93,19 +94,19 @@ bool InstancesStep::process(const DrawList& draws, const sensor_msgs::Image& ids
   return true;
 }
 
-sensor_msgs::ImagePtr InstancesStep::overlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic,
+sensor_msgs::ImagePtr InstancesStep::overlay(const sensor_msgs::Image& color, const sensor_msgs::Image& semantic,
                                              float alpha, StepProblems& problems) {
   const size_t n = static_cast<size_t>(color.width) * color.height;
   std::string problem = checkImage(color, "rgb8");
-  if (problem.empty() && semantic.size() != n)
-    problem = "its " + std::to_string(n) + " pixels do not fit the " + std::to_string(semantic.size()) +
+  if (problem.empty() && semantic.data.size() != n)
+    problem = "its " + std::to_string(n) + " pixels do not fit the " + std::to_string(semantic.data.size()) +
               "-pixel semantic image";
   if (!problem.empty()) {
     problems.push_back({StepInput::kColor, StepSeverity::kError, "overlay", ": color image: " + problem + "; no overlay"});
     return nullptr;
   }
   sensor_msgs::ImagePtr overlay = rgb_pool_.take(color.header, color.width, color.height, "rgb8", 3);
-  overlayClasses(color.data.data(), semantic.data(), n, classes_, alpha, overlay->data.data());
+  overlayClasses(color.data.data(), semantic.data.data(), n, classes_, alpha, overlay->data.data());
   return overlay;
 }
 

@@ -40,7 +40,7 @@ class Instances {
   void onColor(const sensor_msgs::Image::ConstPtr& color);
   /// Publishes the overlay of `color` and `semantic` (same stamp); false with an error if the
   /// color image does not fit.
-  void publishOverlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic);
+  void publishOverlay(const sensor_msgs::Image& color, const sensor_msgs::Image& semantic);
   std::string topicOf(StepInput input) const;
 
   ros::NodeHandle nh_, private_nh_;
@@ -59,7 +59,7 @@ class Instances {
   float overlay_alpha_ = 0.5f;
   // The overlay pairs the camera image and the semantic image of one stamp, whichever comes first.
   std::map<ros::Time, sensor_msgs::Image::ConstPtr> pending_color_;
-  std::map<ros::Time, std::vector<uint8_t>> pending_semantic_;
+  std::map<ros::Time, sensor_msgs::Image::ConstPtr> pending_semantic_;  // the step's class id images
   ros::Publisher objects_pub_;
 
   uint64_t frames_ = 0;

@@ -46,11 +46,11 @@ class InstancesStep {
   /// One frame (draw list and draw id image of one stamp). Returns false if it was dropped.
   bool process(const DrawList& draws, const sensor_msgs::Image& draw_ids, const Want& want, Output& out,
                StepProblems& problems);
-  /// The class ids of the last frame processed (for the overlay).
-  const std::vector<uint8_t>& lastSemantic() const { return result_.semantic; }
-  /// The overlay of class colors over a camera image (rgb8) of `semantic`'s size, or null with a
-  /// problem if it does not fit.
-  sensor_msgs::ImagePtr overlay(const sensor_msgs::Image& color, const std::vector<uint8_t>& semantic, float alpha,
+  /// The class id image of the last frame processed (for the overlay; made whether wanted or not).
+  const sensor_msgs::ImageConstPtr& lastSemantic() const { return last_semantic_; }
+  /// The overlay of class colors over a camera image (rgb8) of the class id image's size, or null
+  /// with a problem if it does not fit.
+  sensor_msgs::ImagePtr overlay(const sensor_msgs::Image& color, const sensor_msgs::Image& semantic, float alpha,
                                 StepProblems& problems);
 
   const ClassTable& classes() const { return classes_; }
@@ -59,9 +59,10 @@ class InstancesStep {
   ClassTable classes_;
   std::unique_ptr<InstancePipeline> pipeline_;
   CaptureFrame frame_;    // reused between frames
-  InstanceFrame result_;  // reused between frames; its instance ids and boundaries go into messages
+  InstanceFrame result_;  // reused between frames; its images go into messages
   ImageMsgPool ids_pool_, mono_pool_, rgb_pool_{24};  // the images' messages, recycled
   ros::Time last_stamp_;
+  sensor_msgs::ImageConstPtr last_semantic_;
 };
 
 }  // namespace viper

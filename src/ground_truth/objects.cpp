@@ -244,29 +244,6 @@ void renderInstances(const DrawRuns& runs, const DrawAssignment& a, const std::v
   for (const DrawRuns::Run& r : runs.runs) fillInts(out + r.start, r.id < n ? lut[r.id] : 0, r.length);
 }
 
-// Built for AVX2 CPUs (x86-64-v3) and any other, chosen at load time: twice the pixels per step.
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void renderBoundaries(const int32_t* __restrict ids, int w,
-                                                                                  int h, uint8_t* __restrict out) {
-  // Branch-free per row so the compiler vectorises it; rows and columns at the border compare
-  // with themselves where a neighbour is missing.
-  for (int y = 0; y < h; ++y) {
-    const int32_t* __restrict row = ids + static_cast<size_t>(y) * w;
-    const int32_t* __restrict up = y > 0 ? row - w : row;
-    const int32_t* __restrict down = y + 1 < h ? row + w : row;
-    uint8_t* __restrict o = out + static_cast<size_t>(y) * w;
-    if (w == 1) {
-      o[0] = (row[0] != up[0] || row[0] != down[0]) ? 255 : 0;
-      continue;
-    }
-    o[0] = (row[0] != row[1] || row[0] != up[0] || row[0] != down[0]) ? 255 : 0;
-    for (int x = 1; x + 1 < w; ++x) {
-      const int32_t v = row[x];
-      o[x] = static_cast<uint8_t>(-static_cast<int>((v != row[x - 1]) | (v != row[x + 1]) | (v != up[x]) | (v != down[x])));
-    }
-    o[w - 1] = (row[w - 1] != row[w - 2] || row[w - 1] != up[w - 1] || row[w - 1] != down[w - 1]) ? 255 : 0;
-  }
-}
-
 namespace {
 
 // A row's pixels x0..x1-1 of one instance (neighbouring runs of the same instance merged).

@@ -35,8 +35,9 @@ VIPER_AVX2_INLINE __m256i dwords(__m256i v, int a, int b, int c, int d, int e, i
 }
 // 32 bytes of a class picture, with non-temporal stores where `at` is 16-byte aligned (every block of
 // a malloc'd picture): nothing here reads the 6 MB a 1080p picture again, and they spare reading
-// them into the cache before writing (the instances node: 11.5-11.8 -> 10.7-11.3 ms a frame in
-// measure_pipeline.sh on the AVX2-only VM, alternated). Each kernel ends with a store fence.
+// them into the cache before writing (the instances node, when it still made its pictures here:
+// 11.5-11.8 -> 10.7-11.3 ms a frame in measure_pipeline.sh on the AVX2-only VM, alternated; it now
+// makes them from its runs of draws and calls only the overlay). Each kernel ends with a store fence.
 VIPER_AVX2_INLINE void store32(__m256i* at, __m256i v) {
   if ((reinterpret_cast<uintptr_t>(at) & 15) == 0) {
     _mm_stream_si128(reinterpret_cast<__m128i*>(at), _mm256_castsi256_si128(v));

@@ -85,7 +85,7 @@ TEST(Objects, SharedWorldMatrixFormsOneObjectAndTheVoteOverridesSharedParts) {
   renderInstances(runs, a, {0, 5, 7}, inst.data());
   EXPECT_EQ(inst, (std::vector<int32_t>{0, 5, 5, 0, 7, 7, 0, 5}));
   std::vector<uint8_t> edges(8);
-  renderBoundaries(inst.data(), 4, 2, edges.data());
+  renderBoundariesOfRuns(runs, instanceOfDraws(a, {0, 5, 7}), edges.data());
   EXPECT_EQ(edges, (std::vector<uint8_t>{255, 255, 255, 255, 255, 255, 255, 255}));
 
   auto objs = objects;
@@ -180,7 +180,23 @@ TEST(Objects, DrawRunsGiveThePerPixelImagesAndMeasures) {
   }
 }
 
-// Boundaries from the runs of draws are renderBoundaries() of the instance image: random runs of
+// The boundaries' definition on an instance image: 255 where a 4-neighbour inside the image has
+// another id.
+std::vector<uint8_t> boundariesOf(const std::vector<int32_t>& ids, int w, int h) {
+  std::vector<uint8_t> out(ids.size(), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int32_t v = ids[static_cast<size_t>(y) * w + x];
+      for (const auto& [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx >= 0 && nx < w && ny >= 0 && ny < h && ids[static_cast<size_t>(ny) * w + nx] != v)
+          out[static_cast<size_t>(y) * w + x] = 255;
+      }
+    }
+  return out;
+}
+
+// Boundaries from the runs of draws are those of the instance image (boundariesOf): random runs of
 // 1 to 40 pixels (draws of one object and stuff side by side, ids past the list, id 0), rows and
 // columns of one pixel.
 TEST(Objects, BoundariesOfRunsAreThoseOfTheInstanceImage) {
@@ -193,8 +209,8 @@ TEST(Objects, BoundariesOfRunsAreThoseOfTheInstanceImage) {
     findDrawRuns(f, runs);
     std::vector<int32_t> inst(f.pixelCount());
     renderInstances(runs, r.a, r.object_ids, inst.data());
-    std::vector<uint8_t> want(f.pixelCount(), 7), got(f.pixelCount(), 7);
-    renderBoundaries(inst.data(), static_cast<int>(w), static_cast<int>(h), want.data());
+    const std::vector<uint8_t> want = boundariesOf(inst, static_cast<int>(w), static_cast<int>(h));
+    std::vector<uint8_t> got(f.pixelCount(), 7);
     renderBoundariesOfRuns(runs, instanceOfDraws(r.a, r.object_ids), got.data());
     EXPECT_EQ(got, want) << w << "x" << h;
     if (w * h > 100) {

@@ -92,10 +92,9 @@ void renderInstances(const DrawRuns& runs, const DrawAssignment& assignment, con
 /// objects[k], 0 for the others (ids past the table are 0 too).
 std::vector<int32_t> instanceOfDraws(const DrawAssignment& assignment, const std::vector<int32_t>& object_ids);
 
-/// Instance boundaries: 255 where a pixel's 4-neighbour has another instance id, else 0.
-void renderBoundaries(const int32_t* instance_ids, int width, int height, uint8_t* boundaries);
-/// The same from the runs of draws and instanceOfDraws(), without the instance id image: each row's
-/// runs of one instance against those of its neighbours (the same bytes).
+/// Instance boundaries: 255 where a pixel's 4-neighbour (within the image) has another instance id,
+/// else 0; from the runs of draws and instanceOfDraws(), without the instance id image: each row's
+/// runs of one instance against those of its neighbours.
 void renderBoundariesOfRuns(const DrawRuns& runs, const std::vector<int32_t>& instance_of_draw, uint8_t* boundaries);
 
 }  // namespace viper

@@ -136,7 +136,8 @@ VIPER_XXH_AVX512 void runPair(Stream& x, Stream& y, size_t steps) {
 }
 
 // runPair without AVX-512's rotate: two shifts and an or. (On an AVX-512 Xeon runPair's rotate was
-// 8-15 % faster than this kernel, two streams of 512 KB and of 8 MB: so both are kept; the
+// 8-15 % faster than this kernel, two streams of 512 KB and of 8 MB, timed once by a program outside
+// the repository (docs/pipeline_speed.md, session 19): so both are kept; the
 // intrinsics' target attributes keep one template from holding the loop of both.)
 VIPER_XXH_AVX2 void runPairAvx2(Stream& x, Stream& y, size_t steps) {
   const uint8_t* px = x.current().data + x.at;

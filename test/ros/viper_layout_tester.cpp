@@ -77,8 +77,13 @@ TEST(ViperLayoutPlayer, PlaysGoodFramesAndNamesEveryDamagedFile) {
   got.subscribe(nh, "/");
   ASSERT_TRUE(waitFor([&] { return rosout.has("player: done"); }, deadline)) << "the player did not finish";
   const size_t kColor = 11, kSemantic = 11, kInstances = 7, kFlow = 6;
-  waitFor([&] { return got.count("/capture/color/image_raw") >= kColor && got.count("/ground_truth/flow/backward") >= kFlow; },
-          ros::WallTime::now() + ros::WallDuration(10));
+  // "done" follows the last publish; wait for every topic's last message.
+  waitFor([&] {
+    return got.reached({{"/capture/color/image_raw", kColor}, {"/ground_truth/semantic", kSemantic},
+                        {"/ground_truth/instance_ids", kInstances}, {"/ground_truth/instances_viper", kInstances},
+                        {"/ground_truth/flow/forward", kFlow}, {"/ground_truth/flow/backward", kFlow},
+                        {"odom", 11}, {"camera_info", 11}, {"boxes_optical", 8}, {"boxes", 7}});
+  }, ros::WallTime::now() + ros::WallDuration(10));
   std::lock_guard<std::mutex> lock(got.mutex_);
 
   // Every damaged file is named, each once, and nothing else is an error.

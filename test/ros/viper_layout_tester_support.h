@@ -68,6 +68,19 @@ class Received {
     std::lock_guard<std::mutex> lock(mutex_);
     return images[topic].size();
   }
+  // Whether every topic has at least its count: image topics by name, the others as "odom",
+  // "camera_info", "boxes" and "boxes_optical". Each topic has its own connection, so one topic's
+  // last message can come after another's.
+  bool reached(const std::map<std::string, size_t>& counts) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::map<std::string, size_t> others = {
+        {"odom", odoms.size()}, {"camera_info", infos.size()}, {"boxes", boxes.size()}, {"boxes_optical", boxes_optical.size()}};
+    for (const auto& [topic, n] : counts) {
+      const auto other = others.find(topic);
+      if ((other != others.end() ? other->second : images[topic].size()) < n) return false;
+    }
+    return true;
+  }
 
   std::mutex mutex_;
   std::map<std::string, std::vector<sensor_msgs::ImageConstPtr>> images;

@@ -313,16 +313,20 @@ bool Player::waitForSubscribers() {
   };
   const bool camera = std::any_of(sequences_.begin(), sequences_.end(), [](const Sequence& s) { return !s.camera.empty(); });
   if (has(ViperModality::kImg)) topics.emplace_back(color_pub_.getTopic(), [this] { return color_pub_.getNumSubscribers(); });
+  if (camera) topics.emplace_back(camera_info_pub_.getTopic(), [this] { return camera_info_pub_.getNumSubscribers(); });
   if (has(ViperModality::kCls) || has(ViperModality::kInst))
     topics.emplace_back(semantic_pub_.getTopic(), [this] { return semantic_pub_.getNumSubscribers(); });
-  if (has(ViperModality::kInst))
+  if (has(ViperModality::kInst)) {
     topics.emplace_back(instance_ids_pub_.getTopic(), [this] { return instance_ids_pub_.getNumSubscribers(); });
+    topics.emplace_back(instances_viper_pub_.getTopic(), [this] { return instances_viper_pub_.getNumSubscribers(); });
+  }
   if (has(ViperModality::kFlow))
     topics.emplace_back(flow_forward_pub_.getTopic(), [this] { return flow_forward_pub_.getNumSubscribers(); });
   if (has(ViperModality::kFlowBw))
     topics.emplace_back(flow_backward_pub_.getTopic(), [this] { return flow_backward_pub_.getNumSubscribers(); });
   if (has(ViperModality::kBb))
     topics.emplace_back(boxes_optical_pub_.getTopic(), [this] { return boxes_optical_pub_.getNumSubscribers(); });
+  if (has(ViperModality::kBb) && camera) topics.emplace_back(boxes_pub_.getTopic(), [this] { return boxes_pub_.getNumSubscribers(); });
   if (camera) topics.emplace_back(odom_pub_.getTopic(), [this] { return odom_pub_.getNumSubscribers(); });
   bool logged = false;
   while (running()) {

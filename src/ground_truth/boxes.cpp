@@ -32,6 +32,12 @@ const MeshRecord* MeshRegistry::find(uint64_t key) const {
   return it == meshes_.end() ? nullptr : &it->second.mesh;
 }
 
+bool MeshRegistry::holds(uint64_t key, const std::vector<float>& positions_xyz,
+                         const std::vector<uint32_t>& indices) const {
+  const MeshRecord* mesh = find(key);
+  return mesh && mesh->positions_xyz == positions_xyz && mesh->indices == indices;
+}
+
 const Bounds3* MeshRegistry::bounds(uint64_t key) const {
   auto it = meshes_.find(key);
   return it == meshes_.end() || it->second.bounds.empty() ? nullptr : &it->second.bounds;

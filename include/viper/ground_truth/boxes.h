@@ -29,6 +29,9 @@ class MeshRegistry {
   void add(const MeshRecord& mesh);
   /// nullptr if the key never arrived.
   const MeshRecord* find(uint64_t key) const;
+  /// Whether it holds `key` with exactly these positions and indices: a mesh store, sent again
+  /// whole with every new mesh, need not be added again.
+  bool holds(uint64_t key, const std::vector<float>& positions_xyz, const std::vector<uint32_t>& indices) const;
   /// Object-space bounds of a mesh's vertices; nullptr if the key never arrived or it is empty.
   const Bounds3* bounds(uint64_t key) const;
   /// Surface area of a mesh's triangles in its own units (0 for unknown keys).

@@ -58,6 +58,11 @@ Draw toDrawMsg(const DrawRecord& draw) {
 
 DrawRecord fromDrawMsg(const Draw& msg) {
   DrawRecord draw;
+  fromDrawMsg(msg, draw);
+  return draw;
+}
+
+void fromDrawMsg(const Draw& msg, DrawRecord& draw) {
   draw.index = msg.index;
   draw.mesh_key = msg.mesh_key;
   draw.vertex_buffer_key = msg.vertex_buffer_key;
@@ -71,8 +76,8 @@ DrawRecord fromDrawMsg(const Draw& msg) {
   draw.primitive_mode = msg.primitive_mode;
   draw.primitive_count = msg.primitive_count;
   draw.visible_pixels = msg.visible_pixels;
+  draw.gaps = 0;  // not in the message
   draw.deformed_clip_xyzw = msg.deformed_clip_xyzw;
-  return draw;
 }
 
 DrawList toDrawListMsg(const CaptureFrame& frame, const std_msgs::Header& header) {
@@ -88,9 +93,10 @@ DrawList toDrawListMsg(const CaptureFrame& frame, const std_msgs::Header& header
 void fromDrawListMsg(const DrawList& msg, CaptureFrame& frame) {
   frame.number = msg.frame_number;
   frame.condition = msg.condition;
-  frame.draws.clear();
-  frame.draws.reserve(msg.draws.size());
-  for (const Draw& d : msg.draws) frame.draws.push_back(fromDrawMsg(d));
+  // Into the draws already there: their vectors keep their storage (no allocation a draw where a
+  // node converts into the same frame message after message).
+  frame.draws.resize(msg.draws.size());
+  for (size_t i = 0; i < msg.draws.size(); ++i) fromDrawMsg(msg.draws[i], frame.draws[i]);
 }
 
 Mesh toMeshMsg(const MeshRecord& mesh) {
@@ -109,10 +115,11 @@ MeshRecord fromMeshMsg(const Mesh& msg) {
   return mesh;
 }
 
-std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::string>& problems) {
+std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::string>& problems,
+                                         const MeshRegistry* known) {
   std::vector<MeshRecord> meshes;
-  meshes.reserve(msg.meshes.size());
   for (const Mesh& m : msg.meshes) {
+    if (known && known->holds(m.key, m.positions_xyz, m.indices)) continue;
     if (m.positions_xyz.size() % 3 != 0 || m.indices.size() % 3 != 0) {
       std::ostringstream what;
       what << "mesh " << std::hex << m.key << std::dec << " has " << m.positions_xyz.size() << " position floats and "

@@ -13,12 +13,12 @@ BoxesStep::BoxesStep(ClassTable classes, std::string map_frame)
 
 void BoxesStep::addMeshes(const MeshStore& store, StepProblems& problems) {
   std::vector<std::string> bad;
-  meshes_.add(fromMeshStoreMsg(store, bad));
+  meshes_.add(fromMeshStoreMsg(store, bad, &meshes_));
   for (std::string& p : bad) problems.push_back({StepInput::kMeshStore, StepSeverity::kError, "mesh", ": " + p});
 }
 
 void BoxesStep::process(const ObjectArray& objects, const DrawList& draws, Output& out, StepProblems& problems) {
-  CaptureFrame frame;
+  CaptureFrame& frame = frame_;  // kept: its draws' storage is reused
   fromDrawListMsg(draws, frame);
   const double t = draws.header.stamp.toSec();
   const unsigned long number = draws.frame_number;

@@ -51,7 +51,7 @@ FlowStep::FlowStep(const FlowSettings& settings) : settings_(settings) {}
 
 void FlowStep::addMeshes(const MeshStore& store, StepProblems& problems) {
   std::vector<std::string> bad;
-  meshes_.add(fromMeshStoreMsg(store, bad));
+  meshes_.add(fromMeshStoreMsg(store, bad, &meshes_));
   for (std::string& p : bad) problems.push_back({StepInput::kMeshStore, StepSeverity::kError, "mesh", ": " + p});
 }
 

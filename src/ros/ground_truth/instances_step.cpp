@@ -30,7 +30,7 @@ InstancesStep::InstancesStep(LabelTable labels, ClassTable classes, const Instan
 
 void InstancesStep::addMeshes(const MeshStore& store, StepProblems& problems) {
   std::vector<std::string> bad;
-  pipeline_->addMeshes(fromMeshStoreMsg(store, bad));
+  pipeline_->addMeshes(fromMeshStoreMsg(store, bad, &pipeline_->meshes()));
   for (std::string& p : bad) problems.push_back({StepInput::kMeshStore, StepSeverity::kError, "mesh", ": " + p});
 }
 

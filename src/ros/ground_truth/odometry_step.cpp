@@ -31,7 +31,7 @@ bool OdometryStep::process(const DrawList& draws, Output& out, StepProblems& pro
     problems.push_back({StepInput::kDraws, StepSeverity::kError, "stamp_order", text});
     return false;
   }
-  CaptureFrame frame;
+  CaptureFrame& frame = frame_;  // kept: its draws' storage is reused
   fromDrawListMsg(draws, frame);
   const auto camera = chooseFrameCamera(frame);
   if (!camera) {

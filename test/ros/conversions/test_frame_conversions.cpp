@@ -97,6 +97,55 @@ TEST(FrameConversions, MeshRoundTrip) {
   EXPECT_EQ(back.indices, mesh.indices);
 }
 
+// The bridge sends its whole mesh store again with every new mesh: a node converts only the meshes
+// its registry does not already hold as they are.
+TEST(FrameConversions, AMeshStoreSentAgainGivesOnlyWhatIsNewOrChanged) {
+  MeshRecord first = sampleFrame().new_meshes[0], second = first;
+  second.key = 78;
+  second.positions_xyz[8] = 2.0f;
+  MeshStore store;
+  store.meshes = {toMeshMsg(first)};
+  std::vector<std::string> problems;
+  MeshRegistry known;
+  const std::vector<MeshRecord> once = fromMeshStoreMsg(store, problems, &known);
+  ASSERT_EQ(once.size(), 1u) << "an empty registry holds nothing";
+  known.add(once);
+  EXPECT_TRUE(fromMeshStoreMsg(store, problems, &known).empty()) << "the same store again";
+  store.meshes.push_back(toMeshMsg(second));
+  std::vector<MeshRecord> again = fromMeshStoreMsg(store, problems, &known);
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_EQ(again[0].key, 78u);
+  known.add(again);
+  // A key the registry holds with other positions or indices is converted again (and replaced).
+  store.meshes[0].positions_xyz[0] = 0.5f;
+  store.meshes[1].indices = {2, 1, 0};
+  again = fromMeshStoreMsg(store, problems, &known);
+  ASSERT_EQ(again.size(), 2u);
+  EXPECT_EQ(again[0].positions_xyz[0], 0.5f);
+  EXPECT_EQ(again[1].indices, (std::vector<uint32_t>{2, 1, 0}));
+  EXPECT_EQ(fromMeshStoreMsg(store, problems).size(), 2u) << "without a registry, every mesh";
+  EXPECT_TRUE(problems.empty());
+}
+
+// A frame converted into again (a node's frame kept from message to message) holds the new draws
+// only, whatever it held before: fewer draws, other texture keys, no deformed positions.
+TEST(FrameConversions, DrawListIntoAFrameThatHeldAnother) {
+  const CaptureFrame frame = sampleFrame();
+  CaptureFrame reused;
+  CaptureFrame bigger = frame;
+  bigger.draws.push_back(frame.draws[1]);
+  bigger.draws[0].texture_keys = {1, 2, 3, 4};
+  bigger.draws[0].deformed_clip_xyzw = {1, 2, 3, 4};
+  fromDrawListMsg(toDrawListMsg(bigger, sampleHeader()), reused);
+  ASSERT_EQ(reused.draws.size(), 3u);
+  fromDrawListMsg(toDrawListMsg(frame, sampleHeader()), reused);
+  ASSERT_EQ(reused.draws.size(), frame.draws.size());
+  for (size_t i = 0; i < frame.draws.size(); ++i) {
+    SCOPED_TRACE("draw " + std::to_string(i));
+    test::expectDrawEq(frame.draws[i], reused.draws[i]);
+  }
+}
+
 TEST(FrameConversions, ImagesHaveEncodingsSizesAndValues) {
   const CaptureFrame frame = sampleFrame();
   const std_msgs::Header h = sampleHeader();

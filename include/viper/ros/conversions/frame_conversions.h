@@ -6,6 +6,7 @@
 
 #include "viper/capture/capture_frame.h"
 #include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/boxes.h"
 #include "viper/ground_truth/camera_model.h"
 #include "viper/ros/conversions/image_conversions.h"
 #include "viper/ros/conversions/image_msg_pool.h"
@@ -29,18 +30,23 @@ namespace viper {
 Draw toDrawMsg(const DrawRecord& draw);
 /// viper/Draw -> DrawRecord.
 DrawRecord fromDrawMsg(const Draw& msg);
+/// The same into `draw`, every field (its vectors keep their storage).
+void fromDrawMsg(const Draw& msg, DrawRecord& draw);
 
 /// The draw list of `frame` (frame number, condition, draws) with `header`.
 DrawList toDrawListMsg(const CaptureFrame& frame, const std_msgs::Header& header);
-/// Fills `frame`'s number, condition and draws from `msg`; leaves images and meshes untouched.
+/// Fills `frame`'s number, condition and draws from `msg`; leaves images and meshes untouched. The
+/// draws are converted into those `frame` already holds, reusing their storage.
 void fromDrawListMsg(const DrawList& msg, CaptureFrame& frame);
 
 /// MeshRecord <-> viper/Mesh.
 Mesh toMeshMsg(const MeshRecord& mesh);
 MeshRecord fromMeshMsg(const Mesh& msg);
 /// The well-formed meshes of a mesh store message. A mesh whose position or index count is not a
-/// multiple of 3 is left out, with a sentence naming it appended to `problems`.
-std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::string>& problems);
+/// multiple of 3 is left out, with a sentence naming it appended to `problems`. With `known`, so
+/// are the meshes it already holds unchanged (the store is sent again whole with every new mesh).
+std::vector<MeshRecord> fromMeshStoreMsg(const MeshStore& msg, std::vector<std::string>& problems,
+                                         const MeshRegistry* known = nullptr);
 
 /// Fills `frame`'s size, number, time, condition, draws and draw ids from a draw list and a draw id
 /// image (32SC1, packed). Returns an empty string, or what is wrong (encoding, size, stamps that

@@ -3,6 +3,7 @@
 // lockstep `generate` both run it (docs/ground_truth_nodes.md).
 #pragma once
 
+#include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/boxes.h"
 #include "viper/ground_truth/class_table.h"
 #include "viper/ros/ground_truth/step_problems.h"
@@ -39,6 +40,7 @@ class BoxesStep {
   ClassTable classes_;
   std::string map_frame_;
   MeshRegistry meshes_;
+  CaptureFrame frame_;  // the last draw list's draws; converted into again (their storage reused)
   struct LastSeen {
     Eigen::Vector3d center;
     double time_s;

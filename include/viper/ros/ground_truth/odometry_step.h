@@ -3,6 +3,7 @@
 // the lockstep `generate` both run it (docs/ground_truth_nodes.md).
 #pragma once
 
+#include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/ego_motion.h"
 #include "viper/ros/ground_truth/step_problems.h"
 
@@ -46,6 +47,7 @@ class OdometryStep {
   std::optional<EgoPose> last_;
   ros::Time last_stamp_;
   nav_msgs::Path path_;
+  CaptureFrame frame_;  // the last draw list's draws; converted into again (their storage reused)
 };
 
 }  // namespace viper

@@ -238,6 +238,19 @@ TEST_F(FlowBadInput, BrokenInputLosesOnlyItsPixelsAndTheNodeKeepsRunning) {
     EXPECT_TRUE(errorLogged("/capture/draws", "missing vertex positions")) << "no error naming the draws topic";
     expectAlive("a deformed draw without vertex positions");
   }
+  {  // a draw id past the frame's three draws: dropped, no flow spans it
+    const double before = t_;
+    Frame f = next();
+    int32_t* ids = reinterpret_cast<int32_t*>(f.draw_ids.data.data());
+    ids[kW + 1] = 9;
+    send(f);
+    expectAlive("a draw id past the draws");
+    EXPECT_TRUE(errorLogged("/capture/draws", "draw id 9 at pixel " + std::to_string(kW + 1) + " in draw_ids, but only 3"))
+        << "no error naming the draw id and its pixel";
+    EXPECT_FALSE(get(kBwd, f.draws.header.stamp.toSec())) << "backward flow of a frame with a draw id past its draws";
+    EXPECT_FALSE(get(kFwd, before)) << "forward flow into a frame with a draw id past its draws";
+    EXPECT_FALSE(get(kFwd, f.draws.header.stamp.toSec()));
+  }
   {  // NaN depth on three pixels: those pixels have no flow out of this frame
     Frame f = next();
     float* depth = reinterpret_cast<float*>(f.depth.data.data());

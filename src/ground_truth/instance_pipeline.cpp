@@ -95,9 +95,9 @@ void InstancePipeline::process(const CaptureFrame& frame, InstanceFrame& out, co
   out.boundaries.resize(into.boundaries ? 0 : n);
   int32_t* instance_ids = into.instance_ids ? into.instance_ids : out.instance_ids.data();
   renderSemantic(runs_, assignment, into.semantic ? into.semantic : out.semantic.data());
-  renderInstances(runs_, assignment, ids, instance_ids);
-  // The boundaries and pictures from the runs of draws (the same bytes as from the images).
+  // The instances, boundaries and pictures from the runs of draws (the same bytes as from the images).
   const std::vector<int32_t> instance_of_draw = instanceOfDraws(assignment, ids);
+  renderInstances(runs_, instance_of_draw, instance_ids);
   renderBoundariesOfRuns(runs_, instance_of_draw, into.boundaries ? into.boundaries : out.boundaries.data());
   renderPictures(assignment, instance_of_draw, into);
 

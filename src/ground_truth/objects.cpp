@@ -237,11 +237,9 @@ std::vector<int32_t> instanceOfDraws(const DrawAssignment& a, const std::vector<
   return lut;
 }
 
-void renderInstances(const DrawRuns& runs, const DrawAssignment& a, const std::vector<int32_t>& object_ids,
-                     int32_t* out) {
-  const std::vector<int32_t> lut = instanceOfDraws(a, object_ids);
-  const uint32_t n = static_cast<uint32_t>(lut.size());
-  for (const DrawRuns::Run& r : runs.runs) fillInts(out + r.start, r.id < n ? lut[r.id] : 0, r.length);
+void renderInstances(const DrawRuns& runs, const std::vector<int32_t>& instance_of_draw, int32_t* out) {
+  const size_t n = instance_of_draw.size();
+  for (const DrawRuns::Run& r : runs.runs) fillInts(out + r.start, r.id < n ? instance_of_draw[r.id] : 0, r.length);
 }
 
 namespace {

@@ -82,7 +82,7 @@ TEST(Objects, SharedWorldMatrixFormsOneObjectAndTheVoteOverridesSharedParts) {
   renderSemantic(runs, a, sem.data());
   EXPECT_EQ(sem, (std::vector<uint8_t>{kRoad, kBus, kBus, 0, kCar, kCar, 9, kBus}));
   std::vector<int32_t> inst(8);
-  renderInstances(runs, a, {0, 5, 7}, inst.data());
+  renderInstances(runs, instanceOfDraws(a, {0, 5, 7}), inst.data());
   EXPECT_EQ(inst, (std::vector<int32_t>{0, 5, 5, 0, 7, 7, 0, 5}));
   std::vector<uint8_t> edges(8);
   renderBoundariesOfRuns(runs, instanceOfDraws(a, {0, 5, 7}), edges.data());
@@ -153,7 +153,7 @@ TEST(Objects, DrawRunsGiveThePerPixelImagesAndMeasures) {
   std::vector<uint8_t> sem(f.pixelCount(), 99);
   std::vector<int32_t> inst(f.pixelCount(), -7);
   renderSemantic(runs, a, sem.data());
-  renderInstances(runs, a, object_ids, inst.data());
+  renderInstances(runs, instanceOfDraws(a, object_ids), inst.data());
   auto measured = objects;
   measureObjects(runs, a, measured);
   std::vector<uint32_t> count(objects.size(), 0);
@@ -208,7 +208,7 @@ TEST(Objects, BoundariesOfRunsAreThoseOfTheInstanceImage) {
     DrawRuns runs;
     findDrawRuns(f, runs);
     std::vector<int32_t> inst(f.pixelCount());
-    renderInstances(runs, r.a, r.object_ids, inst.data());
+    renderInstances(runs, instanceOfDraws(r.a, r.object_ids), inst.data());
     const std::vector<uint8_t> want = boundariesOf(inst, static_cast<int>(w), static_cast<int>(h));
     std::vector<uint8_t> got(f.pixelCount(), 7);
     renderBoundariesOfRuns(runs, instanceOfDraws(r.a, r.object_ids), got.data());

@@ -84,13 +84,12 @@ void renderSemantic(const DrawRuns& runs, const DrawAssignment& assignment, uint
 void renderRgbOfDraws(const DrawRuns& runs, const std::vector<std::array<uint8_t, 3>>& colors,
                       std::array<uint8_t, 3> other, uint8_t* rgb);
 
-/// Instance id image: `object_ids[k]` is the id to write for objects[k] (0 = none, e.g. stuff).
-void renderInstances(const DrawRuns& runs, const DrawAssignment& assignment, const std::vector<int32_t>& object_ids,
-                     int32_t* instance_ids);
-
-/// The instance id of each draw id, as renderInstances writes it: `object_ids[k]` for the draws of
-/// objects[k], 0 for the others (ids past the table are 0 too).
+/// The instance id of each draw id: `object_ids[k]` (0 = none, e.g. stuff) for the draws of
+/// objects[k], 0 for the others.
 std::vector<int32_t> instanceOfDraws(const DrawAssignment& assignment, const std::vector<int32_t>& object_ids);
+
+/// Instance id image from instanceOfDraws() (draw ids past the table are 0).
+void renderInstances(const DrawRuns& runs, const std::vector<int32_t>& instance_of_draw, int32_t* instance_ids);
 
 /// Instance boundaries: 255 where a pixel's 4-neighbour (within the image) has another instance id,
 /// else 0; from the runs of draws and instanceOfDraws(), without the instance id image: each row's

@@ -22,10 +22,12 @@
 #                                    [--capture-codec lz4|zstd (the capture's compression, lz4)]
 #                                    [--manager-threads N (replay.launch's manager_threads, 4)]
 #                                    [--perf FILE (perf record --call-graph dwarf of the manager while it plays)]
+#                                    [--kernels (then each node's kernels alone on the same capture or bag,
+#                                     scripts/measure_kernels.sh, and the manager's CPU over their sum)]
 # Needs a built workspace sourced first: source devel/setup.bash
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out="" codec=lz4 threads=4
+frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out="" codec=lz4 threads=4 kernels=false
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
@@ -42,7 +44,8 @@ while [ $# -gt 0 ]; do
     --perf) perf_out="$2"; shift 2 ;;
     --capture-codec) codec="$2"; shift 2 ;;
     --manager-threads) threads="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...] [--bag-compression lz4|none|bz2] [--capture-codec zstd|lz4] [--manager-threads N] [--perf FILE]" >&2; exit 2 ;;
+    --kernels) kernels=true; shift ;;
+    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--no-flow] [--source bag|rosbag|capture] [--rate R] [--queue-size Q] [--throughput [--in-flight K]] [--sweep R1,R2,...] [--bag-compression lz4|none|bz2] [--capture-codec zstd|lz4] [--manager-threads N] [--perf FILE] [--kernels]" >&2; exit 2 ;;
   esac
 done
 case "$source" in bag|rosbag|capture) ;; *) echo "measure_pipeline: --source is bag, rosbag or capture" >&2; exit 2 ;; esac
@@ -121,6 +124,16 @@ cat "$work"/ros_home/log/*/rosout.log | grep -ao 'cpu: [a-z_]* [0-9]* frames, [0
   awk '{ms[$2] = $5; n[$2] = $3} END {for (k in ms) print k, ms[k], n[k]}' | sort |
   awk -v manager="$manager_ms" '{printf "  %-15s %6.1f ms CPU a frame (over %d frames)\n", $1, $2, $3; sum += $2}
     END {printf "  %-15s %6.1f ms\n  %-15s %6.1f ms (ROS: queues, synchronisers, publishing)\n", "sum", sum, "rest of manager", manager - sum}'
+# The kernels alone on the same frames, after the replay (not beside it): their sum is the least
+# the manager could spend a frame on this machine.
+if [ "$kernels" = true ]; then
+  kernel_args=("$work/world.vcap")
+  [ "$source" = capture ] || kernel_args+=(--bag "$work/raw.bag")
+  kernel_out=$("$here/scripts/measure_kernels.sh" "${kernel_args[@]}")
+  echo "$kernel_out"
+  kernel_sum=$(echo "$kernel_out" | sed -n 's/^kernels: \([0-9.]*\) ms.*/\1/p')
+  awk -v m="$manager_ms" -v k="$kernel_sum" 'BEGIN {printf "whole over kernels: %.2f (the manager %.1f ms a frame, the kernels alone %.1f)\n", m / k, m, k}'
+fi
 # Sustained: every frame through every node, from the first draw list to the last output of any
 # topic (wall-clock seconds in counts.txt); with queues a replay can deliver faster for a while.
 awk -v n="$frames" '$1 == "/capture/draws" {first = $3} {if ($4 > last) last = $4}

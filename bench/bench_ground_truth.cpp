@@ -13,6 +13,10 @@
 
 #include <benchmark/benchmark.h>
 
+#ifdef __x86_64__
+#include <immintrin.h>
+#endif
+
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -68,6 +72,52 @@ void BM_InstancesAndTracking(benchmark::State& state) {
 constexpr size_t kFlowBytesPerPixel = 4 + 4 + 4 + 4 + 8 + 1;
 
 void BM_MemcpyFlowBytes(benchmark::State& state) { copyBytes(state, 2 * size_t(kW) * kH * kFlowBytesPerPixel); }
+
+#ifdef __x86_64__
+// One direction's streams of the flow kernel with none of its arithmetic: a's draw ids and depth and
+// b's depth at the same pixel read, (u, v) written with the kernel's non-temporal stores (uv
+// 16-byte aligned) and the mask with plain ones; AVX2, 8 pixels a step.
+__attribute__((target("avx2"))) void flowStreams(const uint32_t* ids, const float* depth_a, const float* depth_b,
+                                                 size_t n, float* uv, uint8_t* visible) {
+  for (size_t x = 0; x + 8 <= n; x += 8) {
+    const __m256 id = _mm256_cvtepi32_ps(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids + x)));
+    const __m256 d = _mm256_loadu_ps(depth_a + x), there = _mm256_loadu_ps(depth_b + x);
+    const __m256 u = _mm256_add_ps(d, id);
+    const __m256 lo = _mm256_unpacklo_ps(u, there), hi = _mm256_unpackhi_ps(u, there);
+    _mm_stream_ps(uv + 2 * x, _mm256_castps256_ps128(lo));
+    _mm_stream_ps(uv + 2 * x + 4, _mm256_castps256_ps128(hi));
+    _mm_stream_ps(uv + 2 * x + 8, _mm256_extractf128_ps(lo, 1));
+    _mm_stream_ps(uv + 2 * x + 12, _mm256_extractf128_ps(hi, 1));
+    const __m256i seen = _mm256_castps_si256(_mm256_cmp_ps(there, d, _CMP_NLT_UQ));
+    const __m256i bytes = _mm256_packs_epi16(_mm256_packs_epi32(seen, seen), _mm256_setzero_si256());
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(visible + x),
+                     _mm_unpacklo_epi32(_mm256_castsi256_si128(bytes), _mm256_extracti128_si256(bytes, 1)));
+  }
+  _mm_sfence();
+}
+
+// What the flow kernel's memory traffic alone costs, both directions of a frame pair (the floor of
+// BM_FlowForwardAndBackward*, whose kernel does its arithmetic on the same streams; memcpy of
+// kFlowBytesPerPixel, BM_MemcpyFlowBytes, reads and writes each byte, twice this traffic).
+void BM_FlowStreams(benchmark::State& state) {
+  if (!__builtin_cpu_supports("avx2")) {
+    state.SkipWithError("no AVX2 on this CPU");
+    return;
+  }
+  const size_t n = size_t(kW) * kH;
+  std::vector<uint32_t> ids_a(n, 3), ids_b(n, 4);
+  std::vector<float> depth_a(n, 20.0f), depth_b(n, 21.0f), uv_ab(2 * n), uv_ba(2 * n);
+  std::vector<uint8_t> visible_ab(n), visible_ba(n);
+  for (auto _ : state) {
+    flowStreams(ids_a.data(), depth_a.data(), depth_b.data(), n, uv_ab.data(), visible_ab.data());
+    flowStreams(ids_b.data(), depth_b.data(), depth_a.data(), n, uv_ba.data(), visible_ba.data());
+    benchmark::DoNotOptimize(uv_ab.data());
+    benchmark::DoNotOptimize(uv_ba.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetBytesProcessed(state.iterations() * 2 * n * (4 + 4 + 4 + 8 + 1));
+}
+#endif
 
 // The instruction path named by a benchmark argument (0 widest, 1 AVX-512, 2 AVX2, 3 one pixel at
 // a time, 4 AVX-512 VBMI), shown in the benchmark's label as the path actually taken on this CPU.
@@ -483,6 +533,9 @@ BENCHMARK(BM_InstancePictures)->ArgsProduct({{0, 1}, {0, 1}})->Unit(benchmark::k
 BENCHMARK(BM_BoxesCapture)->Arg(1)->Arg(20)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BridgeFrameCapture)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MemcpyFlowBytes)->Unit(benchmark::kMillisecond);
+#ifdef __x86_64__
+BENCHMARK(BM_FlowStreams)->Unit(benchmark::kMillisecond);
+#endif
 // {deformed every, path}: the widest path and AVX2 side by side.
 BENCHMARK(BM_FlowForwardAndBackward)->ArgsProduct({{0, 3}, {0, 2}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FlowFromMetres)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

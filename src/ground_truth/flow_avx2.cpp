@@ -100,6 +100,23 @@ VIPER_AVX2_INLINE void storeFlow8(__m256 u, __m256 v, __m256 surface, float* uv)
   }
 }
 
+// Which of 8 depths are a surface: window depth in [0, 1), or metres positive and finite (kMetres).
+template <bool kMetres>
+VIPER_AVX2_INLINE __m256 surfaceOf(__m256 d) {
+  const __m256 zero = _mm256_setzero_ps();
+  return kMetres ? _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(d, _mm256_set1_ps(kInfinity), _CMP_LT_OQ))
+                 : _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GE_OQ), _mm256_cmp_ps(d, _mm256_set1_ps(1.0f), _CMP_LT_OQ));
+}
+
+// The block at x of row r: its flow (NaN without a surface), and b's pixel and depth limit for the
+// row's second pass (NaN: nothing to look up).
+VIPER_AVX2_INLINE void storeBlock(const FlowKernel::Row& r, int x, __m256 u, __m256 v, __m256i q, __m256 limit,
+                                  __m256 surface) {
+  storeFlow8(u, v, surface, r.uv + 2 * x);
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(r.q + x), q);
+  _mm256_storeu_ps(r.limit + x, _mm256_blendv_ps(_mm256_set1_ps(kNaN), limit, surface));
+}
+
 // Row y from x0 in blocks of 8 pixels, as far as whole blocks go; returns where the rest begins. A block of
 // one rigid draw (the common case) is computed at once; in a block of several draws, each rigid
 // draw is computed over the whole block and blended in by lanes, and non-rigid lanes are redone
@@ -118,20 +135,54 @@ VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts&
                      _mm256_set1_ps(k.occ_rel),
                      _mm256_set1_ps(k.occ_abs),
                      _mm256_set1_epi32(width)};
-  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f), nan = _mm256_set1_ps(kNaN);
-  const __m256 infinity = _mm256_set1_ps(kInfinity);
+  const __m256 one = _mm256_set1_ps(1.0f), nan = _mm256_set1_ps(kNaN);
   const __m256 yf = _mm256_set1_ps(static_cast<float>(y));
   __m256 xf = _mm256_add_ps(_mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_ps(static_cast<float>(x0)));
   const int end = width & ~7;
   int n_pending = 0;
   Counts blocks;
-  for (int x = x0; x < end; x += 8, xf = _mm256_add_ps(xf, _mm256_set1_ps(8.0f))) {
+  for (int x = x0; x < end;) {
+    // A run of one rigid draw (the common case: a draw's rows run ~100 pixels), two blocks a step:
+    // the draw's lookup and counts once a run, and two independent chains of dependent steps (the
+    // division the longest) for the CPU to overlap. The same arithmetic as a block at a time:
+    // BM_FlowForwardAndBackwardCapture/1/0 on the AVX2-only VM of session 21, alternated with it,
+    // 14.5 -> 12.6 ms at best of 25 runs, 18.3 -> 16.9 ms in the median.
+    if (x + 16 <= end) {
+      const uint32_t first = r.ids[x];
+      DrawMapping& m = r.mappingOf(first);
+      const __m256i want = _mm256_set1_epi32(static_cast<int>(first));
+      const __m256i same =
+          _mm256_and_si256(_mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x)), want),
+                           _mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x + 8)), want));
+      if (m.kind == DrawMapping::kRigid && _mm256_movemask_epi8(same) == -1) {
+        m.toRow(y, ndc_y);
+        int with = 0, pixels = 0;
+        do {
+          const __m256 d0 = _mm256_loadu_ps(r.depth + x), d1 = _mm256_loadu_ps(r.depth + x + 8);
+          const __m256 surface0 = surfaceOf<kMetres>(d0), surface1 = surfaceOf<kMetres>(d1);
+          with += __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(surface0))) +
+                  __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(surface1)));
+          pixels += 16;
+          const __m256 xf1 = _mm256_add_ps(xf, _mm256_set1_ps(8.0f));
+          __m256 u0, v0, limit0, u1, v1, limit1;
+          __m256i q0, q1;
+          rigid8<kMetres>(m, t, xf, yf, kMetres ? d0 : _mm256_sub_ps(one, d0), u0, v0, q0, limit0);
+          rigid8<kMetres>(m, t, xf1, yf, kMetres ? d1 : _mm256_sub_ps(one, d1), u1, v1, q1, limit1);
+          storeBlock(r, x, u0, v0, q0, limit0, surface0);
+          storeBlock(r, x + 8, u1, v1, q1, limit1, surface1);
+          x += 16, xf = _mm256_add_ps(xf, _mm256_set1_ps(16.0f));
+        } while (x + 16 <= end &&
+                 _mm256_movemask_epi8(_mm256_and_si256(
+                     _mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x)), want),
+                     _mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x + 8)), want))) == -1);
+        m.with_depth += with, m.without_depth += pixels - with;  // as countLanes for a rigid draw
+        blocks.rigid += with, blocks.no_surface += pixels - with;
+        continue;
+      }
+    }
     const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x));
     const __m256 d = _mm256_loadu_ps(r.depth + x);
-    // A surface: window depth in [0, 1), or metres positive and finite.
-    const __m256 surface =
-        kMetres ? _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(d, infinity, _CMP_LT_OQ))
-                : _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GE_OQ), _mm256_cmp_ps(d, one, _CMP_LT_OQ));
+    const __m256 surface = surfaceOf<kMetres>(d);
     const unsigned surface_bits = static_cast<unsigned>(_mm256_movemask_ps(surface));
     const __m256 g = kMetres ? d : _mm256_sub_ps(one, d);
     const uint32_t first = r.ids[x];
@@ -165,9 +216,8 @@ VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts&
         q = _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(q), _mm256_castsi256_ps(dq), lanes));
       }
     }
-    storeFlow8(u, v, surface, r.uv + 2 * x);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(r.q + x), q);
-    _mm256_storeu_ps(r.limit + x, _mm256_blendv_ps(nan, limit, surface));
+    storeBlock(r, x, u, v, q, limit, surface);
+    x += 8, xf = _mm256_add_ps(xf, _mm256_set1_ps(8.0f));
   }
   for (int x = x0; x < end; x += 8) {
     const __m256 limit = _mm256_loadu_ps(r.limit + x);

@@ -426,9 +426,9 @@ void BM_BridgeFrameCapture(benchmark::State& state) {
     }
     const auto camera = chooseFrameCamera(frame);
     auto* depth = reinterpret_cast<float*>(images.image(CaptureImage::kDepth));
-    largest = depthMetresMaskingPrimitives(frame, reinterpret_cast<const uint32_t*>(images.image(CaptureImage::kDrawIds)),
-                                           depth, camera ? &*camera : nullptr, depth,
-                                           reinterpret_cast<int32_t*>(images.image(CaptureImage::kPrimitiveIds)));
+    const auto* ids = reinterpret_cast<const uint32_t*>(images.image(CaptureImage::kDrawIds));
+    auto* primitives = reinterpret_cast<int32_t*>(images.image(CaptureImage::kPrimitiveIds));
+    largest = depthMetresMaskingPrimitives(frame, ids, depth, camera ? &*camera : nullptr, depth, primitives);
     benchmark::DoNotOptimize(largest);
   }
   state.counters["width"] = frame.width;

@@ -103,9 +103,16 @@ VIPER_AVX2_INLINE void storeFlow8(__m256 u, __m256 v, __m256 surface, float* uv)
 // Which of 8 depths are a surface: window depth in [0, 1), or metres positive and finite (kMetres).
 template <bool kMetres>
 VIPER_AVX2_INLINE __m256 surfaceOf(__m256 d) {
-  const __m256 zero = _mm256_setzero_ps();
-  return kMetres ? _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(d, _mm256_set1_ps(kInfinity), _CMP_LT_OQ))
-                 : _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GE_OQ), _mm256_cmp_ps(d, _mm256_set1_ps(1.0f), _CMP_LT_OQ));
+  const __m256 zero = _mm256_setzero_ps(), infinity = _mm256_set1_ps(kInfinity), one = _mm256_set1_ps(1.0f);
+  return kMetres ? _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GT_OQ), _mm256_cmp_ps(d, infinity, _CMP_LT_OQ))
+                 : _mm256_and_ps(_mm256_cmp_ps(d, zero, _CMP_GE_OQ), _mm256_cmp_ps(d, one, _CMP_LT_OQ));
+}
+
+// Whether the 16 ids at `ids` are all `want`.
+VIPER_AVX2_INLINE bool allOf16(const uint32_t* ids, __m256i want) {
+  const __m256i lo = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids));
+  const __m256i hi = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids + 8));
+  return _mm256_movemask_epi8(_mm256_and_si256(_mm256_cmpeq_epi32(lo, want), _mm256_cmpeq_epi32(hi, want))) == -1;
 }
 
 // The block at x of row r: its flow (NaN without a surface), and b's pixel and depth limit for the
@@ -117,11 +124,12 @@ VIPER_AVX2_INLINE void storeBlock(const FlowKernel::Row& r, int x, __m256 u, __m
   _mm256_storeu_ps(r.limit + x, _mm256_blendv_ps(_mm256_set1_ps(kNaN), limit, surface));
 }
 
-// Row y from x0 in blocks of 8 pixels, as far as whole blocks go; returns where the rest begins. A block of
-// one rigid draw (the common case) is computed at once; in a block of several draws, each rigid
-// draw is computed over the whole block and blended in by lanes, and non-rigid lanes are redone
-// one at a time. Two passes, each with a short chain of dependent steps per block, so that the
-// CPU overlaps many blocks: flow and target, then b's depth at the target and the mask.
+// Row y from x0 in blocks of 8 pixels, as far as whole blocks go; returns where the rest begins. A
+// run of one rigid draw (the common case) is computed two blocks a step, a lone block of one rigid
+// draw at once; in a block of several draws, each rigid draw is computed over the whole block and
+// blended in by lanes, and non-rigid lanes are redone one at a time. Two passes, each with a short
+// chain of dependent steps per block, so that the CPU overlaps many blocks: flow and target, then
+// b's depth at the target and the mask.
 template <bool kMetres>
 VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts& n) {
   const FlowKernel::Row r = k.rowAt(y);
@@ -151,10 +159,7 @@ VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts&
       const uint32_t first = r.ids[x];
       DrawMapping& m = r.mappingOf(first);
       const __m256i want = _mm256_set1_epi32(static_cast<int>(first));
-      const __m256i same =
-          _mm256_and_si256(_mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x)), want),
-                           _mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x + 8)), want));
-      if (m.kind == DrawMapping::kRigid && _mm256_movemask_epi8(same) == -1) {
+      if (m.kind == DrawMapping::kRigid && allOf16(r.ids + x, want)) {
         m.toRow(y, ndc_y);
         int with = 0, pixels = 0;
         do {
@@ -171,10 +176,7 @@ VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts&
           storeBlock(r, x, u0, v0, q0, limit0, surface0);
           storeBlock(r, x + 8, u1, v1, q1, limit1, surface1);
           x += 16, xf = _mm256_add_ps(xf, _mm256_set1_ps(16.0f));
-        } while (x + 16 <= end &&
-                 _mm256_movemask_epi8(_mm256_and_si256(
-                     _mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x)), want),
-                     _mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x + 8)), want))) == -1);
+        } while (x + 16 <= end && allOf16(r.ids + x, want));
         m.with_depth += with, m.without_depth += pixels - with;  // as countLanes for a rigid draw
         blocks.rigid += with, blocks.no_surface += pixels - with;
         continue;

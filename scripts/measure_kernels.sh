@@ -33,33 +33,37 @@ while [ $# -gt 0 ]; do
 done
 [ -f "$capture" ] || { echo "measure_kernels: no capture at $capture" >&2; exit 2; }
 [ -z "$bag" ] || [ -f "$bag" ] || { echo "measure_kernels: no bag at $bag" >&2; exit 2; }
-command -v catkin_find >/dev/null || { echo "measure_kernels: source <build>/devel/setup.bash first" >&2; exit 2; }
-bin=$(dirname "$(/usr/bin/python3 "$(command -v catkin_find)" --without-underlays --libexec viper | head -1)/x")
-out=$(mktemp /tmp/viper_kernels.XXXXXX)
-trap 'rm -f "$out"' EXIT
+source "$here/scripts/measure_common.sh" measure_kernels  # $bin, and $work removed on exit
+out="$work/bench.txt"
 
-# The CPU ms of each median line: "NAME_median  REAL ms  CPU ms  ITERATIONS ...".
+# The CPU ms of each median line, "NAME_median  REAL ms  CPU ms  ITERATIONS ..." (of the one line
+# "NAME ..." with --repetitions 1, which makes no aggregates). The bridge's
+# benchmark only without a bag (whose player is the bag reader, below).
+bridge="BridgeFrameCapture|"
+[ -z "$bag" ] || bridge=""
 VIPER_BENCH_CAPTURE="$capture" VIPER_BENCH_LABELS="$labels" "$bin/bench_ground_truth" \
-  --benchmark_filter='^BM_(BridgeFrameCapture|InstancePictures/1/1|OverlayClasses/4/1|FlowForwardAndBackwardCapture/1/0|BoxesCapture/1)$' \
+  --benchmark_filter="^BM_(${bridge}InstancePictures/1/1|OverlayClasses/4/1|FlowForwardAndBackwardCapture/1/0|BoxesCapture/1)\$" \
   --benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true \
   --benchmark_report_aggregates_only=true >"$out" 2>&1 || { cat "$out" >&2; exit 1; }
 ms() {
   local v
-  v=$(awk -v n="$1_median" '$1 == n && $5 == "ms" {print $4}' "$out")
+  v=$(awk -v n="$1" '($1 == n "_median" || $1 == n) && $5 == "ms" {print $4}' "$out")
   [ -n "$v" ] || { echo "measure_kernels: no median of $1 from bench_ground_truth:" >&2; cat "$out" >&2; exit 1; }
   echo "$v"
 }
-player_name=capture_bridge
-player=$(ms BM_BridgeFrameCapture)
 pictures=$(ms BM_InstancePictures/1/1)
 overlay=$(ms BM_OverlayClasses/4/1)
 flow=$(ms BM_FlowForwardAndBackwardCapture/1/0)
 boxes=$(ms BM_BoxesCapture/1)
-if [ -n "$bag" ]; then
+if [ -z "$bag" ]; then
+  player_name=capture_bridge
+  player=$(ms BM_BridgeFrameCapture)
+else
   player_name=bag_player
   VIPER_BENCH_BAG="$bag" "$bin/bench_bag_reader" --benchmark_filter='^BM_BagFileReaderBulkSink' \
     --benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true >"$out" 2>&1 || { cat "$out" >&2; exit 1; }
-  player=$(sed -n 's/^BM_BagFileReaderBulkSink[^ ]*_median .*cpu_ms_per_frame=\([0-9.]*\).*/\1/p' "$out")
+  player=$(awk '$1 ~ /^BM_BagFileReaderBulkSink/ && $1 !~ /_(mean|stddev|cv)$/' "$out" |
+    sed -n 's/.*cpu_ms_per_frame=\([0-9.]*\).*/\1/p')
   [ -n "$player" ] || { echo "measure_kernels: no cpu_ms_per_frame from bench_bag_reader:" >&2; cat "$out" >&2; exit 1; }
 fi
 awk -v pn="$player_name" -v p="$player" -v pi="$pictures" -v o="$overlay" -v f="$flow" -v b="$boxes" -v r="$reps" 'BEGIN {

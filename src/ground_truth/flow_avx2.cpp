@@ -150,47 +150,44 @@ VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts&
   int n_pending = 0;
   Counts blocks;
   for (int x = x0; x < end;) {
+    // The block's first draw, for the run and for the block alike.
+    const uint32_t first = r.ids[x];
+    DrawMapping& m = r.mappingOf(first);
+    const __m256i want = _mm256_set1_epi32(static_cast<int>(first));
     // A run of one rigid draw (the common case: a draw's rows run ~100 pixels), two blocks a step:
     // the draw's lookup and counts once a run, and two independent chains of dependent steps (the
     // division the longest) for the CPU to overlap. The same arithmetic as a block at a time:
     // BM_FlowForwardAndBackwardCapture/1/0 on the AVX2-only VM of session 21, alternated with it,
     // 14.5 -> 12.6 ms at best of 25 runs, 18.3 -> 16.9 ms in the median.
-    if (x + 16 <= end) {
-      const uint32_t first = r.ids[x];
-      DrawMapping& m = r.mappingOf(first);
-      const __m256i want = _mm256_set1_epi32(static_cast<int>(first));
-      if (m.kind == DrawMapping::kRigid && allOf16(r.ids + x, want)) {
-        m.toRow(y, ndc_y);
-        int with = 0, pixels = 0;
-        do {
-          const __m256 d0 = _mm256_loadu_ps(r.depth + x), d1 = _mm256_loadu_ps(r.depth + x + 8);
-          const __m256 surface0 = surfaceOf<kMetres>(d0), surface1 = surfaceOf<kMetres>(d1);
-          with += __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(surface0))) +
-                  __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(surface1)));
-          pixels += 16;
-          const __m256 xf1 = _mm256_add_ps(xf, _mm256_set1_ps(8.0f));
-          __m256 u0, v0, limit0, u1, v1, limit1;
-          __m256i q0, q1;
-          rigid8<kMetres>(m, t, xf, yf, kMetres ? d0 : _mm256_sub_ps(one, d0), u0, v0, q0, limit0);
-          rigid8<kMetres>(m, t, xf1, yf, kMetres ? d1 : _mm256_sub_ps(one, d1), u1, v1, q1, limit1);
-          storeBlock(r, x, u0, v0, q0, limit0, surface0);
-          storeBlock(r, x + 8, u1, v1, q1, limit1, surface1);
-          x += 16, xf = _mm256_add_ps(xf, _mm256_set1_ps(16.0f));
-        } while (x + 16 <= end && allOf16(r.ids + x, want));
-        m.with_depth += with, m.without_depth += pixels - with;  // as countLanes for a rigid draw
-        blocks.rigid += with, blocks.no_surface += pixels - with;
-        continue;
-      }
+    if (x + 16 <= end && m.kind == DrawMapping::kRigid && allOf16(r.ids + x, want)) {
+      m.toRow(y, ndc_y);
+      int with = 0, pixels = 0;
+      do {
+        const __m256 d0 = _mm256_loadu_ps(r.depth + x), d1 = _mm256_loadu_ps(r.depth + x + 8);
+        const __m256 surface0 = surfaceOf<kMetres>(d0), surface1 = surfaceOf<kMetres>(d1);
+        with += __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(surface0))) +
+                __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(surface1)));
+        pixels += 16;
+        const __m256 xf1 = _mm256_add_ps(xf, _mm256_set1_ps(8.0f));
+        __m256 u0, v0, limit0, u1, v1, limit1;
+        __m256i q0, q1;
+        rigid8<kMetres>(m, t, xf, yf, kMetres ? d0 : _mm256_sub_ps(one, d0), u0, v0, q0, limit0);
+        rigid8<kMetres>(m, t, xf1, yf, kMetres ? d1 : _mm256_sub_ps(one, d1), u1, v1, q1, limit1);
+        storeBlock(r, x, u0, v0, q0, limit0, surface0);
+        storeBlock(r, x + 8, u1, v1, q1, limit1, surface1);
+        x += 16, xf = _mm256_add_ps(xf, _mm256_set1_ps(16.0f));
+      } while (x + 16 <= end && allOf16(r.ids + x, want));
+      m.with_depth += with, m.without_depth += pixels - with;  // as countLanes for a rigid draw
+      blocks.rigid += with, blocks.no_surface += pixels - with;
+      continue;
     }
     const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x));
     const __m256 d = _mm256_loadu_ps(r.depth + x);
     const __m256 surface = surfaceOf<kMetres>(d);
     const unsigned surface_bits = static_cast<unsigned>(_mm256_movemask_ps(surface));
     const __m256 g = kMetres ? d : _mm256_sub_ps(one, d);
-    const uint32_t first = r.ids[x];
-    DrawMapping& m = r.mappingOf(first);
-    const unsigned first_bits = static_cast<unsigned>(
-        _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(id, _mm256_set1_epi32(static_cast<int>(first))))));
+    const unsigned first_bits =
+        static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(id, want))));
     __m256 u, v, limit;
     __m256i q;
     if (first_bits == 0xff && m.kind == DrawMapping::kRigid) {

@@ -170,6 +170,14 @@ if(CATKIN_ENABLE_TESTING)
     target_link_libraries(test_supertuxkart viper_core gtest_main ${OpenCV_LIBS})
     add_dependencies(test_supertuxkart viper_capture viper_intercept)
   endif()
+  # Mesa's conformance suite piglit plainly and under capture (scripts/piglit_compare.sh's ci slice;
+  # needs piglit, waffle-utils and xvfb: scripts/setup.sh --test-programs).
+  catkin_add_gtest(test_piglit test/capture/test_piglit.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  if(TARGET test_piglit)
+    target_compile_definitions(test_piglit PRIVATE VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>")
+    target_link_libraries(test_piglit gtest_main)
+    add_dependencies(test_piglit viper_capture viper_intercept)
+  endif()
 endif()
 
 # Command-line tools of the package (run with rosrun viper NAME).

@@ -1,0 +1,67 @@
+// The capture layer's transparency measured by a conformance suite nobody here wrote: Mesa's piglit
+// (Debian's package), the `ci` slice of scripts/piglit_compare.sh run plainly and with every test
+// program under `capture` (llvmpipe, Xvfb). Any result that differs is the layer changing what its
+// host renders or does; the test fails listing each one (plain result -> result under the layer).
+// The slice (the areas the layer is known to touch: the default framebuffer, EXT framebuffer
+// objects, fixed function, GL_ALPHA/LUMINANCE/INTENSITY texture uploads, shader source errors, the
+// accumulation buffer, front-buffer reads, GLSL 1.10 fragment shaders) takes about two minutes on
+// two cores; the full slice and its figures are in docs/capture_layer.md.
+#include "../common/process_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// In a sanitized build (scripts/sanitize.sh) `capture` preloads the sanitizer's runtime into every
+// program it starts and the plain run has none: the two runs would not be of the same programs.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define VIPER_SKIP_IN_SANITIZED_BUILD() \
+  GTEST_SKIP() << "the layer run would carry the sanitizer's runtime and the plain run not"
+#else
+#define VIPER_SKIP_IN_SANITIZED_BUILD() (void)0
+#endif
+
+}  // namespace
+
+TEST(Piglit, CiSliceGivesTheSameResultsUnderTheLayer) {
+  VIPER_SKIP_IN_SANITIZED_BUILD();
+  for (const char* tool : {"/usr/bin/piglit", "/usr/bin/wflinfo", "/usr/bin/Xvfb"})
+    ASSERT_TRUE(fs::exists(tool)) << tool << " is missing: run 'bash scripts/setup.sh --test-programs'";
+  const std::string dir = viper::test::tempDir("viper_piglit_");
+  const std::string bin = fs::path(VIPER_CAPTURE_EXE).parent_path().string();
+  const std::string log = dir + "/compare.log";
+  const int rc = viper::test::run("scripts/piglit_compare.sh --slice ci --out " + dir + "/run --bin " + bin + " > " +
+                                  log + " 2>&1");
+  const std::string text = viper::test::readFile(log);
+  ASSERT_NE(rc, 2) << "the runs could not be made:\n" << text;
+
+  std::string diffs, summary;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("DIFF ", 0) == 0) diffs += "  " + line.substr(5) + "\n";
+    if (line.rfind("piglit_compare: ", 0) == 0) summary += "  " + line + "\n";
+  }
+  // Every test program piglit started in the layer run ran under capture (a program that skips
+  // before making a context writes no capture stream: the count of those that did is not checked).
+  std::smatch m;
+  static const std::regex kProcesses(R"(layer run: (\d+) tests ran a program, (\d+) test processes under capture)");
+  ASSERT_TRUE(std::regex_search(text, m, kProcesses)) << text;
+  EXPECT_GT(std::stoi(m[1].str()), 100) << summary;
+  EXPECT_GE(std::stoi(m[2].str()), std::stoi(m[1].str())) << "tests whose program did not run under capture\n"
+                                                          << summary;
+  EXPECT_EQ(rc, 0) << "results that differ under the layer (plain -> layer):\n"
+                   << diffs << summary << "each test's output in both runs: " << dir << "/run/differences.txt";
+  if (!HasFailure() && !std::getenv("VIPER_KEEP_RUN"))
+    fs::remove_all(dir);
+  else
+    std::printf("piglit's results are kept in %s\n", dir.c_str());
+}

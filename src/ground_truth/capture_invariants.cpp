@@ -77,6 +77,14 @@ void ReprojectionCheck::add(const ReprojectionCheck& o) {
   depth_relative.insert(depth_relative.end(), o.depth_relative.begin(), o.depth_relative.end());
 }
 
+const MeshRecord* placedMesh(const DrawRecord& d, const MeshRegistry& meshes) {
+  const MeshRecord* mesh = d.mesh_key ? meshes.find(d.mesh_key) : nullptr;
+  if (!mesh || !(d.matrix_flags & kHasView) || !(d.matrix_flags & kHasProjection)) return nullptr;
+  if (!d.deformed_clip_xyzw.empty())
+    return d.deformed_clip_xyzw.size() / 4 == mesh->positions_xyz.size() / 3 ? mesh : nullptr;
+  return (d.matrix_flags & kHasWorld) ? mesh : nullptr;
+}
+
 ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistry& meshes,
                                     std::vector<float>* distance_image) {
   ReprojectionCheck c;
@@ -96,15 +104,9 @@ ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistr
   std::vector<Placed> placed(frame.draws.size());
   for (size_t i = 0; i < frame.draws.size(); ++i) {
     const DrawRecord& d = frame.draws[i];
-    const MeshRecord* mesh = d.mesh_key ? meshes.find(d.mesh_key) : nullptr;
+    const MeshRecord* mesh = placedMesh(d, meshes);
     if (!mesh) continue;
-    const bool camera = (d.matrix_flags & kHasView) && (d.matrix_flags & kHasProjection);
-    if (!d.deformed_clip_xyzw.empty()) {
-      if (d.deformed_clip_xyzw.size() / 4 != mesh->positions_xyz.size() / 3 || !camera) continue;
-      placed[i].deformed = &d.deformed_clip_xyzw;
-    } else if (!camera || !(d.matrix_flags & kHasWorld)) {
-      continue;
-    }
+    if (!d.deformed_clip_xyzw.empty()) placed[i].deformed = &d.deformed_clip_xyzw;
     placed[i].mesh = mesh;
     placed[i].clip_from_mesh = d.projection * d.view * d.world;
   }

@@ -31,6 +31,11 @@ struct ReprojectionCheck {
   void add(const ReprojectionCheck& other);
 };
 
+/// The mesh a draw's pixels are placed on (checkReprojection(), the placed share): the draw's mesh
+/// when `meshes` holds it and the draw has view and projection and either its world matrix or
+/// deformed vertices (one per mesh vertex); nullptr when the draw is not placed.
+const MeshRecord* placedMesh(const DrawRecord& draw, const MeshRegistry& meshes);
+
 /// Projects, for every pixel with a draw id, the triangle its draw and primitive id name, and
 /// measures how far the pixel lies from it and how far its depth is from the triangle's there.
 /// Pixels whose draw lacks a mesh in `meshes`, a world, view or projection matrix (and has no

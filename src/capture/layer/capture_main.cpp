@@ -1,13 +1,18 @@
 // `capture [options] -- PROGRAM ARGS...`: runs an OpenGL program with the viper interceptor
-// preloaded and writes a capture stream. Exit status: the program's (128 + signal if killed), or 74
-// when the program succeeded but the capture could not be written (a full disk): the layer says so
-// through a pipe (VIPER_CAPTURE_STATUS_FD) and the stream ends with the last frame written whole.
+// preloaded and writes a capture stream, then reads the stream back and prints its verdict (frames,
+// share of the scene with ids and placed, the main reason for what was not recorded). Exit status:
+// the program's (128 + signal if killed), or 74 when the program succeeded but the capture could not
+// be written (a full disk): the layer says so through a pipe (VIPER_CAPTURE_STATUS_FD) and the
+// stream ends with the last frame written whole; or 65 when the program succeeded but the capture
+// is mostly empty by --require-ids.
 #include "viper/capture/capture_profile.h"
 #include "viper/capture/capture_stream.h"
+#include "viper/ground_truth/capture_verdict.h"
 
 #include <elf.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,6 +28,9 @@ namespace {
 
 pid_t g_child = 0;
 
+// Exit status when the program succeeded but the capture is mostly empty (--require-ids).
+constexpr int kExitMostlyEmpty = 65;
+
 void forwardSignal(int sig) {
   if (g_child > 0) kill(g_child, sig);
 }
@@ -32,7 +40,8 @@ int usage(const char* argv0, const char* problem) {
   std::fprintf(stderr,
                "usage: %s --output FILE.vcap [--profile PROFILE.yaml] [--condition TAG] [--frames N]\n"
                "       [--fps F] [--skip-frames N] [--start-on-scene] [--codec zstd|lz4] [--zstd-level L]\n"
-               "       [--writer-threads N] [--readback auto|sync|async] [--library libviper_intercept.so] -- PROGRAM [ARGS...]\n"
+               "       [--writer-threads N] [--readback auto|sync|async] [--require-ids F] [--library libviper_intercept.so]\n"
+               "       -- PROGRAM [ARGS...]\n"
                "  --frames N: write N frames, then stop the program\n"
                "  --fps F: stamp frame n at n / F seconds, for programs that advance a fixed time step\n"
                "           per frame (default: the monotonic clock at each buffer swap)\n"
@@ -53,8 +62,13 @@ int usage(const char* argv0, const char* problem) {
                "           the GPU fills while the program goes on, handed over at the next swap (async;\n"
                "           needs glBufferStorage); auto: async except on software renderers (llvmpipe).\n"
                "           Default $VIPER_CAPTURE_READBACK, else auto. The stream is the same either way\n"
-               "exit status: the program's (128 + signal if killed), or 74 (EX_IOERR) if it succeeded but the capture\n"
-               "could not be written (e.g. a full disk; the stream keeps the frames written before)\n",
+               "  --require-ids F: F from 0 to 1; the capture passes when at least one frame was written and at\n"
+               "           least F of its scene pixels (depth below 1 or a draw id, over all frames) have a draw id\n"
+               "after the program exits, one line 'capture: FILE: N frames written; ids on I%% of scene pixels, placed\n"
+               "P%%; R draws recorded, U not; left out: REASON' (or 'nothing left out'; '0 frames written: WHY')\n"
+               "exit status: the program's (128 + signal if killed); else 74 (EX_IOERR) if the capture could not be\n"
+               "written (e.g. a full disk; the stream keeps the frames written before); else 65 if --require-ids\n"
+               "was not met; else 0\n",
                argv0);
   return 2;
 }
@@ -153,10 +167,71 @@ std::string preloadList(const std::string& lib, const char* old, const std::vect
   return list;
 }
 
+// What identifies a file's contents well enough to tell whether the program wrote it: a stream an
+// earlier run left at the output path is not this run's when the program never opened it.
+struct FileStamp {
+  bool exists = false;
+  dev_t device = 0;
+  ino_t inode = 0;
+  off_t size = 0;
+  timespec modified{};
+};
+
+FileStamp fileStamp(const std::string& path) {
+  FileStamp f;
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0) return f;
+  f = {true, st.st_dev, st.st_ino, st.st_size, st.st_mtim};
+  return f;
+}
+
+bool sameStamp(const FileStamp& a, const FileStamp& b) {
+  return a.exists == b.exists && a.device == b.device && a.inode == b.inode && a.size == b.size &&
+         a.modified.tv_sec == b.modified.tv_sec && a.modified.tv_nsec == b.modified.tv_nsec;
+}
+
+// Prints the verdict of the capture at `output` (written by this run unless its stamp is `before`'s)
+// and returns whether it meets --require-ids (`required_id_share` < 0: none asked).
+bool printVerdict(const std::string& output, const FileStamp& before, double required_id_share, bool start_on_scene,
+                  const std::string& skip) {
+  viper::CaptureReadResult read;
+  std::string why_no_frames;
+  const FileStamp after = fileStamp(output);
+  if (!after.exists || sameStamp(before, after)) {
+    why_no_frames = "the program wrote no capture stream (it made no call the layer intercepts: not an OpenGL "
+                    "program, or it failed before drawing)";
+  } else {
+    try {
+      read = viper::readCaptureCoverage(output);
+    } catch (const std::exception& e) {
+      read.problem = e.what();
+    }
+    if (start_on_scene)
+      why_no_frames = "the scene never started (--start-on-scene: no recorded draw had the camera's view and "
+                      "projection)";
+    else if (!skip.empty() && skip != "0")
+      why_no_frames = "no buffer swap after the " + skip + " frames skipped (--skip-frames)";
+    else
+      why_no_frames = "the program swapped no buffers";
+  }
+  std::fprintf(stderr, "capture: %s: %s\n", output.c_str(), viper::captureVerdict(read, why_no_frames).c_str());
+  if (required_id_share < 0.0) return true;
+  const viper::CaptureCoverage& c = read.coverage;
+  if (c.frames > 0 && c.idShare() >= required_id_share) return true;
+  if (c.frames)
+    std::fprintf(stderr, "capture: %s: ids on %.1f%% of scene pixels, below --require-ids %g\n", output.c_str(),
+                 100.0 * c.idShare(), required_id_share);
+  else
+    std::fprintf(stderr, "capture: %s: no frame written, against --require-ids %g\n", output.c_str(),
+                 required_id_share);
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string output, profile, condition, frames, library, fps, skip, codec, zstd_level, writer_threads, readback;
+  std::string output, profile, condition, frames, library, fps, skip, codec, zstd_level, writer_threads, readback,
+      require_ids;
   bool start_on_scene = false;
   int i = 1;
   for (; i < argc; ++i) {
@@ -183,6 +258,7 @@ int main(int argc, char** argv) {
     else if (a == "--zstd-level") zstd_level = v;
     else if (a == "--writer-threads") writer_threads = v;
     else if (a == "--readback") readback = v;
+    else if (a == "--require-ids") require_ids = v;
     else return usage(argv[0], ("unknown option " + a).c_str());
   }
   if (i >= argc) return usage(argv[0], "no program given after --");
@@ -201,6 +277,13 @@ int main(int argc, char** argv) {
     char* end = nullptr;
     const double f = std::strtod(fps.c_str(), &end);
     if (*end || !(f > 0.0) || f > 1e6) return usage(argv[0], "--fps must be a positive number");
+  }
+  double required_id_share = -1.0;  // none asked
+  if (!require_ids.empty()) {
+    char* end = nullptr;
+    required_id_share = std::strtod(require_ids.c_str(), &end);
+    if (*end || !(required_id_share >= 0.0 && required_id_share <= 1.0))
+      return usage(argv[0], "--require-ids must be a number from 0 to 1");
   }
   if (codec.empty())
     if (const char* env = std::getenv("VIPER_CAPTURE_CODEC")) codec = env;
@@ -272,6 +355,7 @@ int main(int argc, char** argv) {
     setenv("VIPER_CAPTURE_STATUS_FD", std::to_string(status_pipe[1]).c_str(), 1);
   }
 
+  const FileStamp before = fileStamp(output);
   g_child = fork();
   if (g_child < 0) {
     std::perror("capture: fork");
@@ -300,7 +384,12 @@ int main(int argc, char** argv) {
   }
   if (!failure.empty())
     std::fprintf(stderr, "capture: %s: %s", output.c_str(), failure.c_str());
-  if (WIFEXITED(status)) return WEXITSTATUS(status) == 0 && !failure.empty() ? 74 : WEXITSTATUS(status);
+  const bool required = printVerdict(output, before, required_id_share, start_on_scene, skip);
+  if (WIFEXITED(status)) {
+    if (WEXITSTATUS(status) != 0) return WEXITSTATUS(status);
+    if (!failure.empty()) return 74;
+    return required ? 0 : kExitMostlyEmpty;
+  }
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return 1;
 }

@@ -59,6 +59,10 @@ if(CATKIN_ENABLE_TESTING)
   target_include_directories(viper_gl_legacy_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
   target_link_libraries(viper_gl_legacy_program PRIVATE viper_gl_common PkgConfig::EGL PkgConfig::GL)
 
+  # OpenGL 1.x program without any shader (vertex arrays, glBegin/glEnd): the layer records none of it.
+  add_executable(viper_gl_fixed_function_program test/capture/gl_fixed_function_program.cpp)
+  target_link_libraries(viper_gl_fixed_function_program PRIVATE viper_gl_common PkgConfig::EGL PkgConfig::GL)
+
   # Stress program: what real engines do (several contexts and threads, program binaries,
   # persistent mappings, indirect draws, buffers of uniforms and texels, sync objects, a context
   # destroyed mid-frame, exit() from another thread), each scenario checked by test_capture_stress.
@@ -146,6 +150,19 @@ if(CATKIN_ENABLE_TESTING)
     VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles")
   target_link_libraries(test_capture_run viper_core)
   add_dependencies(test_capture_run viper_capture viper_intercept viper_gl_test_program)
+
+  # capture's verdict and --require-ids, capture_check's judged checks and the ones it cannot run.
+  catkin_add_gtest(test_capture_verdict test/capture/test_capture_verdict.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_compile_definitions(test_capture_verdict PRIVATE
+    VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
+    VIPER_CAPTURE_CHECK_EXE="$<TARGET_FILE:capture_check>"
+    VIPER_GL_TEST_PROGRAM="$<TARGET_FILE:viper_gl_test_program>"
+    VIPER_GL_FIXED_FUNCTION_PROGRAM="$<TARGET_FILE:viper_gl_fixed_function_program>"
+    VIPER_TEST_SCENE="$<TARGET_FILE:test_scene>"
+    VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles")
+  target_link_libraries(test_capture_verdict viper_core)
+  add_dependencies(test_capture_verdict viper_capture viper_intercept capture_check viper_gl_test_program
+    viper_gl_fixed_function_program test_scene)
 endif()
 
 if(CATKIN_ENABLE_TESTING)

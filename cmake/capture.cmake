@@ -18,7 +18,8 @@ set(VIPER_INTERCEPT_SOURCES
   src/capture/layer/hooks_gl.cpp
   src/capture/layer/hooks_legacy.cpp
   src/capture/layer/matrix_stack.cpp
-  src/capture/layer/hooks_winsys.cpp)
+  src/capture/layer/hooks_winsys.cpp
+  src/capture/layer/pixel_transfer.cpp)
 add_library(viper_intercept SHARED ${VIPER_INTERCEPT_SOURCES})
 # Only the hooked GL/EGL/GLX entry points and dlsym are exported; GL and EGL are not linked
 # (the real functions are looked up at run time, past the interceptor's own symbols).
@@ -107,6 +108,11 @@ if(CATKIN_ENABLE_TESTING)
     VIPER_STRESS_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/stress_profile.yaml")
   target_link_libraries(test_capture_stress viper_core gtest_main)
   add_dependencies(test_capture_stress viper_capture viper_intercept ${VIPER_STRESS_SANITIZED_TARGET} viper_gl_stress_program)
+
+  # The layer's pixel format table against the driver's own bounds checks (needs a GL context).
+  catkin_add_gtest(test_pixel_transfer test/capture/test_pixel_transfer.cpp src/capture/layer/pixel_transfer.cpp)
+  target_include_directories(test_pixel_transfer PRIVATE ${PROJECT_SOURCE_DIR}/src/capture/layer ${PROJECT_SOURCE_DIR})
+  target_link_libraries(test_pixel_transfer viper_gl_common PkgConfig::EGL PkgConfig::GL gtest_main)
 
   catkin_add_gtest(test_capture_legacy test/capture/test_capture_legacy.cpp src/capture/layer/matrix_stack.cpp
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

@@ -73,15 +73,16 @@ const std::regex& mainRegex() {
 // color's alpha, when it has one), id 0 instead where a blended fragment is mostly transparent but
 // writes depth (alpha < 0.5), so that an id never names a surface other than the one the depth
 // image holds.
-std::string idValue(const std::string& alpha) {
-  const std::string id = "vec4(" + std::string(kDrawIdUniform) + ", float(gl_PrimitiveID), 0.0, 1.0)";
+std::string idValue(const std::string& alpha, bool primitive_ids) {
+  const std::string id = "vec4(" + std::string(kDrawIdUniform) + (primitive_ids ? ", float(gl_PrimitiveID)" : ", 0.0") +
+                         ", 0.0, 1.0)";
   if (alpha.empty()) return id;
   return "(" + std::string(kAlphaTestUniform) + " > 0.5 && " + alpha + " < 0.5) ? vec4(0.0, 0.0, 0.0, 1.0) : " + id;
 }
 
 // GLSL before 1.50: gl_FragColor / gl_FragData[i] become gl_FragData[0] / [i]; the ids go to
 // gl_FragData[kIdOutputLocation]; gl_PrimitiveID comes from GL_EXT_gpu_shader4.
-FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version) {
+FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version, bool primitive_ids) {
   FragmentRewrite result;
   static const std::regex kFragColor(R"(\bgl_FragColor\b)"), kFragData(R"(\bgl_FragData\b)");
   static const std::regex kOutDecl(R"(\bout\s+(?:(?:highp|mediump|lowp)\s+)?(?:vec[234]|float)\s+\w+\s*;)");
@@ -98,10 +99,18 @@ FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version) {
     result.reason = "no `void main()` found";
     return result;
   }
-  code = std::regex_replace(code, kFragColor, "gl_FragData[0]");
+  static const std::regex kFragData7(R"(\bgl_FragData\s*\[\s*7\s*\])");
+  if (std::regex_search(code, kFragData7)) {
+    result.reason = "GLSL before 1.50 writing gl_FragData[7], where the ids go";
+    return result;
+  }
+  // gl_FragColor goes to every draw buffer (ARB_draw_buffers), gl_FragData[i] to draw buffer i
+  // only: the colour is kept in a variable of ours and written to each, the last one too while
+  // no ids are wanted (viper_draw_id 0: a draw not recorded, or into the program's own draw buffer 7).
+  if (color) code = std::regex_replace(code, kFragColor, "viper_frag_color");
   code = std::regex_replace(code, mainRegex(), "void viper_original_main()");
   // The extension directive goes right after #version (or first, without one), before any code.
-  const std::string extension = "#extension GL_EXT_gpu_shader4 : require\n";
+  const std::string extension = primitive_ids ? "#extension GL_EXT_gpu_shader4 : require\n" : "";
   if (version) {
     // version[1] is the number: the directive's line ends after it (the match may begin with blank lines).
     const size_t end = code.find('\n', static_cast<size_t>(version->position(1)));
@@ -112,8 +121,27 @@ FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version) {
   if (!code.empty() && code.back() != '\n') code += '\n';
   code += "uniform float " + std::string(kDrawIdUniform) + ";\n";
   code += "uniform float " + std::string(kAlphaTestUniform) + ";\n";
-  code += "void main() {\n  viper_original_main();\n  gl_FragData[" + std::to_string(kIdOutputLocation) +
-          "] = " + idValue("gl_FragData[0].a") + ";\n}\n";
+  const std::string last = "gl_FragData[" + std::to_string(kIdOutputLocation) + "]";
+  if (color) {
+    // Declared before the original code, which writes it: after the last #extension directive
+    // (they must come before any declaration), else after #version and ours.
+    static const std::regex kExtensionLine(R"((^|\n)[ \t]*#[ \t]*extension[^\n]*\n)");
+    size_t insert = 0;
+    for (auto it = std::sregex_iterator(code.begin(), code.end(), kExtensionLine); it != std::sregex_iterator(); ++it)
+      insert = static_cast<size_t>(it->position(0) + it->length(0));
+    if (insert == 0 && version) {
+      const size_t end = code.find('\n', static_cast<size_t>(version->position(1)));
+      insert = end == std::string::npos ? code.size() : end + 1;
+    }
+    code.insert(insert, "vec4 viper_frag_color;\n");
+    code += "void main() {\n  viper_original_main();\n";
+    for (int i = 0; i < kIdOutputLocation; ++i) code += "  gl_FragData[" + std::to_string(i) + "] = viper_frag_color;\n";
+    code += "  " + last + " = " + kDrawIdUniform + " < 0.5 ? viper_frag_color : (" +
+            idValue("viper_frag_color.a", primitive_ids) + ");\n}\n";
+  } else {
+    code += "void main() {\n  viper_original_main();\n  " + last + " = " +
+            idValue("gl_FragData[0].a", primitive_ids) + ";\n}\n";
+  }
   result.ok = true;
   result.legacy = true;
   result.source = code;
@@ -124,7 +152,7 @@ FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version) {
 
 }  // namespace
 
-FragmentRewrite rewriteFragmentShader(const std::string& source) {
+FragmentRewrite rewriteFragmentShader(const std::string& source, bool primitive_ids) {
   FragmentRewrite result;
   std::string code = stripGlslComments(source);
 
@@ -135,7 +163,7 @@ FragmentRewrite rewriteFragmentShader(const std::string& source) {
     result.reason = "GLSL ES (no gl_PrimitiveID)";
     return result;
   }
-  if (!has_version || std::stoi(version[1].str()) < 150) return rewriteLegacy(code, has_version ? &version : nullptr);
+  if (!has_version || std::stoi(version[1].str()) < 150) return rewriteLegacy(code, has_version ? &version : nullptr, primitive_ids);
 
   const std::vector<OutputDecl> outputs = findOutputs(code);
   const OutputDecl* color = nullptr;
@@ -186,7 +214,7 @@ FragmentRewrite rewriteFragmentShader(const std::string& source) {
   code += "uniform float " + std::string(kAlphaTestUniform) + ";\n";
   code += "out vec4 " + std::string(kIdOutputName) + ";\n";
   code += "void main() {\n  viper_original_main();\n  " + std::string(kIdOutputName) + " = " +
-          idValue(color->components == 4 ? color->name + ".a" : "") + ";\n}\n";
+          idValue(color->components == 4 ? color->name + ".a" : "", primitive_ids) + ";\n}\n";
 
   result.ok = true;
   result.source = code;

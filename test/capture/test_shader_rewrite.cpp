@@ -125,11 +125,32 @@ TEST(ShaderRewrite, LegacyGlslWritesItsColorAndTheIdsThroughFragData) {
   ASSERT_TRUE(r.ok) << r.reason;
   EXPECT_TRUE(r.legacy);
   EXPECT_EQ(r.source.find("gl_FragColor"), std::string::npos);
-  EXPECT_EQ(countOf(r.source, "gl_FragData[0] = col;"), 1);
+  // gl_FragColor goes to every draw buffer: the colour to the first seven, and to the last one
+  // (where the ids go) while viper_draw_id is 0 (no ids wanted).
+  EXPECT_EQ(countOf(r.source, "viper_frag_color = col;"), 1);
+  EXPECT_EQ(countOf(r.source, "vec4 viper_frag_color;"), 1);
+  for (int i = 0; i < 7; ++i)
+    EXPECT_EQ(countOf(r.source, "gl_FragData[" + std::to_string(i) + "] = viper_frag_color;"), 1) << i;
   // The id where the fragment is mostly opaque, id 0 where a blended one is mostly transparent.
-  EXPECT_EQ(countOf(r.source, "gl_FragData[7] = (viper_alpha_test > 0.5 && gl_FragData[0].a < 0.5) ? "
-                              "vec4(0.0, 0.0, 0.0, 1.0) : vec4(viper_draw_id, float(gl_PrimitiveID), 0.0, 1.0);"),
+  EXPECT_EQ(countOf(r.source, "gl_FragData[7] = viper_draw_id < 0.5 ? viper_frag_color : ((viper_alpha_test > 0.5 && "
+                              "viper_frag_color.a < 0.5) ? vec4(0.0, 0.0, 0.0, 1.0) : "
+                              "vec4(viper_draw_id, float(gl_PrimitiveID), 0.0, 1.0));"),
             1);
+  // A shader that writes gl_FragData itself keeps its draw buffers; the ids go to the last.
+  const auto data = rewriteFragmentShader("#version 120\nvoid main() { gl_FragData[0] = vec4(1.0); }\n");
+  ASSERT_TRUE(data.ok) << data.reason;
+  EXPECT_EQ(countOf(data.source, "gl_FragData[0] = vec4(1.0);"), 1);
+  EXPECT_EQ(countOf(data.source, "gl_FragData[7] = (viper_alpha_test > 0.5 && gl_FragData[0].a < 0.5) ? "
+                                 "vec4(0.0, 0.0, 0.0, 1.0) : vec4(viper_draw_id, float(gl_PrimitiveID), 0.0, 1.0);"),
+            1);
+  // One that writes the last draw buffer itself is left alone.
+  EXPECT_FALSE(rewriteFragmentShader("#version 120\nvoid main() { gl_FragData[ 7 ] = vec4(1.0); }\n").ok);
+  // Without primitive ids (a geometry stage that writes none): 0, and no extension needed.
+  const auto without = rewriteFragmentShader(kLegacyShader, /*primitive_ids=*/false);
+  ASSERT_TRUE(without.ok) << without.reason;
+  EXPECT_EQ(without.source.find("gl_PrimitiveID"), std::string::npos);
+  EXPECT_EQ(without.source.find("#extension"), std::string::npos);
+  EXPECT_EQ(countOf(without.source, "vec4(viper_draw_id, 0.0, 0.0, 1.0)"), 1);
   // The extension directive right after #version, which stays the first directive.
   EXPECT_LT(r.source.find("#version 120"), r.source.find("#extension GL_EXT_gpu_shader4 : require"));
   EXPECT_LT(r.source.find("#extension"), r.source.find("#define"));

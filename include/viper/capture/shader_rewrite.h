@@ -27,8 +27,10 @@ struct FragmentRewrite {
   bool explicit_location = false;
   /// Number of components of the color output (alpha test needs 4).
   int color_components = 4;
-  /// GLSL before 1.50 writing gl_FragColor or gl_FragData: rewritten to gl_FragData[0] and
-  /// gl_FragData[kIdOutputLocation] (no output to bind; gl_PrimitiveID from GL_EXT_gpu_shader4).
+  /// GLSL before 1.50 writing gl_FragColor or gl_FragData: the ids to gl_FragData[kIdOutputLocation]
+  /// (no output to bind; gl_PrimitiveID from GL_EXT_gpu_shader4). gl_FragColor, which goes to every
+  /// draw buffer, becomes a variable written to gl_FragData[0..6], and to [7] too while the uniform
+  /// viper_draw_id is 0 (no ids wanted: a draw not recorded, or into the program's own buffer 7).
   bool legacy = false;
   std::string reason;
 };
@@ -48,7 +50,10 @@ std::string stripGlslComments(const std::string& source);
 /// blending (`index = 1`), or no recognisable `void main()` are refused with a reason. Shaders of
 /// GLSL before 1.50 (compatibility contexts) that write `gl_FragColor` or `gl_FragData` are rewritten
 /// the legacy way (FragmentRewrite::legacy), needing GL_EXT_gpu_shader4 for gl_PrimitiveID.
-FragmentRewrite rewriteFragmentShader(const std::string& source);
+/// Without `primitive_ids` the id output's second component is 0 instead of gl_PrimitiveID: for
+/// programs whose geometry or tessellation stage does not write gl_PrimitiveID (the fragment
+/// shader's is undefined then, and llvmpipe draws nothing when it is read).
+FragmentRewrite rewriteFragmentShader(const std::string& source, bool primitive_ids = true);
 
 /// True if the (vertex) shader declares a `uniform mat4 NAME[N]` array, which the capture layer
 /// takes as the sign of skinning, i.e. of a vertex shader that deforms meshes non-rigidly.

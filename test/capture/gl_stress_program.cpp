@@ -15,6 +15,15 @@
 //   exit_thread  a second thread calls exit() while the main thread is in the middle of a frame;
 //   blend_depth  an opaque background, then the objects blended (GL_SRC_ALPHA, ONE_MINUS) with
 //                depth writes on, each with a left part of alpha 0.3 (x < -0.4 of its quad);
+//   window_queries  (compatibility profile) the window's properties asked in every glGet form,
+//                its attachments and status, printed each frame; in frame 2 a framebuffer object
+//                of its own deleted while bound;
+//   extension_names (compatibility profile) the EXT/ARB names of core functions from
+//                eglGetProcAddress (glBindFramebufferEXT back to the default framebuffer after an
+//                offscreen pass, glDrawRangeElementsEXT) and a GL_ALPHA texture updated from
+//                memory that ends at an unreadable page;
+//   depth_prepass the objects drawn depth only (colour masked), then at equal depth with depth
+//                writes off, opaque, then blended (its colour added again);
 //   all          each of them in turn (a fresh context each).
 // Every GL call is followed by glGetError: an error the program did not cause ends it (exit 3).
 // In frame 1 it causes one itself (glEnable of a bad enum) and checks after the frame's calls
@@ -32,6 +41,9 @@
 #include "gl_common/sanitizer_options.h"
 #include "gl_stress_support.h"
 #include "stress_scene.h"
+
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <condition_variable>
@@ -482,6 +494,165 @@ void blendDepth(int frames, const std::string& out) {
   destroy(s);
 }
 
+// A depth pre-pass engine: the objects first with their colour masked (depth only), then again at
+// equal depth with depth writes off, opaque, and a third time blended over that (a texture layer).
+// The ids are those of the pre-pass, which decided what is visible.
+void depthPrepass(int frames, const std::string& out) {
+  Surface s = makeSurface(ss::kSize);
+  makeCurrent(s);
+  const GLuint p = program(kUniformVs, kColourFs);
+  const Quad q = makeQuad();
+  for (int f = 0; f < frames; ++f) {
+    beginFrame(f);
+    GL(glUseProgram(p));
+    GL(glBindVertexArray(q.vao));
+    GL(glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE));
+    for (int k = 0; k < 4; ++k) drawObject(p, k, f);
+    GL(glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE));
+    GL(glDepthMask(GL_FALSE));
+    GL(glDepthFunc(GL_EQUAL));
+    for (int k = 0; k < 4; ++k) drawObject(p, k, f);
+    GL(glEnable(GL_BLEND));
+    GL(glBlendFunc(GL_ONE, GL_ONE));
+    for (int k = 0; k < 4; ++k) drawObject(p, k, f);  // its colour again, added
+    GL(glDisable(GL_BLEND));
+    GL(glDepthMask(GL_TRUE));
+    GL(glDepthFunc(GL_LESS));
+    endFrame(s, f, frames, out);
+  }
+  destroy(s);
+}
+
+// What a toolkit asks of the window after making its context current (one refused to start when
+// GL_DOUBLEBUFFER answered 0 under the layer): the window's properties in every glGet form, its
+// attachments, its status, the draw and read buffers, the framebuffer bindings. Printed each
+// frame ("window: ..."), for the test to compare with a run without the layer. Frame 2 also
+// draws with a framebuffer object of its own bound and deletes it while bound: the GL binds the
+// default framebuffer in its place, where the objects then go.
+void windowQueries(int frames, const std::string& out) {
+  Surface s = makeSurface(ss::kSize, EGL_NO_CONTEXT, /*compatibility=*/true);
+  makeCurrent(s);
+  const GLuint p = program(kUniformVs, kColourFs);
+  const Quad q = makeQuad();
+  const GLenum pnames[] = {GL_DOUBLEBUFFER, GL_STEREO, GL_SAMPLES, GL_SAMPLE_BUFFERS,
+                           GL_DRAW_BUFFER, GL_DRAW_BUFFER0, GL_DRAW_BUFFER1, GL_DRAW_BUFFER7, GL_READ_BUFFER,
+                           GL_DRAW_FRAMEBUFFER_BINDING, GL_READ_FRAMEBUFFER_BINDING,
+                           GL_IMPLEMENTATION_COLOR_READ_FORMAT, GL_IMPLEMENTATION_COLOR_READ_TYPE,
+                           0x0D52 /*RED_BITS*/, 0x0D55 /*ALPHA_BITS*/, 0x0D56 /*DEPTH_BITS*/, 0x0D57 /*STENCIL_BITS*/,
+                           0x0C31 /*RGBA_MODE*/, 0x0C00 /*AUX_BUFFERS*/};
+  for (int f = 0; f < frames; ++f) {
+    // (Before beginFrame, which causes the program's own error in frame 1: the errors of these
+    // queries are read here.)
+    std::string line = "window:";
+    for (GLenum pname : pnames) {
+      GLint i = -1;
+      GLint64 i64 = -1;
+      GLfloat fl = -1;
+      GLdouble d = -1;
+      GLboolean b = 7;
+      GL(glGetIntegerv(pname, &i));
+      GL(glGetInteger64v(pname, &i64));
+      GL(glGetFloatv(pname, &fl));
+      GL(glGetDoublev(pname, &d));
+      GL(glGetBooleanv(pname, &b));
+      line += " " + std::to_string(i) + "/" + std::to_string(i64) + "/" + std::to_string(static_cast<int>(fl)) +
+              "/" + std::to_string(static_cast<int>(d)) + "/" + std::to_string(b);
+    }
+    GLint doublebuffer = 0;
+    GL(glGetIntegerv(GL_DOUBLEBUFFER, &doublebuffer));
+    const GLenum colour = doublebuffer ? GL_BACK_LEFT : GL_FRONT_LEFT;
+    for (GLenum attachment : {colour, GLenum(GL_DEPTH), GLenum(GL_STENCIL)})
+      for (GLenum pname : {GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, GL_FRAMEBUFFER_ATTACHMENT_RED_SIZE,
+                           GL_FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE, GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE,
+                           GL_FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE, GL_FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING}) {
+        GLint v = -1;
+        glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, attachment, pname, &v);
+        line += " " + std::to_string(v) + ":" + std::to_string(glGetError());
+      }
+    GLint samples = -1;
+    glGetFramebufferParameteriv(GL_DRAW_FRAMEBUFFER, GL_SAMPLES, &samples);
+    line += " fbsamples " + std::to_string(samples) + ":" + std::to_string(glGetError());
+    line += " status " + std::to_string(GLV(glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER)));
+    std::printf("%s\n", line.c_str());
+    beginFrame(f);
+    GL(glUseProgram(p));
+    GL(glBindVertexArray(q.vao));
+    if (f == 2) {
+      GLuint fb = 0;
+      GL(glGenFramebuffers(1, &fb));
+      GL(glBindFramebuffer(GL_FRAMEBUFFER, fb));
+      GL(glDeleteFramebuffers(1, &fb));  // the default framebuffer is bound again
+      GLint bound = -1;
+      GL(glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound));
+      std::printf("window: bound after the delete %d\n", bound);
+    }
+    for (int k = 0; k < 4; ++k) drawObject(p, k, f);
+    endFrame(s, f, frames, out);
+  }
+  destroy(s);
+}
+
+// An older engine's calls: the extension names of the core functions (glBindFramebufferEXT,
+// glDrawRangeElementsEXT, glBindBufferARB, glTexSubImage2DEXT...), found with eglGetProcAddress,
+// and a 256x256 GL_ALPHA texture updated from memory that ends where a page the program cannot
+// read begins (the layer once read 4 bytes a pixel of it and crashed the game). Each frame first
+// draws into a framebuffer object of its own, then binds the default framebuffer again with the
+// EXT name and draws the objects there.
+void extensionNames(int frames, const std::string& out) {
+  Surface s = makeSurface(ss::kSize, EGL_NO_CONTEXT, /*compatibility=*/true);
+  makeCurrent(s);
+  using BindFramebuffer = void (*)(GLenum, GLuint);
+  using DrawRangeElements = void (*)(GLenum, GLuint, GLuint, GLsizei, GLenum, const void*);
+  using TexSubImage2D = void (*)(GLenum, GLint, GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, const void*);
+  using ActiveTexture = void (*)(GLenum);
+  auto bind_fb = reinterpret_cast<BindFramebuffer>(eglGetProcAddress("glBindFramebufferEXT"));
+  auto draw_range = reinterpret_cast<DrawRangeElements>(eglGetProcAddress("glDrawRangeElementsEXT"));
+  auto tex_sub = reinterpret_cast<TexSubImage2D>(eglGetProcAddress("glTexSubImage2DEXT"));
+  auto active_texture = reinterpret_cast<ActiveTexture>(eglGetProcAddress("glActiveTextureARB"));
+  if (!bind_fb || !draw_range || !tex_sub || !active_texture) die("no extension names from eglGetProcAddress");
+  const GLuint p = program(kUniformVs, kColourFs);
+  const Quad q = makeQuad();
+  // The alpha texture's texels: the last byte of a mapping whose next page is unreadable.
+  constexpr int kAlphaSize = 256;
+  const size_t bytes = size_t(kAlphaSize) * kAlphaSize, page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+  const size_t pages = (bytes + page - 1) / page + 1;
+  auto* mapping = static_cast<uint8_t*>(mmap(nullptr, pages * page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
+  if (mapping == MAP_FAILED || mprotect(mapping + (pages - 1) * page, page, PROT_NONE) != 0) die("no guarded mapping");
+  uint8_t* texels = mapping + (pages - 1) * page - bytes;
+  GLuint texture = 0, fb = 0, colour = 0;
+  GL(active_texture(GL_TEXTURE0));
+  GL(glGenTextures(1, &texture));
+  GL(glBindTexture(GL_TEXTURE_2D, texture));
+  GL(glPixelStorei(GL_UNPACK_ALIGNMENT, 1));
+  GL(glTexImage2D(GL_TEXTURE_2D, 0, GL_ALPHA, kAlphaSize, kAlphaSize, 0, GL_ALPHA, GL_UNSIGNED_BYTE, nullptr));
+  GL(glGenTextures(1, &colour));
+  GL(glBindTexture(GL_TEXTURE_2D, colour));
+  GL(glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, ss::kSize, ss::kSize, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr));
+  GL(glGenFramebuffers(1, &fb));
+  GL(bind_fb(GL_FRAMEBUFFER, fb));
+  GL(glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour, 0));
+  for (int f = 0; f < frames; ++f) {
+    beginFrame(f);
+    std::memset(texels, 40 * f, bytes);
+    GL(glBindTexture(GL_TEXTURE_2D, texture));
+    GL(tex_sub(GL_TEXTURE_2D, 0, 0, 0, kAlphaSize, kAlphaSize, GL_ALPHA, GL_UNSIGNED_BYTE, texels));
+    GL(bind_fb(GL_FRAMEBUFFER, fb));
+    GL(glClear(GL_COLOR_BUFFER_BIT));
+    GL(bind_fb(GL_FRAMEBUFFER, 0));
+    GL(glUseProgram(p));
+    GL(glBindVertexArray(q.vao));
+    for (int k = 0; k < 4; ++k) {
+      setMatrix(p, "u_world", ss::world(k));
+      setMatrix(p, "u_view", ss::view(f));
+      setMatrix(p, "u_proj", ss::projection());
+      setColour(p, k);
+      GL(draw_range(GL_TRIANGLES, 0, 3, 6, GL_UNSIGNED_SHORT, nullptr));
+    }
+    endFrame(s, f, frames, out);
+  }
+  destroy(s);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -498,7 +669,8 @@ int main(int argc, char** argv) {
   if (frames < 3) die("--frames must be at least 3");
   const std::vector<std::pair<std::string, std::function<void(int, const std::string&)>>> scenarios = {
       {"mdi", mdi},         {"persistent", persistent},     {"ubo_tbo", uboTbo},          {"binary", binary},
-      {"threads", threads}, {"destroy", destroyMidFrame}, {"exit_thread", exitThread}, {"blend_depth", blendDepth}};
+      {"threads", threads}, {"destroy", destroyMidFrame}, {"exit_thread", exitThread}, {"blend_depth", blendDepth},
+      {"window_queries", windowQueries}, {"extension_names", extensionNames}, {"depth_prepass", depthPrepass}};
   bool found = false;
   for (const auto& s : scenarios) {
     if (scenario != "all" && scenario != s.first) continue;

@@ -99,16 +99,19 @@ struct Surface {
   EGLContext context = EGL_NO_CONTEXT;
 };
 
-inline Surface makeSurface(int size, EGLContext share = EGL_NO_CONTEXT) {
+/// A pbuffer and a GL 4.5 core context, or (`compatibility`) the driver's compatibility profile
+/// (legacy formats and extension names, as older engines use them).
+inline Surface makeSurface(int size, EGLContext share = EGL_NO_CONTEXT, bool compatibility = false) {
   initDisplay();
   eglBindAPI(EGL_OPENGL_API);
   const EGLint surface_attrs[] = {EGL_WIDTH, size, EGL_HEIGHT, size, EGL_NONE};
-  const EGLint context_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  const EGLint core_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                               EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  const EGLint compatibility_attrs[] = {EGL_NONE};
   Surface s;
   s.surface = eglCreatePbufferSurface(g_display, g_config, surface_attrs);
-  s.context = eglCreateContext(g_display, g_config, share, context_attrs);
-  if (s.surface == EGL_NO_SURFACE || s.context == EGL_NO_CONTEXT) die("no EGL pbuffer or GL 4.5 context");
+  s.context = eglCreateContext(g_display, g_config, share, compatibility ? compatibility_attrs : core_attrs);
+  if (s.surface == EGL_NO_SURFACE || s.context == EGL_NO_CONTEXT) die("no EGL pbuffer or GL context");
   return s;
 }
 inline void makeCurrent(const Surface& s) {

@@ -15,6 +15,12 @@ void FrameTarget::queryDefaultFormats() {
   const GLint prev_draw = glInt(GL_DRAW_FRAMEBUFFER_BINDING);
   g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   const GLenum color_att = glInt(GL_DOUBLEBUFFER) ? GL_BACK_LEFT : GL_FRONT_LEFT;
+  // The window's own draw and read buffers, as the program will ask for them.
+  program_draw_buffers.assign(1, static_cast<GLenum>(glInt(GL_DRAW_BUFFER)));
+  const GLint prev_read = glInt(GL_READ_FRAMEBUFFER_BINDING);
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  program_read_buffer = static_cast<GLenum>(glInt(GL_READ_BUFFER));
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, prev_read);
   const bool srgb = drawAttachmentParam(color_att, GL_FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING) == GL_SRGB;
   const bool alpha = drawAttachmentParam(color_att, GL_FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE) > 0;
   color_format_ = alpha ? (srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8) : (srgb ? GL_SRGB8 : GL_RGB8);
@@ -119,7 +125,7 @@ void FrameTarget::ensureSize(int width, int height) {
 }
 
 void FrameTarget::applyDrawBuffers(bool ids) {
-  const GLenum none_or_color = program_draw_buffer == GL_NONE ? GL_NONE : GL_COLOR_ATTACHMENT0;
+  const GLenum none_or_color = programDrawBuffer() == GL_NONE ? GL_NONE : GL_COLOR_ATTACHMENT0;
   const GLenum ids_buffer = ids && none_or_color != GL_NONE ? GLenum(GL_COLOR_ATTACHMENT1) : GLenum(GL_NONE);
   GLenum bufs[kIdDrawBuffer + 1];
   bufs[0] = none_or_color;

@@ -59,10 +59,21 @@ class FrameTarget {
   /// Program-visible framebuffer bindings (0 = the default framebuffer, i.e. ours).
   GLuint program_draw_fb = 0;
   GLuint program_read_fb = 0;
-  /// Draw buffer the program selected for "its" default framebuffer (GL_BACK or GL_NONE).
-  GLenum program_draw_buffer = GL_BACK;
-  /// Read buffer the program selected for it (GL_BACK or GL_NONE).
+  /// Draw buffers the program selected for "its" default framebuffer, as it named them (GL_BACK,
+  /// GL_FRONT, GL_BACK_LEFT, GL_NONE...): what glGetIntegerv(GL_DRAW_BUFFERi) answers. Ours draws
+  /// into its color attachment for any of them but GL_NONE. Set from the window's own state when
+  /// the target is made (GL_BACK for a double-buffered window, GL_FRONT for a single-buffered one).
+  std::vector<GLenum> program_draw_buffers{GL_BACK};
+  GLenum programDrawBuffer() const { return program_draw_buffers.empty() ? GLenum(GL_NONE) : program_draw_buffers[0]; }
+  /// Read buffer the program selected for it, as it named it.
   GLenum program_read_buffer = GL_BACK;
+  /// The program's draw buffer `index` of its bound draw framebuffer object where ours has taken
+  /// that slot for the ids (kIdDrawBuffer, ids on): what glGetIntegerv(GL_DRAW_BUFFERi) answers.
+  /// False where the real answer is the program's own.
+  bool programFboDrawBuffer(GLuint index, GLenum& out) const;
+  /// The program's bound draw framebuffer object has a draw buffer of its own at kIdDrawBuffer
+  /// (all eight in use): no ids go there.
+  bool programOwnsIdDrawBuffer() const;
   /// Whether our id attachment is currently a draw buffer.
   bool ids_enabled = true;
 
@@ -105,6 +116,8 @@ class FrameTarget {
       applyDrawBuffers(ids);
     }
   }
+  /// The program deleted its framebuffer object `name`: our id texture for it goes too.
+  void programFboDeleted(GLuint name);
   /// After the program cleared color or depth of its bound framebuffer f: our ids back to 0.
   void clearFboIds(ProgramFbo& f);
 

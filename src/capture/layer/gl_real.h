@@ -32,6 +32,7 @@ namespace capture {
   X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                  \
   X(PFNGLCOMPILESHADERPROC, CompileShader)                                                \
   X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                    \
+  X(PFNGLISSHADERPROC, IsShader)                                                          \
   X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                          \
   X(PFNGLATTACHSHADERPROC, AttachShader)                                                  \
   X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                    \
@@ -77,6 +78,7 @@ namespace capture {
   X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)                                      \
   X(PFNGLBLENDEQUATIONIPROC, BlendEquationi)                                              \
   X(PFNGLCOLORMASKIPROC, ColorMaski)                                                      \
+  X(PFNGLCOLORMASKPROC, ColorMask)                                                        \
   X(PFNGLGETBOOLEANVPROC, GetBooleanv)                                                    \
   X(PFNGLGETBOOLEANI_VPROC, GetBooleani_v)                                                \
   X(PFNGLGENTEXTURESPROC, GenTextures)                                                    \
@@ -143,6 +145,9 @@ namespace capture {
   X(PFNGLCOMPRESSEDTEXIMAGE2DPROC, CompressedTexImage2D)                                  \
   X(PFNGLCOMPRESSEDTEXSUBIMAGE2DPROC, CompressedTexSubImage2D)                            \
   X(PFNGLGETFLOATVPROC, GetFloatv)                                                        \
+  X(PFNGLGETDOUBLEVPROC, GetDoublev)                                                      \
+  X(PFNGLGETINTEGER64VPROC, GetInteger64v)                                                \
+  X(PFNGLGETFRAMEBUFFERPARAMETERIVPROC, GetFramebufferParameteriv)                        \
   X(PFNGLGETPOINTERVPROC, GetPointerv)                                                    \
   X(PFNVIPERMATRIXMODEPROC, MatrixMode)                                                   \
   X(PFNVIPERVOIDPROC, LoadIdentity)                                                       \

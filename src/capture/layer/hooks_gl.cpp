@@ -3,6 +3,7 @@
 #include "interceptor.h"
 
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 using viper::capture::DrawCall;
@@ -114,9 +115,68 @@ VIPER_EXPORT void glProgramBinary(GLuint program, GLenum format, const void* bin
   if (Interceptor* i = active()) return i->programBinary(program);
   gl().ProgramBinary(program, format, binary, length);
 }
+// Queries: what the window's default framebuffer answers where the program has it bound (ours
+// stands in for it), and the program's own state where the layer changed the GL's.
+namespace {
+
+template <typename T>
+T queryValue(GLint64 v) {
+  if constexpr (std::is_same_v<T, GLboolean>) return v != 0 ? GL_TRUE : GL_FALSE;
+  else return static_cast<T>(v);
+}
+
+template <typename T, typename F>
+void query(GLenum pname, T* data, F real) {
+  Interceptor* i = active();
+  if (!i) return real();
+  const bool window = i->beginWindowQuery(pname);
+  real();
+  if (window) i->endWindowQuery();
+  GLint64 v = 0;
+  if (data && i->overrideQuery(pname, v)) *data = queryValue<T>(v);
+}
+
+template <typename F>
+auto framebufferQuery(GLenum target, F real) {
+  Interceptor* i = active();
+  const bool window = i && i->beginWindowFramebufferQuery(target);
+  struct Restore {
+    Interceptor* i;
+    ~Restore() { if (i) i->endWindowQuery(); }
+  } restore{window ? i : nullptr};
+  return real();
+}
+
+}  // namespace
+
 VIPER_EXPORT void glGetIntegerv(GLenum pname, GLint* data) {
-  gl().GetIntegerv(pname, data);
-  if (Interceptor* i = active()) i->fixIntegerQuery(pname, data);
+  query(pname, data, [&] { gl().GetIntegerv(pname, data); });
+}
+VIPER_EXPORT void glGetBooleanv(GLenum pname, GLboolean* data) {
+  query(pname, data, [&] { gl().GetBooleanv(pname, data); });
+}
+VIPER_EXPORT void glGetFloatv(GLenum pname, GLfloat* data) {
+  query(pname, data, [&] { gl().GetFloatv(pname, data); });
+}
+VIPER_EXPORT void glGetDoublev(GLenum pname, GLdouble* data) {
+  query(pname, data, [&] { gl().GetDoublev(pname, data); });
+}
+VIPER_EXPORT void glGetInteger64v(GLenum pname, GLint64* data) {
+  query(pname, data, [&] { gl().GetInteger64v(pname, data); });
+}
+VIPER_EXPORT void glGetFramebufferAttachmentParameteriv(GLenum target, GLenum attachment, GLenum pname,
+                                                        GLint* params) {
+  framebufferQuery(target, [&] { gl().GetFramebufferAttachmentParameteriv(target, attachment, pname, params); });
+}
+VIPER_EXPORT void glGetFramebufferParameteriv(GLenum target, GLenum pname, GLint* params) {
+  framebufferQuery(target, [&] { gl().GetFramebufferParameteriv(target, pname, params); });
+}
+VIPER_EXPORT GLenum glCheckFramebufferStatus(GLenum target) {
+  return framebufferQuery(target, [&] { return gl().CheckFramebufferStatus(target); });
+}
+VIPER_EXPORT void glDeleteFramebuffers(GLsizei n, const GLuint* framebuffers) {
+  gl().DeleteFramebuffers(n, framebuffers);
+  if (Interceptor* i = active()) i->framebuffersDeleted(n, framebuffers);
 }
 VIPER_EXPORT void glEnable(GLenum cap) {
   gl().Enable(cap);
@@ -137,6 +197,10 @@ VIPER_EXPORT void glDisablei(GLenum cap, GLuint index) {
   gl().Disablei(cap, index);
   if (cap == GL_BLEND)
     if (Interceptor* i = active()) i->blendStateChanged(index == 0, false);
+}
+VIPER_EXPORT void glColorMask(GLboolean r, GLboolean g, GLboolean b, GLboolean a) {
+  gl().ColorMask(r, g, b, a);
+  if (Interceptor* i = active()) i->colorMaskChanged();
 }
 VIPER_EXPORT void glBlendFunc(GLenum s, GLenum d) {
   gl().BlendFunc(s, d);
@@ -394,6 +458,62 @@ VIPER_EXPORT void glMultiDrawElementsIndirect(GLenum mode, GLenum type, const vo
                [&] { gl().MultiDrawElementsIndirect(mode, type, indirect, drawcount, stride); });
 }
 
+// The extension names of the functions above (ARB, EXT and vendor names that the GL registry
+// gives as aliases of the core ones, or that drivers implement as the same function): the same
+// wrappers, so a program that calls the extension name is seen as one that calls the core name
+// (a framebuffer bound with glBindFramebufferEXT reached the real window before). Exported under
+// those names, and found under them by glXGetProcAddress, eglGetProcAddress and dlsym (wrapperFor).
+#define VIPER_GL_ALIASES(X) \
+  X(glShaderSourceARB, glShaderSource)\
+  X(glCompileShaderARB, glCompileShader)\
+  X(glLinkProgramARB, glLinkProgram)\
+  X(glUseProgramObjectARB, glUseProgram)\
+  X(glTransformFeedbackVaryingsEXT, glTransformFeedbackVaryings)\
+  X(glBindFramebufferEXT, glBindFramebuffer)\
+  X(glDeleteFramebuffersEXT, glDeleteFramebuffers)\
+  X(glCheckFramebufferStatusEXT, glCheckFramebufferStatus)\
+  X(glGetFramebufferAttachmentParameterivEXT, glGetFramebufferAttachmentParameteriv)\
+  X(glDrawBuffersARB, glDrawBuffers)\
+  X(glDrawBuffersATI, glDrawBuffers)\
+  X(glDrawBuffersEXT, glDrawBuffers)\
+  X(glEnableIndexedEXT, glEnablei)\
+  X(glEnableiEXT, glEnablei)\
+  X(glDisableIndexedEXT, glDisablei)\
+  X(glDisableiEXT, glDisablei)\
+  X(glBlendFuncSeparateEXT, glBlendFuncSeparate)\
+  X(glBlendFuncSeparateINGR, glBlendFuncSeparate)\
+  X(glBlendEquationEXT, glBlendEquation)\
+  X(glBlendEquationSeparateEXT, glBlendEquationSeparate)\
+  X(glBlendEquationSeparateATI, glBlendEquationSeparate)\
+  X(glBufferDataARB, glBufferData)\
+  X(glBufferSubDataARB, glBufferSubData)\
+  X(glMapBufferARB, glMapBuffer)\
+  X(glUnmapBufferARB, glUnmapBuffer)\
+  X(glDeleteBuffersARB, glDeleteBuffers)\
+  X(glActiveTextureARB, glActiveTexture)\
+  X(glBindTextureEXT, glBindTexture)\
+  X(glDeleteTexturesEXT, glDeleteTextures)\
+  X(glTexSubImage2DEXT, glTexSubImage2D)\
+  X(glTexStorage2DEXT, glTexStorage2D)\
+  X(glCompressedTexImage2DARB, glCompressedTexImage2D)\
+  X(glCompressedTexSubImage2DARB, glCompressedTexSubImage2D)\
+  X(glDrawArraysEXT, glDrawArrays)\
+  X(glDrawArraysInstancedARB, glDrawArraysInstanced)\
+  X(glDrawArraysInstancedEXT, glDrawArraysInstanced)\
+  X(glDrawElementsInstancedARB, glDrawElementsInstanced)\
+  X(glDrawElementsInstancedEXT, glDrawElementsInstanced)\
+  X(glDrawRangeElementsEXT, glDrawRangeElements)\
+  X(glDrawElementsBaseVertexEXT, glDrawElementsBaseVertex)\
+  X(glMultiDrawArraysEXT, glMultiDrawArrays)\
+  X(glMultiDrawElementsEXT, glMultiDrawElements)\
+  X(glMultiDrawArraysIndirectAMD, glMultiDrawArraysIndirect)\
+  X(glMultiDrawElementsIndirectAMD, glMultiDrawElementsIndirect)
+
+#define VIPER_DEFINE_ALIAS(alias_name, core)                                                       \
+  extern "C" __attribute__((visibility("default"), alias(#core))) decltype(::core) alias_name;
+VIPER_GL_ALIASES(VIPER_DEFINE_ALIAS)
+#undef VIPER_DEFINE_ALIAS
+
 namespace viper {
 namespace capture {
 
@@ -407,7 +527,10 @@ VIPER_NO_SANITIZE void* wrapperFor(const char* name) {
       VIPER_ENTRY(glShaderSource), VIPER_ENTRY(glCompileShader), VIPER_ENTRY(glLinkProgram),
       VIPER_ENTRY(glUseProgram), VIPER_ENTRY(glTransformFeedbackVaryings), VIPER_ENTRY(glBindFramebuffer),
       VIPER_ENTRY(glDrawBuffer), VIPER_ENTRY(glDrawBuffers), VIPER_ENTRY(glReadBuffer), VIPER_ENTRY(glClear),
-      VIPER_ENTRY(glGetIntegerv), VIPER_ENTRY(glEnable), VIPER_ENTRY(glDisable), VIPER_ENTRY(glEnablei),
+      VIPER_ENTRY(glGetIntegerv), VIPER_ENTRY(glGetBooleanv), VIPER_ENTRY(glGetFloatv), VIPER_ENTRY(glGetDoublev),
+      VIPER_ENTRY(glGetInteger64v), VIPER_ENTRY(glGetFramebufferAttachmentParameteriv),
+      VIPER_ENTRY(glGetFramebufferParameteriv), VIPER_ENTRY(glCheckFramebufferStatus),
+      VIPER_ENTRY(glDeleteFramebuffers), VIPER_ENTRY(glColorMask), VIPER_ENTRY(glEnable), VIPER_ENTRY(glDisable), VIPER_ENTRY(glEnablei),
       VIPER_ENTRY(glDisablei), VIPER_ENTRY(glBlendFunc), VIPER_ENTRY(glBlendFuncSeparate),
       VIPER_ENTRY(glBlendEquation), VIPER_ENTRY(glBlendEquationSeparate), VIPER_ENTRY(glBufferData),
       VIPER_ENTRY(glBufferSubData), VIPER_ENTRY(glNamedBufferData), VIPER_ENTRY(glNamedBufferSubData),
@@ -426,6 +549,9 @@ VIPER_NO_SANITIZE void* wrapperFor(const char* name) {
       VIPER_ENTRY(glMultiDrawArrays), VIPER_ENTRY(glMultiDrawElements), VIPER_ENTRY(glMultiDrawElementsBaseVertex),
       VIPER_ENTRY(glDrawArraysIndirect), VIPER_ENTRY(glDrawElementsIndirect), VIPER_ENTRY(glMultiDrawArraysIndirect),
       VIPER_ENTRY(glMultiDrawElementsIndirect),
+#define VIPER_ALIAS_ENTRY(alias_name, core) ::viper::capture::HookEntry{#alias_name, reinterpret_cast<void*>(&::core)},
+      VIPER_GL_ALIASES(VIPER_ALIAS_ENTRY)
+#undef VIPER_ALIAS_ENTRY
   };
 #undef VIPER_ENTRY
   if (name[0] == 'g' && name[1] == 'l' && name[2] != 'X') {

@@ -1,6 +1,6 @@
 // Exported compatibility-profile entry points: the fixed-function matrix stack (tracked for
-// profiles with `matrix_stack`) and the ARB_vertex_buffer_object names of the buffer functions,
-// which older engines (Irrlicht) call instead of the core names.
+// profiles with `matrix_stack`). (The extension names of the core functions, such as
+// ARB_vertex_buffer_object's, are in hooks_gl.cpp.)
 #include "hooks.h"
 #include "interceptor.h"
 
@@ -13,13 +13,6 @@ using viper::capture::ModelViewTracker;
 
 #define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
 
-extern "C" {
-void glBufferData(GLenum target, GLsizeiptr size, const void* data, GLenum usage);
-void glBufferSubData(GLenum target, GLintptr offset, GLsizeiptr size, const void* data);
-void* glMapBuffer(GLenum target, GLenum access);
-GLboolean glUnmapBuffer(GLenum target);
-void glDeleteBuffers(GLsizei n, const GLuint* buffers);
-}
 
 namespace {
 
@@ -94,17 +87,6 @@ VIPER_EXPORT void glRotated(GLdouble angle, GLdouble x, GLdouble y, GLdouble z) 
   if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::rotation(angle, x, y, z));
 }
 
-// ARB_vertex_buffer_object: the same functions under their extension names.
-VIPER_EXPORT void glBufferDataARB(GLenum target, GLsizeiptr size, const void* data, GLenum usage) {
-  glBufferData(target, size, data, usage);
-}
-VIPER_EXPORT void glBufferSubDataARB(GLenum target, GLintptr offset, GLsizeiptr size, const void* data) {
-  glBufferSubData(target, offset, size, data);
-}
-VIPER_EXPORT void* glMapBufferARB(GLenum target, GLenum access) { return glMapBuffer(target, access); }
-VIPER_EXPORT GLboolean glUnmapBufferARB(GLenum target) { return glUnmapBuffer(target); }
-VIPER_EXPORT void glDeleteBuffersARB(GLsizei n, const GLuint* buffers) { glDeleteBuffers(n, buffers); }
-
 namespace viper {
 namespace capture {
 
@@ -115,9 +97,7 @@ VIPER_NO_SANITIZE void* wrapperForLegacy(const char* name) {
       VIPER_ENTRY(glLoadMatrixd),  VIPER_ENTRY(glMultMatrixf),      VIPER_ENTRY(glMultMatrixd),
       VIPER_ENTRY(glPushMatrix),   VIPER_ENTRY(glPopMatrix),        VIPER_ENTRY(glTranslatef),
       VIPER_ENTRY(glTranslated),   VIPER_ENTRY(glScalef),           VIPER_ENTRY(glScaled),
-      VIPER_ENTRY(glRotatef),      VIPER_ENTRY(glRotated),          VIPER_ENTRY(glBufferDataARB),
-      VIPER_ENTRY(glBufferSubDataARB), VIPER_ENTRY(glMapBufferARB), VIPER_ENTRY(glUnmapBufferARB),
-      VIPER_ENTRY(glDeleteBuffersARB),
+      VIPER_ENTRY(glRotatef),      VIPER_ENTRY(glRotated),
   };
 #undef VIPER_ENTRY
   return findHook(kEntries, name);

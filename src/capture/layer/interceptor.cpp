@@ -324,11 +324,28 @@ void Interceptor::bindFramebuffer(GLenum target_enum, GLuint fb) {
   gl().BindFramebuffer(target_enum, fb ? fb : t->fbo());
 }
 
+void Interceptor::framebuffersDeleted(GLsizei n, const GLuint* names) {
+  FrameTarget* t = target();
+  if (!t || !t->ready() || !names) return;
+  for (GLsizei k = 0; k < n; ++k) {
+    if (names[k] == 0) continue;
+    if (t->program_draw_fb == names[k]) {
+      t->program_draw_fb = 0;
+      gl().BindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo());
+    }
+    if (t->program_read_fb == names[k]) {
+      t->program_read_fb = 0;
+      gl().BindFramebuffer(GL_READ_FRAMEBUFFER, t->fbo());
+    }
+    t->programFboDeleted(names[k]);
+  }
+}
+
 void Interceptor::drawBuffer(GLenum buf) {
   FrameTarget* t = target();
   if (!t || !t->ready()) return gl().DrawBuffer(buf);
   if (t->program_draw_fb != 0) return t->programFboDrawBuffers(1, &buf);
-  t->program_draw_buffer = buf == GL_NONE ? GL_NONE : GL_BACK;
+  t->program_draw_buffers.assign(1, buf);
   t->applyDrawBuffers(t->ids_enabled);
 }
 
@@ -336,14 +353,14 @@ void Interceptor::drawBuffers(GLsizei n, const GLenum* bufs) {
   FrameTarget* t = target();
   if (!t || !t->ready()) return gl().DrawBuffers(n, bufs);
   if (t->program_draw_fb != 0) return t->programFboDrawBuffers(n, bufs);
-  t->program_draw_buffer = (n > 0 && bufs[0] != GL_NONE) ? GL_BACK : GL_NONE;
+  t->program_draw_buffers.assign(bufs, bufs + (n > 0 ? n : 0));
   t->applyDrawBuffers(t->ids_enabled);
 }
 
 void Interceptor::readBuffer(GLenum buf) {
   FrameTarget* t = target();
   if (!t || !t->ready() || t->program_read_fb != 0) return gl().ReadBuffer(buf);
-  t->program_read_buffer = buf == GL_NONE ? GL_NONE : GL_BACK;
+  t->program_read_buffer = buf;
   t->applyReadBuffer();
 }
 
@@ -390,13 +407,86 @@ void Interceptor::clearBuffer(GLenum buffer, GLint drawbuffer) {
   clearDefaultIds(*t);
 }
 
-void Interceptor::fixIntegerQuery(GLenum pname, GLint* data) {
+namespace {
+
+// State that belongs to the bound framebuffer and that the window's default framebuffer answers
+// differently from ours: the pixel format and the kind of window (GL 4.6 compatibility profile,
+// tables 23.73 and 23.74 "Framebuffer dependent values", and the implementation's preferred read
+// format).
+bool windowDependent(GLenum pname) {
+  switch (pname) {
+    case 0x0C00:  // GL_AUX_BUFFERS
+    case 0x0C30:  // GL_INDEX_MODE
+    case 0x0C31:  // GL_RGBA_MODE
+    case GL_DOUBLEBUFFER: case GL_STEREO: case GL_SAMPLE_BUFFERS: case GL_SAMPLES:
+    case GL_IMPLEMENTATION_COLOR_READ_FORMAT: case GL_IMPLEMENTATION_COLOR_READ_TYPE:
+    case 0x0D51:                                  // GL_INDEX_BITS
+    case 0x0D52: case 0x0D53: case 0x0D54: case 0x0D55:  // GL_RED_BITS .. GL_ALPHA_BITS
+    case 0x0D56: case 0x0D57:                     // GL_DEPTH_BITS, GL_STENCIL_BITS
+    case 0x0D58: case 0x0D59: case 0x0D5A: case 0x0D5B:  // GL_ACCUM_RED_BITS .. GL_ACCUM_ALPHA_BITS
+    case 0x8DBA:                                  // GL_FRAMEBUFFER_SRGB_CAPABLE_EXT
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+bool Interceptor::beginWindowQuery(GLenum pname) {
   FrameTarget* t = target();
-  if (pname == GL_NUM_PROGRAM_BINARY_FORMATS && data && enabled_) *data = 0;  // see programBinary
-  if (!t || !t->ready() || !data) return;
-  if ((pname == GL_DRAW_FRAMEBUFFER_BINDING || pname == GL_READ_FRAMEBUFFER_BINDING) &&
-      static_cast<GLuint>(*data) == t->fbo())
-    *data = 0;
+  if (!t || !t->ready() || !windowDependent(pname)) return false;
+  if (t->program_draw_fb != 0 && t->program_read_fb != 0) return false;
+  if (t->program_draw_fb == 0) gl().BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  if (t->program_read_fb == 0) gl().BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  return true;
+}
+
+bool Interceptor::beginWindowFramebufferQuery(GLenum target_enum) {
+  FrameTarget* t = target();
+  if (!t || !t->ready()) return false;
+  const bool read = target_enum == GL_READ_FRAMEBUFFER;
+  if ((read ? t->program_read_fb : t->program_draw_fb) != 0) return false;
+  gl().BindFramebuffer(read ? GL_READ_FRAMEBUFFER : GL_DRAW_FRAMEBUFFER, 0);
+  return true;
+}
+
+void Interceptor::endWindowQuery() {
+  FrameTarget* t = target();
+  gl().BindFramebuffer(GL_DRAW_FRAMEBUFFER, t->program_draw_fb ? t->program_draw_fb : t->fbo());
+  gl().BindFramebuffer(GL_READ_FRAMEBUFFER, t->program_read_fb ? t->program_read_fb : t->fbo());
+}
+
+bool Interceptor::overrideQuery(GLenum pname, GLint64& value) {
+  if (pname == GL_NUM_PROGRAM_BINARY_FORMATS && enabled_) return value = 0, true;  // see programBinary
+  FrameTarget* t = target();
+  if (!t || !t->ready()) return false;
+  switch (pname) {
+    case GL_DRAW_FRAMEBUFFER_BINDING: return value = t->program_draw_fb, true;
+    case GL_READ_FRAMEBUFFER_BINDING: return value = t->program_read_fb, true;
+    case GL_READ_BUFFER:
+      if (t->program_read_fb != 0) return false;
+      return value = t->program_read_buffer, true;
+    default: break;
+  }
+  GLuint index = 0;
+  if (pname == GL_DRAW_BUFFER) index = 0;
+  else if (pname >= GL_DRAW_BUFFER0 && pname <= GL_DRAW_BUFFER15) index = pname - GL_DRAW_BUFFER0;
+  else return false;
+  if (t->program_draw_fb == 0) {
+    const std::vector<GLenum>& bufs = t->program_draw_buffers;
+    return value = index < bufs.size() ? bufs[index] : GLenum(GL_NONE), true;
+  }
+  GLenum program_buffer = GL_NONE;
+  if (!t->programFboDrawBuffer(index, program_buffer)) return false;
+  return value = program_buffer, true;
+}
+
+void Interceptor::colorMaskChanged() {
+  FrameTarget* t = target();
+  if (!t || !t->ready()) return;
+  const GLboolean m = cx().ids_write ? GL_TRUE : GL_FALSE;
+  gl().ColorMaski(kIdDrawBuffer, m, m, m, m);
 }
 
 void Interceptor::blendStateChanged(bool blend_enabled_known, bool blend_enabled) {

@@ -171,13 +171,32 @@ class Interceptor {
 
   // Framebuffers.
   void bindFramebuffer(GLenum target, GLuint fb);
+  /// After glDeleteFramebuffers: a deleted framebuffer the program had bound leaves the default
+  /// one (ours) bound in its place, as the GL binds the real one; our ids for it are dropped.
+  void framebuffersDeleted(GLsizei n, const GLuint* names);
   void drawBuffer(GLenum buf);
   void drawBuffers(GLsizei n, const GLenum* bufs);
   void readBuffer(GLenum buf);
   void clear(GLbitfield mask);
-  /// Rewrites framebuffer binding queries so the program sees 0 for its default framebuffer.
-  void fixIntegerQuery(GLenum pname, GLint* data);
+  /// Around a glGet* of `pname`: where it is state of the window's framebuffer (GL_DOUBLEBUFFER,
+  /// GL_SAMPLES, GL_DEPTH_BITS...) and the program has its default framebuffer bound, the real
+  /// default framebuffer is bound for the query (true: endWindowQuery() after it), so that the
+  /// program hears the window's answer, not our substitute's.
+  bool beginWindowQuery(GLenum pname);
+  /// The same around a query of the framebuffer bound to `target` (glGetFramebufferAttachment-
+  /// Parameteriv, glGetFramebufferParameteriv, glCheckFramebufferStatus) where the program has its
+  /// default framebuffer bound there.
+  bool beginWindowFramebufferQuery(GLenum target);
+  /// Our framebuffer bound again where the program has its default framebuffer.
+  void endWindowQuery();
+  /// After a glGet*: the answer the program would have without the layer, where ours differs
+  /// (framebuffer bindings: 0 for ours; the draw and read buffers it selected; no program binary
+  /// formats). False where the driver's answer stands.
+  bool overrideQuery(GLenum pname, GLint64& value);
   void blendStateChanged(bool blend_enabled_known, bool blend_enabled);
+  /// After glColorMask, which sets the mask of every draw buffer, ours too: ours back to what the
+  /// layer decides (a depth pre-pass masks its colour, and its ids decide what is visible).
+  void colorMaskChanged();
 
   // Buffers and textures.
   void bufferData(GLenum target, GLuint name, GLsizeiptr size, const void* data);
@@ -254,6 +273,12 @@ class Interceptor {
   /// Whether the draw about to be made goes into the frame's scene (default framebuffer or a scene
   /// framebuffer object) with a program that is recorded.
   bool recordable();
+  /// viper_draw_id of the current program (rewritten) to `value`: index + 1 of a recorded draw, 0
+  /// into a framebuffer whose draw buffer 7 is the program's (the rewritten shader then writes
+  /// there what the original would).
+  void setDrawId(float value);
+  /// beforeDraw() of a draw into the scene's framebuffer (ours, or `scene_fbo`).
+  bool beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTarget::ProgramFbo* scene_fbo);
   /// Copies bytes of a buffer as the GPU will read them now (a persistent mapping's memory, else
   /// our shadow copy); false if the range is not known.
   bool readBufferBytes(GLuint name, size_t offset, size_t size, void* out);

@@ -63,6 +63,16 @@ bool writesDepth(const RealGl& g) {
   return mask == GL_TRUE && g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE;
 }
 
+// Whether a draw only shades surfaces that an earlier pass put in the depth image: depth writes
+// off and a depth test that passes at equal depth only (the colour passes of a depth pre-pass
+// engine, and the layers it blends over them). Its ids would only repeat the pass that decided
+// what is visible, which keeps them.
+bool shadesDecidedSurfaces(const RealGl& g) {
+  GLboolean mask = GL_TRUE;
+  g.GetBooleanv(GL_DEPTH_WRITEMASK, &mask);
+  return mask == GL_FALSE && g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE && glInt(GL_DEPTH_FUNC) == GL_EQUAL;
+}
+
 DrawRange drawRange(const DrawCall& call) {
   DrawRange range;
   range.mode = call.mode;
@@ -206,6 +216,13 @@ bool Interceptor::readIndirect(size_t offset, void* out, size_t size) {
   return buffer && readBufferBytes(buffer, offset, size, out);
 }
 
+void Interceptor::setDrawId(float value) {
+  // (Set at every draw, never skipped as unchanged: programs of unshared contexts may share a
+  // name, and so what the layer knows of them.)
+  ProgramInfo* p = currentProgram();
+  if (p && p->loc_draw_id >= 0) gl().Uniform1f(p->loc_draw_id, value);
+}
+
 bool Interceptor::beforeDraw(const DrawCall& call) {
   cx().last_recorded = false;
   cx().last_mesh = false;
@@ -214,7 +231,15 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   // Recorded: draws into the default framebuffer, and into a framebuffer object that may hold the
   // scene (frame_target.h, ProgramFbo).
   FrameTarget::ProgramFbo* scene_fbo = nullptr;
+  // Into a framebuffer whose draw buffer 7 is the program's own: viper_draw_id 0, so that a
+  // rewritten shader writes it as the original would (gl_FragColor to every buffer). (Only then:
+  // the uniform belongs to the program, which other contexts may be drawing with.)
+  if (t->programOwnsIdDrawBuffer()) setDrawId(0.0f);
   if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return false;
+  return beforeSceneDraw(call, t, scene_fbo);
+}
+
+bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTarget::ProgramFbo* scene_fbo) {
   ProgramInfo* p = currentProgram();
   const bool scene_ended = !scene_fbo && t->sceneEnded();
   if (!p && !scene_ended) ++cx().frame.unrecorded_draws;  // fixed function: nothing to rewrite or read
@@ -257,13 +282,16 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
     // (its mask off, or no depth test) is an effect (rain, glare, smoke): it takes no pixel's id
     // whatever its alpha. One that writes depth writes its id where its fragments are mostly
     // opaque, and id 0 (no object) where they are mostly transparent (shader_rewrite.h).
-    const bool write_ids = !cx().blend0_enabled || writesDepth(g);
+    // A pass at equal depth with depth writes off (a depth pre-pass engine's colour pass, with
+    // its colour mask on again) leaves the ids of the pass that wrote the depth. (The program's
+    // colour mask never covers ours: colorMaskChanged.)
+    const bool write_ids = (!cx().blend0_enabled || writesDepth(g)) && !shadesDecidedSurfaces(g);
     if (write_ids != cx().ids_write) {
       const GLboolean m = write_ids ? GL_TRUE : GL_FALSE;
       g.ColorMaski(kIdDrawBuffer, m, m, m, m);
       cx().ids_write = write_ids;
     }
-    g.Uniform1f(p->loc_draw_id, static_cast<float>(index + 1));
+    setDrawId(t->programOwnsIdDrawBuffer() ? 0.0f : static_cast<float>(index + 1));
     const float alpha_test = cx().blend0_enabled ? 1.0f : 0.0f;
     if (alpha_test != p->alpha_test_value) {
       g.Uniform1f(p->loc_alpha_test, alpha_test);

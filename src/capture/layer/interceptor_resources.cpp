@@ -1,5 +1,6 @@
 // Shaders, programs, buffers and textures: rewriting, content keys and shadow copies.
 #include "interceptor.h"
+#include "pixel_transfer.h"
 
 #include "viper/capture/content_key.h"
 
@@ -37,23 +38,6 @@ GLenum samplerTarget(GLenum type) {
   }
 }
 
-size_t bytesPerPixel(GLenum format, GLenum type) {
-  size_t comps = 4;
-  switch (format) {
-    case GL_RED: case GL_RED_INTEGER: case GL_DEPTH_COMPONENT: case GL_STENCIL_INDEX: comps = 1; break;
-    case GL_RG: case GL_RG_INTEGER: case GL_DEPTH_STENCIL: comps = 2; break;
-    case GL_RGB: case GL_BGR: case GL_RGB_INTEGER: comps = 3; break;
-    default: comps = 4;
-  }
-  switch (type) {
-    case GL_UNSIGNED_BYTE: case GL_BYTE: return comps;
-    case GL_UNSIGNED_SHORT: case GL_SHORT: case GL_HALF_FLOAT: return comps * 2;
-    case GL_UNSIGNED_INT: case GL_INT: case GL_FLOAT: return comps * 4;
-    case GL_UNSIGNED_SHORT_5_6_5: case GL_UNSIGNED_SHORT_4_4_4_4: case GL_UNSIGNED_SHORT_5_5_5_1: return 2;
-    default: return 4;  // packed 32-bit types
-  }
-}
-
 // A matrix the profile names: a default-block uniform, or a member of a uniform block.
 MatrixSource matrixSource(GLuint program, const std::string& name) {
   MatrixSource m;
@@ -81,6 +65,14 @@ MatrixSource matrixSource(GLuint program, const std::string& name) {
 
 }  // namespace
 
+namespace {
+std::string glEnumName(GLenum e) {
+  char text[16];
+  std::snprintf(text, sizeof(text), "0x%04x", static_cast<unsigned>(e));
+  return text;
+}
+}  // namespace
+
 void Interceptor::logOnce(const std::string& message) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -97,6 +89,9 @@ void Interceptor::programBinary(GLuint program) {
 
 void Interceptor::shaderSource(GLuint shader, GLsizei count, const GLchar* const* strings, const GLint* lengths) {
   const RealGl& g = gl();
+  // A call the GL refuses (no such shader, a negative count) is passed on untouched before the
+  // layer reads anything: programs test those errors with pointers that are not strings.
+  if (count <= 0 || !strings || !g.IsShader(shader)) return g.ShaderSource(shader, count, strings, lengths);
   ShaderInfo info;
   for (GLsizei i = 0; i < count; ++i) {
     if (!strings[i]) continue;
@@ -158,6 +153,7 @@ void Interceptor::linkProgram(GLuint program) {
   ProgramInfo info;
   std::string stage_sources[6], vertex_source;
   const ShaderInfo* fragment = nullptr;
+  GLuint fragment_name = 0;
   int fragment_count = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -171,7 +167,7 @@ void Interceptor::linkProgram(GLuint program) {
         case GL_TESS_CONTROL_SHADER: stage = 1; info.has_geometry_stage = true; break;
         case GL_TESS_EVALUATION_SHADER: stage = 2; info.has_geometry_stage = true; break;
         case GL_GEOMETRY_SHADER: stage = 3; info.has_geometry_stage = true; break;
-        case GL_FRAGMENT_SHADER: stage = 4; fragment = &s; ++fragment_count; break;
+        case GL_FRAGMENT_SHADER: stage = 4; fragment = &s; fragment_name = attached[i]; ++fragment_count; break;
         default: break;
       }
       stage_sources[stage] += s.original;
@@ -200,7 +196,26 @@ void Interceptor::linkProgram(GLuint program) {
   if (info.own_feedback || info.has_geometry_stage) info.deforming = false;
   static const char* const kVaryings[1] = {"gl_Position"};
   if (info.deforming) g.TransformFeedbackVaryings(program, 1, kVaryings, GL_INTERLEAVED_ATTRIBS);
+  // A geometry or tessellation stage that does not write gl_PrimitiveID leaves the fragment
+  // shader's undefined (and llvmpipe draws nothing when it is read): this program links with a
+  // fragment shader that writes primitive id 0, and the shader object gets its source back after.
+  const std::string& last_stage = stage_sources[3].empty() ? stage_sources[2] : stage_sources[3];
+  std::string restore_source;
+  if (info.rewritten && info.has_geometry_stage && last_stage.find("gl_PrimitiveID") == std::string::npos) {
+    const FragmentRewrite without = rewriteFragmentShader(fragment->original, /*primitive_ids=*/false);
+    if (without.ok) {
+      restore_source = fragment->rewrite.source;
+      const GLchar* src = without.source.c_str();
+      g.ShaderSource(fragment_name, 1, &src, nullptr);
+      g.CompileShader(fragment_name);
+    }
+  }
   g.LinkProgram(program);
+  if (!restore_source.empty()) {
+    const GLchar* src = restore_source.c_str();
+    g.ShaderSource(fragment_name, 1, &src, nullptr);
+    g.CompileShader(fragment_name);
+  }
   GLint linked = 0;
   g.GetProgramiv(program, GL_LINK_STATUS, &linked);
   if (!linked && info.deforming) {
@@ -392,10 +407,18 @@ void Interceptor::texImage(GLenum target, GLint level, GLsizei w, GLsizei h, GLe
   const int32_t params[6] = {static_cast<int32_t>(format), static_cast<int32_t>(type), x, y, w, h};
   uint64_t key = contentKey(params, sizeof(params));
   if (pixels && !glInt(GL_PIXEL_UNPACK_BUFFER_BINDING) && w > 0 && h > 0) {
-    const GLint alignment = glInt(GL_UNPACK_ALIGNMENT), row_length = glInt(GL_UNPACK_ROW_LENGTH);
-    const size_t row = bytesPerPixel(format, type) * static_cast<size_t>(row_length > 0 ? row_length : w);
-    const size_t pitch = (row + alignment - 1) / alignment * alignment;
-    key = combineKeys(key, contentKey(pixels, pitch * (h - 1) + bytesPerPixel(format, type) * w));
+    // Exactly the bytes the GL reads (pixel_transfer.h); none for a format it does not know.
+    UnpackState unpack;
+    unpack.row_length = glInt(GL_UNPACK_ROW_LENGTH);
+    unpack.skip_pixels = glInt(GL_UNPACK_SKIP_PIXELS);
+    unpack.skip_rows = glInt(GL_UNPACK_SKIP_ROWS);
+    unpack.alignment = glInt(GL_UNPACK_ALIGNMENT);
+    UnpackedSpan span;
+    if (unpackedSpan(format, type, w, h, unpack, span))
+      key = combineKeys(key, contentKey(static_cast<const uint8_t*>(pixels) + span.offset, span.bytes));
+    else
+      logOnce("texture upload of format " + glEnumName(format) + ", type " + glEnumName(type) +
+              ": not a pixel transfer the layer knows; its textures are keyed by size only");
   }
   storeTextureKey(target, level, sub, key);
 }

@@ -11,12 +11,12 @@ namespace {
 void depthAttachmentSize(GLint& width, GLint& height) {
   const RealGl& g = gl();
   width = height = 0;
-  GLenum attachment = GL_DEPTH_ATTACHMENT;
-  GLint type = drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE);
-  if (type == GL_NONE) {
-    attachment = GL_DEPTH_STENCIL_ATTACHMENT;
-    type = drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE);
-  }
+  // (An image attached at GL_DEPTH_STENCIL_ATTACHMENT is the depth attachment too. Asking for
+  // GL_DEPTH_STENCIL_ATTACHMENT where depth and stencil differ, a stencil-only framebuffer, is an
+  // error, which the program would then read from glGetError as its own.)
+  const GLenum attachment = GL_DEPTH_ATTACHMENT;
+  const GLint type = drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE);
+  if (type == GL_NONE) return;
   const GLuint name = static_cast<GLuint>(drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME));
   if (type == GL_RENDERBUFFER) {
     const GLint prev = glInt(GL_RENDERBUFFER_BINDING);
@@ -87,15 +87,43 @@ void FrameTarget::programFboDrawBuffers(GLsizei n, const GLenum* bufs) {
   applyFboDrawBuffers(f, f.scene && f.ids_wanted);
 }
 
+void FrameTarget::programFboDeleted(GLuint name) {
+  auto it = program_fbos_.find(name);
+  if (it == program_fbos_.end()) return;
+  if (it->second.ids) gl().DeleteTextures(1, &it->second.ids);
+  program_fbos_.erase(it);
+}
+
+bool FrameTarget::programOwnsIdDrawBuffer() const {
+  if (program_draw_fb == 0) return false;
+  auto it = program_fbos_.find(program_draw_fb);
+  if (it == program_fbos_.end()) return false;
+  const std::vector<GLenum>& bufs = it->second.program_draw_buffers;
+  return bufs.size() > kIdDrawBuffer && bufs[kIdDrawBuffer] != GL_NONE;
+}
+
+bool FrameTarget::programFboDrawBuffer(GLuint index, GLenum& out) const {
+  if (index != kIdDrawBuffer || program_draw_fb == 0) return false;
+  auto it = program_fbos_.find(program_draw_fb);
+  if (it == program_fbos_.end() || !it->second.ids_enabled) return false;
+  const std::vector<GLenum>& bufs = it->second.program_draw_buffers;
+  out = index < bufs.size() ? bufs[index] : GLenum(GL_NONE);
+  return true;
+}
+
 void FrameTarget::applyFboDrawBuffers(ProgramFbo& f, bool ids) {
+  const bool wanted = ids;
   std::vector<GLenum> bufs = f.program_draw_buffers;
   const bool color = !bufs.empty() && bufs[0] != GL_NONE;
+  // The program draws into its own draw buffer kIdDrawBuffer (all eight in use): it keeps it, and
+  // this framebuffer gets no ids.
+  if (bufs.size() > kIdDrawBuffer && bufs[kIdDrawBuffer] != GL_NONE) ids = false;  // programOwnsIdDrawBuffer
   if (ids && color && f.ids) {
     if (bufs.size() <= kIdDrawBuffer) bufs.resize(kIdDrawBuffer + 1, GL_NONE);
     bufs[kIdDrawBuffer] = kIdAttachment;
   }
   gl().DrawBuffers(static_cast<GLsizei>(bufs.size()), bufs.data());
-  f.ids_wanted = ids;
+  f.ids_wanted = wanted;
   f.ids_enabled = ids && color && f.ids;
 }
 

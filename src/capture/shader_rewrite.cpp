@@ -139,8 +139,10 @@ FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version, bool
     code += "  " + last + " = " + kDrawIdUniform + " < 0.5 ? viper_frag_color : (" +
             idValue("viper_frag_color.a", primitive_ids) + ");\n}\n";
   } else {
-    code += "void main() {\n  viper_original_main();\n  " + last + " = " +
-            idValue("gl_FragData[0].a", primitive_ids) + ";\n}\n";
+    // (Written only while ids are wanted: the program's own gl_FragData[7], where its
+    // framebuffer has that draw buffer, stays as it wrote it.)
+    code += "void main() {\n  viper_original_main();\n  if (" + std::string(kDrawIdUniform) + " >= 0.5) " + last +
+            " = " + idValue("gl_FragData[0].a", primitive_ids) + ";\n}\n";
   }
   result.ok = true;
   result.legacy = true;

@@ -136,11 +136,12 @@ TEST(ShaderRewrite, LegacyGlslWritesItsColorAndTheIdsThroughFragData) {
                               "viper_frag_color.a < 0.5) ? vec4(0.0, 0.0, 0.0, 1.0) : "
                               "vec4(viper_draw_id, float(gl_PrimitiveID), 0.0, 1.0));"),
             1);
-  // A shader that writes gl_FragData itself keeps its draw buffers; the ids go to the last.
+  // A shader that writes gl_FragData itself keeps its draw buffers; the ids go to the last, while
+  // they are wanted (else the program's own gl_FragData[7], written by a loop, stays).
   const auto data = rewriteFragmentShader("#version 120\nvoid main() { gl_FragData[0] = vec4(1.0); }\n");
   ASSERT_TRUE(data.ok) << data.reason;
   EXPECT_EQ(countOf(data.source, "gl_FragData[0] = vec4(1.0);"), 1);
-  EXPECT_EQ(countOf(data.source, "gl_FragData[7] = (viper_alpha_test > 0.5 && gl_FragData[0].a < 0.5) ? "
+  EXPECT_EQ(countOf(data.source, "if (viper_draw_id >= 0.5) gl_FragData[7] = (viper_alpha_test > 0.5 && gl_FragData[0].a < 0.5) ? "
                                  "vec4(0.0, 0.0, 0.0, 1.0) : vec4(viper_draw_id, float(gl_PrimitiveID), 0.0, 1.0);"),
             1);
   // One that writes the last draw buffer itself is left alone.

@@ -16,7 +16,8 @@ void FrameTarget::queryDefaultFormats() {
   g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   const GLenum color_att = glInt(GL_DOUBLEBUFFER) ? GL_BACK_LEFT : GL_FRONT_LEFT;
   // The window's own draw and read buffers, as the program will ask for them.
-  program_draw_buffers.assign(1, static_cast<GLenum>(glInt(GL_DRAW_BUFFER)));
+  window_draw_buffer_ = static_cast<GLenum>(glInt(GL_DRAW_BUFFER));
+  program_draw_buffers.assign(1, window_draw_buffer_);
   const GLint prev_read = glInt(GL_READ_FRAMEBUFFER_BINDING);
   g.BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   program_read_buffer = static_cast<GLenum>(glInt(GL_READ_BUFFER));
@@ -73,7 +74,39 @@ void FrameTarget::destroy() {
   program_fbos_.clear();
 }
 
+void FrameTarget::giveUp() {
+  given_up_ = true;
+  if (!fbo_) return;
+  const RealGl& g = gl();
+  const GLboolean scissor = g.IsEnabled(GL_SCISSOR_TEST);
+  if (scissor) g.Disable(GL_SCISSOR_TEST);
+  // The program's framebuffer objects lose our id attachment and get their own draw buffers back.
+  for (auto& [name, f] : program_fbos_) {
+    if (!f.ids) continue;
+    g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, name);
+    g.FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, kIdAttachment, GL_TEXTURE_2D, 0, 0);
+    g.DrawBuffers(static_cast<GLsizei>(f.program_draw_buffers.size()), f.program_draw_buffers.data());
+  }
+  // What the program drew so far, into the window's buffer it was drawing for.
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  g.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  g.DrawBuffer(window_draw_buffer_);
+  GLbitfield mask = GL_COLOR_BUFFER_BIT;
+  if (depth_) mask |= GL_DEPTH_BUFFER_BIT | (depth_attachment_ == GL_DEPTH_STENCIL_ATTACHMENT ? GL_STENCIL_BUFFER_BIT : 0);
+  g.BlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, mask, GL_NEAREST);
+  if (scissor) g.Enable(GL_SCISSOR_TEST);
+  // The window's framebuffer as the program set it up.
+  g.DrawBuffers(static_cast<GLsizei>(program_draw_buffers.size()), program_draw_buffers.data());
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  g.ReadBuffer(program_read_buffer);
+  g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, program_draw_fb);
+  g.BindFramebuffer(GL_READ_FRAMEBUFFER, program_read_fb);
+  destroy();
+}
+
 void FrameTarget::ensureSize(int width, int height) {
+  if (given_up_) return;
   if (width <= 0 || height <= 0 || (fbo_ && width == width_ && height == height_)) return;
   const RealGl& g = gl();
   if (!formats_known_) queryDefaultFormats();

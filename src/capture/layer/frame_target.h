@@ -52,6 +52,13 @@ class FrameTarget {
   /// of the real default framebuffer (queried the first time).
   void ensureSize(int width, int height);
   bool ready() const { return fbo_ != 0; }
+  /// The program does what the substitute cannot stand in for (the front buffer, the accumulation
+  /// buffer): its image, depth and stencil so far are copied into the window's framebuffer, which
+  /// it is given back (bindings, draw and read buffers as it named them), our ids leave its
+  /// framebuffer objects, and this target is never made again: the context draws as without the
+  /// layer, and nothing more is recorded from it.
+  void giveUp();
+  bool givenUp() const { return given_up_; }
   GLuint fbo() const { return fbo_; }
   int width() const { return width_; }
   int height() const { return height_; }
@@ -181,6 +188,8 @@ class FrameTarget {
   GLuint color_ = 0, ids_ = 0, depth_ = 0;
   int width_ = 0, height_ = 0;
   bool formats_known_ = false;
+  bool given_up_ = false;
+  GLenum window_draw_buffer_ = GL_BACK;  ///< the window's draw buffer when the target was made
   GLenum color_format_ = GL_RGBA8;
   GLenum depth_format_ = GL_DEPTH24_STENCIL8;  // 0 = no depth attachment
   GLenum depth_attachment_ = GL_DEPTH_STENCIL_ATTACHMENT;

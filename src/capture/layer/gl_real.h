@@ -13,6 +13,8 @@ typedef void (*PFNVIPERXYZFPROC)(GLfloat x, GLfloat y, GLfloat z);
 typedef void (*PFNVIPERXYZDPROC)(GLdouble x, GLdouble y, GLdouble z);
 typedef void (*PFNVIPERROTATEFPROC)(GLfloat angle, GLfloat x, GLfloat y, GLfloat z);
 typedef void (*PFNVIPERROTATEDPROC)(GLdouble angle, GLdouble x, GLdouble y, GLdouble z);
+typedef void (*PFNVIPERACCUMPROC)(GLenum op, GLfloat value);
+#define VIPER_GL_ACCUM_BUFFER_BIT 0x00000200
 #define VIPER_GL_MODELVIEW 0x1700
 #define VIPER_GL_PROJECTION 0x1701
 #define VIPER_GL_MODELVIEW_MATRIX 0x0BA6
@@ -162,7 +164,8 @@ namespace capture {
   X(PFNVIPERXYZFPROC, Scalef)                                                             \
   X(PFNVIPERXYZDPROC, Scaled)                                                             \
   X(PFNVIPERROTATEFPROC, Rotatef)                                                         \
-  X(PFNVIPERROTATEDPROC, Rotated)
+  X(PFNVIPERROTATEDPROC, Rotated)                                                         \
+  X(PFNVIPERACCUMPROC, Accum)
 
 /// Pointers to the real GL functions (libglvnd dispatch stubs, valid for EGL and GLX contexts).
 struct RealGl {

@@ -87,6 +87,12 @@ VIPER_EXPORT void glRotated(GLdouble angle, GLdouble x, GLdouble y, GLdouble z) 
   if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::rotation(angle, x, y, z));
 }
 
+VIPER_EXPORT void glAccum(GLenum op, GLfloat value) {
+  Interceptor& i = Interceptor::instance();
+  if (i.enabled()) return i.accum(op, value);
+  gl().Accum(op, value);
+}
+
 namespace viper {
 namespace capture {
 
@@ -97,7 +103,7 @@ VIPER_NO_SANITIZE void* wrapperForLegacy(const char* name) {
       VIPER_ENTRY(glLoadMatrixd),  VIPER_ENTRY(glMultMatrixf),      VIPER_ENTRY(glMultMatrixd),
       VIPER_ENTRY(glPushMatrix),   VIPER_ENTRY(glPopMatrix),        VIPER_ENTRY(glTranslatef),
       VIPER_ENTRY(glTranslated),   VIPER_ENTRY(glScalef),           VIPER_ENTRY(glScaled),
-      VIPER_ENTRY(glRotatef),      VIPER_ENTRY(glRotated),
+      VIPER_ENTRY(glRotatef),      VIPER_ENTRY(glRotated),          VIPER_ENTRY(glAccum),
   };
 #undef VIPER_ENTRY
   return findHook(kEntries, name);

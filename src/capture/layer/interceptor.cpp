@@ -341,8 +341,31 @@ void Interceptor::framebuffersDeleted(GLsizei n, const GLuint* names) {
   }
 }
 
+namespace {
+
+// The window's colour buffers that the substitute stands for: its back buffer (and none).
+bool substituteHas(GLenum buffer) { return buffer == GL_NONE || buffer == GL_BACK || buffer == GL_BACK_LEFT; }
+
+}  // namespace
+
+void Interceptor::giveUp(const char* why) {
+  FrameTarget* t = target();
+  if (!t || !t->ready()) return;
+  t->giveUp();
+  logOnce(std::string("a context ") + why +
+          ": the layer gives it its window's framebuffer back, and records nothing more from it");
+}
+
+void Interceptor::accum(GLenum op, GLfloat value) {
+  if (FrameTarget* t = target(); t && t->ready() && t->program_draw_fb == 0 && t->program_read_fb == 0)
+    giveUp("uses the accumulation buffer");
+  gl().Accum(op, value);
+}
+
 void Interceptor::drawBuffer(GLenum buf) {
   FrameTarget* t = target();
+  if (t && t->ready() && t->program_draw_fb == 0 && !substituteHas(buf))
+    giveUp("draws into its window's front buffer");
   if (!t || !t->ready()) return gl().DrawBuffer(buf);
   if (t->program_draw_fb != 0) return t->programFboDrawBuffers(1, &buf);
   t->program_draw_buffers.assign(1, buf);
@@ -351,6 +374,12 @@ void Interceptor::drawBuffer(GLenum buf) {
 
 void Interceptor::drawBuffers(GLsizei n, const GLenum* bufs) {
   FrameTarget* t = target();
+  if (t && t->ready() && t->program_draw_fb == 0 && bufs)
+    for (GLsizei k = 0; k < n; ++k)
+      if (!substituteHas(bufs[k])) {
+        giveUp("draws into its window's front buffer");
+        break;
+      }
   if (!t || !t->ready()) return gl().DrawBuffers(n, bufs);
   if (t->program_draw_fb != 0) return t->programFboDrawBuffers(n, bufs);
   t->program_draw_buffers.assign(bufs, bufs + (n > 0 ? n : 0));
@@ -359,6 +388,8 @@ void Interceptor::drawBuffers(GLsizei n, const GLenum* bufs) {
 
 void Interceptor::readBuffer(GLenum buf) {
   FrameTarget* t = target();
+  if (t && t->ready() && t->program_read_fb == 0 && !substituteHas(buf))
+    giveUp("reads its window's front buffer");
   if (!t || !t->ready() || t->program_read_fb != 0) return gl().ReadBuffer(buf);
   t->program_read_buffer = buf;
   t->applyReadBuffer();
@@ -366,6 +397,10 @@ void Interceptor::readBuffer(GLenum buf) {
 
 void Interceptor::clear(GLbitfield mask) {
   FrameTarget* t = target();
+  if ((mask & VIPER_GL_ACCUM_BUFFER_BIT) && t && t->ready() && t->program_draw_fb == 0) {
+    giveUp("clears the accumulation buffer");
+    return gl().Clear(mask);
+  }
   if (t && t->ready() && t->program_draw_fb != 0) {
     gl().Clear(mask);
     // A new color or depth image in a framebuffer that may hold the scene: its ids start at 0.

@@ -178,6 +178,11 @@ class Interceptor {
   void drawBuffers(GLsizei n, const GLenum* bufs);
   void readBuffer(GLenum buf);
   void clear(GLbitfield mask);
+  /// glAccum: the accumulation buffer is the window's alone (giveUp).
+  void accum(GLenum op, GLfloat value);
+  /// The calling thread's context draws as without the layer from now on (FrameTarget::giveUp),
+  /// said once with `why`.
+  void giveUp(const char* why);
   /// Around a glGet* of `pname`: where it is state of the window's framebuffer (GL_DOUBLEBUFFER,
   /// GL_SAMPLES, GL_DEPTH_BITS...) and the program has its default framebuffer bound, the real
   /// default framebuffer is bound for the query (true: endWindowQuery() after it), so that the

@@ -137,7 +137,10 @@ out=$(cd "$out" && pwd)
 rm -rf "$out/plain" "$out/layer" "$out/wrap" "$out/captures" "$out/bin" "$out/differences.txt"
 mkdir -p "$out/wrap/bin" "$out/captures" "$out/bin"
 cp "$bin/capture" "$layer_lib" "$out/bin/" || exit 2
-core_lib=$(ldd "$layer_lib" | awk '$1 == "libviper_core.so" {print $3}')
+# libviper_core.so beside the layer when there is one (a copy made by an earlier run, given with
+# --bin), else the one the layer's RUNPATH finds: the build's.
+core_lib="$(dirname "$layer_lib")/libviper_core.so"
+[ -f "$core_lib" ] || core_lib=$(ldd "$layer_lib" | awk '$1 == "libviper_core.so" {print $3}')
 [ -n "$core_lib" ] && { cp "$core_lib" "$out/bin/" || exit 2; }
 layer_id="$(sha1sum "$layer_lib" | cut -c1-12), built $(date -u -r "$layer_lib" '+%F %T') UTC"
 # The layer run's PIGLIT_BUILD_DIR: piglit's tests and generated tests as they are, its programs
@@ -162,7 +165,7 @@ start_xvfb() {  # name
   local number="$out/xvfb.$1.display"
   : > "$number"
   # -noreset: an X server resets when its last client leaves, and a test connecting meanwhile fails
-  # with "XOpenDisplay failed" (17 of 6,280 tests in a first full run, both runs).
+  # with "XOpenDisplay failed" (26 of 3,140 tests, in one run or the other, in a first full run).
   Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp -noreset 3> "$number" > "$out/xvfb.$1.log" 2>&1 &
   xvfb_pid=$!
   for _ in $(seq 300); do
@@ -274,7 +277,7 @@ print("piglit_compare: layer run: %d tests ran a program, %d test processes unde
       "stream (the others made no call the layer records, e.g. skipped before making a context)" %
       (started, len(rows), captured))
 print("piglit_compare: %d tests, %d results compared: %d differ in %d tests (%d worse under the layer)%s" %
-      (len(set(plain) | set(layer)), compared, len(diffs), len(tests), worse,
+      (len(set(plain) | set(layer)), compared, len(counted), len(tests), worse,
        "; details: " + os.path.join(out, "differences.txt") if diffs else ""))
 if len(rows) < started:
     print("piglit_compare: fewer processes ran under capture than tests ran: the layer run is not what it claims",

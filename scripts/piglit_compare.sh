@@ -142,7 +142,8 @@ cp "$bin/capture" "$layer_lib" "$out/bin/" || exit 2
 core_lib="$(dirname "$layer_lib")/libviper_core.so"
 [ -f "$core_lib" ] || core_lib=$(ldd "$layer_lib" | awk '$1 == "libviper_core.so" {print $3}')
 [ -n "$core_lib" ] && { cp "$core_lib" "$out/bin/" || exit 2; }
-layer_id="$(sha1sum "$layer_lib" | cut -c1-12), built $(date -u -r "$layer_lib" '+%F %T') UTC"
+# The layer's behaviour lives in both libraries (the shader rewrite is in libviper_core.so).
+layer_id="$(sha1sum "$layer_lib" | cut -c1-12), libviper_core.so $(sha1sum "$out/bin/libviper_core.so" 2> /dev/null | cut -c1-12), built $(date -u -r "$layer_lib" '+%F %T') UTC"
 # The layer run's PIGLIT_BUILD_DIR: piglit's tests and generated tests as they are, its programs
 # behind the wrapper.
 ln -s "$piglit_root/tests" "$out/wrap/tests"

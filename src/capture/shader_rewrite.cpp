@@ -125,10 +125,17 @@ FragmentRewrite rewriteLegacy(std::string code, const std::smatch* version, bool
   if (color) {
     // Declared before the original code, which writes it: after the last #extension directive
     // (they must come before any declaration), else after #version and ours.
-    static const std::regex kExtensionLine(R"((^|\n)[ \t]*#[ \t]*extension[^\n]*\n)");
+    static const std::regex kExtensionLine(R"([ \t]*#[ \t]*extension\b.*)");
     size_t insert = 0;
-    for (auto it = std::sregex_iterator(code.begin(), code.end(), kExtensionLine); it != std::sregex_iterator(); ++it)
-      insert = static_cast<size_t>(it->position(0) + it->length(0));
+    for (size_t line = 0; line < code.size();) {
+      size_t end = code.find('\n', line);
+      end = end == std::string::npos ? code.size() : end + 1;
+      if (std::regex_match(code.begin() + static_cast<std::ptrdiff_t>(line),
+                           code.begin() + static_cast<std::ptrdiff_t>(end - (code[end - 1] == '\n' ? 1 : 0)),
+                           kExtensionLine))
+        insert = end;
+      line = end;
+    }
     if (insert == 0 && version) {
       const size_t end = code.find('\n', static_cast<size_t>(version->position(1)));
       insert = end == std::string::npos ? code.size() : end + 1;

@@ -146,6 +146,14 @@ TEST(ShaderRewrite, LegacyGlslWritesItsColorAndTheIdsThroughFragData) {
             1);
   // One that writes the last draw buffer itself is left alone.
   EXPECT_FALSE(rewriteFragmentShader("#version 120\nvoid main() { gl_FragData[ 7 ] = vec4(1.0); }\n").ok);
+  // The colour variable is declared after the last of several #extension directives (which must
+  // come before any declaration: piglit's tex-miplevel-selection has three).
+  const auto extensions = rewriteFragmentShader(
+      "#version 120\n#extension GL_ARB_a : enable\n#extension GL_ARB_b : enable\n  #extension GL_ARB_c : enable\n"
+      "uniform float u;\nvoid main() { gl_FragColor = vec4(u); }\n");
+  ASSERT_TRUE(extensions.ok) << extensions.reason;
+  EXPECT_LT(extensions.source.find("#extension GL_ARB_c"), extensions.source.find("vec4 viper_frag_color;"));
+  EXPECT_LT(extensions.source.find("vec4 viper_frag_color;"), extensions.source.find("uniform float u;"));
   // Without primitive ids (a geometry stage that writes none): 0, and no extension needed.
   const auto without = rewriteFragmentShader(kLegacyShader, /*primitive_ids=*/false);
   ASSERT_TRUE(without.ok) << without.reason;

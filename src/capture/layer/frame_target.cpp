@@ -12,6 +12,7 @@ namespace capture {
 
 void FrameTarget::queryDefaultFormats() {
   const RealGl& g = gl();
+  dsa_ = glVersionAtLeast(4, 5);
   const GLint prev_draw = glInt(GL_DRAW_FRAMEBUFFER_BINDING);
   g.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
   const GLenum color_att = glInt(GL_DOUBLEBUFFER) ? GL_BACK_LEFT : GL_FRONT_LEFT;
@@ -229,7 +230,7 @@ bool FrameTarget::presentAsync(RawImages& out, bool to_surface, GLsync& fence) {
   const RealGl& g = gl();
   if (!fbo_) return false;
   if (async_supported_ < 0) {
-    bool storage = glInt(GL_MAJOR_VERSION) * 10 + glInt(GL_MINOR_VERSION) >= 44;
+    bool storage = glVersionAtLeast(4, 4);
     const GLint extensions = glInt(GL_NUM_EXTENSIONS);
     for (GLint i = 0; !storage && g.GetStringi && i < extensions; ++i) {
       const GLubyte* name = g.GetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));

@@ -189,6 +189,7 @@ class FrameTarget {
   int width_ = 0, height_ = 0;
   bool formats_known_ = false;
   bool given_up_ = false;
+  bool dsa_ = false;  ///< GL 4.5 (direct state access)
   GLenum window_draw_buffer_ = GL_BACK;  ///< the window's draw buffer when the target was made
   GLenum color_format_ = GL_RGBA8;
   GLenum depth_format_ = GL_DEPTH24_STENCIL8;  // 0 = no depth attachment

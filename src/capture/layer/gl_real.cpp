@@ -4,6 +4,8 @@
 #include <dlfcn.h>
 
 #include <cstdio>
+#include <cstring>
+#include <string>
 #include <mutex>
 
 namespace viper {
@@ -71,6 +73,22 @@ VIPER_NO_SANITIZE void* realDlsym(void* handle, const char* name) {
 const RealGl& gl() {
   static const RealGl table = loadRealGl();
   return table;
+}
+
+bool glHasExtension(const char* name) {
+  const RealGl& g = gl();
+  if (glVersionAtLeast(3, 0)) {
+    const GLint count = glInt(GL_NUM_EXTENSIONS);
+    for (GLint i = 0; g.GetStringi && i < count; ++i) {
+      const GLubyte* e = g.GetStringi(GL_EXTENSIONS, static_cast<GLuint>(i));
+      if (e && std::strcmp(reinterpret_cast<const char*>(e), name) == 0) return true;
+    }
+    return false;
+  }
+  const GLubyte* all = g.GetString ? g.GetString(GL_EXTENSIONS) : nullptr;
+  if (!all) return false;
+  const std::string list = std::string(" ") + reinterpret_cast<const char*>(all) + " ";
+  return list.find(std::string(" ") + name + " ") != std::string::npos;
 }
 
 void* realEglFunction(const char* name) {

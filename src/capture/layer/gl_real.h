@@ -57,6 +57,7 @@ namespace capture {
   X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                          \
   X(PFNGLGETRENDERBUFFERPARAMETERIVPROC, GetRenderbufferParameteriv)                      \
   X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)                              \
+  X(PFNGLGETTEXTURELEVELPARAMETERIVPROC, GetTextureLevelParameteriv)                      \
   X(PFNGLGETFRAMEBUFFERATTACHMENTPARAMETERIVPROC, GetFramebufferAttachmentParameteriv)    \
   X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                                            \
   X(PFNGLDRAWBUFFERPROC, DrawBuffer)                                                      \
@@ -183,6 +184,24 @@ inline GLint glInt(GLenum pname) {
   gl().GetIntegerv(pname, &v);
   return v;
 }
+
+/// Whether the current context's OpenGL version is at least major.minor, from GL_VERSION (which
+/// every version answers, unlike GL_MAJOR_VERSION: an error before GL 3.0 that the program would
+/// read as its own). False for OpenGL ES.
+inline bool glVersionAtLeast(int major, int minor) {
+  const GLubyte* v = gl().GetString ? gl().GetString(GL_VERSION) : nullptr;
+  if (!v || v[0] < '0' || v[0] > '9') return false;
+  int have_major = 0, have_minor = 0;
+  const char* p = reinterpret_cast<const char*>(v);
+  while (*p >= '0' && *p <= '9') have_major = have_major * 10 + (*p++ - '0');
+  if (*p == '.') ++p;
+  while (*p >= '0' && *p <= '9') have_minor = have_minor * 10 + (*p++ - '0');
+  return have_major > major || (have_major == major && have_minor >= minor);
+}
+
+/// Whether the current context has the extension `name` (GL_NUM_EXTENSIONS and glGetStringi from
+/// GL 3.0, the GL_EXTENSIONS string before).
+bool glHasExtension(const char* name);
 
 /// A parameter of an attachment of the bound draw framebuffer, through the real GL.
 inline GLint drawAttachmentParam(GLenum attachment, GLenum pname) {

@@ -1,5 +1,7 @@
 #include "interceptor.h"
 
+#include <cstring>
+
 #include <time.h>
 
 #include <algorithm>
@@ -173,6 +175,7 @@ void Interceptor::onMakeCurrent(void* context, int width, int height) {
   }
   ContextState* previous = t_context;
   ContextState* c = nullptr;
+  bool es_context = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (previous && previous->target.get() != nullptr) {
@@ -190,6 +193,13 @@ void Interceptor::onMakeCurrent(void* context, int width, int height) {
       if (!slot) {
         slot.reset(new ContextState);
         slot->target.reset(new FrameTarget);
+        // OpenGL ES: its shaders are not rewritten, and the substitute (desktop formats and
+        // queries) would fail there: the context keeps its own framebuffer.
+        const GLubyte* version = gl().GetString ? gl().GetString(GL_VERSION) : nullptr;
+        if (version && std::strncmp(reinterpret_cast<const char*>(version), "OpenGL ES", 9) == 0) {
+          slot->target->giveUp();
+          es_context = true;
+        }
         // Asynchronous read-back: one buffer being copied, one waiting for its turn, one per
         // writer thread and the sink's queue of two.
         if (sink_) slot->target->pack_buffer_count = std::min<size_t>(12, static_cast<size_t>(sink_->threads()) + 4);
@@ -200,7 +210,8 @@ void Interceptor::onMakeCurrent(void* context, int width, int height) {
   }
   t_context = c;
   t_target = c ? c->target.get() : nullptr;
-  if (!c) return;
+  if (es_context) logOnce("an OpenGL ES context: the layer leaves it as it is and records nothing from it");
+  if (!c || c->target->givenUp()) return;  // (no query: some are errors in OpenGL ES)
   {
     // The same context made current again on a surface of another size keeps its pending frames.
     std::lock_guard<std::mutex> lifecycle(lifecycle_mutex_);
@@ -212,8 +223,7 @@ void Interceptor::onMakeCurrent(void* context, int width, int height) {
   c->current_program_info = nullptr;
   c->blend0_enabled = gl().IsEnabledi(GL_BLEND, 0);
   c->blend_dirty = true;
-  const GLint major = glInt(GL_MAJOR_VERSION), minor = glInt(GL_MINOR_VERSION);
-  c->base_instance_draws = major > 4 || (major == 4 && minor >= 2);
+  c->base_instance_draws = glVersionAtLeast(4, 2);
 }
 
 void Interceptor::contextDestroyed(void* context) {

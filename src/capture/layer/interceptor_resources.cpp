@@ -200,8 +200,14 @@ void Interceptor::linkProgram(GLuint program) {
   // shader's undefined (and llvmpipe draws nothing when it is read): this program links with a
   // fragment shader that writes primitive id 0, and the shader object gets its source back after.
   const std::string& last_stage = stage_sources[3].empty() ? stage_sources[2] : stage_sources[3];
+  // A separable program without a vertex stage is used in a pipeline with stages of other
+  // programs, which its link cannot see: primitive id 0 too.
+  GLint separable = GL_FALSE;
+  if (glVersionAtLeast(4, 1) || glHasExtension("GL_ARB_separate_shader_objects"))
+    g.GetProgramiv(program, GL_PROGRAM_SEPARABLE, &separable);
+  const bool unknown_stages = separable == GL_TRUE && stage_sources[0].empty();
   std::string restore_source;
-  if (info.rewritten && info.has_geometry_stage && last_stage.find("gl_PrimitiveID") == std::string::npos) {
+  if (info.rewritten && (unknown_stages || (info.has_geometry_stage && last_stage.find("gl_PrimitiveID") == std::string::npos))) {
     const FragmentRewrite without = rewriteFragmentShader(fragment->original, /*primitive_ids=*/false);
     if (without.ok) {
       restore_source = fragment->rewrite.source;

@@ -8,7 +8,8 @@ namespace capture {
 namespace {
 
 // Width and height of the bound draw framebuffer's depth attachment (0 if none or not 2D).
-void depthAttachmentSize(GLint& width, GLint& height) {
+// `dsa`: the context has GL 4.5's direct state access, which says a texture's target.
+void depthAttachmentSize(GLint& width, GLint& height, bool dsa) {
   const RealGl& g = gl();
   width = height = 0;
   // (An image attached at GL_DEPTH_STENCIL_ATTACHMENT is the depth attachment too. Asking for
@@ -27,9 +28,16 @@ void depthAttachmentSize(GLint& width, GLint& height) {
   } else if (type == GL_TEXTURE && drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_CUBE_MAP_FACE) == 0 &&
              drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_LAYERED) == GL_FALSE &&
              drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LAYER) == 0) {
-    // Taken for a 2D texture: GL 3.3 cannot say a texture's target (a layer of an array texture
-    // attached at layer 0 would not bind here, and is not supported).
     const GLint level = drawAttachmentParam(attachment, GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL);
+    if (dsa) {
+      // The size whatever the texture's target, without binding it (binding a 1D, rectangle or
+      // array depth texture to GL_TEXTURE_2D is an error the program would read as its own).
+      g.GetTextureLevelParameteriv(name, level, GL_TEXTURE_WIDTH, &width);
+      g.GetTextureLevelParameteriv(name, level, GL_TEXTURE_HEIGHT, &height);
+      return;
+    }
+    // Before GL 4.5, taken for a 2D texture: the GL cannot say a texture's target (a depth texture
+    // of another target, attached at layer 0, would not bind here, and is not supported).
     const GLint prev = glInt(GL_TEXTURE_BINDING_2D);
     g.BindTexture(GL_TEXTURE_2D, name);
     g.GetTexLevelParameteriv(GL_TEXTURE_2D, level, GL_TEXTURE_WIDTH, &width);
@@ -45,7 +53,7 @@ bool FrameTarget::isSceneCandidate() const {
   if (g.CheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) return false;
   if (glInt(GL_SAMPLES) != 0) return false;  // multisampled: no read-back of its pixels
   GLint w = 0, h = 0;
-  depthAttachmentSize(w, h);
+  depthAttachmentSize(w, h, dsa_);
   return w == width_ && h == height_;
 }
 

@@ -22,8 +22,8 @@ std::string count(uint64_t n, const char* one, const char* many) {
 // Draws into the scene the layer passed on unrecorded, and why it does.
 std::string unrecordedDraws(uint64_t n) {
   return count(n, "draw", "draws") +
-         " into the scene not recorded (no shader program: fixed-function OpenGL; or multi-draws whose shaders read "
-         "gl_DrawID)";
+         " into the scene not recorded (no shader program: fixed-function OpenGL; immediate mode or display lists; "
+         "or multi-draws whose shaders read gl_DrawID)";
 }
 
 std::string shadersNotRewritten(uint64_t n) {

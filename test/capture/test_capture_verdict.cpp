@@ -87,18 +87,19 @@ TEST(CaptureVerdict, AFixedFunctionProgramRecordsNothingAndCaptureSaysSo) {
   const std::string vcap = tempDir() + "/fixed.vcap";
   const Result r = runLogged(capture(vcap, "--require-ids 0.5") + fixedFunctionProgram(3), tempDir() + "/fixed.log");
   EXPECT_EQ(r.rc, kMostlyEmpty) << r.output;
-  // The verdict is the stream's: three frames, no draw recorded, the quad's glDrawArrays counted
-  // as not recorded (the triangle's glBegin/glEnd is not intercepted at all), depth without ids.
+  // The verdict is the stream's: three frames, no draw recorded, the quad's glDrawArrays and the
+  // triangle's glBegin/glEnd counted as not recorded, depth without ids.
   const std::vector<CaptureFrame> frames = readFrames(vcap);
   ASSERT_EQ(frames.size(), 3u);
   for (const CaptureFrame& f : frames) {
     EXPECT_TRUE(f.draws.empty());
-    EXPECT_EQ(f.unrecorded_draws, 1u);
+    EXPECT_EQ(f.unrecorded_draws, 2u);
   }
   EXPECT_EQ(verdictLine(r.output, vcap),
-            "3 frames written; ids on 0.0% of scene pixels, placed 0.0%; 0 draws recorded, 3 not; left out: 0 draws "
-            "recorded: the program drew without shaders (fixed-function OpenGL?): 3 draws into the scene not "
-            "recorded (no shader program: fixed-function OpenGL; or multi-draws whose shaders read gl_DrawID)")
+            "3 frames written; ids on 0.0% of scene pixels, placed 0.0%; 0 draws recorded, 6 not; left out: 0 draws "
+            "recorded: the program drew without shaders (fixed-function OpenGL?): 6 draws into the scene not "
+            "recorded (no shader program: fixed-function OpenGL; immediate mode or display lists; or multi-draws whose "
+            "shaders read gl_DrawID)")
       << r.output;
   EXPECT_NE(r.output.find("ids on 0.0% of scene pixels, below --require-ids 0.5"), std::string::npos) << r.output;
 
@@ -244,8 +245,8 @@ TEST(CaptureVerdict, ReasonsFollowTheStream) {
   f.draws[0].matrix_flags = viper::kHasWorld | viper::kHasView | viper::kHasProjection;
   read.coverage.add(f, meshes);
   EXPECT_EQ(viper::mainGap(read.coverage),
-            "2 draws into the scene not recorded (no shader program: fixed-function OpenGL; or multi-draws whose "
-            "shaders read gl_DrawID), leaving no pixel without id");
+            "2 draws into the scene not recorded (no shader program: fixed-function OpenGL; immediate mode or "
+            "display lists; or multi-draws whose shaders read gl_DrawID), leaving no pixel without id");
 }
 
 int main(int argc, char** argv) {

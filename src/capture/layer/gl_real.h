@@ -14,6 +14,9 @@ typedef void (*PFNVIPERXYZDPROC)(GLdouble x, GLdouble y, GLdouble z);
 typedef void (*PFNVIPERROTATEFPROC)(GLfloat angle, GLfloat x, GLfloat y, GLfloat z);
 typedef void (*PFNVIPERROTATEDPROC)(GLdouble angle, GLdouble x, GLdouble y, GLdouble z);
 typedef void (*PFNVIPERACCUMPROC)(GLenum op, GLfloat value);
+typedef void (*PFNVIPERBEGINPROC)(GLenum mode);
+typedef void (*PFNVIPERCALLLISTPROC)(GLuint list);
+typedef void (*PFNVIPERCALLLISTSPROC)(GLsizei n, GLenum type, const void* lists);
 #define VIPER_GL_ACCUM_BUFFER_BIT 0x00000200
 #define VIPER_GL_MODELVIEW 0x1700
 #define VIPER_GL_PROJECTION 0x1701
@@ -166,7 +169,10 @@ namespace capture {
   X(PFNVIPERXYZDPROC, Scaled)                                                             \
   X(PFNVIPERROTATEFPROC, Rotatef)                                                         \
   X(PFNVIPERROTATEDPROC, Rotated)                                                         \
-  X(PFNVIPERACCUMPROC, Accum)
+  X(PFNVIPERACCUMPROC, Accum)                                                             \
+  X(PFNVIPERBEGINPROC, Begin)                                                             \
+  X(PFNVIPERCALLLISTPROC, CallList)                                                       \
+  X(PFNVIPERCALLLISTSPROC, CallLists)
 
 /// Pointers to the real GL functions (libglvnd dispatch stubs, valid for EGL and GLX contexts).
 struct RealGl {

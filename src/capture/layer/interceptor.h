@@ -234,6 +234,10 @@ class Interceptor {
   /// Multi and indirect draws are issued as the single draws they stand for (each recorded) unless
   /// a shader of the current program reads gl_DrawID (or no draw would be recorded anyway).
   bool decomposesMultiDraw();
+  /// Before an immediate-mode draw (glBegin) or a display list (glCallList(s)), `what`: not
+  /// recorded, counted in the frame's unrecorded draws; without a program, its ids as a
+  /// fixed-function draw's (cleared where it writes depth), with one, ids off (logged once).
+  void beforeUnrecordableDraw(const char* what);
   /// Before a multi or indirect draw passed through whole: ids off for it (logged once).
   void beforeUndecomposedDraw(const char* what);
   /// `size` bytes of the bound draw indirect buffer at `offset` (false if unknown).

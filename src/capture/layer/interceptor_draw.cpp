@@ -211,6 +211,21 @@ void Interceptor::beforeUndecomposedDraw(const char* what) {
   else if (FrameTarget::ProgramFbo* f = t->sceneFbo()) t->wantIds(f, false);
 }
 
+void Interceptor::beforeUnrecordableDraw(const char* what) {
+  FrameTarget* t = target();
+  if (!enabled_ || !t || !t->ready()) return;
+  FrameTarget::ProgramFbo* scene_fbo = nullptr;
+  if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return;
+  ProgramInfo* p = currentProgram();
+  if (!p) {
+    beforeSceneDraw(DrawCall(), t, scene_fbo);  // as any fixed-function draw (it records nothing)
+  } else if (!p->overlay && (scene_fbo || !t->sceneEnded())) {
+    ++cx().frame.unrecorded_draws;
+    t->wantIds(scene_fbo, false);
+  }
+  logOnce(std::string(what) + " draws are not recorded (each counted among the frame's draws not recorded)");
+}
+
 bool Interceptor::readIndirect(size_t offset, void* out, size_t size) {
   const GLuint buffer = static_cast<GLuint>(glInt(GL_DRAW_INDIRECT_BUFFER_BINDING));
   return buffer && readBufferBytes(buffer, offset, size, out);

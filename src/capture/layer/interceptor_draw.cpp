@@ -54,25 +54,26 @@ bool decodeAttribute(const uint8_t* bytes, GLenum type, int size, float out[4]) 
   return true;
 }
 
-// The part of a draw's range that does not depend on where its indices are.
-// Whether a draw now writes depth: its mask on and the depth test enabled (without the test the GL
-// writes no depth either).
-bool writesDepth(const RealGl& g) {
+// How a draw now meets the depth image, from one read of the depth state: whether it writes depth
+// (its mask on and the depth test enabled: without the test the GL writes no depth either), and
+// whether it only shades surfaces an earlier pass put there (mask off, the test passing at equal
+// depth only: the colour passes of a depth pre-pass engine and the layers it blends over them,
+// whose ids would only repeat the pass that decided what is visible, which keeps them).
+struct DepthUse {
+  bool writes = false;
+  bool shades_decided = false;
+};
+DepthUse depthUse(const RealGl& g) {
   GLboolean mask = GL_FALSE;
   g.GetBooleanv(GL_DEPTH_WRITEMASK, &mask);
-  return mask == GL_TRUE && g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE;
+  const bool test = g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE;
+  DepthUse d;
+  d.writes = mask == GL_TRUE && test;
+  d.shades_decided = mask == GL_FALSE && test && glInt(GL_DEPTH_FUNC) == GL_EQUAL;
+  return d;
 }
 
-// Whether a draw only shades surfaces that an earlier pass put in the depth image: depth writes
-// off and a depth test that passes at equal depth only (the colour passes of a depth pre-pass
-// engine, and the layers it blends over them). Its ids would only repeat the pass that decided
-// what is visible, which keeps them.
-bool shadesDecidedSurfaces(const RealGl& g) {
-  GLboolean mask = GL_TRUE;
-  g.GetBooleanv(GL_DEPTH_WRITEMASK, &mask);
-  return mask == GL_FALSE && g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE && glInt(GL_DEPTH_FUNC) == GL_EQUAL;
-}
-
+// The part of a draw's range that does not depend on where its indices are.
 DrawRange drawRange(const DrawCall& call) {
   DrawRange range;
   range.mode = call.mode;
@@ -266,7 +267,7 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
   // nothing is recorded: ids off.
   bool clears_ids = false;
   // (Per-buffer blend functions are GL 4.0: before it, such draws leave the ids as they are.)
-  if (!p && !scene_ended) clears_ids = g.BlendFuncSeparatei && g.BlendEquationi && writesDepth(g);
+  if (!p && !scene_ended) clears_ids = g.BlendFuncSeparatei && g.BlendEquationi && depthUse(g).writes;
   t->wantIds(scene_fbo, (p && !scene_ended && p->rewritten) || clears_ids);
   if (clears_ids) {
     g.Enablei(GL_BLEND, kIdDrawBuffer);
@@ -300,7 +301,8 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
     // A pass at equal depth with depth writes off (a depth pre-pass engine's colour pass, with
     // its colour mask on again) leaves the ids of the pass that wrote the depth. (The program's
     // colour mask never covers ours: colorMaskChanged.)
-    const bool write_ids = (!cx().blend0_enabled || writesDepth(g)) && !shadesDecidedSurfaces(g);
+    const DepthUse depth = depthUse(g);
+    const bool write_ids = (!cx().blend0_enabled || depth.writes) && !depth.shades_decided;
     if (write_ids != cx().ids_write) {
       const GLboolean m = write_ids ? GL_TRUE : GL_FALSE;
       g.ColorMaski(kIdDrawBuffer, m, m, m, m);

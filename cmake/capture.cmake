@@ -15,6 +15,7 @@ set(VIPER_INTERCEPT_SOURCES
   src/capture/layer/interceptor.cpp
   src/capture/layer/interceptor_resources.cpp
   src/capture/layer/interceptor_draw.cpp
+  src/capture/layer/fixed_function.cpp
   src/capture/layer/hooks_gl.cpp
   src/capture/layer/hooks_legacy.cpp
   src/capture/layer/matrix_stack.cpp

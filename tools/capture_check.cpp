@@ -66,9 +66,9 @@ void print(const char* label, const viper::ReprojectionCheck& c) {
 }
 
 void printGaps(const viper::CaptureGaps& g) {
-  std::printf("gaps the layer reported: of %llu recorded draws, %llu without ids (shader not rewritten), %llu missing "
+  std::printf("gaps the layer reported: of %llu recorded draws, %llu without ids (shader not rewritten, or no program while a query counted), %llu missing "
               "a matrix the profile names (%llu px), %llu without mesh (%llu px); %llu draws into the scene not "
-              "recorded (no program, or a multi-draw reading gl_DrawID)\n",
+              "recorded (immediate mode, display lists, no program and no depth test, or a multi-draw reading gl_DrawID)\n",
               static_cast<unsigned long long>(g.draws), static_cast<unsigned long long>(g.no_ids),
               static_cast<unsigned long long>(g.matrix_missing), static_cast<unsigned long long>(g.matrix_missing_pixels),
               static_cast<unsigned long long>(g.no_mesh), static_cast<unsigned long long>(g.no_mesh_pixels),

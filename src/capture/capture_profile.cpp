@@ -70,6 +70,7 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
     else if (key == "instance_scale") p.instance_scale = scalar(source, value, key);
     else if (key == "instance_rotation_conjugate") p.instance_rotation_conjugate = parseBool(source, value, key);
     else if (key == "overlay") p.overlay = parseBool(source, value, key);
+    else if (key == "fixed_function") p.fixed_function = parseBool(source, value, key);
     else if (key == "matrix_stack") {
       p.matrix_stack = scalar(source, value, key);
       if (p.matrix_stack != "load_view_mult_world")
@@ -79,12 +80,18 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
                          "unknown key '" + key +
                              "' (known: vertex_contains, program_key, world, view, projection, position, deforming, "
                              "instance_world, instance_translation, instance_rotation, instance_scale, "
-                             "instance_rotation_conjugate, overlay, matrix_stack)");
+                             "instance_rotation_conjugate, overlay, matrix_stack, fixed_function)");
   }
   if (!p.instance_world.empty() &&
       (!p.instance_translation.empty() || !p.instance_rotation.empty() || !p.instance_scale.empty()))
     throw profileError(source, node,
                        "'instance_world' (a mat4 attribute) and instance_translation/rotation/scale exclude each other");
+  if (p.fixed_function &&
+      (!p.vertex_contains.empty() || p.program_key != 0 || !p.world.empty() || !p.view.empty() ||
+       !p.projection.empty() || !p.position.empty() || p.deforming != Deforming::kAuto || p.hasInstanceTransform()))
+    throw profileError(source, node,
+                       "'fixed_function: true' is for draws without a program: only matrix_stack and overlay go with "
+                       "it (no shader to match, no uniform or attribute to name)");
   if (!p.matrix_stack.empty() && (!p.world.empty() || !p.view.empty() || !p.projection.empty()))
     throw profileError(source, node, "'matrix_stack' and world/view/projection exclude each other");
   return p;
@@ -95,10 +102,22 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
 const ProgramProfile* CaptureProfile::match(const std::string& vertex_source, uint64_t program_key) const {
   static const ProgramProfile kFallback;
   for (const ProgramProfile& p : programs) {
+    if (p.fixed_function) continue;
     if (p.program_key != 0 && p.program_key != program_key) continue;
     if (!p.vertex_contains.empty() && vertex_source.find(p.vertex_contains) == std::string::npos) continue;
     return &p;
   }
+  return &kFallback;
+}
+
+const ProgramProfile* CaptureProfile::matchFixedFunction() const {
+  static const ProgramProfile kFallback = [] {
+    ProgramProfile p;
+    p.fixed_function = true;
+    return p;
+  }();
+  for (const ProgramProfile& p : programs)
+    if (p.fixed_function) return &p;
   return &kFallback;
 }
 

@@ -22,13 +22,14 @@ std::string count(uint64_t n, const char* one, const char* many) {
 // Draws into the scene the layer passed on unrecorded, and why it does.
 std::string unrecordedDraws(uint64_t n) {
   return count(n, "draw", "draws") +
-         " into the scene not recorded (no shader program: fixed-function OpenGL; immediate mode or display lists; "
-         "or multi-draws whose shaders read gl_DrawID)";
+         " into the scene not recorded (immediate mode or display lists; without a program, no depth test or no "
+         "fixed-function pipeline; or multi-draws whose shaders read gl_DrawID)";
 }
 
 std::string shadersNotRewritten(uint64_t n) {
-  return count(n, "draw", "draws") + " without ids: the shader was not rewritten (the layer's '[viper capture]' lines "
-                                     "say why)";
+  return count(n, "draw", "draws") +
+         " without ids: the shader was not rewritten, or a draw without a program was made while a query counted "
+         "(the layer's '[viper capture]' lines say why)";
 }
 
 }  // namespace
@@ -103,8 +104,7 @@ std::string mainGap(const CaptureCoverage& c) {
     return g.draws + g.unrecorded_draws == 0 ? "nothing was drawn into the scene (no depth, no id, no draw seen)"
                                              : "no draw left depth or an id in the scene";
   if (g.draws == 0 && g.unrecorded_draws > 0)
-    return "0 draws recorded: the program drew without shaders (fixed-function OpenGL?): " +
-           unrecordedDraws(g.unrecorded_draws);
+    return "0 draws recorded: " + unrecordedDraws(g.unrecorded_draws);
   if (g.draws == 0)
     return "0 draws recorded and none seen: the scene was drawn in ways the layer does not intercept "
            "(glBegin/glEnd, display lists?)";

@@ -24,6 +24,9 @@
 //                memory that ends at an unreadable page;
 //   depth_prepass the objects drawn depth only (colour masked), then at equal depth with depth
 //                writes off, opaque, then blended (its colour added again);
+//   fixed_function (compatibility profile) the objects drawn without a program, OpenGL 1.x style:
+//                client vertex arrays, the matrix stack, glColor; alpha and stencil tests on one,
+//                an occlusion query counting another;
 //   all          each of them in turn (a fresh context each).
 // Every GL call is followed by glGetError: an error the program did not cause ends it (exit 3).
 // In frame 1 it causes one itself (glEnable of a bad enum) and checks after the frame's calls
@@ -523,6 +526,83 @@ void depthPrepass(int frames, const std::string& out) {
   destroy(s);
 }
 
+// OpenGL 1.x without a program (compatibility profile): the objects from the conventional vertex
+// array in client memory (two with glDrawArrays, two with glDrawElements and indices in client
+// memory), the projection loaded into GL_PROJECTION, the view loaded into GL_MODELVIEW and each
+// world multiplied onto it between glPushMatrix and glPopMatrix, colour from glColor4fv. Object 1
+// is alpha tested and stencilled (its stencil replaced where drawn), object 3 drawn while an
+// occlusion query counts its samples, printed ("query: ...") for the test to compare.
+void fixedFunction(int frames, const std::string& out) {
+  Surface s = makeSurface(ss::kSize, EGL_NO_CONTEXT, /*compatibility=*/true);
+  makeCurrent(s);
+  constexpr GLenum kModelView = 0x1700, kProjection = 0x1701, kVertexArray = 0x8074, kAlphaTest = 0x0BC0;
+  using Enum = void (*)(GLenum);
+  using Matrix = void (*)(const GLfloat*);
+  using Void = void (*)();
+  using Pointer = void (*)(GLint, GLenum, GLsizei, const void*);
+  using Colour = void (*)(const GLfloat*);
+  using AlphaFunc = void (*)(GLenum, GLfloat);
+  auto proc = [](const char* name) {
+    void (*f)() = eglGetProcAddress(name);
+    if (!f) die(std::string("no ") + name + " from eglGetProcAddress");
+    return f;
+  };
+  auto matrix_mode = reinterpret_cast<Enum>(proc("glMatrixMode"));
+  auto load_matrix = reinterpret_cast<Matrix>(proc("glLoadMatrixf"));
+  auto mult_matrix = reinterpret_cast<Matrix>(proc("glMultMatrixf"));
+  auto push_matrix = reinterpret_cast<Void>(proc("glPushMatrix"));
+  auto pop_matrix = reinterpret_cast<Void>(proc("glPopMatrix"));
+  auto enable_client_state = reinterpret_cast<Enum>(proc("glEnableClientState"));
+  auto vertex_pointer = reinterpret_cast<Pointer>(proc("glVertexPointer"));
+  auto colour4 = reinterpret_cast<Colour>(proc("glColor4fv"));
+  auto alpha_func = reinterpret_cast<AlphaFunc>(proc("glAlphaFunc"));
+  const GLfloat corners[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  const GLfloat triangles[18] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, -1, 0, 1, 1, 0, -1, 1, 0};
+  const GLushort indices[6] = {0, 1, 2, 0, 2, 3};
+  GLuint query = 0;
+  GL(glGenQueries(1, &query));
+  GL(enable_client_state(kVertexArray));
+  for (int f = 0; f < frames; ++f) {
+    beginFrame(f);
+    GL(glClear(GL_STENCIL_BUFFER_BIT));
+    GL(matrix_mode(kProjection));
+    GL(load_matrix(ss::projection().data()));
+    GL(matrix_mode(kModelView));
+    GL(load_matrix(ss::view(f).data()));
+    for (int k = 0; k < 4; ++k) {
+      GL(push_matrix());
+      GL(mult_matrix(ss::world(k).data()));
+      GL(colour4(ss::colour(k).data()));
+      if (k == 1) {
+        GL(glEnable(kAlphaTest));
+        GL(alpha_func(GL_GREATER, 0.5f));
+        GL(glEnable(GL_STENCIL_TEST));
+        GL(glStencilFunc(GL_ALWAYS, 1, 0xff));
+        GL(glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE));
+      }
+      if (k == 3) GL(glBeginQuery(GL_SAMPLES_PASSED, query));
+      if (k < 2) {
+        GL(vertex_pointer(3, GL_FLOAT, 0, triangles));
+        GL(glDrawArrays(GL_TRIANGLES, 0, 6));
+      } else {
+        GL(vertex_pointer(3, GL_FLOAT, 0, corners));
+        GL(glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices));
+      }
+      if (k == 3) GL(glEndQuery(GL_SAMPLES_PASSED));
+      if (k == 1) {
+        GL(glDisable(kAlphaTest));
+        GL(glDisable(GL_STENCIL_TEST));
+      }
+      GL(pop_matrix());
+    }
+    GLuint samples = 0;
+    GL(glGetQueryObjectuiv(query, GL_QUERY_RESULT, &samples));
+    std::printf("query: frame %d, object 3 passed %u samples\n", f, samples);
+    endFrame(s, f, frames, out);
+  }
+  destroy(s);
+}
+
 // What a toolkit asks of the window after making its context current (one refused to start when
 // GL_DOUBLEBUFFER answered 0 under the layer): the window's properties in every glGet form, its
 // attachments, its status, the draw and read buffers, the framebuffer bindings. Printed each
@@ -670,7 +750,8 @@ int main(int argc, char** argv) {
   const std::vector<std::pair<std::string, std::function<void(int, const std::string&)>>> scenarios = {
       {"mdi", mdi},         {"persistent", persistent},     {"ubo_tbo", uboTbo},          {"binary", binary},
       {"threads", threads}, {"destroy", destroyMidFrame}, {"exit_thread", exitThread}, {"blend_depth", blendDepth},
-      {"window_queries", windowQueries}, {"extension_names", extensionNames}, {"depth_prepass", depthPrepass}};
+      {"window_queries", windowQueries}, {"extension_names", extensionNames}, {"depth_prepass", depthPrepass},
+      {"fixed_function", fixedFunction}};
   bool found = false;
   for (const auto& s : scenarios) {
     if (scenario != "all" && scenario != s.first) continue;

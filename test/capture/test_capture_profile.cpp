@@ -124,6 +124,22 @@ TEST(CaptureProfile, MatrixStackKey) {
             std::string::npos);
 }
 
+TEST(CaptureProfile, FixedFunctionEntry) {
+  const CaptureProfile p = parseCaptureProfile(
+      "programs:\n  - vertex_contains: a\n  - fixed_function: true\n    matrix_stack: load_view_mult_world\n", "ff.yaml");
+  // It matches draws without a program only, and programs never match it.
+  EXPECT_EQ(p.matchFixedFunction(), &p.programs[1]);
+  EXPECT_EQ(p.match("b", 0)->vertex_contains, "");
+  EXPECT_FALSE(p.match("b", 0)->fixed_function);
+  const CaptureProfile none = parseCaptureProfile("programs:\n  - vertex_contains: a\n", "none.yaml");
+  EXPECT_TRUE(none.matchFixedFunction()->fixed_function);
+  EXPECT_EQ(none.matchFixedFunction()->matrix_stack, "");
+  EXPECT_NE(message("programs:\n  - fixed_function: true\n    world: u_world\n").find("only matrix_stack and overlay"),
+            std::string::npos);
+  EXPECT_NE(message("programs:\n  - fixed_function: maybe\n").find("'fixed_function' must be true or false"),
+            std::string::npos);
+}
+
 TEST(CaptureProfile, MinetestProfile) {
   const CaptureProfile p = loadCaptureProfile("config/profiles/minetest.yaml");
   EXPECT_TRUE(p.left_handed);

@@ -187,6 +187,8 @@ void checkCapture(const std::string& scenario, bool async, const Result& plain, 
   EXPECT_EQ(r.rc, plain.rc) << r.log;
   // What the program learned of its window (window_queries): the same answers as without the layer.
   EXPECT_EQ(linesStartingWith(r.log, "window:"), linesStartingWith(plain.log, "window:"));
+  // What its queries counted (fixed_function): the same as without the layer.
+  EXPECT_EQ(linesStartingWith(r.log, "query:"), linesStartingWith(plain.log, "query:"));
   EXPECT_EQ(r.read_error, "") << r.log;
   EXPECT_EQ(r.log.find("GL error"), std::string::npos) << r.log;
   EXPECT_EQ(r.log.find("Sanitizer"), std::string::npos) << r.log;
@@ -267,6 +269,6 @@ TEST(SanitizedInterceptor, StartsInAProgramWithoutGl) {
 INSTANTIATE_TEST_SUITE_P(Scenarios, Stress,
                          ::testing::Values("mdi", "persistent", "ubo_tbo", "binary", "threads", "destroy",
                                            "exit_thread", "blend_depth", "window_queries", "extension_names",
-                                           "depth_prepass"));
+                                           "depth_prepass", "fixed_function"));
 
 }  // namespace

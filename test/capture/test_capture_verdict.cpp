@@ -83,40 +83,51 @@ const std::string& sceneCapture() {
 
 }  // namespace
 
-TEST(CaptureVerdict, AFixedFunctionProgramRecordsNothingAndCaptureSaysSo) {
+TEST(CaptureVerdict, AFixedFunctionProgramGetsIdsAndCaptureSaysWhatIsLeftOut) {
   const std::string vcap = tempDir() + "/fixed.vcap";
-  const Result r = runLogged(capture(vcap, "--require-ids 0.5") + fixedFunctionProgram(3), tempDir() + "/fixed.log");
+  const Result r = runLogged(capture(vcap, "--require-ids 0.9") + fixedFunctionProgram(3), tempDir() + "/fixed.log");
   EXPECT_EQ(r.rc, kMostlyEmpty) << r.output;
-  // The verdict is the stream's: three frames, no draw recorded, the quad's glDrawArrays and the
-  // triangle's glBegin/glEnd counted as not recorded, depth without ids.
+  // The quad's glDrawArrays is recorded (without a program: from the fixed-function state) and
+  // has ids; the triangle's glBegin/glEnd is counted as not recorded and has depth without ids.
   const std::vector<CaptureFrame> frames = readFrames(vcap);
   ASSERT_EQ(frames.size(), 3u);
+  Eigen::Matrix4f frustum = Eigen::Matrix4f::Zero();  // glFrustum(-0.1, 0.1, -0.075, 0.075, 0.1, 100)
+  frustum(0, 0) = 1.0f, frustum(1, 1) = 1.0f / 0.75f, frustum(2, 2) = -100.1f / 99.9f;
+  frustum(2, 3) = -20.0f / 99.9f, frustum(3, 2) = -1.0f;
   for (const CaptureFrame& f : frames) {
-    EXPECT_TRUE(f.draws.empty());
-    EXPECT_EQ(f.unrecorded_draws, 2u);
+    SCOPED_TRACE("frame " + std::to_string(f.number));
+    ASSERT_EQ(f.draws.size(), 1u);
+    EXPECT_EQ(f.unrecorded_draws, 1u);
+    const viper::DrawRecord& quad = f.draws[0];
+    EXPECT_EQ(quad.program_key, viper::kFixedFunctionProgramKey);
+    EXPECT_EQ(quad.gaps, 0);
+    EXPECT_EQ(quad.matrix_flags, viper::kHasProjection);  // no profile: how the stack is split is not known
+    EXPECT_TRUE(quad.projection.isApprox(frustum, 1e-5f)) << quad.projection;
+    EXPECT_NE(quad.mesh_key, 0u);
+    EXPECT_GT(quad.visible_pixels, 1000u);
+    EXPECT_EQ(f.draw_ids[size_t(60) * 160 + 70], 1u);  // the quad, left
+    EXPECT_EQ(f.draw_ids[size_t(60) * 160 + 100], 0u);  // the triangle, right (depth, no id)
   }
   EXPECT_EQ(verdictLine(r.output, vcap),
-            "3 frames written; ids on 0.0% of scene pixels, placed 0.0%; 0 draws recorded, 6 not; left out: 0 draws "
-            "recorded: the program drew without shaders (fixed-function OpenGL?): 6 draws into the scene not "
-            "recorded (no shader program: fixed-function OpenGL; immediate mode or display lists; or multi-draws whose "
-            "shaders read gl_DrawID)")
+            "3 frames written; ids on 77.7% of scene pixels, placed 0.0%; 3 draws recorded, 3 not; left out: 77.7% of "
+            "scene pixels not placed: no --profile, so no matrices were recorded")
       << r.output;
-  EXPECT_NE(r.output.find("ids on 0.0% of scene pixels, below --require-ids 0.5"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ids on 77.7% of scene pixels, below --require-ids 0.9"), std::string::npos) << r.output;
 
-  // Without --require-ids the program's status stands; the verdict is the same.
-  const Result plain = runLogged(capture(vcap, "") + fixedFunctionProgram(3), tempDir() + "/fixed_plain.log");
-  EXPECT_EQ(plain.rc, 0) << plain.output;
-  EXPECT_EQ(verdictLine(plain.output, vcap), verdictLine(r.output, vcap));
-
-  // capture_check can check nothing of it, and says why.
+  // With a profile that says how the program builds its matrix stack, the quad is placed, and its
+  // ids, mesh and matrices agree (reprojection); the triangle is still said to be missing.
+  const std::string profile = tempDir() + "/fixed_function.yaml";
+  std::ofstream(profile) << "programs:\n  - fixed_function: true\n    matrix_stack: load_view_mult_world\n";
+  const Result placed = runLogged(capture(vcap, "--profile " + profile) + fixedFunctionProgram(3), tempDir() + "/fixed_plain.log");
+  EXPECT_EQ(placed.rc, 0) << placed.output;
+  EXPECT_EQ(verdictLine(placed.output, vcap),
+            "3 frames written; ids on 77.7% of scene pixels, placed 77.7%; 3 draws recorded, 3 not; left out: 22.3% of "
+            "scene pixels without id: 3 draws into the scene not recorded (immediate mode or display lists; without "
+            "a program, no depth test or no fixed-function pipeline; or multi-draws whose shaders read gl_DrawID)")
+      << placed.output;
   const Result c = runLogged(check(vcap, "--flow"), tempDir() + "/fixed_check.log");
-  EXPECT_EQ(c.rc, kNothingChecked) << c.output;
-  EXPECT_NE(c.output.find("reprojection: not run: no scene pixel has a draw id (0 draws recorded: the program drew "
-                          "without shaders"),
-            std::string::npos)
-      << c.output;
-  EXPECT_NE(c.output.find("flow forward-backward: not run: "), std::string::npos) << c.output;
-  EXPECT_NE(c.output.find("checks: 0 met their goal, 0 failed, 5 not run"), std::string::npos) << c.output;
+  EXPECT_EQ(c.rc, 0) << c.output;
+  EXPECT_NE(c.output.find("reprojection: met: 100.00% of "), std::string::npos) << c.output;
 }
 
 TEST(CaptureVerdict, NoFrameWrittenFailsRequireIdsUnlessTheProgramFailed) {
@@ -245,8 +256,8 @@ TEST(CaptureVerdict, ReasonsFollowTheStream) {
   f.draws[0].matrix_flags = viper::kHasWorld | viper::kHasView | viper::kHasProjection;
   read.coverage.add(f, meshes);
   EXPECT_EQ(viper::mainGap(read.coverage),
-            "2 draws into the scene not recorded (no shader program: fixed-function OpenGL; immediate mode or "
-            "display lists; or multi-draws whose shaders read gl_DrawID), leaving no pixel without id");
+            "2 draws into the scene not recorded (immediate mode or display lists; without a program, no depth test "
+            "or no fixed-function pipeline; or multi-draws whose shaders read gl_DrawID), leaving no pixel without id");
 }
 
 int main(int argc, char** argv) {

@@ -13,6 +13,10 @@ namespace viper {
 /// A 4x4 matrix exactly as the program passed it to OpenGL (column-major storage, OpenGL axes).
 using GlMatrix = Eigen::Matrix4f;
 
+/// DrawRecord::program_key of draws made without a program: the fixed-function pipeline.
+constexpr uint64_t kFixedFunctionProgramKey = 0x6678656466756e63ull;  // "fxedfunc"
+
+
 /// Which of a draw's matrices the capture profile found for the draw's program.
 enum MatrixFlags : uint8_t {
   kHasWorld = 1u << 0,
@@ -40,7 +44,8 @@ struct DrawRecord {
   /// Content keys of the vertex buffer holding positions and of the index buffer (0 if none).
   uint64_t vertex_buffer_key = 0;
   uint64_t index_buffer_key = 0;
-  /// Content key of the shader program (hash of its original shader sources).
+  /// Content key of the shader program (hash of its original shader sources);
+  /// kFixedFunctionProgramKey for a draw made without a program (OpenGL 1.x fixed function).
   uint64_t program_key = 0;
   /// Content keys of the textures bound to the program's samplers, in sampler order.
   std::vector<uint64_t> texture_keys;

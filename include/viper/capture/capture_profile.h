@@ -48,6 +48,9 @@ struct ProgramProfile {
   bool instance_rotation_conjugate = false;
   /// Draws of these programs are the 2D overlay (HUD, menus): never given ids or recorded.
   bool overlay = false;
+  /// `fixed_function: true`: the entry is for draws made without a program (OpenGL 1.x fixed
+  /// function), and matches no program. Only `matrix_stack` and `overlay` go with it.
+  bool fixed_function = false;
 
   /// True if any instance_* attribute is named.
   bool hasInstanceTransform() const {
@@ -76,6 +79,9 @@ struct CaptureProfile {
   /// The first entry matching a program, or the built-in fallback (no matrices, position at
   /// location 0, deforming auto) when none does. Never null.
   const ProgramProfile* match(const std::string& vertex_source, uint64_t program_key) const;
+  /// The entry for draws without a program (`fixed_function: true`), or the built-in one (ids
+  /// recorded, projection and model-view from the matrix stack) when there is none. Never null.
+  const ProgramProfile* matchFixedFunction() const;
 };
 
 /// Parses profile YAML text. `source_name` is used in error messages. Throws std::runtime_error

@@ -148,6 +148,13 @@ namespace capture {
   X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                                                \
   X(PFNGLGETINTEGER64I_VPROC, GetInteger64i_v)                                            \
   X(PFNGLPROGRAMBINARYPROC, ProgramBinary)                                                \
+  X(PFNGLCREATESHADERPROC, CreateShader)                                                  \
+  X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                                \
+  X(PFNGLDELETESHADERPROC, DeleteShader)                                                  \
+  X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                        \
+  X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                        \
+  X(PFNGLDEPTHMASKPROC, DepthMask)                                                        \
+  X(PFNGLGETQUERYIVPROC, GetQueryiv)                                                      \
   X(PFNGLCOMPRESSEDTEXIMAGE2DPROC, CompressedTexImage2D)                                  \
   X(PFNGLCOMPRESSEDTEXSUBIMAGE2DPROC, CompressedTexSubImage2D)                            \
   X(PFNGLGETFLOATVPROC, GetFloatv)                                                        \

@@ -49,7 +49,12 @@ inline void draw(const DrawCall& call, F real) {
   }
   const bool recorded = i->beforeDraw(call);
   real();
-  if (recorded) i->afterDraw(call);
+  if (!recorded) return;
+  if (i->beginIdPass()) {  // a draw without a program: its ids from the same call again
+    real();
+    i->endIdPass();
+  }
+  i->afterDraw(call);
 }
 
 }  // namespace

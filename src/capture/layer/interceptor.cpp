@@ -63,6 +63,12 @@ Interceptor::Interceptor() {
   try {
     if (profile_path.empty()) profile_.source = "<default>";
     else profile_ = loadCaptureProfile(profile_path);
+    const ProgramProfile& fixed = *profile_.matchFixedFunction();
+    fixed_function_.key = kFixedFunctionProgramKey;
+    fixed_function_.overlay = fixed.overlay;
+    fixed_function_.matrix_stack = !fixed.matrix_stack.empty();
+    fixed_function_.vertex_array_position = true;
+    fixed_function_.expected_matrices = kHasProjection | (fixed_function_.matrix_stack ? kHasWorld | kHasView : 0);
     CaptureHeader header;
     header.program = envOr("VIPER_CAPTURE_PROGRAM", "");
     header.profile = profile_.source;
@@ -224,6 +230,7 @@ void Interceptor::onMakeCurrent(void* context, int width, int height) {
   c->blend0_enabled = gl().IsEnabledi(GL_BLEND, 0);
   c->blend_dirty = true;
   c->base_instance_draws = glVersionAtLeast(4, 2);
+  if (!c->fixed_function_noted) noteFixedFunction(*c);
 }
 
 void Interceptor::contextDestroyed(void* context) {

@@ -23,6 +23,17 @@
 namespace viper {
 namespace capture {
 
+// How a draw now meets the depth image, from one read of the depth state: whether it writes depth
+// (its mask on and the depth test enabled: without the test the GL writes no depth either), and
+// whether it only shades surfaces an earlier pass put there (mask off, the test passing at equal
+// depth only: the colour passes of a depth pre-pass engine and the layers it blends over them,
+// whose ids would only repeat the pass that decided what is visible, which keeps them).
+struct DepthUse {
+  bool writes = false;
+  bool shades_decided = false;
+};
+DepthUse depthUse(const RealGl& g);
+
 /// What the interceptor knows about one shader object.
 struct ShaderInfo {
   GLenum type = 0;
@@ -141,6 +152,25 @@ struct ContextState {
   bool ids_write = true;  ///< write mask last set on the id attachment
   bool blend0_enabled = false;
   bool base_instance_draws = false;  ///< GL >= 4.2 (glDraw*BaseInstance)
+  /// A context with the fixed-function pipeline (compatibility profile, or before OpenGL 3.1),
+  /// whose draws without a program are recorded (fixed_function.cpp).
+  bool fixed_function = false;
+  bool fixed_function_noted = false;  ///< fixed_function and counting_queries known (at the first make-current)
+  /// Query targets of the context's GL (occlusion, primitives, pipeline statistics): a draw made
+  /// while one of them is active gets no id pass (it would count in the program's query).
+  std::vector<GLenum> counting_queries;
+  /// The id pass (fixed_function.cpp): its program (0: not made yet), made once per context.
+  GLuint id_program = 0;
+  GLint id_program_draw_id = -1;
+  bool id_program_failed = false;
+  /// Draw id (index + 1) the id pass of the draw in flight writes; 0: no id pass.
+  float id_pass_value = 0.0f;
+  /// What the id pass changed, restored after it.
+  struct IdPassSaved {
+    GLboolean color_masks[kIdDrawBuffer][4];
+    GLint depth_func = GL_LESS;
+    bool stencil_test = false, alpha_test = false;
+  } id_pass_saved;
 };
 
 /// The capture layer (one per process).
@@ -238,6 +268,11 @@ class Interceptor {
   /// recorded, counted in the frame's unrecorded draws; without a program, its ids as a
   /// fixed-function draw's (cleared where it writes depth), with one, ids off (logged once).
   void beforeUnrecordableDraw(const char* what);
+  /// After a recorded draw without a program that writes depth: true if its ids are to be
+  /// written by drawing it again (the same call, issued by the caller, then endIdPass()) with the
+  /// layer's id program, the program's colour buffers masked, at equal depth without depth writes.
+  bool beginIdPass();
+  void endIdPass();
   /// Before a multi or indirect draw passed through whole: ids off for it (logged once).
   void beforeUndecomposedDraw(const char* what);
   /// `size` bytes of the bound draw indirect buffer at `offset` (false if unknown).
@@ -286,6 +321,18 @@ class Interceptor {
   /// into a framebuffer whose draw buffer 7 is the program's (the rewritten shader then writes
   /// there what the original would).
   void setDrawId(float value);
+  /// beforeSceneDraw() of a draw without a program (fixed_function.cpp).
+  bool beforeFixedFunctionDraw(const DrawCall& call, FrameTarget* t, FrameTarget::ProgramFbo* scene_fbo);
+  /// A draw without a program writes its colour to every draw buffer, ours too: where it writes
+  /// depth, its ids are cleared to 0 (until an id pass writes them), else left as they are.
+  void clearIdsUnderFixedFunction(FrameTarget* t, FrameTarget::ProgramFbo* scene_fbo, bool writes_depth);
+  /// The context's id program (0 if it cannot be made, said once).
+  GLuint idProgram();
+  /// The fixed-function context's state: recordable draws without a program, queries that count.
+  void noteFixedFunction(ContextState& c);
+  /// The record's matrices as the profile wants them (the mirror image in z for left-handed
+  /// programs), and the gap when one the profile names is missing.
+  void finishMatrices(const ProgramInfo& p, DrawRecord& r) const;
   /// beforeDraw() of a draw into the scene's framebuffer (ours, or `scene_fbo`).
   bool beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTarget::ProgramFbo* scene_fbo);
   /// Copies bytes of a buffer as the GPU will read them now (a persistent mapping's memory, else
@@ -309,6 +356,8 @@ class Interceptor {
   bool start_on_scene_ = false; ///< VIPER_CAPTURE_START_ON_SCENE: first written frame has a camera
   uint64_t frames_written_ = 0;
   CaptureProfile profile_;
+  /// What draws without a program are recorded as (the profile's `fixed_function` entry).
+  ProgramInfo fixed_function_;
   std::unique_ptr<FrameSink> sink_;
   double start_s_ = 0.0;
 

@@ -54,25 +54,6 @@ bool decodeAttribute(const uint8_t* bytes, GLenum type, int size, float out[4]) 
   return true;
 }
 
-// How a draw now meets the depth image, from one read of the depth state: whether it writes depth
-// (its mask on and the depth test enabled: without the test the GL writes no depth either), and
-// whether it only shades surfaces an earlier pass put there (mask off, the test passing at equal
-// depth only: the colour passes of a depth pre-pass engine and the layers it blends over them,
-// whose ids would only repeat the pass that decided what is visible, which keeps them).
-struct DepthUse {
-  bool writes = false;
-  bool shades_decided = false;
-};
-DepthUse depthUse(const RealGl& g) {
-  GLboolean mask = GL_FALSE;
-  g.GetBooleanv(GL_DEPTH_WRITEMASK, &mask);
-  const bool test = g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE;
-  DepthUse d;
-  d.writes = mask == GL_TRUE && test;
-  d.shades_decided = mask == GL_FALSE && test && glInt(GL_DEPTH_FUNC) == GL_EQUAL;
-  return d;
-}
-
 // The part of a draw's range that does not depend on where its indices are.
 DrawRange drawRange(const DrawCall& call) {
   DrawRange range;
@@ -85,6 +66,16 @@ DrawRange drawRange(const DrawCall& call) {
 }
 
 }  // namespace
+
+DepthUse depthUse(const RealGl& g) {
+  GLboolean mask = GL_FALSE;
+  g.GetBooleanv(GL_DEPTH_WRITEMASK, &mask);
+  const bool test = g.IsEnabled(GL_DEPTH_TEST) == GL_TRUE;
+  DepthUse d;
+  d.writes = mask == GL_TRUE && test;
+  d.shades_decided = mask == GL_FALSE && test && glInt(GL_DEPTH_FUNC) == GL_EQUAL;
+  return d;
+}
 
 void Interceptor::mirrorForProfile(ExtractedMesh& mesh) const {
   if (!profile_.left_handed) return;  // the mirror image in z (capture_profile.h)
@@ -218,8 +209,13 @@ void Interceptor::beforeUnrecordableDraw(const char* what) {
   FrameTarget::ProgramFbo* scene_fbo = nullptr;
   if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return;
   ProgramInfo* p = currentProgram();
-  if (!p) {
-    beforeSceneDraw(DrawCall(), t, scene_fbo);  // as any fixed-function draw (it records nothing)
+  if (!p) {  // as a draw without a program that is not recorded
+    if (!scene_fbo && t->sceneEnded()) {
+      t->wantIds(nullptr, false);
+    } else {
+      ++cx().frame.unrecorded_draws;
+      clearIdsUnderFixedFunction(t, scene_fbo, depthUse(gl()).writes);
+    }
   } else if (!p->overlay && (scene_fbo || !t->sceneEnded())) {
     ++cx().frame.unrecorded_draws;
     t->wantIds(scene_fbo, false);
@@ -257,30 +253,12 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
 
 bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTarget::ProgramFbo* scene_fbo) {
   ProgramInfo* p = currentProgram();
-  const bool scene_ended = !scene_fbo && t->sceneEnded();
-  if (!p && !scene_ended) ++cx().frame.unrecorded_draws;  // fixed function: nothing to rewrite or read
+  if (!p) return beforeFixedFunctionDraw(call, t, scene_fbo);
   const RealGl& g = gl();
-  // Fixed-function draws (no program) write their color to every draw buffer, ours included. One
-  // that writes depth into the scene (Minetest's particles and clouds) clears the ids it covers to
-  // 0, through blending (ZERO, ZERO) on our buffer alone, so that no pixel keeps the id of what lies
-  // behind under its depth; one that writes no depth leaves them. After the scene ended (endScene)
-  // nothing is recorded: ids off.
-  bool clears_ids = false;
-  // (Per-buffer blend functions are GL 4.0: before it, such draws leave the ids as they are.)
-  if (!p && !scene_ended) clears_ids = g.BlendFuncSeparatei && g.BlendEquationi && depthUse(g).writes;
-  t->wantIds(scene_fbo, (p && !scene_ended && p->rewritten) || clears_ids);
-  if (clears_ids) {
-    g.Enablei(GL_BLEND, kIdDrawBuffer);
-    g.BlendFuncSeparatei(kIdDrawBuffer, GL_ZERO, GL_ZERO, GL_ZERO, GL_ZERO);
-    g.BlendEquationi(kIdDrawBuffer, GL_FUNC_ADD);
-    if (!cx().ids_write) {
-      g.ColorMaski(kIdDrawBuffer, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      cx().ids_write = true;
-    }
-    cx().blend_dirty = true;  // the next draw with a program writes its ids unblended again
-    return false;
-  }
-  if (!p || scene_ended) return false;
+  // After the scene ended (endScene) nothing is recorded: ids off.
+  const bool scene_ended = !scene_fbo && t->sceneEnded();
+  t->wantIds(scene_fbo, !scene_ended && p->rewritten);
+  if (scene_ended) return false;
   if (scene_fbo) ++scene_fbo->draws;
   if (p->overlay) {  // the 2D overlay: ids off (above), not recorded, not in the frame's color
     if (!scene_fbo) t->snapshotSceneColor();
@@ -331,13 +309,7 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
   }
   if (p->view.found() && readMatrix(p->view, r.view)) r.matrix_flags |= kHasView;
   if (p->projection.found() && readMatrix(p->projection, r.projection)) r.matrix_flags |= kHasProjection;
-  if (profile_.left_handed) {  // the mirror image in z, in OpenGL's conventions (capture_profile.h)
-    const Eigen::Vector4f f(1.0f, 1.0f, -1.0f, 1.0f);
-    if (r.matrix_flags & kHasWorld) r.world = f.asDiagonal() * r.world * f.asDiagonal();
-    if (r.matrix_flags & kHasView) r.view = f.asDiagonal() * r.view * f.asDiagonal();
-    if (r.matrix_flags & kHasProjection) r.projection = r.projection * f.asDiagonal();
-  }
-  if (p->expected_matrices & ~r.matrix_flags) r.gaps |= kGapMatrixMissing;
+  finishMatrices(*p, r);
   if (!p->rewritten) r.gaps |= kGapNoIds;
   for (size_t i = 0; i < p->sampler_locations.size(); ++i) {
     GLint unit = 0;
@@ -348,6 +320,16 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
   if (!r.mesh_key) r.gaps |= kGapNoMesh;
   cx().last_recorded = true;
   return true;
+}
+
+void Interceptor::finishMatrices(const ProgramInfo& p, DrawRecord& r) const {
+  if (profile_.left_handed) {  // the mirror image in z, in OpenGL's conventions (capture_profile.h)
+    const Eigen::Vector4f f(1.0f, 1.0f, -1.0f, 1.0f);
+    if (r.matrix_flags & kHasWorld) r.world = f.asDiagonal() * r.world * f.asDiagonal();
+    if (r.matrix_flags & kHasView) r.view = f.asDiagonal() * r.view * f.asDiagonal();
+    if (r.matrix_flags & kHasProjection) r.projection = r.projection * f.asDiagonal();
+  }
+  if (p.expected_matrices & ~r.matrix_flags) r.gaps |= kGapMatrixMissing;
 }
 
 void Interceptor::readMatrixStack(DrawRecord& r) {

@@ -24,7 +24,7 @@ if(CATKIN_ENABLE_TESTING)
   # capture.cmake, ground_truth.cmake).
   set(VIPER_CORE_TESTS
     capture/test_capture_profile capture/test_capture_stream capture/test_capture_stream_codec
-    capture/test_capture_stream_damage
+    capture/test_capture_stream_damage capture/test_camera_recovery
     capture/test_resource_census capture/test_shader_rewrite
     ground_truth/test_capture_invariants ground_truth/test_boxes ground_truth/test_camera_model
     ground_truth/test_ego_motion ground_truth/test_flow ground_truth/test_flow_from_metres

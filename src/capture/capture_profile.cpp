@@ -62,6 +62,10 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
     else if (key == "world") p.world = scalar(source, value, key);
     else if (key == "view") p.view = scalar(source, value, key);
     else if (key == "projection") p.projection = scalar(source, value, key);
+    else if (key == "model_view") p.model_view = scalar(source, value, key);
+    else if (key == "view_projection") p.view_projection = scalar(source, value, key);
+    else if (key == "model_view_projection") p.model_view_projection = scalar(source, value, key);
+    else if (key == "world_space") p.world_space = parseBool(source, value, key);
     else if (key == "position") p.position = scalar(source, value, key);
     else if (key == "deforming") p.deforming = parseDeforming(source, value);
     else if (key == "instance_world") p.instance_world = scalar(source, value, key);
@@ -73,12 +77,14 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
     else if (key == "fixed_function") p.fixed_function = parseBool(source, value, key);
     else if (key == "matrix_stack") {
       p.matrix_stack = scalar(source, value, key);
-      if (p.matrix_stack != "load_view_mult_world")
-        throw profileError(source, value, "'matrix_stack' must be load_view_mult_world, got '" + p.matrix_stack + "'");
+      if (p.matrix_stack != "load_view_mult_world" && p.matrix_stack != "push_world")
+        throw profileError(source, value,
+                           "'matrix_stack' must be load_view_mult_world or push_world, got '" + p.matrix_stack + "'");
     } else
       throw profileError(source, kv.first,
                          "unknown key '" + key +
-                             "' (known: vertex_contains, program_key, world, view, projection, position, deforming, "
+                             "' (known: vertex_contains, program_key, world, view, projection, model_view, "
+                             "view_projection, model_view_projection, world_space, position, deforming, "
                              "instance_world, instance_translation, instance_rotation, instance_scale, "
                              "instance_rotation_conjugate, overlay, matrix_stack, fixed_function)");
   }
@@ -88,12 +94,20 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
                        "'instance_world' (a mat4 attribute) and instance_translation/rotation/scale exclude each other");
   if (p.fixed_function &&
       (!p.vertex_contains.empty() || p.program_key != 0 || !p.world.empty() || !p.view.empty() ||
-       !p.projection.empty() || !p.position.empty() || p.deforming != Deforming::kAuto || p.hasInstanceTransform()))
+       !p.projection.empty() || !p.model_view.empty() || !p.view_projection.empty() ||
+       !p.model_view_projection.empty() || !p.position.empty() || p.deforming != Deforming::kAuto ||
+       p.hasInstanceTransform()))
     throw profileError(source, node,
-                       "'fixed_function: true' is for draws without a program: only matrix_stack and overlay go with "
-                       "it (no shader to match, no uniform or attribute to name)");
-  if (!p.matrix_stack.empty() && (!p.world.empty() || !p.view.empty() || !p.projection.empty()))
-    throw profileError(source, node, "'matrix_stack' and world/view/projection exclude each other");
+                       "'fixed_function: true' is for draws without a program: only matrix_stack, world_space and "
+                       "overlay go with it (no shader to match, no uniform or attribute to name)");
+  if (p.world_space && (!p.world.empty() || p.hasInstanceTransform()))
+    throw profileError(source, node, "'world_space: true' says the world is the identity: no world or instance_* with it");
+  if (p.world_space && !p.matrix_stack.empty())
+    throw profileError(source, node, "'world_space' and 'matrix_stack' exclude each other");
+  if (!p.matrix_stack.empty() && (!p.world.empty() || !p.view.empty() || !p.projection.empty() ||
+                                  !p.model_view.empty() || !p.view_projection.empty() ||
+                                  !p.model_view_projection.empty()))
+    throw profileError(source, node, "'matrix_stack' and named matrices (world, view, projection, combined) exclude each other");
   return p;
 }
 
@@ -108,6 +122,14 @@ const ProgramProfile* CaptureProfile::match(const std::string& vertex_source, ui
     return &p;
   }
   return &kFallback;
+}
+
+bool CaptureProfile::combinesMatrices() const {
+  for (const ProgramProfile& p : programs)
+    if (!p.model_view.empty() || !p.view_projection.empty() || !p.model_view_projection.empty() || p.world_space ||
+        (p.fixed_function && p.matrix_stack.empty()))
+      return true;
+  return false;
 }
 
 const ProgramProfile* CaptureProfile::matchFixedFunction() const {

@@ -10,10 +10,11 @@
 //           non-indexed glDrawArrays from client memory.
 // Then a depth-only clear and a "hand" quad near the camera (with the same program), and a 2D HUD
 // quad without any program (fixed function), as Minetest draws its wielded item and HUD.
-// And what the layer cannot record, which its capture must report (DrawRecord::gaps): before the
-// world, a "sky" quad without any program (top right; not recorded at all); after the quads, a
-// small "particle" without any program that writes depth in front of quad 0 (not recorded; its
-// pixels must lose quad 0's id, since their depth is the particle's); a
+// Without any program, as Minetest draws its sky and particles: before the world, a "sky" quad (top
+// right, far away) and, after the quads, a small "particle" that writes depth in front of quad 0
+// (its pixels must have its id, not quad 0's, since their depth is the particle's); both with an
+// identity view loaded (their stack view is re-expressed against the frame's).
+// And what the layer cannot record, which its capture must report (DrawRecord::gaps): a
 // line loop with the same program (below them; no mesh) and a quad whose GLSL 1.30 fragment shader
 // declares its own output (top left; not rewritten, so no ids; its profile entry names a world
 // matrix the program does not have).
@@ -129,11 +130,13 @@ int main(int argc, char** argv) {
     glClearColor(0.1f, 0.1f, 0.2f, 1.0f);
     glEnable(GL_DEPTH_TEST);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    // The sky: fixed function, identity matrices, top right.
+    // The sky: fixed function, the camera's projection and an identity view (drawn around the
+    // camera), 40 units away at the top right of the image (NDC (0.85, 0.8), 0.08 in size).
     glUseProgram(0);
-    loadMatrices(Eigen::Matrix4f::Identity(), Eigen::Matrix4f::Identity());
-    glTranslatef(0.85f, 0.8f, 0.0f);
-    glScalef(0.08f, 0.08f, 1.0f);
+    loadMatrices(proj, Eigen::Matrix4f::Identity());
+    const float sky = 40.0f;
+    glTranslatef(0.85f * sky / proj(0, 0), 0.8f * sky / proj(1, 1), -sky);
+    glScalef(0.08f * sky / proj(0, 0), 0.08f * sky / proj(1, 1), 1.0f);
     glColor4f(0.5f, 0.7f, 1.0f, 1.0f);
     glVertexPointer(3, GL_FLOAT, sizeof(Vertex), quad[0].pos);
     glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices);
@@ -175,11 +178,15 @@ int main(int argc, char** argv) {
     glDrawArrays(GL_LINE_LOOP, 0, 4);
     // A "particle": fixed function, writing depth, in front of quad 0 (around its point (0.5, 0.5)),
     // as Minetest draws the particles of a node being dug.
+    // It lies on the camera ray through that point, at the eye depth whose NDC z is -0.9, and is
+    // kParticleHalf (NDC) in size; the camera's projection, an identity view.
     glUseProgram(0);
-    const Eigen::Vector4f c = proj * view * es::world(0, f) * Eigen::Vector4f(0.5f, 0.5f, 0.0f, 1.0f);
-    loadMatrices(Eigen::Matrix4f::Identity(), Eigen::Matrix4f::Identity());
-    glTranslatef(c.x() / c.w(), c.y() / c.w(), -0.9f);
-    glScalef(es::kParticleHalf, es::kParticleHalf, 1.0f);
+    const Eigen::Vector4f e = view * es::world(0, f) * Eigen::Vector4f(0.5f, 0.5f, 0.0f, 1.0f);
+    const float depth = proj(2, 3) / (0.9f - proj(2, 2));  // eye z: (A z + B) / -z = -0.9
+    const float along = depth / e.z();
+    loadMatrices(proj, Eigen::Matrix4f::Identity());
+    glTranslatef(along * e.x(), along * e.y(), depth);
+    glScalef(es::kParticleHalf * -depth / proj(0, 0), es::kParticleHalf * -depth / proj(1, 1), 1.0f);
     glColor4f(0.9f, 0.5f, 0.1f, 1.0f);
     glVertexPointer(3, GL_FLOAT, sizeof(Vertex), quad[0].pos);
     glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices);

@@ -27,6 +27,8 @@
 //   fixed_function (compatibility profile) the objects drawn without a program, OpenGL 1.x style:
 //                client vertex arrays, the matrix stack, glColor; alpha and stencil tests on one,
 //                an occlusion query counting another;
+//   combined_matrices a world-space background with a view-projection alone, two objects with
+//                model-view and projection, two with a model-view-projection alone;
 //   all          each of them in turn (a fresh context each).
 // Every GL call is followed by glGetError: an error the program did not cause ends it (exit 3).
 // In frame 1 it causes one itself (glEnable of a bad enum) and checks after the frame's calls
@@ -526,10 +528,68 @@ void depthPrepass(int frames, const std::string& out) {
   destroy(s);
 }
 
+// Engines that pass combined matrices: a background in world space drawn with a view-projection
+// alone (its vertices placed on the CPU), objects 0 and 1 with a model-view and a projection,
+// objects 2 and 3 with a model-view-projection alone. The layer recovers the frame's camera and
+// each world from them (the profile's model_view, view_projection, model_view_projection and
+// world_space).
+void combinedMatrices(int frames, const std::string& out) {
+  Surface s = makeSurface(ss::kSize);
+  makeCurrent(s);
+  const GLuint background = program(R"(#version 330 core
+uniform mat4 u_viewproj;
+layout(location = 0) in vec3 a_pos;
+void main() { gl_Position = u_viewproj * vec4(a_pos, 1.0); }
+)", kColourFs);
+  const GLuint model_view = program(R"(#version 330 core
+uniform mat4 u_modelview;
+uniform mat4 u_projection;
+layout(location = 0) in vec3 a_pos;
+void main() { gl_Position = u_projection * (u_modelview * vec4(a_pos, 1.0)); }
+)", kColourFs);
+  const GLuint mvp = program(R"(#version 330 core
+uniform mat4 u_mvp;
+layout(location = 0) in vec3 a_pos;
+void main() { gl_Position = u_mvp * vec4(a_pos, 1.0); }
+)", kColourFs);
+  const Quad q = makeQuad();
+  // The background quad's vertices in world space: the unit quad scaled by 0.95 at kBackgroundZ.
+  const Quad world_quad = makeQuad();
+  const float z = ss::kBackgroundZ;
+  const float placed[12] = {-0.95f, -0.95f, z, 0.95f, -0.95f, z, 0.95f, 0.95f, z, -0.95f, 0.95f, z};
+  GL(glBindBuffer(GL_ARRAY_BUFFER, world_quad.vbo));
+  GL(glBufferSubData(GL_ARRAY_BUFFER, 0, sizeof(placed), placed));
+  for (int f = 0; f < frames; ++f) {
+    beginFrame(f);
+    const Eigen::Matrix4f v = ss::view(f), p = ss::projection();
+    GL(glUseProgram(background));
+    GL(glBindVertexArray(world_quad.vao));
+    setMatrix(background, "u_viewproj", p * v);
+    GL(glUniform4f(GLV(glGetUniformLocation(background, "u_colour")), 0.5f, 0.5f, 0.5f, 1.0f));
+    GL(glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, nullptr));
+    GL(glBindVertexArray(q.vao));
+    for (int k = 0; k < 4; ++k) {
+      const GLuint prog = k < 2 ? model_view : mvp;
+      GL(glUseProgram(prog));
+      if (k < 2) {
+        setMatrix(prog, "u_modelview", v * ss::world(k));
+        setMatrix(prog, "u_projection", p);
+      } else {
+        setMatrix(prog, "u_mvp", p * v * ss::world(k));
+      }
+      setColour(prog, k);
+      GL(glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, nullptr));
+    }
+    endFrame(s, f, frames, out);
+  }
+  destroy(s);
+}
+
 // OpenGL 1.x without a program (compatibility profile): the objects from the conventional vertex
 // array in client memory (two with glDrawArrays, two with glDrawElements and indices in client
-// memory), the projection loaded into GL_PROJECTION, the view loaded into GL_MODELVIEW and each
-// world multiplied onto it between glPushMatrix and glPopMatrix, colour from glColor4fv. Object 1
+// memory), the projection loaded into GL_PROJECTION, the view multiplied onto the identity at the
+// bottom of GL_MODELVIEW (as gluLookAt does) and each world multiplied onto it between
+// glPushMatrix and glPopMatrix (the textbook pattern), colour from glColor4fv. Object 1
 // is alpha tested and stencilled (its stencil replaced where drawn), object 3 drawn while an
 // occlusion query counts its samples, printed ("query: ...") for the test to compare.
 void fixedFunction(int frames, const std::string& out) {
@@ -550,6 +610,7 @@ void fixedFunction(int frames, const std::string& out) {
   auto matrix_mode = reinterpret_cast<Enum>(proc("glMatrixMode"));
   auto load_matrix = reinterpret_cast<Matrix>(proc("glLoadMatrixf"));
   auto mult_matrix = reinterpret_cast<Matrix>(proc("glMultMatrixf"));
+  auto load_identity = reinterpret_cast<Void>(proc("glLoadIdentity"));
   auto push_matrix = reinterpret_cast<Void>(proc("glPushMatrix"));
   auto pop_matrix = reinterpret_cast<Void>(proc("glPopMatrix"));
   auto enable_client_state = reinterpret_cast<Enum>(proc("glEnableClientState"));
@@ -568,7 +629,8 @@ void fixedFunction(int frames, const std::string& out) {
     GL(matrix_mode(kProjection));
     GL(load_matrix(ss::projection().data()));
     GL(matrix_mode(kModelView));
-    GL(load_matrix(ss::view(f).data()));
+    GL(load_identity());
+    GL(mult_matrix(ss::view(f).data()));
     for (int k = 0; k < 4; ++k) {
       GL(push_matrix());
       GL(mult_matrix(ss::world(k).data()));
@@ -751,7 +813,7 @@ int main(int argc, char** argv) {
       {"mdi", mdi},         {"persistent", persistent},     {"ubo_tbo", uboTbo},          {"binary", binary},
       {"threads", threads}, {"destroy", destroyMidFrame}, {"exit_thread", exitThread}, {"blend_depth", blendDepth},
       {"window_queries", windowQueries}, {"extension_names", extensionNames}, {"depth_prepass", depthPrepass},
-      {"fixed_function", fixedFunction}};
+      {"fixed_function", fixedFunction}, {"combined_matrices", combinedMatrices}};
   bool found = false;
   for (const auto& s : scenarios) {
     if (scenario != "all" && scenario != s.first) continue;

@@ -97,10 +97,14 @@ TEST(CaptureLegacy, MatrixStackAndClientArraysGiveEveryDrawItsMatricesAndMesh) {
   for (const CaptureFrame& f : r.frames) {
     SCOPED_TRACE("frame " + std::to_string(f.number));
     EXPECT_EQ(viper::validateFrame(f), "");
-    ASSERT_EQ(f.draws.size(), size_t(es::kInstances) + 2)
-        << "the quads, the line loop and the refused quad; not the sky, the hand (after the depth clear) or the HUD";
+    // Draw 0 is the sky, 1 to kInstances the quads, then the line loop, the particle and the
+    // refused quad.
+    constexpr int kSky = 0, kQuad0 = 1, kLines = es::kInstances + 1, kParticle = kLines + 1, kRefused = kParticle + 1;
+    ASSERT_EQ(f.draws.size(), size_t(kRefused) + 1)
+        << "the sky, the quads, the line loop, the particle and the refused quad; not the hand (after the depth "
+           "clear) or the HUD";
     for (int k = 0; k < es::kInstances; ++k) {
-      const viper::DrawRecord& d = f.draws[k];
+      const viper::DrawRecord& d = f.draws[kQuad0 + k];
       ASSERT_EQ(d.matrix_flags, viper::kHasWorld | viper::kHasView | viper::kHasProjection) << "quad " << k;
       EXPECT_TRUE(d.world.isApprox(es::world(k, f.number), 1e-5f)) << "quad " << k << "\n" << d.world;
       EXPECT_EQ(d.view, es::view(f.number));
@@ -109,34 +113,44 @@ TEST(CaptureLegacy, MatrixStackAndClientArraysGiveEveryDrawItsMatricesAndMesh) {
       EXPECT_GT(d.visible_pixels, 100u);
       const auto [x, y] = pixelOf(k, f.number, 0.0f, 0.0f);
       ASSERT_TRUE(x >= 0 && x < kWidth && y >= 0 && y < kHeight);
-      EXPECT_EQ(f.draw_ids[size_t(y) * kWidth + x], uint32_t(k + 1)) << "quad " << k;
+      EXPECT_EQ(f.draw_ids[size_t(y) * kWidth + x], uint32_t(kQuad0 + k + 1)) << "quad " << k;
     }
-    EXPECT_EQ(f.draws[0].mesh_key, f.draws[1].mesh_key) << "the same quad from client memory and from a buffer";
+    EXPECT_EQ(f.draws[kQuad0].mesh_key, f.draws[kQuad0 + 1].mesh_key) << "the same quad from client memory and from a buffer";
     all.add(viper::checkReprojection(f, r.meshes));
-    lines_pixels += f.draws[3].visible_pixels;
+    lines_pixels += f.draws[kLines].visible_pixels;
 
-    // What the layer could not record, reported: the sky not recorded at all, the line loop without
-    // a mesh (with matrices and ids), the refused quad without ids and without its world.
-    for (int k = 0; k < es::kInstances; ++k) EXPECT_EQ(f.draws[k].gaps, 0u) << "quad " << k;
-    EXPECT_EQ(f.unrecorded_draws, 2u) << "the sky and the particle (fixed function)";
-    EXPECT_EQ(f.draws[3].gaps, viper::kGapNoMesh);
-    EXPECT_EQ(f.draws[3].primitive_mode, 2u) << "GL_LINE_LOOP";
-    EXPECT_GT(f.draws[3].visible_pixels, 0u);
-    EXPECT_EQ(f.draws[4].gaps, viper::kGapNoIds | viper::kGapMatrixMissing);
-    EXPECT_EQ(f.draws[4].visible_pixels, 0u) << "it wrote no ids";
-    for (const auto& [x, y] : {std::make_pair(int(0.925 * kWidth), int(0.1 * kHeight)),    // sky
-                               std::make_pair(int(0.075 * kWidth), int(0.1 * kHeight))}) {  // refused quad
-      const size_t i = size_t(y) * kWidth + x;
-      EXPECT_EQ(f.draw_ids[i], 0u) << "at " << x << "," << y;
-      EXPECT_LT(f.depth_window[i], 1.0f) << "drawn there, with depth";
+    // What the layer could not record, reported: the line loop without a mesh (with matrices and
+    // ids), the refused quad without ids and without its world. Nothing unrecorded.
+    for (int k = 0; k < es::kInstances; ++k) EXPECT_EQ(f.draws[kQuad0 + k].gaps, 0u) << "quad " << k;
+    EXPECT_EQ(f.unrecorded_draws, 0u);
+    EXPECT_EQ(f.draws[kLines].gaps, viper::kGapNoMesh);
+    EXPECT_EQ(f.draws[kLines].primitive_mode, 2u) << "GL_LINE_LOOP";
+    EXPECT_GT(f.draws[kLines].visible_pixels, 0u);
+    EXPECT_EQ(f.draws[kRefused].gaps, viper::kGapNoIds | viper::kGapMatrixMissing);
+    EXPECT_EQ(f.draws[kRefused].visible_pixels, 0u) << "it wrote no ids";
+    // The sky and the particle, drawn without a program: recorded from the fixed-function state
+    // (the stack's view re-expressed against the frame's), ids from the id pass.
+    for (int k : {kSky, kParticle}) {
+      EXPECT_EQ(f.draws[k].program_key, viper::kFixedFunctionProgramKey);
+      EXPECT_EQ(f.draws[k].gaps, 0u) << "draw " << k;
+      EXPECT_EQ(f.draws[k].view, es::view(f.number)) << "draw " << k;
+      EXPECT_GT(f.draws[k].visible_pixels, 0u) << "draw " << k;
+    }
+    {
+      const size_t sky = size_t(0.1 * kHeight) * kWidth + size_t(0.925 * kWidth);
+      EXPECT_EQ(f.draw_ids[sky], uint32_t(kSky + 1));
+      EXPECT_LT(f.depth_window[sky], 1.0f);
+      const size_t refused = size_t(0.1 * kHeight) * kWidth + size_t(0.075 * kWidth);
+      EXPECT_EQ(f.draw_ids[refused], 0u) << "the refused quad: drawn there, with depth, no id";
+      EXPECT_LT(f.depth_window[refused], 1.0f);
     }
 
-    // The particle in front of quad 0: its depth (fixed function wrote it) and so no id, not quad
-    // 0's. (Also checked by the reprojection below, whose depth bound those pixels would break.)
+    // The particle in front of quad 0: its depth and its id, not quad 0's. (Also checked by the
+    // reprojection below, whose depth bound those pixels would break.)
     {
       const auto [px, py] = pixelOf(0, f.number, 0.5f, 0.5f);
       const size_t i = size_t(py) * kWidth + px;
-      EXPECT_EQ(f.draw_ids[i], 0u) << "the particle at " << px << "," << py;
+      EXPECT_EQ(f.draw_ids[i], uint32_t(kParticle + 1)) << "the particle at " << px << "," << py;
       EXPECT_NEAR(f.depth_window[i], 0.05f, 1e-3f) << "the particle's depth (NDC z -0.9)";
     }
 

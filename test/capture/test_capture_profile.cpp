@@ -118,7 +118,7 @@ TEST(CaptureProfile, MatrixStackKey) {
                                                "stack.yaml");
   EXPECT_EQ(p.programs[0].matrix_stack, "load_view_mult_world");
   EXPECT_EQ(p.programs[0].position, "gl_Vertex");
-  EXPECT_NE(message("programs:\n  - matrix_stack: yes\n").find("must be load_view_mult_world, got 'yes'"),
+  EXPECT_NE(message("programs:\n  - matrix_stack: yes\n").find("must be load_view_mult_world or push_world, got 'yes'"),
             std::string::npos);
   EXPECT_NE(message("programs:\n  - matrix_stack: load_view_mult_world\n    view: v\n").find("exclude each other"),
             std::string::npos);
@@ -134,9 +134,28 @@ TEST(CaptureProfile, FixedFunctionEntry) {
   const CaptureProfile none = parseCaptureProfile("programs:\n  - vertex_contains: a\n", "none.yaml");
   EXPECT_TRUE(none.matchFixedFunction()->fixed_function);
   EXPECT_EQ(none.matchFixedFunction()->matrix_stack, "");
-  EXPECT_NE(message("programs:\n  - fixed_function: true\n    world: u_world\n").find("only matrix_stack and overlay"),
+  EXPECT_NE(message("programs:\n  - fixed_function: true\n    world: u_world\n").find("only matrix_stack, world_space and overlay"),
             std::string::npos);
   EXPECT_NE(message("programs:\n  - fixed_function: maybe\n").find("'fixed_function' must be true or false"),
+            std::string::npos);
+}
+
+TEST(CaptureProfile, CombinedMatrixKeys) {
+  const CaptureProfile p = parseCaptureProfile(
+      "programs:\n  - vertex_contains: a\n    model_view: mv\n    projection: p\n"
+      "  - vertex_contains: b\n    view_projection: vp\n    world_space: true\n"
+      "  - model_view_projection: mvp\n",
+      "combined.yaml");
+  EXPECT_TRUE(p.combinesMatrices());
+  EXPECT_EQ(p.match("a", 0)->model_view, "mv");
+  EXPECT_TRUE(p.match("b", 0)->world_space);
+  EXPECT_EQ(p.match("c", 0)->model_view_projection, "mvp");
+  EXPECT_FALSE(parseCaptureProfile("programs:\n  - world: w\n", "plain.yaml").combinesMatrices());
+  EXPECT_NE(message("programs:\n  - world_space: true\n    world: w\n").find("no world or instance_* with it"),
+            std::string::npos);
+  EXPECT_NE(message("programs:\n  - matrix_stack: load_view_mult_world\n    model_view: mv\n").find("exclude each other"),
+            std::string::npos);
+  EXPECT_NE(message("programs:\n  - world_space: sometimes\n").find("'world_space' must be true or false"),
             std::string::npos);
 }
 

@@ -96,7 +96,7 @@ Expected expected(const std::string& scenario) {
   if (scenario == "mdi") e.objects = 8, e.instanced_mesh = true;
   if (scenario == "ubo_tbo") e.world_recorded = false;
   if (scenario == "persistent" || scenario == "threads") e.moving_vertices = true;
-  if (scenario == "blend_depth") e.background = 1;
+  if (scenario == "blend_depth" || scenario == "combined_matrices") e.background = 1;
   if (scenario == "depth_prepass") e.passes = 3;
   return e;
 }
@@ -214,6 +214,12 @@ void checkCapture(const std::string& scenario, bool async, const Result& plain, 
     for (const DrawRecord& d : f.draws)
       if (static_cast<int>(d.index) >= e.background) checkDraw(e, f, d, r.meshes);
     if (scenario == "blend_depth") checkIdsFollowDepth(f);
+    if (scenario == "combined_matrices") {  // the background: world space, so world = identity
+      const DrawRecord& b = f.draws[0];
+      EXPECT_EQ(b.matrix_flags, viper::kHasWorld | viper::kHasView | viper::kHasProjection);
+      EXPECT_TRUE(b.world.isIdentity(1e-6f)) << b.world;
+      EXPECT_TRUE(b.view.isApprox(ss::view(f.number), 1e-6f)) << b.view;
+    }
     // The stream's colour is the program's image (its read-back is bottom row first, RGBA).
     if (f.number == ss::kFrames - 1) {
       size_t colour_diffs = 0;
@@ -251,6 +257,26 @@ TEST_P(Stress, RunsAsWithoutCaptureAndRecordsOrFlagsEveryDraw) {
   }
 }
 
+// --start-on-scene waits for a frame with the camera's view and projection: with combined
+// matrices only (no draw gives the view itself), the frame's recovered camera starts it.
+TEST(StressCombinedMatrices, StartOnSceneStartsAtTheFirstFrameWithARecoveredCamera) {
+  const std::string base = tempDir() + "/start_on_scene";
+  const std::string log = base + ".log";
+  ASSERT_EQ(run(std::string(VIPER_CAPTURE_EXE) + " --output " + base + ".vcap --profile " VIPER_STRESS_PROFILE
+                " --start-on-scene -- " + program("combined_matrices", base + ".rgba") + " > " + log + " 2>&1"),
+            0)
+      << readFile(log);
+  std::vector<CaptureFrame> frames;
+  MeshRegistry meshes;
+  viper::test::readCapture(base + ".vcap", frames, meshes);
+  ASSERT_EQ(frames.size(), size_t(ss::kFrames)) << readFile(log);
+  EXPECT_EQ(frames[0].number, 0u);
+  EXPECT_NE(readFile(log).find("the frame's camera from combined matrices: view: projection⁻¹ · view-projection; "
+                               "projection: given"),
+            std::string::npos)
+      << readFile(log);
+}
+
 // The sanitized interceptor's exported dlsym is called by the sanitizer runtime's own start
 // (dlsym(RTLD_NEXT, ...) for every function it intercepts), before the runtime can run instrumented
 // code or its interceptors: it must answer without either, wherever the runtime comes in the
@@ -269,6 +295,6 @@ TEST(SanitizedInterceptor, StartsInAProgramWithoutGl) {
 INSTANTIATE_TEST_SUITE_P(Scenarios, Stress,
                          ::testing::Values("mdi", "persistent", "ubo_tbo", "binary", "threads", "destroy",
                                            "exit_thread", "blend_depth", "window_queries", "extension_names",
-                                           "depth_prepass", "fixed_function"));
+                                           "depth_prepass", "fixed_function", "combined_matrices"));
 
 }  // namespace

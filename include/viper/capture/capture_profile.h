@@ -27,13 +27,27 @@ struct ProgramProfile {
   std::string world;
   std::string view;
   std::string projection;
+  /// Combined matrices, named the same way, for engines that pass them instead of (or besides)
+  /// the three: model-view V·W, view-projection P·V, model-view-projection P·V·W. Each draw's
+  /// world and the frame's camera are recovered from them at the end of the frame
+  /// (camera_recovery.h: viper::resolveFrameMatrices).
+  std::string model_view;
+  std::string view_projection;
+  std::string model_view_projection;
+  /// `world_space: true`: these programs' vertices are already in world space (world = identity),
+  /// so their model-view is the view and their model-view-projection the camera's P·V.
+  bool world_space = false;
   /// Name of the position attribute (empty: generic attribute location 0). `gl_Vertex`: the
   /// conventional vertex array (glVertexPointer, in a buffer or in the program's memory).
   std::string position;
   /// The matrices live in the fixed-function stack (compatibility contexts): `load_view_mult_world`
   /// says the engine loads the view into GL_MODELVIEW (glLoadMatrix, glLoadIdentity) and multiplies
   /// the world onto it (glMultMatrix, glTranslate, glRotate, glScale), as Irrlicht's OpenGL driver
-  /// does; the projection is GL_PROJECTION's. Replaces world/view/projection. Empty: not used.
+  /// does. `push_world`: the program sets the camera at the bottom of the stack (glLoadIdentity,
+  /// gluLookAt, glMultMatrix...), then draws each object between glPushMatrix and glPopMatrix with
+  /// its world multiplied on: the view is what the bottom of the stack holds, the world what is
+  /// above it (the OpenGL 1.x textbook pattern). The projection is GL_PROJECTION's. Replaces
+  /// world/view/projection. Empty: not used.
   std::string matrix_stack;
   Deforming deforming = Deforming::kAuto;
   /// Per-instance world matrices of instanced draws, from instanced vertex attributes (names;
@@ -49,7 +63,8 @@ struct ProgramProfile {
   /// Draws of these programs are the 2D overlay (HUD, menus): never given ids or recorded.
   bool overlay = false;
   /// `fixed_function: true`: the entry is for draws made without a program (OpenGL 1.x fixed
-  /// function), and matches no program. Only `matrix_stack` and `overlay` go with it.
+  /// function), and matches no program. Only `matrix_stack`, `world_space` and `overlay` go with
+  /// it (without `matrix_stack`, its draws have the stack's model-view as a combined matrix).
   bool fixed_function = false;
 
   /// True if any instance_* attribute is named.
@@ -76,6 +91,8 @@ struct CaptureProfile {
   /// neither recorded nor given ids.
   bool depth_clear_ends_scene = false;
 
+  /// Some entry names a combined matrix or world space: frames are resolved (camera_recovery.h).
+  bool combinesMatrices() const;
   /// The first entry matching a program, or the built-in fallback (no matrices, position at
   /// location 0, deforming auto) when none does. Never null.
   const ProgramProfile* match(const std::string& vertex_source, uint64_t program_key) const;

@@ -124,12 +124,18 @@ bool Interceptor::beforeFixedFunctionDraw(const DrawCall& call, FrameTarget* t, 
   r.primitive_mode = call.mode;
   r.primitive_count = primitiveCount(call.mode, static_cast<size_t>(call.count)) * static_cast<uint32_t>(call.instances);
   if (p.matrix_stack) {
-    readMatrixStack(r);
+    readMatrixStack(r, p.stack_push_world);
   } else {
     g.GetFloatv(VIPER_GL_PROJECTION_MATRIX, r.projection.data());
     r.matrix_flags |= kHasProjection;
   }
-  finishMatrices(p, r);
+  if (combines_ && !p.matrix_stack) {  // the stack's model-view, a combined matrix (camera_recovery.h)
+    DrawMatrices combined;
+    g.GetFloatv(VIPER_GL_MODELVIEW_MATRIX, combined.model_view.data());
+    combined.known = kMatModelView;
+    keepDrawMatrices(p, r, combined);
+  }
+  if (!p.combined) finishMatrices(p.expected_matrices, r);
   // The texture of unit 0 (what a fixed-function draw's look mostly comes from), where enabled.
   if (c.active_unit == 0 && g.IsEnabled(kTexture2d) == GL_TRUE) r.texture_keys.push_back(textureKey(kTexture2d, 0));
   recordMesh(call, p, r);

@@ -67,8 +67,14 @@ Interceptor::Interceptor() {
     fixed_function_.key = kFixedFunctionProgramKey;
     fixed_function_.overlay = fixed.overlay;
     fixed_function_.matrix_stack = !fixed.matrix_stack.empty();
+    fixed_function_.stack_push_world = fixed.matrix_stack == "push_world";
     fixed_function_.vertex_array_position = true;
-    fixed_function_.expected_matrices = kHasProjection | (fixed_function_.matrix_stack ? kHasWorld | kHasView : 0);
+    combines_ = profile_.combinesMatrices();
+    // Without the stack split, the stack's model-view is a combined matrix where the profile has them.
+    fixed_function_.combined = combines_ && !fixed_function_.matrix_stack;
+    fixed_function_.world_space = fixed.world_space;
+    fixed_function_.expected_matrices =
+        kHasProjection | (fixed_function_.matrix_stack || fixed_function_.combined ? kHasWorld | kHasView : 0);
     CaptureHeader header;
     header.program = envOr("VIPER_CAPTURE_PROGRAM", "");
     header.profile = profile_.source;
@@ -246,6 +252,7 @@ void Interceptor::beforeSwap(int width, int height, bool offscreen) {
   if (!enabled_ || !t || !t->ready()) return;
   std::unique_lock<std::mutex> lifecycle(lifecycle_mutex_);
   oneStackView();
+  resolveCombined();
   // Frames before the scene (menus, loading screens) are shown but not written: skipped by count,
   // or until a recorded draw has the camera's matrices. After shutdown (exit() called by another
   // thread while this one renders on) nothing is written, and the program still draws as before.

@@ -7,6 +7,7 @@
 #include "gl_real.h"
 #include "matrix_stack.h"
 #include "mesh_extract.h"
+#include "viper/capture/camera_recovery.h"
 #include "viper/capture/capture_profile.h"
 
 #include <atomic>
@@ -73,8 +74,14 @@ struct ProgramInfo {
   bool reads_draw_parameters = false;
   GLint loc_draw_id = -1, loc_alpha_test = -1;
   MatrixSource world, view, projection;
+  MatrixSource model_view, view_projection, model_view_projection;
+  bool world_space = false;  ///< the profile says: vertices in world space (world = identity)
+  /// A combined matrix or world space: its records are finished at the end of the frame, when
+  /// the frame's camera is recovered (resolveCombined).
+  bool combined = false;
   InstanceTransform instance;
   bool matrix_stack = false;           ///< matrices from the fixed-function stack (matrix_stack.h)
+  bool stack_push_world = false;       ///< matrix_stack: push_world (else load_view_mult_world)
   uint8_t expected_matrices = 0;       ///< MatrixFlags the profile names for this program
   GLint position_attrib = 0;
   bool vertex_array_position = false;  ///< positions from the conventional array (glVertexPointer)
@@ -140,6 +147,15 @@ struct ContextState {
     last_mesh_first = static_cast<uint32_t>(m.first_vertex);
     last_mesh_vertices = static_cast<uint32_t>(m.vertex_count);
   }
+  /// This frame's matrices as the programs gave them, of every recorded draw, where the profile
+  /// has combined matrices (camera_recovery.h), resolved at the swap (resolveCombined).
+  struct DrawMatricesEntry {
+    uint32_t index;
+    bool deferred;             ///< a combined program's draw: its record is finished then
+    uint8_t expected;          ///< its program's expected_matrices
+    DrawMatrices matrices;
+  };
+  std::vector<DrawMatricesEntry> frame_matrices;
   ModelViewTracker modelview;
   std::vector<uint32_t> stack_draws;  ///< this frame's draws with world and view from the stack
   bool last_recorded = false;
@@ -301,13 +317,20 @@ class Interceptor {
   /// at every draw (the memory may change between draws).
   void recordClientMesh(const DrawCall& call, const PositionLayout& layout, GLuint vbo, const uint8_t* client_vertices,
                         GLuint ibo, DrawRecord& record);
-  /// World, view and projection from the fixed-function stack; world and view only where the
-  /// driver's model-view equals view x world (else logged once).
-  void readMatrixStack(DrawRecord& record);
+  /// World, view and projection from the fixed-function stack (`push_world`: the view is the
+  /// bottom of the stack, the world what is above it); world and view only where the driver's
+  /// model-view equals what the layer tracked (else logged once).
+  void readMatrixStack(DrawRecord& record, bool push_world);
   /// At the end of a frame: draws from the matrix stack whose loaded matrix is not the frame's view
   /// (the one most of them loaded) get their world re-expressed against it, W = V^-1 V_d W_d:
   /// Irrlicht loads view x world as one matrix for the first draw after 2D drawing.
   void oneStackView();
+  /// Where the profile has combined matrices: the draw's matrices as given, kept for the end of
+  /// the frame (and the record finished then for a program with combined matrices).
+  void keepDrawMatrices(const ProgramInfo& p, const DrawRecord& record, const DrawMatrices& combined);
+  /// At the end of a frame: the frame's camera and each deferred draw's world, view and projection
+  /// from the kept matrices (resolveFrameMatrices); what it could not find is said once.
+  void resolveCombined();
   void captureDeformed(const DrawCall& call);
   void readDeformed();
   uint64_t textureKey(GLenum target, GLuint unit);
@@ -332,7 +355,7 @@ class Interceptor {
   void noteFixedFunction(ContextState& c);
   /// The record's matrices as the profile wants them (the mirror image in z for left-handed
   /// programs), and the gap when one the profile names is missing.
-  void finishMatrices(const ProgramInfo& p, DrawRecord& r) const;
+  void finishMatrices(uint8_t expected_matrices, DrawRecord& r) const;
   /// beforeDraw() of a draw into the scene's framebuffer (ours, or `scene_fbo`).
   bool beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTarget::ProgramFbo* scene_fbo);
   /// Copies bytes of a buffer as the GPU will read them now (a persistent mapping's memory, else
@@ -358,6 +381,7 @@ class Interceptor {
   CaptureProfile profile_;
   /// What draws without a program are recorded as (the profile's `fixed_function` entry).
   ProgramInfo fixed_function_;
+  bool combines_ = false;  ///< profile_.combinesMatrices()
   std::unique_ptr<FrameSink> sink_;
   double start_s_ = 0.0;
 

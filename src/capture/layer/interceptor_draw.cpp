@@ -301,7 +301,7 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
   r.primitive_mode = call.mode;
   r.primitive_count = primitiveCount(call.mode, static_cast<size_t>(call.count)) * static_cast<uint32_t>(call.instances);
   if (p->matrix_stack) {
-    readMatrixStack(r);
+    readMatrixStack(r, p->stack_push_world);
   } else if (p->instance.any()) {
     if (readInstanceWorld(p->instance, call, r.world)) r.matrix_flags |= kHasWorld;
   } else if (p->world.found() && readMatrix(p->world, r.world)) {
@@ -309,7 +309,16 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
   }
   if (p->view.found() && readMatrix(p->view, r.view)) r.matrix_flags |= kHasView;
   if (p->projection.found() && readMatrix(p->projection, r.projection)) r.matrix_flags |= kHasProjection;
-  finishMatrices(*p, r);
+  if (combines_) {
+    DrawMatrices combined;
+    if (p->model_view.found() && readMatrix(p->model_view, combined.model_view)) combined.known |= kMatModelView;
+    if (p->view_projection.found() && readMatrix(p->view_projection, combined.view_projection))
+      combined.known |= kMatViewProjection;
+    if (p->model_view_projection.found() && readMatrix(p->model_view_projection, combined.model_view_projection))
+      combined.known |= kMatModelViewProjection;
+    keepDrawMatrices(*p, r, combined);
+  }
+  if (!p->combined) finishMatrices(p->expected_matrices, r);
   if (!p->rewritten) r.gaps |= kGapNoIds;
   for (size_t i = 0; i < p->sampler_locations.size(); ++i) {
     GLint unit = 0;
@@ -322,17 +331,56 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
   return true;
 }
 
-void Interceptor::finishMatrices(const ProgramInfo& p, DrawRecord& r) const {
+void Interceptor::finishMatrices(uint8_t expected_matrices, DrawRecord& r) const {
   if (profile_.left_handed) {  // the mirror image in z, in OpenGL's conventions (capture_profile.h)
     const Eigen::Vector4f f(1.0f, 1.0f, -1.0f, 1.0f);
     if (r.matrix_flags & kHasWorld) r.world = f.asDiagonal() * r.world * f.asDiagonal();
     if (r.matrix_flags & kHasView) r.view = f.asDiagonal() * r.view * f.asDiagonal();
     if (r.matrix_flags & kHasProjection) r.projection = r.projection * f.asDiagonal();
   }
-  if (p.expected_matrices & ~r.matrix_flags) r.gaps |= kGapMatrixMissing;
+  if (expected_matrices & ~r.matrix_flags) r.gaps |= kGapMatrixMissing;
 }
 
-void Interceptor::readMatrixStack(DrawRecord& r) {
+void Interceptor::keepDrawMatrices(const ProgramInfo& p, const DrawRecord& r, const DrawMatrices& combined) {
+  ContextState::DrawMatricesEntry e{r.index, p.combined, p.expected_matrices, combined};
+  DrawMatrices& m = e.matrices;
+  if (r.matrix_flags & kHasWorld) m.world = r.world, m.known |= kMatWorld;
+  if (r.matrix_flags & kHasView) m.view = r.view, m.known |= kMatView;
+  if (r.matrix_flags & kHasProjection) m.projection = r.projection, m.known |= kMatProjection;
+  if (p.world_space) m.known |= kMatWorldSpace;
+  if (m.known) cx().frame_matrices.push_back(e);
+}
+
+void Interceptor::resolveCombined() {
+  std::vector<ContextState::DrawMatricesEntry>& kept = cx().frame_matrices;
+  bool deferred = false;
+  for (const auto& e : kept) deferred = deferred || e.deferred;
+  if (!deferred) {
+    kept.clear();
+    return;
+  }
+  std::vector<DrawMatrices> draws;
+  draws.reserve(kept.size());
+  for (const auto& e : kept) draws.push_back(e.matrices);
+  const FrameCameraResult camera = resolveFrameMatrices(draws);
+  for (size_t k = 0; k < kept.size(); ++k) {
+    if (!kept[k].deferred) continue;
+    DrawRecord& r = cx().frame.draws[kept[k].index];
+    const DrawMatrices& m = draws[k];
+    if (m.known & kMatWorld) r.world = m.world, r.matrix_flags |= kHasWorld;
+    if (m.known & kMatView) r.view = m.view, r.matrix_flags |= kHasView;
+    if (m.known & kMatProjection) r.projection = m.projection, r.matrix_flags |= kHasProjection;
+    finishMatrices(kept[k].expected, r);
+  }
+  if (camera.ok) logOnce("the frame's camera from combined matrices: " + camera.source);
+  else logOnce("no camera recovered from the combined matrices (draws keep what they gave, without world): " + camera.why);
+  if (camera.inconsistent_draws > 0)
+    logOnce("draws whose matrices disagree with the frame's camera (another pass: shadow, reflection, a weapon's own "
+            "field of view) keep their own view or projection");
+  kept.clear();
+}
+
+void Interceptor::readMatrixStack(DrawRecord& r, bool push_world) {
   const RealGl& g = gl();
   GlMatrix modelview;
   g.GetFloatv(VIPER_GL_PROJECTION_MATRIX, r.projection.data());
@@ -341,12 +389,17 @@ void Interceptor::readMatrixStack(DrawRecord& r) {
   const GlMatrix product = cx().modelview.view() * cx().modelview.world();
   const float scale = std::max(1.0f, modelview.cwiseAbs().maxCoeff());
   if ((product - modelview).cwiseAbs().maxCoeff() > 1e-4f * scale) {
-    logOnce("the model-view matrix is not the loaded view times the multiplied world (matrix_stack: "
-            "load_view_mult_world): draws so made are recorded without world and view");
+    logOnce("the model-view matrix is not what the layer tracked of the stack (glLoadMatrix, glMultMatrix...; "
+            "matrix_stack): draws so made are recorded without world and view");
     return;
   }
-  r.world = cx().modelview.world();
-  r.view = cx().modelview.view();
+  if (push_world) {  // the camera: what the bottom of the stack holds; the world: what is above it
+    r.view = cx().modelview.base();
+    r.world = r.view.inverse() * product;
+  } else {
+    r.world = cx().modelview.world();
+    r.view = cx().modelview.view();
+  }
   r.matrix_flags |= kHasWorld | kHasView;
   cx().stack_draws.push_back(r.index);
 }

@@ -238,10 +238,18 @@ void Interceptor::linkProgram(GLuint program) {
     info.world = matrixSource(program, profile.world);
     info.view = matrixSource(program, profile.view);
     info.projection = matrixSource(program, profile.projection);
+    info.model_view = matrixSource(program, profile.model_view);
+    info.view_projection = matrixSource(program, profile.view_projection);
+    info.model_view_projection = matrixSource(program, profile.model_view_projection);
+    info.world_space = profile.world_space;
+    info.combined = profile.world_space || !profile.model_view.empty() || !profile.view_projection.empty() ||
+                    !profile.model_view_projection.empty();
     info.matrix_stack = !profile.matrix_stack.empty();
-    if (info.matrix_stack || !profile.world.empty() || profile.hasInstanceTransform()) info.expected_matrices |= kHasWorld;
-    if (info.matrix_stack || !profile.view.empty()) info.expected_matrices |= kHasView;
-    if (info.matrix_stack || !profile.projection.empty()) info.expected_matrices |= kHasProjection;
+    info.stack_push_world = profile.matrix_stack == "push_world";
+    if (info.matrix_stack || info.combined || !profile.world.empty() || profile.hasInstanceTransform())
+      info.expected_matrices |= kHasWorld;
+    if (info.matrix_stack || info.combined || !profile.view.empty()) info.expected_matrices |= kHasView;
+    if (info.matrix_stack || info.combined || !profile.projection.empty()) info.expected_matrices |= kHasProjection;
     info.vertex_array_position = profile.position == "gl_Vertex";
     info.position_attrib = profile.position.empty()       ? 0
                            : info.vertex_array_position ? -1
@@ -254,12 +262,16 @@ void Interceptor::linkProgram(GLuint program) {
     info.instance.rotation = attribute(profile.instance_rotation);
     info.instance.scale = attribute(profile.instance_scale);
     info.instance.rotation_conjugate = profile.instance_rotation_conjugate;
-    for (const std::string* name : {&profile.world, &profile.view, &profile.projection, &profile.instance_world,
+    for (const std::string* name : {&profile.world, &profile.view, &profile.projection, &profile.model_view,
+                                    &profile.view_projection, &profile.model_view_projection, &profile.instance_world,
                                     &profile.instance_translation, &profile.instance_rotation, &profile.instance_scale}) {
       if (name->empty()) continue;
       const bool found = (name == &profile.world && info.world.found()) ||
                          (name == &profile.view && info.view.found()) ||
                          (name == &profile.projection && info.projection.found()) ||
+                         (name == &profile.model_view && info.model_view.found()) ||
+                         (name == &profile.view_projection && info.view_projection.found()) ||
+                         (name == &profile.model_view_projection && info.model_view_projection.found()) ||
                          (name == &profile.instance_world && info.instance.world >= 0) ||
                          (name == &profile.instance_translation && info.instance.translation >= 0) ||
                          (name == &profile.instance_rotation && info.instance.rotation >= 0) ||

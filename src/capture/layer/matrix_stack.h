@@ -25,6 +25,9 @@ class ModelViewTracker {
   /// Pops what push() saved; a pop of the last entry is ignored (GL reports a stack underflow).
   void pop();
   const GlMatrix& view() const { return stack_.back().view; }
+  /// The model-view at the bottom of the stack (`matrix_stack: push_world`: the camera, set before
+  /// the program pushes each object's world above it).
+  GlMatrix base() const { return stack_.front().view * stack_.front().world; }
   const GlMatrix& world() const { return stack_.back().world; }
 
   /// The translation, rotation (degrees about an axis) and scale matrices of glTranslate,

@@ -17,6 +17,7 @@ namespace capture {
 namespace {
 
 constexpr GLenum kAlphaTest = 0x0BC0;
+constexpr GLenum kVertexProgramArb = 0x8620;
 constexpr GLenum kTexture2d = GL_TEXTURE_2D;
 constexpr GLenum kContextCompatibilityProfile = GL_CONTEXT_COMPATIBILITY_PROFILE_BIT;
 
@@ -68,6 +69,8 @@ void Interceptor::noteFixedFunction(ContextState& c) {
   else c.fixed_function = !glVersionAtLeast(3, 1) || glHasExtension("GL_ARB_compatibility");
   c.counting_queries.clear();
   if (!c.fixed_function) return;
+  c.program_pipelines = glVersionAtLeast(4, 1) || glHasExtension("GL_ARB_separate_shader_objects");
+  c.arb_vertex_programs = glHasExtension("GL_ARB_vertex_program");
   // Each target is asked only where the GL has it (asking of another is an error the program would read).
   if (glVersionAtLeast(1, 5)) c.counting_queries.push_back(GL_SAMPLES_PASSED);
   if (glVersionAtLeast(3, 0)) c.counting_queries.push_back(GL_PRIMITIVES_GENERATED);
@@ -113,6 +116,15 @@ bool Interceptor::beforeFixedFunctionDraw(const DrawCall& call, FrameTarget* t, 
   if (!c.fixed_function || g.IsEnabled(GL_DEPTH_TEST) != GL_TRUE) {
     ++c.frame.unrecorded_draws;
     if (c.fixed_function) logOnce("draws without a program and without depth test (2D) are not recorded (each counted among the frame's draws not recorded)");
+    return false;
+  }
+  // A program pipeline's draw (glBindProgramPipeline, program 0), or one an ARB vertex program
+  // transforms: not the fixed-function pipeline, and nothing the layer reads of it.
+  const bool pipeline = c.program_pipelines && glInt(GL_PROGRAM_PIPELINE_BINDING) != 0;
+  if (pipeline || (c.arb_vertex_programs && g.IsEnabled(kVertexProgramArb) == GL_TRUE)) {
+    ++c.frame.unrecorded_draws;  // (its ids cleared where it writes depth, as above)
+    logOnce(pipeline ? "draws with a program pipeline (separable programs) are not recorded (each counted among the frame's draws not recorded)"
+                     : "draws transformed by an ARB vertex program are not recorded (each counted among the frame's draws not recorded)");
     return false;
   }
   if (scene_fbo) ++scene_fbo->draws;

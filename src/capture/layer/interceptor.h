@@ -172,6 +172,9 @@ struct ContextState {
   /// whose draws without a program are recorded (fixed_function.cpp).
   bool fixed_function = false;
   bool fixed_function_noted = false;  ///< fixed_function and counting_queries known (at the first make-current)
+  /// The context has program pipelines (GL 4.1, ARB_separate_shader_objects) and ARB vertex
+  /// programs: a draw with program 0 may be a pipeline's, or transformed by an ARB program.
+  bool program_pipelines = false, arb_vertex_programs = false;
   /// Query targets of the context's GL (occlusion, primitives, pipeline statistics): a draw made
   /// while one of them is active gets no id pass (it would count in the program's query).
   std::vector<GLenum> counting_queries;

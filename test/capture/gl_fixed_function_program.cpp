@@ -1,8 +1,8 @@
 // OpenGL 1.x test program without any shader, as old programs draw: per frame, a quad from a
 // conventional vertex array in client memory (glVertexPointer, glDrawArrays) and a triangle in
 // immediate mode (glBegin/glEnd), placed with the fixed-function matrix stack, depth tested. The
-// capture layer records the quad (with ids from its id pass) and counts the triangle as not
-// recorded; test_capture_verdict checks both, and that `capture` says so.
+// capture layer records both (ids from their id passes); test_capture_verdict checks them, and
+// what `capture` says of them.
 //   gl_fixed_function_program [--size WxH] [--frames N]
 #define GL_GLEXT_PROTOTYPES 1
 #include <EGL/egl.h>

@@ -86,9 +86,10 @@ const std::string& sceneCapture() {
 TEST(CaptureVerdict, AFixedFunctionProgramGetsIdsAndCaptureSaysWhatIsLeftOut) {
   const std::string vcap = tempDir() + "/fixed.vcap";
   const Result r = runLogged(capture(vcap, "--require-ids 0.9") + fixedFunctionProgram(3), tempDir() + "/fixed.log");
-  EXPECT_EQ(r.rc, kMostlyEmpty) << r.output;
-  // The quad's glDrawArrays is recorded (without a program: from the fixed-function state) and
-  // has ids; the triangle's glBegin/glEnd is counted as not recorded and has depth without ids.
+  EXPECT_EQ(r.rc, 0) << r.output;
+  // Both draws are recorded without a program, from the fixed-function state, with ids from the
+  // id pass: the quad's glDrawArrays (its mesh from the vertex array), the triangle's
+  // glBegin/glEnd (its mesh from the vertices passed in between).
   const std::vector<CaptureFrame> frames = readFrames(vcap);
   ASSERT_EQ(frames.size(), 3u);
   Eigen::Matrix4f frustum = Eigen::Matrix4f::Zero();  // glFrustum(-0.1, 0.1, -0.075, 0.075, 0.1, 100)
@@ -96,34 +97,34 @@ TEST(CaptureVerdict, AFixedFunctionProgramGetsIdsAndCaptureSaysWhatIsLeftOut) {
   frustum(2, 3) = -20.0f / 99.9f, frustum(3, 2) = -1.0f;
   for (const CaptureFrame& f : frames) {
     SCOPED_TRACE("frame " + std::to_string(f.number));
-    ASSERT_EQ(f.draws.size(), 1u);
-    EXPECT_EQ(f.unrecorded_draws, 1u);
-    const viper::DrawRecord& quad = f.draws[0];
-    EXPECT_EQ(quad.program_key, viper::kFixedFunctionProgramKey);
-    EXPECT_EQ(quad.gaps, 0);
-    EXPECT_EQ(quad.matrix_flags, viper::kHasProjection);  // no profile: how the stack is split is not known
-    EXPECT_TRUE(quad.projection.isApprox(frustum, 1e-5f)) << quad.projection;
-    EXPECT_NE(quad.mesh_key, 0u);
-    EXPECT_GT(quad.visible_pixels, 1000u);
-    EXPECT_EQ(f.draw_ids[size_t(60) * 160 + 70], 1u);  // the quad, left
-    EXPECT_EQ(f.draw_ids[size_t(60) * 160 + 100], 0u);  // the triangle, right (depth, no id)
+    ASSERT_EQ(f.draws.size(), 2u);
+    EXPECT_EQ(f.unrecorded_draws, 0u);
+    for (const viper::DrawRecord& d : f.draws) {
+      SCOPED_TRACE("draw " + std::to_string(d.index));
+      EXPECT_EQ(d.program_key, viper::kFixedFunctionProgramKey);
+      EXPECT_EQ(d.gaps, 0);
+      EXPECT_EQ(d.matrix_flags, viper::kHasProjection);  // no profile: how the stack is split is not known
+      EXPECT_TRUE(d.projection.isApprox(frustum, 1e-5f)) << d.projection;
+      EXPECT_NE(d.mesh_key, 0u);
+      EXPECT_GT(d.visible_pixels, 300u);
+    }
+    EXPECT_EQ(f.draws[1].primitive_count, 1u) << "the triangle";
+    EXPECT_EQ(f.draw_ids[size_t(60) * 160 + 70], 1u);   // the quad, left
+    EXPECT_EQ(f.draw_ids[size_t(60) * 160 + 100], 2u);  // the triangle, right
   }
   EXPECT_EQ(verdictLine(r.output, vcap),
-            "3 frames written; ids on 77.7% of scene pixels, placed 0.0%; 3 draws recorded, 3 not; left out: 77.7% of "
-            "scene pixels not placed: no --profile, so no matrices were recorded")
+            "3 frames written; ids on 100.0% of scene pixels, placed 0.0%; 6 draws recorded, 0 not; left out: 100.0% "
+            "of scene pixels not placed: no --profile, so no matrices were recorded")
       << r.output;
-  EXPECT_NE(r.output.find("ids on 77.7% of scene pixels, below --require-ids 0.9"), std::string::npos) << r.output;
 
-  // With a profile that says how the program builds its matrix stack, the quad is placed, and its
-  // ids, mesh and matrices agree (reprojection); the triangle is still said to be missing.
+  // With a profile that says how the program builds its matrix stack, both are placed, and their
+  // ids, meshes and matrices agree (reprojection).
   const std::string profile = tempDir() + "/fixed_function.yaml";
   std::ofstream(profile) << "programs:\n  - fixed_function: true\n    matrix_stack: load_view_mult_world\n";
   const Result placed = runLogged(capture(vcap, "--profile " + profile) + fixedFunctionProgram(3), tempDir() + "/fixed_plain.log");
   EXPECT_EQ(placed.rc, 0) << placed.output;
   EXPECT_EQ(verdictLine(placed.output, vcap),
-            "3 frames written; ids on 77.7% of scene pixels, placed 77.7%; 3 draws recorded, 3 not; left out: 22.3% of "
-            "scene pixels without id: 3 draws into the scene not recorded (immediate mode or display lists; without "
-            "a program, no depth test or no fixed-function pipeline; or multi-draws whose shaders read gl_DrawID)")
+            "3 frames written; ids on 100.0% of scene pixels, placed 100.0%; 6 draws recorded, 0 not; nothing left out")
       << placed.output;
   const Result c = runLogged(check(vcap, "--flow"), tempDir() + "/fixed_check.log");
   EXPECT_EQ(c.rc, 0) << c.output;

@@ -150,8 +150,10 @@ bool Interceptor::beforeFixedFunctionDraw(const DrawCall& call, FrameTarget* t, 
   if (!p.combined) finishMatrices(p.expected_matrices, r);
   // The texture of unit 0 (what a fixed-function draw's look mostly comes from), where enabled.
   if (c.active_unit == 0 && g.IsEnabled(kTexture2d) == GL_TRUE) r.texture_keys.push_back(textureKey(kTexture2d, 0));
-  recordMesh(call, p, r);
-  if (!r.mesh_key) r.gaps |= kGapNoMesh;
+  if (!call.immediate) {  // (glBegin: at glEnd, endImmediate)
+    recordMesh(call, p, r);
+    if (!r.mesh_key) r.gaps |= kGapNoMesh;
+  }
   c.last_recorded = true;
   if (!depth.writes) return true;  // an effect (no depth written): no pixel's id, as with programs
   bool counting = false;
@@ -167,6 +169,56 @@ bool Interceptor::beforeFixedFunctionDraw(const DrawCall& call, FrameTarget* t, 
   }
   c.id_pass_value = static_cast<float>(index + 1);
   return true;
+}
+
+void Interceptor::beginImmediate(GLenum mode) {
+  ContextState& c = cx();
+  c.immediate.active = false;
+  if (c.compiling_list) return;  // (beforeDraw: counted where it runs, nothing of ours in the list)
+  if (currentProgram()) return beforeUnrecordableDraw("immediate-mode (glBegin/glEnd) with a program");
+  DrawCall call;
+  call.mode = mode;
+  call.immediate = true;
+  if (!beforeDraw(call)) return;
+  c.immediate.active = true;
+  c.immediate.mode = mode;
+  c.immediate.record = static_cast<uint32_t>(c.frame.draws.size() - 1);
+  c.immediate.vertices.clear();
+}
+
+void Interceptor::endImmediate() {
+  ContextState& c = cx();
+  if (!c.immediate.active) return;
+  c.immediate.active = false;
+  const std::vector<float>& v = c.immediate.vertices;
+  const size_t n = v.size() / 4;
+  DrawRecord& r = c.frame.draws[c.immediate.record];
+  r.primitive_count = primitiveCount(c.immediate.mode, n);
+  // The mesh from the vertices as passed (x, y, z over w: glVertex4 may give w other than 1).
+  std::vector<float> xyz(n * 3);
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) xyz[i * 3 + k] = v[i * 4 + k] / v[i * 4 + 3];
+  PositionLayout layout;
+  layout.size = 3;
+  layout.type = GL_FLOAT;
+  DrawRange range;
+  range.mode = c.immediate.mode;
+  range.count = n;
+  ExtractedMesh mesh;
+  if (extractMesh(reinterpret_cast<const uint8_t*>(xyz.data()), xyz.size() * sizeof(float), layout, range, mesh)) {
+    mirrorForProfile(mesh);
+    r.mesh_key = mesh.mesh.key;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (emitted_meshes_.insert(mesh.mesh.key).second) c.frame.new_meshes.push_back(mesh.mesh);
+  } else {
+    r.gaps |= kGapNoMesh;
+  }
+  if (!beginIdPass()) return;
+  const RealGl& g = gl();
+  g.Begin(c.immediate.mode);
+  for (size_t i = 0; i < n; ++i) g.Vertex4fv(&v[i * 4]);
+  g.End();
+  endIdPass();
 }
 
 GLuint Interceptor::idProgram() {

@@ -17,6 +17,31 @@ typedef void (*PFNVIPERACCUMPROC)(GLenum op, GLfloat value);
 typedef void (*PFNVIPERBEGINPROC)(GLenum mode);
 typedef void (*PFNVIPERCALLLISTPROC)(GLuint list);
 typedef void (*PFNVIPERCALLLISTSPROC)(GLsizei n, GLenum type, const void* lists);
+typedef void (*PFNVIPERNEWLISTPROC)(GLuint list, GLenum mode);
+typedef void (*PFNVIPERVERTEX2SPROC)(GLshort x, GLshort y);
+typedef void (*PFNVIPERVERTEX2SVPROC)(const GLshort* v);
+typedef void (*PFNVIPERVERTEX2IPROC)(GLint x, GLint y);
+typedef void (*PFNVIPERVERTEX2IVPROC)(const GLint* v);
+typedef void (*PFNVIPERVERTEX2FPROC)(GLfloat x, GLfloat y);
+typedef void (*PFNVIPERVERTEX2FVPROC)(const GLfloat* v);
+typedef void (*PFNVIPERVERTEX2DPROC)(GLdouble x, GLdouble y);
+typedef void (*PFNVIPERVERTEX2DVPROC)(const GLdouble* v);
+typedef void (*PFNVIPERVERTEX3SPROC)(GLshort x, GLshort y, GLshort z);
+typedef void (*PFNVIPERVERTEX3SVPROC)(const GLshort* v);
+typedef void (*PFNVIPERVERTEX3IPROC)(GLint x, GLint y, GLint z);
+typedef void (*PFNVIPERVERTEX3IVPROC)(const GLint* v);
+typedef void (*PFNVIPERVERTEX3FPROC)(GLfloat x, GLfloat y, GLfloat z);
+typedef void (*PFNVIPERVERTEX3FVPROC)(const GLfloat* v);
+typedef void (*PFNVIPERVERTEX3DPROC)(GLdouble x, GLdouble y, GLdouble z);
+typedef void (*PFNVIPERVERTEX3DVPROC)(const GLdouble* v);
+typedef void (*PFNVIPERVERTEX4SPROC)(GLshort x, GLshort y, GLshort z, GLshort w);
+typedef void (*PFNVIPERVERTEX4SVPROC)(const GLshort* v);
+typedef void (*PFNVIPERVERTEX4IPROC)(GLint x, GLint y, GLint z, GLint w);
+typedef void (*PFNVIPERVERTEX4IVPROC)(const GLint* v);
+typedef void (*PFNVIPERVERTEX4FPROC)(GLfloat x, GLfloat y, GLfloat z, GLfloat w);
+typedef void (*PFNVIPERVERTEX4FVPROC)(const GLfloat* v);
+typedef void (*PFNVIPERVERTEX4DPROC)(GLdouble x, GLdouble y, GLdouble z, GLdouble w);
+typedef void (*PFNVIPERVERTEX4DVPROC)(const GLdouble* v);
 #define VIPER_GL_ACCUM_BUFFER_BIT 0x00000200
 #define VIPER_GL_MODELVIEW 0x1700
 #define VIPER_GL_PROJECTION 0x1701
@@ -155,6 +180,7 @@ namespace capture {
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                        \
   X(PFNGLDEPTHMASKPROC, DepthMask)                                                        \
   X(PFNGLGETQUERYIVPROC, GetQueryiv)                                                      \
+  X(PFNGLPROGRAMPARAMETERIPROC, ProgramParameteri)                                        \
   X(PFNGLCOMPRESSEDTEXIMAGE2DPROC, CompressedTexImage2D)                                  \
   X(PFNGLCOMPRESSEDTEXSUBIMAGE2DPROC, CompressedTexSubImage2D)                            \
   X(PFNGLGETFLOATVPROC, GetFloatv)                                                        \
@@ -179,7 +205,34 @@ namespace capture {
   X(PFNVIPERACCUMPROC, Accum)                                                             \
   X(PFNVIPERBEGINPROC, Begin)                                                             \
   X(PFNVIPERCALLLISTPROC, CallList)                                                       \
-  X(PFNVIPERCALLLISTSPROC, CallLists)
+  X(PFNVIPERCALLLISTSPROC, CallLists)                                                     \
+  X(PFNVIPERVOIDPROC, End)                                                                \
+  X(PFNVIPERNEWLISTPROC, NewList)                                                         \
+  X(PFNVIPERVOIDPROC, EndList)                                                            \
+  X(PFNVIPERVERTEX2SPROC, Vertex2s)                                                       \
+  X(PFNVIPERVERTEX2SVPROC, Vertex2sv)                                                     \
+  X(PFNVIPERVERTEX2IPROC, Vertex2i)                                                       \
+  X(PFNVIPERVERTEX2IVPROC, Vertex2iv)                                                     \
+  X(PFNVIPERVERTEX2FPROC, Vertex2f)                                                       \
+  X(PFNVIPERVERTEX2FVPROC, Vertex2fv)                                                     \
+  X(PFNVIPERVERTEX2DPROC, Vertex2d)                                                       \
+  X(PFNVIPERVERTEX2DVPROC, Vertex2dv)                                                     \
+  X(PFNVIPERVERTEX3SPROC, Vertex3s)                                                       \
+  X(PFNVIPERVERTEX3SVPROC, Vertex3sv)                                                     \
+  X(PFNVIPERVERTEX3IPROC, Vertex3i)                                                       \
+  X(PFNVIPERVERTEX3IVPROC, Vertex3iv)                                                     \
+  X(PFNVIPERVERTEX3FPROC, Vertex3f)                                                       \
+  X(PFNVIPERVERTEX3FVPROC, Vertex3fv)                                                     \
+  X(PFNVIPERVERTEX3DPROC, Vertex3d)                                                       \
+  X(PFNVIPERVERTEX3DVPROC, Vertex3dv)                                                     \
+  X(PFNVIPERVERTEX4SPROC, Vertex4s)                                                       \
+  X(PFNVIPERVERTEX4SVPROC, Vertex4sv)                                                     \
+  X(PFNVIPERVERTEX4IPROC, Vertex4i)                                                       \
+  X(PFNVIPERVERTEX4IVPROC, Vertex4iv)                                                     \
+  X(PFNVIPERVERTEX4FPROC, Vertex4f)                                                       \
+  X(PFNVIPERVERTEX4FVPROC, Vertex4fv)                                                     \
+  X(PFNVIPERVERTEX4DPROC, Vertex4d)                                                       \
+  X(PFNVIPERVERTEX4DVPROC, Vertex4dv)
 
 /// Pointers to the real GL functions (libglvnd dispatch stubs, valid for EGL and GLX contexts).
 struct RealGl {

@@ -116,6 +116,10 @@ VIPER_EXPORT void glClearBufferfi(GLenum buffer, GLint drawbuffer, GLfloat depth
   gl().ClearBufferfi(buffer, drawbuffer, depth, stencil);
   if (Interceptor* i = active()) i->clearBuffer(buffer, drawbuffer);
 }
+VIPER_EXPORT void glProgramParameteri(GLuint program, GLenum pname, GLint value) {
+  gl().ProgramParameteri(program, pname, value);
+  if (Interceptor* i = active()) i->programParameter(program, pname, value);
+}
 VIPER_EXPORT void glProgramBinary(GLuint program, GLenum format, const void* binary, GLsizei length) {
   if (Interceptor* i = active()) return i->programBinary(program);
   gl().ProgramBinary(program, format, binary, length);
@@ -470,6 +474,8 @@ VIPER_EXPORT void glMultiDrawElementsIndirect(GLenum mode, GLenum type, const vo
 // those names, and found under them by glXGetProcAddress, eglGetProcAddress and dlsym (wrapperFor).
 #define VIPER_GL_ALIASES(X) \
   X(glShaderSourceARB, glShaderSource)\
+  X(glProgramParameteriARB, glProgramParameteri)\
+  X(glProgramParameteriEXT, glProgramParameteri)\
   X(glCompileShaderARB, glCompileShader)\
   X(glLinkProgramARB, glLinkProgram)\
   X(glUseProgramObjectARB, glUseProgram)\
@@ -524,6 +530,7 @@ namespace capture {
 
 VIPER_NO_SANITIZE void* wrapperForWinsys(const char* name);
 VIPER_NO_SANITIZE void* wrapperForLegacy(const char* name);
+VIPER_NO_SANITIZE void* wrapperForImmediate(const char* name);
 
 VIPER_NO_SANITIZE void* wrapperFor(const char* name) {
   if (!name) return nullptr;
@@ -549,7 +556,7 @@ VIPER_NO_SANITIZE void* wrapperFor(const char* name) {
       VIPER_ENTRY(glDrawArraysInstancedBaseInstance), VIPER_ENTRY(glDrawElementsInstancedBaseInstance),
       VIPER_ENTRY(glDrawElementsInstancedBaseVertexBaseInstance), VIPER_ENTRY(glBufferStorage),
       VIPER_ENTRY(glNamedBufferStorage), VIPER_ENTRY(glClearBufferfv), VIPER_ENTRY(glClearBufferiv),
-      VIPER_ENTRY(glClearBufferuiv), VIPER_ENTRY(glClearBufferfi), VIPER_ENTRY(glProgramBinary),
+      VIPER_ENTRY(glClearBufferuiv), VIPER_ENTRY(glClearBufferfi), VIPER_ENTRY(glProgramBinary), VIPER_ENTRY(glProgramParameteri),
       VIPER_ENTRY(glCompressedTexImage2D), VIPER_ENTRY(glCompressedTexSubImage2D),
       VIPER_ENTRY(glMultiDrawArrays), VIPER_ENTRY(glMultiDrawElements), VIPER_ENTRY(glMultiDrawElementsBaseVertex),
       VIPER_ENTRY(glDrawArraysIndirect), VIPER_ENTRY(glDrawElementsIndirect), VIPER_ENTRY(glMultiDrawArraysIndirect),
@@ -561,7 +568,8 @@ VIPER_NO_SANITIZE void* wrapperFor(const char* name) {
 #undef VIPER_ENTRY
   if (name[0] == 'g' && name[1] == 'l' && name[2] != 'X') {
     if (void* fn = findHook(kEntries, name)) return fn;
-    return wrapperForLegacy(name);
+    if (void* fn = wrapperForLegacy(name)) return fn;
+    return wrapperForImmediate(name);
   }
   return wrapperForWinsys(name);
 }

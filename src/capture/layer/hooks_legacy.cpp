@@ -1,5 +1,6 @@
 // Exported compatibility-profile entry points: the fixed-function matrix stack (tracked for
-// profiles with `matrix_stack`). (The extension names of the core functions, such as
+// profiles with `matrix_stack`) and the accumulation buffer. (Immediate mode and display lists are
+// in hooks_immediate.cpp.) (The extension names of the core functions, such as
 // ARB_vertex_buffer_object's, are in hooks_gl.cpp.)
 #include "hooks.h"
 #include "interceptor.h"
@@ -18,7 +19,8 @@ namespace {
 
 inline ModelViewTracker* tracker() {
   Interceptor& i = Interceptor::instance();
-  return i.enabled() ? &i.modelView() : nullptr;
+  // (Not while a display list is made with GL_COMPILE: its matrix calls run when it is called.)
+  return i.enabled() && !i.compilingOnly() ? &i.modelView() : nullptr;
 }
 
 template <typename T>
@@ -87,22 +89,6 @@ VIPER_EXPORT void glRotated(GLdouble angle, GLdouble x, GLdouble y, GLdouble z) 
   if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::rotation(angle, x, y, z));
 }
 
-// Immediate mode and display lists: not recorded, counted and kept out of the ids.
-VIPER_EXPORT void glBegin(GLenum mode) {
-  Interceptor& i = Interceptor::instance();
-  if (i.enabled()) i.beforeUnrecordableDraw("immediate-mode (glBegin/glEnd)");
-  gl().Begin(mode);
-}
-VIPER_EXPORT void glCallList(GLuint list) {
-  Interceptor& i = Interceptor::instance();
-  if (i.enabled()) i.beforeUnrecordableDraw("display-list (glCallList)");
-  gl().CallList(list);
-}
-VIPER_EXPORT void glCallLists(GLsizei n, GLenum type, const void* lists) {
-  Interceptor& i = Interceptor::instance();
-  if (i.enabled()) i.beforeUnrecordableDraw("display-list (glCallLists)");
-  gl().CallLists(n, type, lists);
-}
 VIPER_EXPORT void glAccum(GLenum op, GLfloat value) {
   Interceptor& i = Interceptor::instance();
   if (i.enabled()) return i.accum(op, value);
@@ -120,7 +106,6 @@ VIPER_NO_SANITIZE void* wrapperForLegacy(const char* name) {
       VIPER_ENTRY(glPushMatrix),   VIPER_ENTRY(glPopMatrix),        VIPER_ENTRY(glTranslatef),
       VIPER_ENTRY(glTranslated),   VIPER_ENTRY(glScalef),           VIPER_ENTRY(glScaled),
       VIPER_ENTRY(glRotatef),      VIPER_ENTRY(glRotated),          VIPER_ENTRY(glAccum),
-      VIPER_ENTRY(glBegin),        VIPER_ENTRY(glCallList),         VIPER_ENTRY(glCallLists),
   };
 #undef VIPER_ENTRY
   return findHook(kEntries, name);

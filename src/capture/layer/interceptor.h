@@ -115,6 +115,7 @@ struct DrawCall {
   GLint base_vertex = 0;
   GLsizei instances = 1;
   GLuint base_instance = 0;
+  bool immediate = false;      ///< glBegin: its vertices are known at glEnd (count 0 until then)
 };
 
 /// A draw whose deformed vertices are being captured by transform feedback (read at the swap).
@@ -184,6 +185,16 @@ struct ContextState {
   bool id_program_failed = false;
   /// Draw id (index + 1) the id pass of the draw in flight writes; 0: no id pass.
   float id_pass_value = 0.0f;
+  /// glNewList's mode while the program makes a display list (0: none). The layer then makes no
+  /// GL call of its own (it would go into the list) and tracks no matrix (GL_COMPILE runs nothing).
+  GLenum compiling_list = 0;
+  /// A glBegin/glEnd without a program being recorded: its record and the vertices (x, y, z, w).
+  struct Immediate {
+    bool active = false;
+    GLenum mode = 0;
+    uint32_t record = 0;
+    std::vector<float> vertices;
+  } immediate;
   /// What the id pass changed, restored after it.
   struct IdPassSaved {
     GLboolean color_masks[kIdDrawBuffer][4];
@@ -283,10 +294,24 @@ class Interceptor {
   /// Multi and indirect draws are issued as the single draws they stand for (each recorded) unless
   /// a shader of the current program reads gl_DrawID (or no draw would be recorded anyway).
   bool decomposesMultiDraw();
-  /// Before an immediate-mode draw (glBegin) or a display list (glCallList(s)), `what`: not
-  /// recorded, counted in the frame's unrecorded draws; without a program, its ids as a
-  /// fixed-function draw's (cleared where it writes depth), with one, ids off (logged once).
+  /// Before a display list (glCallList(s)) or an immediate-mode draw with a program, `what`: not
+  /// recorded, counted in the frame's unrecorded draws; without a program, its ids cleared where
+  /// it writes depth, with one, ids off (logged once).
   void beforeUnrecordableDraw(const char* what);
+  /// glBegin (before the GL's): without a program, recorded as a draw without a program whose
+  /// vertices (immediateVertex) are known at glEnd; with one, as beforeUnrecordableDraw.
+  void beginImmediate(GLenum mode);
+  void immediateVertex(float x, float y, float z, float w) {
+    ContextState& c = cx();
+    if (c.immediate.active) c.immediate.vertices.insert(c.immediate.vertices.end(), {x, y, z, w});
+  }
+  /// glEnd (after the GL's): the recorded draw's mesh from its vertices, and its id pass (the same
+  /// vertices again between glBegin and glEnd).
+  void endImmediate();
+  /// glNewList (its mode) and glEndList (0).
+  void newList(GLenum mode) { cx().compiling_list = mode; }
+  /// A display list is being made with GL_COMPILE: the matrix calls run later, if at all.
+  bool compilingOnly() { return cx().compiling_list == 0x1300; }
   /// After a recorded draw without a program that writes depth: true if its ids are to be
   /// written by drawing it again (the same call, issued by the caller, then endIdPass()) with the
   /// layer's id program, the program's colour buffers masked, at equal depth without depth writes.
@@ -301,6 +326,9 @@ class Interceptor {
   void clearBuffer(GLenum buffer, GLint drawbuffer);
   /// Our id attachment of the default framebuffer back to 0 (no draw), draw buffers as they were.
   void clearDefaultIds(FrameTarget& t);
+  /// glProgramParameteri: a program made separable (GL_PROGRAM_SEPARABLE), which the GL answers only
+  /// once linked.
+  void programParameter(GLuint program, GLenum pname, GLint value);
   /// glProgramBinary: refused (logged once), so that the program links from source, which we rewrite.
   void programBinary(GLuint program);
 
@@ -392,6 +420,7 @@ class Interceptor {
   std::unordered_map<GLuint, ShaderInfo> shaders_;
   std::unordered_map<GLuint, ProgramInfo> programs_;
   std::unordered_set<GLuint> programs_with_own_feedback_;
+  std::unordered_set<GLuint> separable_programs_;  ///< glProgramParameteri(GL_PROGRAM_SEPARABLE, true)
   std::unordered_map<GLuint, BufferShadow> buffers_;
   std::unordered_map<GLuint, uint64_t> texture_keys_;
   std::unordered_map<void*, std::unique_ptr<ContextState>> contexts_;  // guarded by mutex_

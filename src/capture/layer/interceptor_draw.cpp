@@ -205,7 +205,7 @@ void Interceptor::beforeUndecomposedDraw(const char* what) {
 
 void Interceptor::beforeUnrecordableDraw(const char* what) {
   FrameTarget* t = target();
-  if (!enabled_ || !t || !t->ready()) return;
+  if (!enabled_ || !t || !t->ready() || cx().compiling_list) return;
   FrameTarget::ProgramFbo* scene_fbo = nullptr;
   if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return;
   ProgramInfo* p = currentProgram();
@@ -240,6 +240,12 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   cx().last_mesh = false;
   FrameTarget* t = target();
   if (!enabled_ || !t || !t->ready()) return false;
+  // Into a display list being made: nothing of the layer's may go into it. (With
+  // GL_COMPILE_AND_EXECUTE the draw also runs: counted as not recorded.)
+  if (cx().compiling_list) {
+    if (cx().compiling_list != 0x1300) ++cx().frame.unrecorded_draws;
+    return false;
+  }
   // Recorded: draws into the default framebuffer, and into a framebuffer object that may hold the
   // scene (frame_target.h, ProgramFbo).
   FrameTarget::ProgramFbo* scene_fbo = nullptr;

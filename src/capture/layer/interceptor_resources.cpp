@@ -140,6 +140,13 @@ void Interceptor::compileShader(GLuint shader) {
   g.CompileShader(shader);
 }
 
+void Interceptor::programParameter(GLuint program, GLenum pname, GLint value) {
+  if (pname != GL_PROGRAM_SEPARABLE) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (value) separable_programs_.insert(program);
+  else separable_programs_.erase(program);
+}
+
 void Interceptor::transformFeedbackVaryings(GLuint program) {
   std::lock_guard<std::mutex> lock(mutex_);
   programs_with_own_feedback_.insert(program);
@@ -201,11 +208,14 @@ void Interceptor::linkProgram(GLuint program) {
   // fragment shader that writes primitive id 0, and the shader object gets its source back after.
   const std::string& last_stage = stage_sources[3].empty() ? stage_sources[2] : stage_sources[3];
   // A separable program without a vertex stage is used in a pipeline with stages of other
-  // programs, which its link cannot see: primitive id 0 too.
-  GLint separable = GL_FALSE;
-  if (glVersionAtLeast(4, 1) || glHasExtension("GL_ARB_separate_shader_objects"))
-    g.GetProgramiv(program, GL_PROGRAM_SEPARABLE, &separable);
-  const bool unknown_stages = separable == GL_TRUE && stage_sources[0].empty();
+  // programs, which its link cannot see: primitive id 0 too. (Separable as glProgramParameteri
+  // made it: glGetProgramiv answers GL_PROGRAM_SEPARABLE only once the program is linked.)
+  bool separable = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    separable = separable_programs_.count(program) > 0;
+  }
+  const bool unknown_stages = separable && stage_sources[0].empty();
   std::string restore_source;
   if (info.rewritten && (unknown_stages || (info.has_geometry_stage && last_stage.find("gl_PrimitiveID") == std::string::npos))) {
     const FragmentRewrite without = rewriteFragmentShader(fragment->original, /*primitive_ids=*/false);

@@ -586,12 +586,14 @@ void main() { gl_Position = u_mvp * vec4(a_pos, 1.0); }
 }
 
 // OpenGL 1.x without a program (compatibility profile): the objects from the conventional vertex
-// array in client memory (two with glDrawArrays, two with glDrawElements and indices in client
-// memory), the projection loaded into GL_PROJECTION, the view multiplied onto the identity at the
+// array in client memory (two with glDrawArrays, one with glDrawElements and indices in client
+// memory) and in immediate mode (object 2: glBegin, glVertex3fv, glEnd), the projection loaded into GL_PROJECTION, the view multiplied onto the identity at the
 // bottom of GL_MODELVIEW (as gluLookAt does) and each world multiplied onto it between
 // glPushMatrix and glPopMatrix (the textbook pattern), colour from glColor4fv. Object 1
 // is alpha tested and stencilled (its stencil replaced where drawn), object 3 drawn while an
-// occlusion query counts its samples, printed ("query: ...") for the test to compare.
+// occlusion query counts its samples, printed ("query: ...") for the test to compare. After them,
+// a display list made before the first frame (GL_COMPILE: a translation and a triangle in
+// immediate mode, below the objects) is called.
 void fixedFunction(int frames, const std::string& out) {
   Surface s = makeSurface(ss::kSize, EGL_NO_CONTEXT, /*compatibility=*/true);
   makeCurrent(s);
@@ -617,12 +619,33 @@ void fixedFunction(int frames, const std::string& out) {
   auto vertex_pointer = reinterpret_cast<Pointer>(proc("glVertexPointer"));
   auto colour4 = reinterpret_cast<Colour>(proc("glColor4fv"));
   auto alpha_func = reinterpret_cast<AlphaFunc>(proc("glAlphaFunc"));
+  using NewList = void (*)(GLuint, GLenum);
+  using Vertex = void (*)(const GLfloat*);
+  using Translate = void (*)(GLfloat, GLfloat, GLfloat);
+  auto gen_lists = reinterpret_cast<GLuint (*)(GLsizei)>(proc("glGenLists"));
+  auto new_list = reinterpret_cast<NewList>(proc("glNewList"));
+  auto end_list = reinterpret_cast<Void>(proc("glEndList"));
+  auto call_list = reinterpret_cast<void (*)(GLuint)>(proc("glCallList"));
+  auto begin = reinterpret_cast<Enum>(proc("glBegin"));
+  auto end = reinterpret_cast<Void>(proc("glEnd"));
+  auto vertex3 = reinterpret_cast<Vertex>(proc("glVertex3fv"));
+  auto translate = reinterpret_cast<Translate>(proc("glTranslatef"));
   const GLfloat corners[12] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
   const GLfloat triangles[18] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, -1, 0, 1, 1, 0, -1, 1, 0};
   const GLushort indices[6] = {0, 1, 2, 0, 2, 3};
   GLuint query = 0;
   GL(glGenQueries(1, &query));
   GL(enable_client_state(kVertexArray));
+  constexpr GLenum kCompile = 0x1300;
+  const GLuint list = gen_lists(1);
+  GL(new_list(list, kCompile));
+  GL(push_matrix());
+  GL(translate(0.0f, -0.5f, 0.0f));
+  GL(begin(GL_TRIANGLES));
+  for (int v = 0; v < 3; ++v) vertex3(corners + 3 * v);  // (no glGetError between glBegin and glEnd)
+  GL(end());
+  GL(pop_matrix());
+  GL(end_list());
   for (int f = 0; f < frames; ++f) {
     beginFrame(f);
     GL(glClear(GL_STENCIL_BUFFER_BIT));
@@ -646,6 +669,10 @@ void fixedFunction(int frames, const std::string& out) {
       if (k < 2) {
         GL(vertex_pointer(3, GL_FLOAT, 0, triangles));
         GL(glDrawArrays(GL_TRIANGLES, 0, 6));
+      } else if (k == 2) {
+        begin(GL_TRIANGLES);
+        for (int v = 0; v < 6; ++v) vertex3(triangles + 3 * v);
+        GL(end());
       } else {
         GL(vertex_pointer(3, GL_FLOAT, 0, corners));
         GL(glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, indices));
@@ -657,6 +684,7 @@ void fixedFunction(int frames, const std::string& out) {
       }
       GL(pop_matrix());
     }
+    GL(call_list(list));
     GLuint samples = 0;
     GL(glGetQueryObjectuiv(query, GL_QUERY_RESULT, &samples));
     std::printf("query: frame %d, object 3 passed %u samples\n", f, samples);

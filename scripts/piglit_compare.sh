@@ -45,6 +45,8 @@ ci_include=(
   '^spec@ext_framebuffer_object@'
   '^spec@arb_framebuffer_object@(arb_framebuffer_object-get-attachment-parameter-default-framebuffer|fbo-luminance-alpha|fbo-scissor-blit window)'
   '^spec@glsl-1\.10@execution@(fs-|glsl-fs-)'
+  '^spec@arb_separate_shader_objects@execution@vs-gs-linking$'
+  '^spec@glsl-1\.50@execution@geometry@clip-distance-vs-gs-out-sso$'
 )
 ci_exclude=(
   '@gl-1\.0-blend-func$'  # 30 s alone (every blend factor pair); runs in the full slice
@@ -63,6 +65,7 @@ full_include=(
   '^spec@arb_buffer_storage@'
   '^spec@arb_clear_buffer_object@'
   '^spec@arb_uniform_buffer_object@'  # uniform buffers
+  '^spec@arb_separate_shader_objects@'  # separable programs and pipelines
   '^spec@arb_texture_rg@'          # texture formats
   '^spec@arb_texture_float@'
   '^spec@ext_texture_integer@'

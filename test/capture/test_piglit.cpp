@@ -2,10 +2,11 @@
 // (Debian's package), the `ci` slice of scripts/piglit_compare.sh run plainly and with every test
 // program under `capture` (llvmpipe, Xvfb). Any result that differs is the layer changing what its
 // host renders or does; the test fails listing each one (plain result -> result under the layer),
-// but for the known differences below, each with its cause. The slice (the areas the layer is known to touch: the default framebuffer, EXT framebuffer
-// objects, fixed function, GL_ALPHA/LUMINANCE/INTENSITY texture uploads, shader source errors, the
-// accumulation buffer, front-buffer reads, GLSL 1.10 fragment shaders) takes about two minutes on
-// two cores; the full slice and its figures are in docs/capture_layer.md.
+// but for the known differences below, each with its cause. The slice (the areas the layer is
+// known to touch: the default framebuffer, EXT framebuffer objects, fixed function, GL_ALPHA,
+// LUMINANCE and INTENSITY texture uploads, shader source errors, the accumulation buffer,
+// front-buffer reads, GLSL 1.10 fragment shaders, separable programs with a geometry stage) takes
+// about two minutes on two cores; the full slice and its figures are in docs/capture_layer.md.
 #include "../common/process_util.h"
 
 #include <gtest/gtest.h>

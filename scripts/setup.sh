@@ -8,7 +8,9 @@
 #                    Chromium and Playwright (npm) for the labelling page's browser test, Slurm and
 #                    munge for the dataset generator's cluster test (scripts/test_slurm.sh), Mesa's
 #                    conformance suite piglit with waffle-utils (wflinfo, without which piglit skips
-#                    every shader test) for the layer's transparency test (scripts/piglit_compare.sh).
+#                    every shader test) for the layer's transparency test (scripts/piglit_compare.sh),
+#                    and the corpus of programs scripts/capture_corpus.sh captures (glmark2-x11,
+#                    neverball, supertux, foobillardplus, chromium-bsu, extremetuxracer, mesa-utils).
 #                    scripts/test.sh asks for them; a user who only captures their own program does not.
 #   --training:      also PyTorch (python3-torch), which only scripts/train_segmentation.py needs: the
 #                    segmentation baseline's node and tests run the committed ONNX networks with OpenCV.
@@ -37,7 +39,8 @@ test_programs=0
 for arg in "$@"; do
   case "$arg" in
     --no-build) build=0 ;;
-    --test-programs) PKGS+=(supertuxkart minetest apitrace chromium nodejs slurm-wlm munge piglit waffle-utils); test_programs=1 ;;
+    --test-programs) PKGS+=(supertuxkart minetest apitrace chromium nodejs slurm-wlm munge piglit waffle-utils
+                            glmark2-x11 neverball supertux foobillardplus chromium-bsu extremetuxracer mesa-utils); test_programs=1 ;;
     --training) PKGS+=(python3-torch) ;;
     *) echo "setup: unknown option '$arg' (known: --no-build, --test-programs, --training)" >&2; exit 2 ;;
   esac

@@ -19,6 +19,7 @@ set(VIPER_INTERCEPT_SOURCES
   src/capture/layer/hooks_gl.cpp
   src/capture/layer/hooks_legacy.cpp
   src/capture/layer/hooks_immediate.cpp
+  src/capture/layer/hooks_introspection.cpp
   src/capture/layer/matrix_stack.cpp
   src/capture/layer/hooks_winsys.cpp
   src/capture/layer/pixel_transfer.cpp)

@@ -5,6 +5,7 @@
 //   persistent   vertices in a glBufferStorage persistent + coherent mapping, rewritten every frame
 //                into one of three regions, each fenced (glFenceSync / glClientWaitSync);
 //   ubo_tbo      view and projection in a uniform buffer, world and colour in a texture buffer;
+//                its uniforms listed by introspection in every form, printed;
 //   binary       glGetProgramBinary, then glProgramBinary into a new program (linked from source
 //                where the binary is refused, as the GL allows);
 //   threads      a shared context on a second thread uploads each frame's vertices and draws into
@@ -165,11 +166,68 @@ void persistent(int frames, const std::string& out) {
   destroy(s);
 }
 
+// What a program learns of its uniforms by introspection, in every form (printed as one line
+// "introspect: ...", which the test compares with a run without the layer): counts, names, types,
+// sizes and block indices by index, indices by name, a block's uniforms, and the same through the
+// program interface queries.
+void printIntrospection(GLuint p) {
+  GLint n = 0, longest = 0;
+  GL(glGetProgramiv(p, GL_ACTIVE_UNIFORMS, &n));
+  GL(glGetProgramiv(p, GL_ACTIVE_UNIFORM_MAX_LENGTH, &longest));
+  std::string line = "introspect: " + std::to_string(n) + " uniforms, longest " + std::to_string(longest) + ":";
+  std::vector<GLuint> all;
+  for (GLint i = 0; i < n; ++i) {
+    char name[64] = "", name2[64] = "";
+    GLsizei length = 0;
+    GLint size = 0;
+    GLenum type = 0;
+    GL(glGetActiveUniform(p, static_cast<GLuint>(i), sizeof(name), &length, &size, &type, name));
+    GL(glGetActiveUniformName(p, static_cast<GLuint>(i), sizeof(name2), nullptr, name2));
+    line += std::string(" ") + name + "/" + name2 + "/" + std::to_string(type) + "/" + std::to_string(size);
+    all.push_back(static_cast<GLuint>(i));
+  }
+  std::vector<GLint> blocks(all.size());
+  GL(glGetActiveUniformsiv(p, static_cast<GLsizei>(all.size()), all.data(), GL_UNIFORM_BLOCK_INDEX, blocks.data()));
+  line += "; blocks";
+  for (GLint b : blocks) line += " " + std::to_string(b);
+  const char* const names[3] = {"s_proj", "u_object", "u_objects"};
+  GLuint indices[3];
+  GL(glGetUniformIndices(p, 3, names, indices));
+  line += "; indices " + std::to_string(indices[0]) + " " + std::to_string(indices[1]) + " " + std::to_string(indices[2]);
+  GLint in_block = 0;
+  GL(glGetActiveUniformBlockiv(p, 0, GL_UNIFORM_BLOCK_ACTIVE_UNIFORMS, &in_block));
+  std::vector<GLint> block_indices(static_cast<size_t>(in_block));
+  GL(glGetActiveUniformBlockiv(p, 0, GL_UNIFORM_BLOCK_ACTIVE_UNIFORM_INDICES, block_indices.data()));
+  line += "; block 0:";
+  for (GLint i : block_indices) line += " " + std::to_string(i);
+  GLint resources = 0, max_name = 0;
+  GL(glGetProgramInterfaceiv(p, GL_UNIFORM, GL_ACTIVE_RESOURCES, &resources));
+  GL(glGetProgramInterfaceiv(p, GL_UNIFORM, GL_MAX_NAME_LENGTH, &max_name));
+  line += "; resources " + std::to_string(resources) + ", longest " + std::to_string(max_name) + ":";
+  for (GLint i = 0; i < resources; ++i) {
+    char name[64] = "";
+    GL(glGetProgramResourceName(p, GL_UNIFORM, static_cast<GLuint>(i), sizeof(name), nullptr, name));
+    const GLenum prop = GL_BLOCK_INDEX;
+    GLint block = 0;
+    GL(glGetProgramResourceiv(p, GL_UNIFORM, static_cast<GLuint>(i), 1, &prop, 1, nullptr, &block));
+    line += std::string(" ") + name + "/" + std::to_string(block);
+  }
+  line += "; index of u_object " + std::to_string(GLV(glGetProgramResourceIndex(p, GL_UNIFORM, "u_object")));
+  const GLenum props[2] = {GL_NUM_ACTIVE_VARIABLES, GL_ACTIVE_VARIABLES};
+  GLint variables[8] = {0};
+  GLsizei written = 0;
+  GL(glGetProgramResourceiv(p, GL_UNIFORM_BLOCK, 0, 2, props, 8, &written, variables));
+  line += "; block variables";
+  for (GLsizei i = 0; i < written; ++i) line += " " + std::to_string(variables[i]);
+  std::printf("%s\n", line.c_str());
+}
+
 void uboTbo(int frames, const std::string& out) {
   Surface s = makeSurface(ss::kSize);
   makeCurrent(s);
   const GLuint p = program(kBlockVs, kVaryingFs);
   GL(glUniformBlockBinding(p, GLV(glGetUniformBlockIndex(p, "Camera")), 2));
+  printIntrospection(p);
   const Quad q = makeQuad();
   GLuint ubo = 0, tbo = 0, tex = 0;
   GL(glGenBuffers(1, &ubo));

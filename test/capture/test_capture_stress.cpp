@@ -189,8 +189,10 @@ void checkCapture(const std::string& scenario, bool async, const Result& plain, 
   EXPECT_EQ(r.rc, plain.rc) << r.log;
   // What the program learned of its window (window_queries): the same answers as without the layer.
   EXPECT_EQ(linesStartingWith(r.log, "window:"), linesStartingWith(plain.log, "window:"));
-  // What its queries counted (fixed_function): the same as without the layer.
+  // What its queries counted (fixed_function) and what it learned of its uniforms (ubo_tbo): the
+  // same as without the layer.
   EXPECT_EQ(linesStartingWith(r.log, "query:"), linesStartingWith(plain.log, "query:"));
+  EXPECT_EQ(linesStartingWith(r.log, "introspect:"), linesStartingWith(plain.log, "introspect:"));
   EXPECT_EQ(r.read_error, "") << r.log;
   EXPECT_EQ(r.log.find("GL error"), std::string::npos) << r.log;
   EXPECT_EQ(r.log.find("Sanitizer"), std::string::npos) << r.log;
@@ -244,6 +246,9 @@ TEST_P(Stress, RunsAsWithoutCaptureAndRecordsOrFlagsEveryDraw) {
   ASSERT_EQ(plain.pixels.size(), size_t(ss::kSize) * ss::kSize * 4);
   if (scenario == "window_queries") {
     ASSERT_EQ(linesStartingWith(plain.log, "window:").size(), size_t(ss::kFrames) + 1);
+  }
+  if (scenario == "ubo_tbo") {
+    ASSERT_EQ(linesStartingWith(plain.log, "introspect:").size(), 1u);
   }
   {
     SCOPED_TRACE("capture, synchronous read-back");

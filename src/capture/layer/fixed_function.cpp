@@ -109,6 +109,7 @@ bool Interceptor::beforeFixedFunctionDraw(const DrawCall& call, FrameTarget* t, 
   const RealGl& g = gl();
   const DepthUse depth = depthUse(g);
   clearIdsUnderFixedFunction(t, scene_fbo, depth.writes);
+  if (c.compiling_list) return notRecordedInList();
   const ProgramInfo& p = fixed_function_;
   if (p.overlay) return false;  // the profile says: 2D overlay
   // Not recorded: in a context without the fixed function (a core profile draws nothing without a
@@ -118,13 +119,20 @@ bool Interceptor::beforeFixedFunctionDraw(const DrawCall& call, FrameTarget* t, 
     if (c.fixed_function) logOnce("draws without a program and without depth test (2D) are not recorded (each counted among the frame's draws not recorded)");
     return false;
   }
-  // A program pipeline's draw (glBindProgramPipeline, program 0), or one an ARB vertex program
-  // transforms: not the fixed-function pipeline, and nothing the layer reads of it.
-  const bool pipeline = c.program_pipelines && glInt(GL_PROGRAM_PIPELINE_BINDING) != 0;
-  if (pipeline || (c.arb_vertex_programs && g.IsEnabled(kVertexProgramArb) == GL_TRUE)) {
+  // Not the fixed-function pipeline, and nothing the layer reads of it: a program the layer does
+  // not know, a program pipeline's draw (glBindProgramPipeline, program 0), or one an ARB vertex
+  // program transforms.
+  // A program the layer did not see linked (program 0 is the fixed function) is drawn as it is.
+  const char* other = nullptr;
+  if (c.current_program != 0)
+    other = "draws with a program the layer did not see linked are not recorded (each counted among the frame's draws not recorded)";
+  else if (c.program_pipelines && glInt(GL_PROGRAM_PIPELINE_BINDING) != 0)
+    other = "draws with a program pipeline (separable programs) are not recorded (each counted among the frame's draws not recorded)";
+  else if (c.arb_vertex_programs && g.IsEnabled(kVertexProgramArb) == GL_TRUE)
+    other = "draws transformed by an ARB vertex program are not recorded (each counted among the frame's draws not recorded)";
+  if (other && !getenv("VIPER_DEBUG_NO_OTHER")) {
     ++c.frame.unrecorded_draws;  // (its ids cleared where it writes depth, as above)
-    logOnce(pipeline ? "draws with a program pipeline (separable programs) are not recorded (each counted among the frame's draws not recorded)"
-                     : "draws transformed by an ARB vertex program are not recorded (each counted among the frame's draws not recorded)");
+    logOnce(other);
     return false;
   }
   if (scene_fbo) ++scene_fbo->draws;
@@ -174,7 +182,6 @@ bool Interceptor::beforeFixedFunctionDraw(const DrawCall& call, FrameTarget* t, 
 void Interceptor::beginImmediate(GLenum mode) {
   ContextState& c = cx();
   c.immediate.active = false;
-  if (c.compiling_list) return;  // (beforeDraw: counted where it runs, nothing of ours in the list)
   if (currentProgram()) return beforeUnrecordableDraw("immediate-mode (glBegin/glEnd) with a program");
   DrawCall call;
   call.mode = mode;
@@ -257,9 +264,17 @@ GLuint Interceptor::idProgram() {
   return program;
 }
 
+bool Interceptor::notRecordedInList() {
+  // Made with GL_COMPILE_AND_EXECUTE, the draw also runs now: counted.
+  if (cx().compiling_list != 0x1300) ++cx().frame.unrecorded_draws;
+  logOnce("draws made while a display list is being made are not recorded (those that run are counted among the "
+          "frame's draws not recorded)");
+  return false;
+}
+
 bool Interceptor::beginIdPass() {
   ContextState& c = cx();
-  if (c.id_pass_value == 0.0f) return false;
+  if (c.id_pass_value == 0.0f || getenv("VIPER_DEBUG_NO_IDPASS")) { c.id_pass_value = 0.0f; return false; }
   const RealGl& g = gl();
   ContextState::IdPassSaved& s = c.id_pass_saved;
   for (GLuint i = 0; i < kIdDrawBuffer; ++i) {

@@ -18,6 +18,7 @@ typedef void (*PFNVIPERBEGINPROC)(GLenum mode);
 typedef void (*PFNVIPERCALLLISTPROC)(GLuint list);
 typedef void (*PFNVIPERCALLLISTSPROC)(GLsizei n, GLenum type, const void* lists);
 typedef void (*PFNVIPERNEWLISTPROC)(GLuint list, GLenum mode);
+typedef void (*PFNVIPERGETOBJECTPARAMETERIVARBPROC)(GLuint object, GLenum pname, GLint* params);
 typedef void (*PFNVIPERVERTEX2SPROC)(GLshort x, GLshort y);
 typedef void (*PFNVIPERVERTEX2SVPROC)(const GLshort* v);
 typedef void (*PFNVIPERVERTEX2IPROC)(GLint x, GLint y);
@@ -181,6 +182,12 @@ namespace capture {
   X(PFNGLDEPTHMASKPROC, DepthMask)                                                        \
   X(PFNGLGETQUERYIVPROC, GetQueryiv)                                                      \
   X(PFNGLPROGRAMPARAMETERIPROC, ProgramParameteri)                                        \
+  X(PFNGLGETACTIVEUNIFORMNAMEPROC, GetActiveUniformName)                                  \
+  X(PFNGLGETPROGRAMINTERFACEIVPROC, GetProgramInterfaceiv)                                \
+  X(PFNGLGETPROGRAMRESOURCEINDEXPROC, GetProgramResourceIndex)                            \
+  X(PFNGLGETPROGRAMRESOURCENAMEPROC, GetProgramResourceName)                              \
+  X(PFNGLGETPROGRAMRESOURCEIVPROC, GetProgramResourceiv)                                  \
+  X(PFNVIPERGETOBJECTPARAMETERIVARBPROC, GetObjectParameterivARB)                         \
   X(PFNGLCOMPRESSEDTEXIMAGE2DPROC, CompressedTexImage2D)                                  \
   X(PFNGLCOMPRESSEDTEXSUBIMAGE2DPROC, CompressedTexSubImage2D)                            \
   X(PFNGLGETFLOATVPROC, GetFloatv)                                                        \

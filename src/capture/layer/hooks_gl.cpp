@@ -531,6 +531,7 @@ namespace capture {
 VIPER_NO_SANITIZE void* wrapperForWinsys(const char* name);
 VIPER_NO_SANITIZE void* wrapperForLegacy(const char* name);
 VIPER_NO_SANITIZE void* wrapperForImmediate(const char* name);
+VIPER_NO_SANITIZE void* wrapperForIntrospection(const char* name);
 
 VIPER_NO_SANITIZE void* wrapperFor(const char* name) {
   if (!name) return nullptr;
@@ -569,6 +570,7 @@ VIPER_NO_SANITIZE void* wrapperFor(const char* name) {
   if (name[0] == 'g' && name[1] == 'l' && name[2] != 'X') {
     if (void* fn = findHook(kEntries, name)) return fn;
     if (void* fn = wrapperForLegacy(name)) return fn;
+    if (void* fn = wrapperForIntrospection(name)) return fn;
     return wrapperForImmediate(name);
   }
   return wrapperForWinsys(name);

@@ -87,6 +87,11 @@ struct ProgramInfo {
   bool vertex_array_position = false;  ///< positions from the conventional array (glVertexPointer)
   std::vector<GLint> sampler_locations;
   std::vector<GLenum> sampler_targets;
+  /// The layer's own uniforms (viper_draw_id, viper_alpha_test): their active-uniform indices,
+  /// ascending, hidden from the program's introspection (hooks_introspection.cpp), and the longest
+  /// name of the program's own uniforms (GL_ACTIVE_UNIFORM_MAX_LENGTH without ours, with its 0).
+  std::vector<GLuint> hidden_uniforms;
+  GLint visible_uniform_max_length = 0;
   float alpha_test_value = -1.0f;  ///< last value set, to skip redundant glUniform calls
 };
 
@@ -185,8 +190,13 @@ struct ContextState {
   bool id_program_failed = false;
   /// Draw id (index + 1) the id pass of the draw in flight writes; 0: no id pass.
   float id_pass_value = 0.0f;
-  /// glNewList's mode while the program makes a display list (0: none). The layer then makes no
-  /// GL call of its own (it would go into the list) and tracks no matrix (GL_COMPILE runs nothing).
+  /// glNewList's mode while the program makes a display list (0: none). Its draws are then not
+  /// recorded, and no id pass goes into the list; the layer's state for its id buffer (draw
+  /// buffers, the blending that clears its ids) does, before each of them, as the list's draws
+  /// need it when it is called. (Without it in the lists, FooBillard++'s balls, drawn from lists
+  /// that set blending, changed under the layer: scripts/capture_corpus.sh --program
+  /// foobillardplus; why the id buffer's state changes the program's colour there is not pinned
+  /// down.) With GL_COMPILE, matrix calls are not tracked (they run when the list is called).
   GLenum compiling_list = 0;
   /// A glBegin/glEnd without a program being recorded: its record and the vertices (x, y, z, w).
   struct Immediate {
@@ -326,6 +336,9 @@ class Interceptor {
   void clearBuffer(GLenum buffer, GLint drawbuffer);
   /// Our id attachment of the default framebuffer back to 0 (no draw), draw buffers as they were.
   void clearDefaultIds(FrameTarget& t);
+  /// The layer's uniforms of `program` and the longest of its own uniform names (see ProgramInfo),
+  /// for the introspection hooks; false for a program the layer did not link.
+  bool hiddenUniforms(GLuint program, std::vector<GLuint>& hidden, GLint& visible_max_length);
   /// glProgramParameteri: a program made separable (GL_PROGRAM_SEPARABLE), which the GL answers only
   /// once linked.
   void programParameter(GLuint program, GLenum pname, GLint value);
@@ -375,6 +388,8 @@ class Interceptor {
   /// into a framebuffer whose draw buffer 7 is the program's (the rewritten shader then writes
   /// there what the original would).
   void setDrawId(float value);
+  /// A draw made while a display list is being made: not recorded (counted if it runs now).
+  bool notRecordedInList();
   /// beforeSceneDraw() of a draw without a program (fixed_function.cpp).
   bool beforeFixedFunctionDraw(const DrawCall& call, FrameTarget* t, FrameTarget::ProgramFbo* scene_fbo);
   /// A draw without a program writes its colour to every draw buffer, ours too: where it writes

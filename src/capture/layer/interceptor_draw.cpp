@@ -205,7 +205,7 @@ void Interceptor::beforeUndecomposedDraw(const char* what) {
 
 void Interceptor::beforeUnrecordableDraw(const char* what) {
   FrameTarget* t = target();
-  if (!enabled_ || !t || !t->ready() || cx().compiling_list) return;
+  if (!enabled_ || !t || !t->ready()) return;
   FrameTarget::ProgramFbo* scene_fbo = nullptr;
   if (t->program_draw_fb != 0 && !(scene_fbo = t->sceneFbo())) return;
   ProgramInfo* p = currentProgram();
@@ -240,12 +240,6 @@ bool Interceptor::beforeDraw(const DrawCall& call) {
   cx().last_mesh = false;
   FrameTarget* t = target();
   if (!enabled_ || !t || !t->ready()) return false;
-  // Into a display list being made: nothing of the layer's may go into it. (With
-  // GL_COMPILE_AND_EXECUTE the draw also runs: counted as not recorded.)
-  if (cx().compiling_list) {
-    if (cx().compiling_list != 0x1300) ++cx().frame.unrecorded_draws;
-    return false;
-  }
   // Recorded: draws into the default framebuffer, and into a framebuffer object that may hold the
   // scene (frame_target.h, ProgramFbo).
   FrameTarget::ProgramFbo* scene_fbo = nullptr;
@@ -265,6 +259,7 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
   const bool scene_ended = !scene_fbo && t->sceneEnded();
   t->wantIds(scene_fbo, !scene_ended && p->rewritten);
   if (scene_ended) return false;
+  if (cx().compiling_list) return notRecordedInList();
   if (scene_fbo) ++scene_fbo->draws;
   if (p->overlay) {  // the 2D overlay: ids off (above), not recorded, not in the frame's color
     if (!scene_fbo) t->snapshotSceneColor();

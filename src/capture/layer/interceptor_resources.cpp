@@ -140,6 +140,15 @@ void Interceptor::compileShader(GLuint shader) {
   g.CompileShader(shader);
 }
 
+bool Interceptor::hiddenUniforms(GLuint program, std::vector<GLuint>& hidden, GLint& visible_max_length) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = programs_.find(program);
+  if (it == programs_.end() || it->second.hidden_uniforms.empty()) return false;
+  hidden = it->second.hidden_uniforms;
+  visible_max_length = it->second.visible_uniform_max_length;
+  return true;
+}
+
 void Interceptor::programParameter(GLuint program, GLenum pname, GLint value) {
   if (pname != GL_PROGRAM_SEPARABLE) return;
   std::lock_guard<std::mutex> lock(mutex_);
@@ -293,13 +302,22 @@ void Interceptor::linkProgram(GLuint program) {
                 "', which it does not use (no matrix recorded from it)");
       }
     }
-    GLint uniforms = 0;
+    GLint uniforms = 0, max_length = 0;
     g.GetProgramiv(program, GL_ACTIVE_UNIFORMS, &uniforms);
+    g.GetProgramiv(program, GL_ACTIVE_UNIFORM_MAX_LENGTH, &max_length);
+    std::vector<char> name_buffer(static_cast<size_t>(std::max<GLint>(max_length, 1)) + 1);
     for (GLint i = 0; i < uniforms; ++i) {
-      char name[256];
+      char* name = name_buffer.data();
       GLint size = 0;
       GLenum type = 0;
-      g.GetActiveUniform(program, static_cast<GLuint>(i), sizeof(name), nullptr, &size, &type, name);
+      GLsizei length = 0;
+      g.GetActiveUniform(program, static_cast<GLuint>(i), static_cast<GLsizei>(name_buffer.size()), &length, &size,
+                         &type, name);
+      if (std::strcmp(name, kDrawIdUniform) == 0 || std::strcmp(name, kAlphaTestUniform) == 0) {
+        info.hidden_uniforms.push_back(static_cast<GLuint>(i));
+        continue;
+      }
+      info.visible_uniform_max_length = std::max<GLint>(info.visible_uniform_max_length, length + 1);
       const GLenum target = samplerTarget(type);
       if (!target) continue;
       info.sampler_locations.push_back(g.GetUniformLocation(program, name));

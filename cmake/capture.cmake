@@ -196,6 +196,14 @@ if(CATKIN_ENABLE_TESTING)
     target_link_libraries(test_supertuxkart viper_core gtest_main ${OpenCV_LIBS})
     add_dependencies(test_supertuxkart viper_capture viper_intercept)
   endif()
+  # Programs the package was not written for, the fast ones (scripts/capture_corpus.sh; needs them,
+  # apitrace and xvfb: scripts/setup.sh --test-programs).
+  catkin_add_gtest(test_corpus test/capture/test_corpus.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  if(TARGET test_corpus)
+    target_compile_definitions(test_corpus PRIVATE VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>")
+    target_link_libraries(test_corpus gtest_main)
+    add_dependencies(test_corpus viper_capture viper_intercept capture_check)
+  endif()
   # Mesa's conformance suite piglit plainly and under capture (scripts/piglit_compare.sh's ci slice;
   # needs piglit, waffle-utils and xvfb: scripts/setup.sh --test-programs).
   catkin_add_gtest(test_piglit test/capture/test_piglit.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

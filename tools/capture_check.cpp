@@ -277,6 +277,7 @@ int main(int argc, char** argv) {
   viper::CaptureFrame frame;
   uint64_t checked_frames = 0;
   int status = 0;
+  uint64_t resized_pairs = 0;
   try {
     while (reader->next(frame) == viper::CaptureReader::Status::kFrame) {
       meshes.add(frame.new_meshes);
@@ -294,7 +295,10 @@ int main(int argc, char** argv) {
       coverage.add(frame, meshes);
       if (flow) {
         auto current = std::make_unique<FlowInput>(flowInput(frame));
-        if (previous && previous->frame.number + 1 == frame.number) {
+        // (A pair whose frames differ in size, the window resized, has no flow: left out, counted.)
+        const bool resized = previous && (previous->frame.width != frame.width || previous->frame.height != frame.height);
+        if (resized) ++resized_pairs;
+        if (previous && previous->frame.number + 1 == frame.number && !resized) {
           const viper::CaptureFrame& a = previous->frame;
           const viper::CaptureFrame& b = current->frame;
           const std::vector<int32_t> a_to_b = viper::associateDraws(a, previous->object_ids, b, current->object_ids);
@@ -317,6 +321,9 @@ int main(int argc, char** argv) {
     status = 1;
   }
   print(("all " + std::to_string(checked_frames) + " frames:").c_str(), all);
+  if (resized_pairs)
+    std::printf("flow: %llu pairs of consecutive frames of different sizes (the window resized) left out\n",
+                static_cast<unsigned long long>(resized_pairs));
   printGaps(coverage.gaps);
   if (flow) {
     printFlow(flow_all, pairs);

@@ -70,7 +70,7 @@ if(CATKIN_ENABLE_TESTING)
   # Stress program: what real engines do (several contexts and threads, program binaries,
   # persistent mappings, indirect draws, buffers of uniforms and texels, sync objects, a context
   # destroyed mid-frame, exit() from another thread), each scenario checked by test_capture_stress.
-  add_executable(viper_gl_stress_program test/capture/gl_stress_program.cpp)
+  add_executable(viper_gl_stress_program test/capture/gl_stress_program.cpp test/capture/gl_stress_compat.cpp)
   target_include_directories(viper_gl_stress_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
   target_include_directories(viper_gl_stress_program PRIVATE ${PROJECT_SOURCE_DIR})
   target_link_libraries(viper_gl_stress_program PRIVATE PkgConfig::EGL PkgConfig::GL Threads::Threads)

@@ -294,5 +294,11 @@ inline void drawObject(GLuint p, int k, int f, float shift = 0.0f) {
   GL(glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_SHORT, nullptr));
 }
 
+// Scenarios in gl_stress_compat.cpp: matrices passed otherwise, the compatibility profile.
+void combinedMatrices(int frames, const std::string& out);
+void fixedFunction(int frames, const std::string& out);
+void windowQueries(int frames, const std::string& out);
+void extensionNames(int frames, const std::string& out);
+
 }  // namespace stress_program
 }  // namespace viper

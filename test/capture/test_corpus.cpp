@@ -5,6 +5,7 @@
 // each today, as the reference page says: ids on every pixel glmark2 draws, and Neverball (fixed
 // function, its matrix stack) with ids, placement and reprojection all but complete.
 #include "../common/process_util.h"
+#include "../common/sanitized_build.h"
 
 #include <gtest/gtest.h>
 
@@ -20,12 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define VIPER_SKIP_IN_SANITIZED_BUILD() \
-  GTEST_SKIP() << "the layer run would carry the sanitizer's runtime and the plain run not"
-#else
-#define VIPER_SKIP_IN_SANITIZED_BUILD() (void)0
-#endif
+constexpr const char* kSanitizedSkip = "the layer run would carry the sanitizer's runtime and the plain run not";
 
 // The script's fast programs (each under a minute, trace and three replays, on two cores).
 const std::vector<std::string> kPrograms = {"glmark2", "neverball", "supertux", "chromium-bsu", "extremetuxracer",
@@ -41,7 +37,7 @@ struct Row {
 }  // namespace
 
 TEST(Corpus, FastProgramsRunUnchangedUnderTheLayer) {
-  VIPER_SKIP_IN_SANITIZED_BUILD();
+  VIPER_SKIP_IN_SANITIZED_BUILD(kSanitizedSkip);
   const std::string dir = viper::test::tempDir("viper_corpus_");
   const std::string bin = fs::path(VIPER_CAPTURE_EXE).parent_path().string();
   std::string command = "scripts/capture_corpus.sh --out " + dir + "/run --bin " + bin;

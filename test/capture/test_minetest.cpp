@@ -6,6 +6,7 @@
 // and flow forward-backward and photometric consistency. The player walks with --random-input.
 #include "capture_checks.h"
 #include "../common/process_util.h"
+#include "../common/sanitized_build.h"
 #include "viper/ground_truth/instance_pipeline.h"
 
 #include <gtest/gtest.h>
@@ -83,12 +84,7 @@ const auto* const keep_failed_run = ::testing::AddGlobalTestEnvironment(new Keep
 // start, freelocale at exit; the lock's reader count has gone negative) with the ASan or TSan
 // runtime alone preloaded, without the layer: the runtime's known clash with uninstrumented
 // programs (llvm/llvm-project#49223). Nothing of ours to check there; skipped.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define VIPER_SKIP_IN_SANITIZED_BUILD() \
-  GTEST_SKIP() << "minetest hangs with a sanitizer runtime preloaded (docs/sanitizers.md)"
-#else
-#define VIPER_SKIP_IN_SANITIZED_BUILD() (void)0
-#endif
+constexpr const char* kSanitizedSkip = "minetest hangs with a sanitizer runtime preloaded (docs/sanitizers.md)";
 
 void requireTools() {
   for (const char* tool : {kGame, "/usr/bin/xvfb-run"})
@@ -98,7 +94,7 @@ void requireTools() {
 }  // namespace
 
 TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
-  VIPER_SKIP_IN_SANITIZED_BUILD();
+  VIPER_SKIP_IN_SANITIZED_BUILD(kSanitizedSkip);
   requireTools();
   const MinetestRun& r = runMinetest();
   ASSERT_EQ(r.rc, 0) << "the game under capture failed: " << r.log;
@@ -160,7 +156,7 @@ TEST(Minetest, MatrixStackAndVertexArraysReprojectEveryIdPixel) {
 }
 
 TEST(Minetest, FlowIsConsistentBothWaysAndWithTheNextImage) {
-  VIPER_SKIP_IN_SANITIZED_BUILD();
+  VIPER_SKIP_IN_SANITIZED_BUILD(kSanitizedSkip);
   requireTools();
   const MinetestRun& r = runMinetest();
   ASSERT_EQ(r.rc, 0) << "the game under capture failed: " << r.log;

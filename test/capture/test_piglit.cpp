@@ -8,6 +8,7 @@
 // front-buffer reads, GLSL 1.10 fragment shaders, separable programs with a geometry stage) takes
 // about two minutes on two cores; the full slice and its figures are in docs/capture_layer.md.
 #include "../common/process_util.h"
+#include "../common/sanitized_build.h"
 
 #include <gtest/gtest.h>
 
@@ -26,12 +27,7 @@ namespace {
 
 // In a sanitized build (scripts/sanitize.sh) `capture` preloads the sanitizer's runtime into every
 // program it starts and the plain run has none: the two runs would not be of the same programs.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define VIPER_SKIP_IN_SANITIZED_BUILD() \
-  GTEST_SKIP() << "the layer run would carry the sanitizer's runtime and the plain run not"
-#else
-#define VIPER_SKIP_IN_SANITIZED_BUILD() (void)0
-#endif
+constexpr const char* kSanitizedSkip = "the layer run would carry the sanitizer's runtime and the plain run not";
 
 // Results that differ under the layer for a cause the layer cannot remove, each with that cause
 // (docs/capture_layer.md, "Transparency: piglit"). Any other difference fails the test, and so does
@@ -47,7 +43,7 @@ const std::map<std::string, std::string> kKnownDifferences = {
 }  // namespace
 
 TEST(Piglit, CiSliceGivesTheSameResultsUnderTheLayer) {
-  VIPER_SKIP_IN_SANITIZED_BUILD();
+  VIPER_SKIP_IN_SANITIZED_BUILD(kSanitizedSkip);
   for (const char* tool : {"/usr/bin/piglit", "/usr/bin/wflinfo", "/usr/bin/Xvfb"})
     ASSERT_TRUE(fs::exists(tool)) << tool << " is missing: run 'bash scripts/setup.sh --test-programs'";
   const std::string dir = viper::test::tempDir("viper_piglit_");

@@ -17,6 +17,9 @@ namespace capture {
 /// functions, dlopen, a guarded static's __cxa_guard_acquire): the interceptor is not ready yet.
 #define VIPER_NO_SANITIZE __attribute__((no_sanitize("address", "undefined", "thread")))
 
+/// An exported wrapper of a GL, EGL or GLX function (the program's calls resolve to it).
+#define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
+
 /// One exported wrapper: its name and address.
 struct HookEntry {
   const char* name;

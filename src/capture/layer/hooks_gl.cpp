@@ -10,14 +10,7 @@ using viper::capture::DrawCall;
 using viper::capture::gl;
 using viper::capture::Interceptor;
 
-#define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
-
 namespace {
-
-inline Interceptor* active() {
-  Interceptor& i = Interceptor::instance();
-  return i.enabled() ? &i : nullptr;
-}
 
 // The draw a DrawCall describes, as an instanced draw from its base instance (GL 4.2): one
 // instance of a split instanced draw, or one command of an indirect draw.
@@ -32,7 +25,7 @@ void issueInstanced(const DrawCall& c) {
 
 template <typename F>
 inline void draw(const DrawCall& call, F real) {
-  Interceptor* i = active();
+  Interceptor* i = Interceptor::active();
   if (!i) return real();
   if (i->splitsInstances(call)) {
     // Every instance its own draw id and record (Interceptor::splitsInstances says when this
@@ -60,68 +53,68 @@ inline void draw(const DrawCall& call, F real) {
 }  // namespace
 
 VIPER_EXPORT void glShaderSource(GLuint shader, GLsizei count, const GLchar* const* string, const GLint* length) {
-  if (Interceptor* i = active()) return i->shaderSource(shader, count, string, length);
+  if (Interceptor* i = Interceptor::active()) return i->shaderSource(shader, count, string, length);
   gl().ShaderSource(shader, count, string, length);
 }
 VIPER_EXPORT void glCompileShader(GLuint shader) {
-  if (Interceptor* i = active()) return i->compileShader(shader);
+  if (Interceptor* i = Interceptor::active()) return i->compileShader(shader);
   gl().CompileShader(shader);
 }
 VIPER_EXPORT void glLinkProgram(GLuint program) {
-  if (Interceptor* i = active()) return i->linkProgram(program);
+  if (Interceptor* i = Interceptor::active()) return i->linkProgram(program);
   gl().LinkProgram(program);
 }
 VIPER_EXPORT void glUseProgram(GLuint program) {
   gl().UseProgram(program);
-  if (Interceptor* i = active()) i->useProgram(program);
+  if (Interceptor* i = Interceptor::active()) i->useProgram(program);
 }
 VIPER_EXPORT void glTransformFeedbackVaryings(GLuint program, GLsizei count, const GLchar* const* varyings,
                                               GLenum mode) {
   gl().TransformFeedbackVaryings(program, count, varyings, mode);
-  if (Interceptor* i = active()) i->transformFeedbackVaryings(program);
+  if (Interceptor* i = Interceptor::active()) i->transformFeedbackVaryings(program);
 }
 VIPER_EXPORT void glBindFramebuffer(GLenum target, GLuint framebuffer) {
-  if (Interceptor* i = active()) return i->bindFramebuffer(target, framebuffer);
+  if (Interceptor* i = Interceptor::active()) return i->bindFramebuffer(target, framebuffer);
   gl().BindFramebuffer(target, framebuffer);
 }
 VIPER_EXPORT void glDrawBuffer(GLenum buf) {
-  if (Interceptor* i = active()) return i->drawBuffer(buf);
+  if (Interceptor* i = Interceptor::active()) return i->drawBuffer(buf);
   gl().DrawBuffer(buf);
 }
 VIPER_EXPORT void glDrawBuffers(GLsizei n, const GLenum* bufs) {
-  if (Interceptor* i = active()) return i->drawBuffers(n, bufs);
+  if (Interceptor* i = Interceptor::active()) return i->drawBuffers(n, bufs);
   gl().DrawBuffers(n, bufs);
 }
 VIPER_EXPORT void glReadBuffer(GLenum src) {
-  if (Interceptor* i = active()) return i->readBuffer(src);
+  if (Interceptor* i = Interceptor::active()) return i->readBuffer(src);
   gl().ReadBuffer(src);
 }
 VIPER_EXPORT void glClear(GLbitfield mask) {
-  if (Interceptor* i = active()) return i->clear(mask);
+  if (Interceptor* i = Interceptor::active()) return i->clear(mask);
   gl().Clear(mask);
 }
 VIPER_EXPORT void glClearBufferfv(GLenum buffer, GLint drawbuffer, const GLfloat* value) {
   gl().ClearBufferfv(buffer, drawbuffer, value);
-  if (Interceptor* i = active()) i->clearBuffer(buffer, drawbuffer);
+  if (Interceptor* i = Interceptor::active()) i->clearBuffer(buffer, drawbuffer);
 }
 VIPER_EXPORT void glClearBufferiv(GLenum buffer, GLint drawbuffer, const GLint* value) {
   gl().ClearBufferiv(buffer, drawbuffer, value);
-  if (Interceptor* i = active()) i->clearBuffer(buffer, drawbuffer);
+  if (Interceptor* i = Interceptor::active()) i->clearBuffer(buffer, drawbuffer);
 }
 VIPER_EXPORT void glClearBufferuiv(GLenum buffer, GLint drawbuffer, const GLuint* value) {
   gl().ClearBufferuiv(buffer, drawbuffer, value);
-  if (Interceptor* i = active()) i->clearBuffer(buffer, drawbuffer);
+  if (Interceptor* i = Interceptor::active()) i->clearBuffer(buffer, drawbuffer);
 }
 VIPER_EXPORT void glClearBufferfi(GLenum buffer, GLint drawbuffer, GLfloat depth, GLint stencil) {
   gl().ClearBufferfi(buffer, drawbuffer, depth, stencil);
-  if (Interceptor* i = active()) i->clearBuffer(buffer, drawbuffer);
+  if (Interceptor* i = Interceptor::active()) i->clearBuffer(buffer, drawbuffer);
 }
 VIPER_EXPORT void glProgramParameteri(GLuint program, GLenum pname, GLint value) {
   gl().ProgramParameteri(program, pname, value);
-  if (Interceptor* i = active()) i->programParameter(program, pname, value);
+  if (Interceptor* i = Interceptor::active()) i->programParameter(program, pname, value);
 }
 VIPER_EXPORT void glProgramBinary(GLuint program, GLenum format, const void* binary, GLsizei length) {
-  if (Interceptor* i = active()) return i->programBinary(program);
+  if (Interceptor* i = Interceptor::active()) return i->programBinary(program);
   gl().ProgramBinary(program, format, binary, length);
 }
 // Queries: what the window's default framebuffer answers where the program has it bound (ours
@@ -136,7 +129,7 @@ T queryValue(GLint64 v) {
 
 template <typename T, typename F>
 void query(GLenum pname, T* data, F real) {
-  Interceptor* i = active();
+  Interceptor* i = Interceptor::active();
   if (!i) return real();
   const bool window = i->beginWindowQuery(pname);
   real();
@@ -147,7 +140,7 @@ void query(GLenum pname, T* data, F real) {
 
 template <typename F>
 auto framebufferQuery(GLenum target, F real) {
-  Interceptor* i = active();
+  Interceptor* i = Interceptor::active();
   const bool window = i && i->beginWindowFramebufferQuery(target);
   struct Restore {
     Interceptor* i;
@@ -185,131 +178,131 @@ VIPER_EXPORT GLenum glCheckFramebufferStatus(GLenum target) {
 }
 VIPER_EXPORT void glDeleteFramebuffers(GLsizei n, const GLuint* framebuffers) {
   gl().DeleteFramebuffers(n, framebuffers);
-  if (Interceptor* i = active()) i->framebuffersDeleted(n, framebuffers);
+  if (Interceptor* i = Interceptor::active()) i->framebuffersDeleted(n, framebuffers);
 }
 VIPER_EXPORT void glEnable(GLenum cap) {
   gl().Enable(cap);
   if (cap == GL_BLEND)
-    if (Interceptor* i = active()) i->blendStateChanged(true, true);
+    if (Interceptor* i = Interceptor::active()) i->blendStateChanged(true, true);
 }
 VIPER_EXPORT void glDisable(GLenum cap) {
   gl().Disable(cap);
   if (cap == GL_BLEND)
-    if (Interceptor* i = active()) i->blendStateChanged(true, false);
+    if (Interceptor* i = Interceptor::active()) i->blendStateChanged(true, false);
 }
 VIPER_EXPORT void glEnablei(GLenum cap, GLuint index) {
   gl().Enablei(cap, index);
   if (cap == GL_BLEND)
-    if (Interceptor* i = active()) i->blendStateChanged(index == 0, true);
+    if (Interceptor* i = Interceptor::active()) i->blendStateChanged(index == 0, true);
 }
 VIPER_EXPORT void glDisablei(GLenum cap, GLuint index) {
   gl().Disablei(cap, index);
   if (cap == GL_BLEND)
-    if (Interceptor* i = active()) i->blendStateChanged(index == 0, false);
+    if (Interceptor* i = Interceptor::active()) i->blendStateChanged(index == 0, false);
 }
 VIPER_EXPORT void glColorMask(GLboolean r, GLboolean g, GLboolean b, GLboolean a) {
   gl().ColorMask(r, g, b, a);
-  if (Interceptor* i = active()) i->colorMaskChanged();
+  if (Interceptor* i = Interceptor::active()) i->colorMaskChanged();
 }
 VIPER_EXPORT void glBlendFunc(GLenum s, GLenum d) {
   gl().BlendFunc(s, d);
-  if (Interceptor* i = active()) i->blendStateChanged(false, false);
+  if (Interceptor* i = Interceptor::active()) i->blendStateChanged(false, false);
 }
 VIPER_EXPORT void glBlendFuncSeparate(GLenum sr, GLenum dr, GLenum sa, GLenum da) {
   gl().BlendFuncSeparate(sr, dr, sa, da);
-  if (Interceptor* i = active()) i->blendStateChanged(false, false);
+  if (Interceptor* i = Interceptor::active()) i->blendStateChanged(false, false);
 }
 VIPER_EXPORT void glBlendEquation(GLenum mode) {
   gl().BlendEquation(mode);
-  if (Interceptor* i = active()) i->blendStateChanged(false, false);
+  if (Interceptor* i = Interceptor::active()) i->blendStateChanged(false, false);
 }
 VIPER_EXPORT void glBlendEquationSeparate(GLenum rgb, GLenum alpha) {
   gl().BlendEquationSeparate(rgb, alpha);
-  if (Interceptor* i = active()) i->blendStateChanged(false, false);
+  if (Interceptor* i = Interceptor::active()) i->blendStateChanged(false, false);
 }
 VIPER_EXPORT void glBufferData(GLenum target, GLsizeiptr size, const void* data, GLenum usage) {
   gl().BufferData(target, size, data, usage);
-  if (Interceptor* i = active()) i->bufferData(target, 0, size, data);
+  if (Interceptor* i = Interceptor::active()) i->bufferData(target, 0, size, data);
 }
 VIPER_EXPORT void glBufferSubData(GLenum target, GLintptr offset, GLsizeiptr size, const void* data) {
   gl().BufferSubData(target, offset, size, data);
-  if (Interceptor* i = active()) i->bufferSubData(target, 0, offset, size, data);
+  if (Interceptor* i = Interceptor::active()) i->bufferSubData(target, 0, offset, size, data);
 }
 VIPER_EXPORT void glBufferStorage(GLenum target, GLsizeiptr size, const void* data, GLbitfield flags) {
   gl().BufferStorage(target, size, data, flags);
-  if (Interceptor* i = active()) i->bufferStorage(target, 0, size, data);
+  if (Interceptor* i = Interceptor::active()) i->bufferStorage(target, 0, size, data);
 }
 VIPER_EXPORT void glNamedBufferStorage(GLuint buffer, GLsizeiptr size, const void* data, GLbitfield flags) {
   gl().NamedBufferStorage(buffer, size, data, flags);
-  if (Interceptor* i = active()) i->bufferStorage(0, buffer, size, data);
+  if (Interceptor* i = Interceptor::active()) i->bufferStorage(0, buffer, size, data);
 }
 VIPER_EXPORT void glNamedBufferData(GLuint buffer, GLsizeiptr size, const void* data, GLenum usage) {
   gl().NamedBufferData(buffer, size, data, usage);
-  if (Interceptor* i = active()) i->bufferData(0, buffer, size, data);
+  if (Interceptor* i = Interceptor::active()) i->bufferData(0, buffer, size, data);
 }
 VIPER_EXPORT void glNamedBufferSubData(GLuint buffer, GLintptr offset, GLsizeiptr size, const void* data) {
   gl().NamedBufferSubData(buffer, offset, size, data);
-  if (Interceptor* i = active()) i->bufferSubData(0, buffer, offset, size, data);
+  if (Interceptor* i = Interceptor::active()) i->bufferSubData(0, buffer, offset, size, data);
 }
 VIPER_EXPORT void* glMapBuffer(GLenum target, GLenum access) {
   void* p = gl().MapBuffer(target, access);
-  if (Interceptor* i = active())
+  if (Interceptor* i = Interceptor::active())
     i->mapped(target, p, 0, -1, access == GL_READ_ONLY ? GL_MAP_READ_BIT : GL_MAP_WRITE_BIT);
   return p;
 }
 VIPER_EXPORT void* glMapBufferRange(GLenum target, GLintptr offset, GLsizeiptr length, GLbitfield access) {
   void* p = gl().MapBufferRange(target, offset, length, access);
-  if (Interceptor* i = active()) i->mapped(target, p, offset, length, access);
+  if (Interceptor* i = Interceptor::active()) i->mapped(target, p, offset, length, access);
   return p;
 }
 VIPER_EXPORT GLboolean glUnmapBuffer(GLenum target) {
-  if (Interceptor* i = active()) i->beforeUnmap(target);
+  if (Interceptor* i = Interceptor::active()) i->beforeUnmap(target);
   return gl().UnmapBuffer(target);
 }
 VIPER_EXPORT void glCopyBufferSubData(GLenum rt, GLenum wt, GLintptr ro, GLintptr wo, GLsizeiptr size) {
   gl().CopyBufferSubData(rt, wt, ro, wo, size);
-  if (Interceptor* i = active()) i->copyBufferSubData(rt, wt, ro, wo, size);
+  if (Interceptor* i = Interceptor::active()) i->copyBufferSubData(rt, wt, ro, wo, size);
 }
 VIPER_EXPORT void glDeleteBuffers(GLsizei n, const GLuint* buffers) {
-  if (Interceptor* i = active()) i->deleteBuffers(n, buffers);
+  if (Interceptor* i = Interceptor::active()) i->deleteBuffers(n, buffers);
   gl().DeleteBuffers(n, buffers);
 }
 VIPER_EXPORT void glActiveTexture(GLenum texture) {
   gl().ActiveTexture(texture);
-  if (Interceptor* i = active()) i->activeTexture(texture);
+  if (Interceptor* i = Interceptor::active()) i->activeTexture(texture);
 }
 VIPER_EXPORT void glBindTexture(GLenum target, GLuint texture) {
   gl().BindTexture(target, texture);
-  if (Interceptor* i = active()) i->bindTexture(target, texture);
+  if (Interceptor* i = Interceptor::active()) i->bindTexture(target, texture);
 }
 VIPER_EXPORT void glTexImage2D(GLenum target, GLint level, GLint internalformat, GLsizei width, GLsizei height,
                                GLint border, GLenum format, GLenum type, const void* pixels) {
   gl().TexImage2D(target, level, internalformat, width, height, border, format, type, pixels);
-  if (Interceptor* i = active()) i->texImage(target, level, width, height, format, type, pixels, false, 0, 0);
+  if (Interceptor* i = Interceptor::active()) i->texImage(target, level, width, height, format, type, pixels, false, 0, 0);
 }
 VIPER_EXPORT void glTexSubImage2D(GLenum target, GLint level, GLint x, GLint y, GLsizei width, GLsizei height,
                                   GLenum format, GLenum type, const void* pixels) {
   gl().TexSubImage2D(target, level, x, y, width, height, format, type, pixels);
-  if (Interceptor* i = active()) i->texImage(target, level, width, height, format, type, pixels, true, x, y);
+  if (Interceptor* i = Interceptor::active()) i->texImage(target, level, width, height, format, type, pixels, true, x, y);
 }
 VIPER_EXPORT void glTexStorage2D(GLenum target, GLsizei levels, GLenum internalformat, GLsizei width, GLsizei height) {
   gl().TexStorage2D(target, levels, internalformat, width, height);
-  if (Interceptor* i = active())
+  if (Interceptor* i = Interceptor::active())
     i->texImage(target, 0, width, height, internalformat, 0, nullptr, false, 0, 0);
 }
 VIPER_EXPORT void glCompressedTexImage2D(GLenum target, GLint level, GLenum internalformat, GLsizei width,
                                          GLsizei height, GLint border, GLsizei size, const void* data) {
   gl().CompressedTexImage2D(target, level, internalformat, width, height, border, size, data);
-  if (Interceptor* i = active())
+  if (Interceptor* i = Interceptor::active())
     i->compressedTexImage(target, level, width, height, internalformat, size, data, false, 0, 0);
 }
 VIPER_EXPORT void glCompressedTexSubImage2D(GLenum target, GLint level, GLint x, GLint y, GLsizei width,
                                             GLsizei height, GLenum format, GLsizei size, const void* data) {
   gl().CompressedTexSubImage2D(target, level, x, y, width, height, format, size, data);
-  if (Interceptor* i = active()) i->compressedTexImage(target, level, width, height, format, size, data, true, x, y);
+  if (Interceptor* i = Interceptor::active()) i->compressedTexImage(target, level, width, height, format, size, data, true, x, y);
 }
 VIPER_EXPORT void glDeleteTextures(GLsizei n, const GLuint* textures) {
-  if (Interceptor* i = active()) i->deleteTextures(n, textures);
+  if (Interceptor* i = Interceptor::active()) i->deleteTextures(n, textures);
   gl().DeleteTextures(n, textures);
 }
 
@@ -415,7 +408,7 @@ bool indirectCalls(Interceptor& i, GLenum mode, bool indexed, GLenum type, const
 template <typename F>
 void indirectDraw(const char* what, GLenum mode, bool indexed, GLenum type, const void* indirect, GLsizei drawcount,
                   GLsizei stride, F real) {
-  Interceptor* i = active();
+  Interceptor* i = Interceptor::active();
   std::vector<DrawCall> calls;
   if (!i) return real();
   if (!i->decomposesMultiDraw() || !indirectCalls(*i, mode, indexed, type, indirect, drawcount, stride, calls)) {
@@ -429,7 +422,7 @@ void indirectDraw(const char* what, GLenum mode, bool indexed, GLenum type, cons
 }  // namespace
 
 VIPER_EXPORT void glMultiDrawArrays(GLenum mode, const GLint* first, const GLsizei* count, GLsizei drawcount) {
-  Interceptor* i = active();
+  Interceptor* i = Interceptor::active();
   if (!i || !i->decomposesMultiDraw()) {
     if (i) i->beforeUndecomposedDraw("glMultiDrawArrays");
     return gl().MultiDrawArrays(mode, first, count, drawcount);
@@ -438,7 +431,7 @@ VIPER_EXPORT void glMultiDrawArrays(GLenum mode, const GLint* first, const GLsiz
 }
 VIPER_EXPORT void glMultiDrawElementsBaseVertex(GLenum mode, const GLsizei* count, GLenum type,
                                                 const void* const* indices, GLsizei drawcount, const GLint* base) {
-  Interceptor* i = active();
+  Interceptor* i = Interceptor::active();
   if (!i || !i->decomposesMultiDraw()) {
     if (i) i->beforeUndecomposedDraw("glMultiDrawElements");
     return base ? gl().MultiDrawElementsBaseVertex(mode, count, type, indices, drawcount, base)

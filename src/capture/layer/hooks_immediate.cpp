@@ -1,51 +1,44 @@
 // Exported compatibility-profile entry points of immediate mode (glBegin, glVertex*, glEnd) and
 // display lists (glNewList, glEndList, glCallList(s)): a glBegin/glEnd without a program is
-// recorded from the vertices passed in between (Interceptor::beginImmediate), and nothing the
-// layer does goes into a display list being compiled.
+// recorded from the vertices passed in between (Interceptor::beginImmediate); draws made while a
+// display list is being made are not recorded (Interceptor::notRecordedInList).
 #include "hooks.h"
 #include "interceptor.h"
 
 using viper::capture::gl;
 using viper::capture::Interceptor;
 
-#define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
-
 namespace {
-
-inline Interceptor* active() {
-  Interceptor& i = Interceptor::instance();
-  return i.enabled() ? &i : nullptr;
-}
 
 // A vertex between glBegin and glEnd (glVertex2 has z 0, glVertex2 and 3 have w 1).
 inline void vertex(float x, float y, float z, float w) {
-  if (Interceptor* i = active()) i->immediateVertex(x, y, z, w);
+  if (Interceptor* i = Interceptor::active()) i->immediateVertex(x, y, z, w);
 }
 
 }  // namespace
 
 VIPER_EXPORT void glBegin(GLenum mode) {
-  if (Interceptor* i = active()) i->beginImmediate(mode);
+  if (Interceptor* i = Interceptor::active()) i->beginImmediate(mode);
   gl().Begin(mode);
 }
 VIPER_EXPORT void glEnd(void) {
   gl().End();
-  if (Interceptor* i = active()) i->endImmediate();
+  if (Interceptor* i = Interceptor::active()) i->endImmediate();
 }
 VIPER_EXPORT void glNewList(GLuint list, GLenum mode) {
   gl().NewList(list, mode);
-  if (Interceptor* i = active()) i->newList(mode);
+  if (Interceptor* i = Interceptor::active()) i->newList(mode);
 }
 VIPER_EXPORT void glEndList(void) {
   gl().EndList();
-  if (Interceptor* i = active()) i->newList(0);
+  if (Interceptor* i = Interceptor::active()) i->newList(0);
 }
 VIPER_EXPORT void glCallList(GLuint list) {
-  if (Interceptor* i = active()) i->beforeUnrecordableDraw("display-list (glCallList)");
+  if (Interceptor* i = Interceptor::active()) i->beforeUnrecordableDraw("display-list (glCallList)");
   gl().CallList(list);
 }
 VIPER_EXPORT void glCallLists(GLsizei n, GLenum type, const void* lists) {
-  if (Interceptor* i = active()) i->beforeUnrecordableDraw("display-list (glCallLists)");
+  if (Interceptor* i = Interceptor::active()) i->beforeUnrecordableDraw("display-list (glCallLists)");
   gl().CallLists(n, type, lists);
 }
 

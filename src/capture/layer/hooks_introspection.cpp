@@ -12,8 +12,6 @@
 using viper::capture::gl;
 using viper::capture::Interceptor;
 
-#define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
-
 namespace {
 
 // The uniforms the layer hides in `program` (empty: none, or a program the layer did not link).
@@ -25,8 +23,7 @@ struct Hidden {
 
 Hidden hiddenIn(GLuint program) {
   Hidden h;
-  Interceptor& i = Interceptor::instance();
-  if (i.enabled()) i.hiddenUniforms(program, h.indices, h.max_length);
+  if (Interceptor* i = Interceptor::active()) i->hiddenUniforms(program, h.indices, h.max_length);
   return h;
 }
 

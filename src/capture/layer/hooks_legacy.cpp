@@ -12,15 +12,12 @@ using viper::capture::gl;
 using viper::capture::Interceptor;
 using viper::capture::ModelViewTracker;
 
-#define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
-
-
 namespace {
 
 inline ModelViewTracker* tracker() {
-  Interceptor& i = Interceptor::instance();
+  Interceptor* i = Interceptor::active();
   // (Not while a display list is made with GL_COMPILE: its matrix calls run when it is called.)
-  return i.enabled() && !i.compilingOnly() ? &i.modelView() : nullptr;
+  return i && !i->compilingOnly() ? &i->modelView() : nullptr;
 }
 
 template <typename T>
@@ -90,8 +87,7 @@ VIPER_EXPORT void glRotated(GLdouble angle, GLdouble x, GLdouble y, GLdouble z) 
 }
 
 VIPER_EXPORT void glAccum(GLenum op, GLfloat value) {
-  Interceptor& i = Interceptor::instance();
-  if (i.enabled()) return i.accum(op, value);
+  if (Interceptor* i = Interceptor::active()) return i->accum(op, value);
   gl().Accum(op, value);
 }
 

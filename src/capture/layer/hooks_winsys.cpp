@@ -17,8 +17,6 @@ using viper::capture::realEglFunction;
 using viper::capture::realGlxFunction;
 using viper::capture::wrapperFor;
 
-#define VIPER_EXPORT extern "C" __attribute__((visibility("default")))
-
 // GLX types without pulling in GL/gl.h (it clashes with glcorearb.h).
 typedef struct _XDisplay Display;
 typedef unsigned long GLXDrawable;
@@ -36,11 +34,6 @@ F real(F, const char* name, bool glx) {
 }
 #define REAL_EGL(fn) real(&::fn, #fn, false)
 #define REAL_GLX(fn) real(&::fn, #fn, true)
-
-inline Interceptor* active() {
-  Interceptor& i = Interceptor::instance();
-  return i.enabled() ? &i : nullptr;
-}
 
 void eglSurfaceSize(EGLDisplay dpy, EGLSurface surface, int& w, int& h) {
   static auto query = reinterpret_cast<EGLBoolean (*)(EGLDisplay, EGLSurface, EGLint, EGLint*)>(
@@ -170,10 +163,10 @@ VIPER_EXPORT EGLBoolean eglDestroySurface(EGLDisplay dpy, EGLSurface surface) {
 VIPER_EXPORT EGLBoolean eglMakeCurrent(EGLDisplay dpy, EGLSurface draw, EGLSurface read, EGLContext ctx) {
   static auto fn = REAL_EGL(eglMakeCurrent);
   static auto current = REAL_EGL(eglGetCurrentContext);
-  if (Interceptor* i = active())
+  if (Interceptor* i = Interceptor::active())
     if (!current || current() != ctx) i->beforeMakeCurrent();
   const EGLBoolean ok = fn(dpy, draw, read, ctx);
-  if (Interceptor* i = active()) {
+  if (Interceptor* i = Interceptor::active()) {
     if (ok) {
       int w = 0, h = 0;
       eglSurfaceSize(dpy, draw, w, h);
@@ -187,13 +180,13 @@ VIPER_EXPORT EGLBoolean eglDestroyContext(EGLDisplay dpy, EGLContext ctx) {
   static auto fn = REAL_EGL(eglDestroyContext);
   const EGLBoolean ok = fn(dpy, ctx);
   if (ok)
-    if (Interceptor* i = active()) i->contextDestroyed(ctx);
+    if (Interceptor* i = Interceptor::active()) i->contextDestroyed(ctx);
   return ok;
 }
 
 VIPER_EXPORT EGLBoolean eglSwapBuffers(EGLDisplay dpy, EGLSurface surface) {
   static auto fn = REAL_EGL(eglSwapBuffers);
-  if (Interceptor* i = active()) {
+  if (Interceptor* i = Interceptor::active()) {
     int w = 0, h = 0;
     eglSurfaceSize(dpy, surface, w, h);
     i->beforeSwap(w, h, isPbuffer(surface));
@@ -210,10 +203,10 @@ VIPER_EXPORT __eglMustCastToProperFunctionPointerType eglGetProcAddress(const ch
 VIPER_EXPORT int glXMakeCurrent(Display* dpy, GLXDrawable drawable, GLXContext ctx) {
   static auto fn = reinterpret_cast<int (*)(Display*, GLXDrawable, GLXContext)>(realGlxFunction("glXMakeCurrent"));
   static auto current = reinterpret_cast<GLXContext (*)()>(realGlxFunction("glXGetCurrentContext"));
-  if (Interceptor* i = active())
+  if (Interceptor* i = Interceptor::active())
     if (!current || current() != ctx) i->beforeMakeCurrent();
   const int ok = fn(dpy, drawable, ctx);
-  if (Interceptor* i = active()) {
+  if (Interceptor* i = Interceptor::active()) {
     if (ok) {
       int w = 0, h = 0;
       glxDrawableSize(dpy, drawable, w, h);
@@ -227,10 +220,10 @@ VIPER_EXPORT int glXMakeContextCurrent(Display* dpy, GLXDrawable draw, GLXDrawab
   static auto fn = reinterpret_cast<int (*)(Display*, GLXDrawable, GLXDrawable, GLXContext)>(
       realGlxFunction("glXMakeContextCurrent"));
   static auto current = reinterpret_cast<GLXContext (*)()>(realGlxFunction("glXGetCurrentContext"));
-  if (Interceptor* i = active())
+  if (Interceptor* i = Interceptor::active())
     if (!current || current() != ctx) i->beforeMakeCurrent();
   const int ok = fn(dpy, draw, read, ctx);
-  if (Interceptor* i = active()) {
+  if (Interceptor* i = Interceptor::active()) {
     if (ok) {
       int w = 0, h = 0;
       glxDrawableSize(dpy, draw, w, h);
@@ -243,12 +236,12 @@ VIPER_EXPORT int glXMakeContextCurrent(Display* dpy, GLXDrawable draw, GLXDrawab
 VIPER_EXPORT void glXDestroyContext(Display* dpy, GLXContext ctx) {
   static auto fn = reinterpret_cast<void (*)(Display*, GLXContext)>(realGlxFunction("glXDestroyContext"));
   fn(dpy, ctx);
-  if (Interceptor* i = active()) i->contextDestroyed(ctx);
+  if (Interceptor* i = Interceptor::active()) i->contextDestroyed(ctx);
 }
 
 VIPER_EXPORT void glXSwapBuffers(Display* dpy, GLXDrawable drawable) {
   static auto fn = reinterpret_cast<void (*)(Display*, GLXDrawable)>(realGlxFunction("glXSwapBuffers"));
-  if (Interceptor* i = active()) {
+  if (Interceptor* i = Interceptor::active()) {
     int w = 0, h = 0;
     glxDrawableSize(dpy, drawable, w, h);
     i->beforeSwap(w, h, false);

@@ -217,6 +217,12 @@ struct ContextState {
 class Interceptor {
  public:
   static Interceptor& instance();
+  /// The interceptor where it captures (an output was given and nothing failed), else null: the
+  /// exported functions then only forward to the driver.
+  static Interceptor* active() {
+    Interceptor& i = instance();
+    return i.enabled() ? &i : nullptr;
+  }
   /// Writes what is queued and closes the stream; capture stops.
   void shutdown();
   bool enabled() const { return enabled_.load(std::memory_order_relaxed); }

@@ -28,6 +28,8 @@ PKGS=(
   libeigen3-dev libopencv-dev libyaml-cpp-dev libzstd-dev libxxhash-dev
   libegl-dev libgl-dev libglx-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
   libgtest-dev libbenchmark-dev
+  libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers spirv-headers spirv-tools glslang-tools
+  libxcb1-dev
   xvfb imagemagick
   libzip-dev python3-numpy python3-pil libpng-dev libjpeg-dev libssl-dev libdeflate-dev libisal-dev liblz4-dev libbz2-dev
   libstd-srvs-dev python3-std-srvs libopencv-apps-dev ros-opencv-apps python3-opencv-apps python3-sensor-msgs

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Measures every figure quoted in README.md, on this machine, and prints them. Takes ~10 minutes.
+# Measures the figures of docs/figures.md marked (mf), on this machine, and prints them. Takes ~10 minutes.
 # Usage: scripts/measure_figures.sh [OUT_DIR (build/figures)]
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)

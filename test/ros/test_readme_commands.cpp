@@ -1,8 +1,8 @@
-// Every `rosrun viper NAME` that README.md writes runs as written: rosrun finds NAME (a devel space
-// inside the package's build/ is skipped by rosrun, and folders named like a command are not it),
-// and the command-line tools among them answer --help with their usage and exit code 0. ROS nodes
-// (lines that pass _param:= or __ns:=) are only looked up (rosrun --prefix true), not started.
-// Runs with the devel space sourced (scripts/test.sh).
+// Every `rosrun viper NAME` that README.md, docs/commands.md and docs/nodes.md write runs as written:
+// rosrun finds NAME (a devel space inside the package's build/ is skipped by rosrun, and folders
+// named like a command are not it), and the command-line tools among them answer --help with their
+// usage and exit code 0. ROS nodes (lines that pass _param:= or __ns:=) are only looked up
+// (rosrun --prefix true), not started. Runs with the devel space sourced (scripts/test.sh).
 #include "../common/process_util.h"
 
 #include <gtest/gtest.h>
@@ -21,10 +21,13 @@ struct Documented {
   bool node = false;  // some line passes it ROS parameters
 };
 
-std::map<std::string, Documented> documentedCommands(const std::string& readme) {
-  std::map<std::string, Documented> out;
+// The pages whose commands users copy: the front door and the two references.
+const char* const kPages[] = {"README.md", "docs/commands.md", "docs/nodes.md"};
+
+// Adds the commands `text` writes to `out`.
+void documentedCommands(const std::string& text, std::map<std::string, Documented>& out) {
   const std::regex command(R"(rosrun viper ([A-Za-z0-9_]+)([^`|\n]*))");
-  std::istringstream lines(readme);
+  std::istringstream lines(text);
   std::string line;
   while (std::getline(lines, line))
     for (std::sregex_iterator it(line.begin(), line.end(), command), end; it != end; ++it) {
@@ -32,7 +35,6 @@ std::map<std::string, Documented> documentedCommands(const std::string& readme) 
       Documented& d = out[(*it)[1]];
       d.node = d.node || args.find(":=") != std::string::npos;
     }
-  return out;
 }
 
 // Output (stdout and stderr) and exit status of a shell command.
@@ -50,10 +52,17 @@ std::pair<int, std::string> capture(const std::string& command) {
 }  // namespace
 
 TEST(ReadmeCommands, EveryRosrunCommandIsFoundAndToolsAnswerHelp) {
-  const std::string readme = viper::test::readFile(VIPER_SOURCE_DIR "/README.md");
-  ASSERT_FALSE(readme.empty());
-  const auto commands = documentedCommands(readme);
-  ASSERT_GE(commands.size(), 10u) << "README.md documents its commands with rosrun";
+  std::map<std::string, Documented> commands;
+  for (const char* page : kPages) {
+    SCOPED_TRACE(page);
+    const std::string text = viper::test::readFile(std::string(VIPER_SOURCE_DIR "/") + page);
+    ASSERT_FALSE(text.empty());
+    std::map<std::string, Documented> on_page;
+    documentedCommands(text, on_page);
+    EXPECT_FALSE(on_page.empty()) << page << " writes no `rosrun viper` command";
+    documentedCommands(text, commands);
+  }
+  ASSERT_GE(commands.size(), 25u) << "README.md and docs/ document the package's commands with rosrun";
   size_t tools = 0;
   for (const auto& [name, doc] : commands) {
     SCOPED_TRACE(name);

@@ -10,6 +10,7 @@ set(VIPER_INTERCEPT_SOURCES
   src/capture/layer/frame_target.cpp
   src/capture/layer/scene_fbo.cpp
   src/capture/layer/frame_sink.cpp
+  src/capture/layer/capture_settings.cpp
   src/capture/layer/finish_frame.cpp
   src/capture/layer/mesh_extract.cpp
   src/capture/layer/interceptor.cpp

@@ -1,5 +1,6 @@
-// `capture [options] -- PROGRAM ARGS...`: runs an OpenGL program with the viper interceptor
-// preloaded and writes a capture stream, then reads the stream back and prints its verdict (frames,
+// `capture [options] -- PROGRAM ARGS...`: runs an OpenGL or Vulkan program with the viper
+// interceptor preloaded and the Vulkan layer enabled, and writes a capture stream (the first API the
+// program draws a frame with is recorded), then reads the stream back and prints its verdict (frames,
 // share of the scene with ids and placed, the main reason for what was not recorded). Exit status:
 // the program's (128 + signal if killed), or 74 when the program succeeded but the capture could not
 // be written (a full disk): the layer says so through a pipe (VIPER_CAPTURE_STATUS_FD) and the
@@ -90,6 +91,19 @@ std::string findLibrary(const std::string& given) {
     if (access(candidate.c_str(), R_OK) == 0) return candidate;
   }
   return std::string(VIPER_INTERCEPT_BUILD_PATH);
+}
+
+constexpr const char* kVulkanLayerName = "VK_LAYER_VIPER_capture";
+
+// The folder holding the Vulkan layer's manifest: $VIPER_VULKAN_LAYER_PATH, else the package's share
+// folder next to this binary (devel or install space), else the build's.
+std::string findVulkanLayerFolder() {
+  if (const char* env = std::getenv("VIPER_VULKAN_LAYER_PATH")) return env;
+  const std::string dir = executableDir();
+  for (const std::string& candidate : {dir + "/../../share/viper/vulkan", std::string(VIPER_VULKAN_LAYER_BUILD_PATH)}) {
+    if (access((candidate + "/" + kVulkanLayerName + ".json").c_str(), R_OK) == 0) return candidate;
+  }
+  return "";
 }
 
 std::string absolute(const std::string& path) {
@@ -325,6 +339,19 @@ int main(int argc, char** argv) {
   }
 
   setenv("LD_PRELOAD", preloadList(lib, std::getenv("LD_PRELOAD"), runtimesNeeded(lib)).c_str(), 1);
+  // Vulkan programs: the loader finds the layer's manifest and enables the layer by name.
+  const std::string vulkan_layers = findVulkanLayerFolder();
+  if (!vulkan_layers.empty()) {
+    const char* paths = std::getenv("VK_ADD_LAYER_PATH");
+    setenv("VK_ADD_LAYER_PATH", (vulkan_layers + (paths && *paths ? std::string(":") + paths : "")).c_str(), 1);
+    const char* layers = std::getenv("VK_INSTANCE_LAYERS");
+    setenv("VK_INSTANCE_LAYERS",
+           (std::string(kVulkanLayerName) + (layers && *layers ? std::string(":") + layers : "")).c_str(), 1);
+  } else {
+    std::fprintf(stderr, "capture: the Vulkan layer's manifest (%s.json) was not found: Vulkan programs are not captured\n",
+                 kVulkanLayerName);
+  }
+  unsetenv("VIPER_CAPTURE_CLAIMED_BY");
   setenv("VIPER_CAPTURE_OUTPUT", absolute(output).c_str(), 1);
   setenv("VIPER_CAPTURE_PROGRAM", argv[i], 1);
   if (!profile.empty()) setenv("VIPER_CAPTURE_PROFILE", absolute(profile).c_str(), 1);

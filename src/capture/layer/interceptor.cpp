@@ -1,5 +1,7 @@
 #include "interceptor.h"
 
+#include "capture_settings.h"
+
 #include <cstring>
 
 #include <time.h>
@@ -15,17 +17,6 @@ namespace {
 
 thread_local FrameTarget* t_target = nullptr;
 thread_local ContextState* t_context = nullptr;
-
-double monotonicSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-std::string envOr(const char* name, const char* fallback) {
-  const char* v = std::getenv(name);
-  return v ? v : fallback;
-}
 
 Interceptor* g_instance = nullptr;
 
@@ -52,17 +43,23 @@ Interceptor& Interceptor::instance() {
 }
 
 Interceptor::Interceptor() {
-  output_path_ = envOr("VIPER_CAPTURE_OUTPUT", "");
-  if (output_path_.empty()) return;  // preloaded without a destination: pure pass-through
-  condition_ = envOr("VIPER_CAPTURE_CONDITION", "");
-  frame_limit_ = std::strtoull(envOr("VIPER_CAPTURE_FRAMES", "0").c_str(), nullptr, 10);
-  fixed_fps_ = std::strtod(envOr("VIPER_CAPTURE_FPS", "0").c_str(), nullptr);
-  skip_frames_ = std::strtoull(envOr("VIPER_CAPTURE_SKIP", "0").c_str(), nullptr, 10);
-  start_on_scene_ = envOr("VIPER_CAPTURE_START_ON_SCENE", "0") == "1";
-  const std::string profile_path = envOr("VIPER_CAPTURE_PROFILE", "");
+  CaptureSettings settings;
   try {
-    if (profile_path.empty()) profile_.source = "<default>";
-    else profile_ = loadCaptureProfile(profile_path);
+    settings = readCaptureSettings();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "[viper capture] capture disabled: %s\n", e.what());
+    return;
+  }
+  output_path_ = settings.output;
+  if (output_path_.empty()) return;  // preloaded without a destination: pure pass-through
+  condition_ = settings.condition;
+  frame_limit_ = settings.frame_limit;
+  fixed_fps_ = settings.fixed_fps;
+  skip_frames_ = settings.skip_frames;
+  start_on_scene_ = settings.start_on_scene;
+  try {
+    if (settings.profile_path.empty()) profile_.source = "<default>";
+    else profile_ = loadCaptureProfile(settings.profile_path);
     const ProgramProfile& fixed = *profile_.matchFixedFunction();
     fixed_function_.key = kFixedFunctionProgramKey;
     fixed_function_.overlay = fixed.overlay;
@@ -75,29 +72,18 @@ Interceptor::Interceptor() {
     fixed_function_.world_space = fixed.world_space;
     fixed_function_.expected_matrices =
         kHasProjection | (fixed_function_.matrix_stack || fixed_function_.combined ? kHasWorld | kHasView : 0);
-    CaptureHeader header;
-    header.program = envOr("VIPER_CAPTURE_PROGRAM", "");
-    header.profile = profile_.source;
-    // The capture launcher's --codec and --zstd-level (checked there); LZ4 when preloaded by hand.
-    const std::string codec = envOr("VIPER_CAPTURE_CODEC", "lz4");
-    if (!parseCaptureCodec(codec, header.codec))
-      throw std::runtime_error("VIPER_CAPTURE_CODEC must be zstd or lz4, not \"" + codec + "\"");
-    const int zstd_level = static_cast<int>(std::strtol(envOr("VIPER_CAPTURE_ZSTD_LEVEL", "1").c_str(), nullptr, 10));
-    // The capture launcher's --writer-threads (checked there); else half the CPUs less one.
-    const std::string threads = envOr("VIPER_CAPTURE_WRITER_THREADS", "");
-    const int writer_threads = threads.empty() ? FrameSink::defaultThreads()
-                                               : static_cast<int>(std::strtol(threads.c_str(), nullptr, 10));
-    if (writer_threads < 1 || writer_threads > 64)
-      throw std::runtime_error("VIPER_CAPTURE_WRITER_THREADS must be 1 to 64, not \"" + threads + "\"");
-    // Asynchronous read-back (the capture launcher's --readback, checked there): a GPU copies the
-    // frame while the program goes on; with a CPU renderer it is the same copy, later, so `auto`
-    // (the default) reads asynchronously except on software renderers.
-    const std::string readback = envOr("VIPER_CAPTURE_READBACK", "auto");
-    if (readback != "sync" && readback != "async" && readback != "auto")
-      throw std::runtime_error("VIPER_CAPTURE_READBACK must be auto, sync or async, not \"" + readback + "\"");
-    async_readback_ = readback == "async";
-    readback_decided_ = readback != "auto";
-    sink_.reset(new FrameSink(output_path_, header, zstd_level, writer_threads));
+    settings.header.profile = profile_.source;
+    // Asynchronous read-back (the capture launcher's --readback): a GPU copies the frame while the
+    // program goes on; with a CPU renderer it is the same copy, later, so `auto` (the default)
+    // reads asynchronously except on software renderers.
+    async_readback_ = settings.readback == "async";
+    readback_decided_ = settings.readback != "auto";
+    // One layer writes the stream (a program may load both APIs): the Vulkan layer's, if it has.
+    if (const char* claimed = std::getenv("VIPER_CAPTURE_CLAIMED_BY"))
+      if (std::string(claimed) != "opengl")
+        throw std::runtime_error(std::string("the capture is written by the ") + claimed + " layer");
+    sink_.reset(new FrameSink(output_path_, settings.header, settings.zstd_level, settings.writer_threads));
+    setenv("VIPER_CAPTURE_CLAIMED_BY", "opengl", 1);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "[viper capture] capture disabled: %s\n", e.what());
     return;

@@ -1,0 +1,630 @@
+// The Vulkan layer's frames: recordings join the frame when they are submitted; at each present
+// the presented image is copied out, the frame's depth and ids are read from the scene pass's
+// copies, every recorded draw becomes a DrawRecord (matrices in OpenGL's conventions, mesh from
+// its buffers) and the frame goes to the same FrameSink the OpenGL layer writes with.
+#include "vk_layer.h"
+
+#include "../layer/capture_settings.h"
+#include "../layer/frame_sink.h"
+#include "../layer/mesh_extract.h"
+#include "viper/capture/content_key.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <set>
+
+namespace viper {
+namespace capture {
+namespace vulkan {
+
+class FrameSinkHandle : public FrameSink {
+ public:
+  using FrameSink::FrameSink;
+};
+
+namespace {
+
+using Device = Layer::Device;
+using Lock = std::lock_guard<std::mutex>;
+
+// GL clip space from Vulkan's: y down (unless the viewport flips it), depth 0..1.
+// P_gl = C^-1 P_vk with C = [1 0 0 0; 0 s 0 0; 0 0 .5 .5; 0 0 0 1], s = -1 for y down.
+GlMatrix glProjection(const GlMatrix& vulkan, bool y_down) {
+  GlMatrix inverse = GlMatrix::Identity();
+  inverse(1, 1) = y_down ? -1.0f : 1.0f;
+  inverse(2, 2) = 2.0f;
+  inverse(2, 3) = -1.0f;
+  return inverse * vulkan;
+}
+
+float depthValue(const uint8_t* at, VkFormat format) {
+  switch (format) {
+    case VK_FORMAT_D16_UNORM:
+    case VK_FORMAT_D16_UNORM_S8_UINT: {
+      uint16_t v;
+      std::memcpy(&v, at, 2);
+      return v / 65535.0f;
+    }
+    case VK_FORMAT_X8_D24_UNORM_PACK32:
+    case VK_FORMAT_D24_UNORM_S8_UINT: {
+      uint32_t v;
+      std::memcpy(&v, at, 4);
+      return static_cast<float>(v & 0xffffffu) / 16777215.0f;
+    }
+    default: {
+      float v;
+      std::memcpy(&v, at, 4);
+      return v;
+    }
+  }
+}
+
+size_t depthBytes(VkFormat format) {
+  return format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D16_UNORM_S8_UINT ? 2 : 4;
+}
+
+// Matrices that live in buffers, read when their draw is submitted (what the GPU will read).
+void readSubmittedMatrices(Device& d, Recording& r) {
+  for (RecordedDraw& draw : r.draws) {
+    for (int k = 0; k < 3; ++k) {
+      if (!(draw.pending_matrices & (1u << k))) continue;
+      const DescriptorBuffer& b = draw.matrix_buffers[static_cast<size_t>(k)];
+      auto pipeline = d.pipelines.find(draw.pipeline);
+      if (pipeline == d.pipelines.end()) continue;
+      const MatrixSource& source = k == 0 ? pipeline->second.world : k == 1 ? pipeline->second.view : pipeline->second.projection;
+      const uint32_t bytes = source.member.matrix_stride * 4;
+      const uint8_t* at = Layer::get().bufferBytes(d, b.buffer, b.offset + draw.matrix_buffer_offsets[static_cast<size_t>(k)], bytes);
+      if (!at) continue;
+      GlMatrix m;
+      for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row) {
+          const size_t major = source.member.row_major ? row : c, minor = source.member.row_major ? c : row;
+          std::memcpy(&m(row, c), at + major * source.member.matrix_stride + minor * 4, 4);
+        }
+      draw.matrices[static_cast<size_t>(k)] = m;
+      draw.matrix_flags |= static_cast<uint8_t>(1u << k);
+    }
+  }
+}
+
+}  // namespace
+
+uint32_t DescriptorSetLayoutInfo::dynamicCount() const {
+  uint32_t n = 0;
+  for (const auto& [binding, b] : bindings)
+    if (b.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC || b.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC)
+      n += b.count;
+  return n;
+}
+
+Layer& Layer::get() {
+  static Layer* layer = new Layer;  // never destroyed: the program may still call Vulkan at exit
+  return *layer;
+}
+
+namespace {
+__attribute__((destructor)) void closeAtExit() { Layer::get().shutdown(); }
+}  // namespace
+
+Layer::Layer() {
+  CaptureSettings settings;
+  try {
+    settings = readCaptureSettings();
+    if (settings.output.empty()) return;  // loaded without a destination: pass-through
+    if (settings.profile_path.empty()) profile_.source = "<default>";
+    else profile_ = loadCaptureProfile(settings.profile_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "[viper capture] Vulkan capture disabled: %s\n", e.what());
+    return;
+  }
+  settings.header.profile = profile_.source;
+  condition_ = settings.condition;
+  frame_limit_ = settings.frame_limit;
+  fixed_fps_ = settings.fixed_fps;
+  skip_frames_ = settings.skip_frames;
+  header_ = settings.header;
+  zstd_level_ = settings.zstd_level;
+  writer_threads_ = settings.writer_threads;
+  output_ = settings.output;
+  start_s_ = monotonicSeconds();
+  enabled_ = true;
+}
+
+bool Layer::openSink() {
+  if (sink_) return true;
+  if (sink_failed_) return false;
+  // One layer writes the stream: the OpenGL layer claims it when it opens it, and so does this one
+  // (a program may load both APIs, e.g. to probe for Vulkan before rendering with OpenGL).
+  const char* claimed = std::getenv("VIPER_CAPTURE_CLAIMED_BY");
+  if (claimed && std::string(claimed) != "vulkan") {
+    reportOnce(std::string("the capture is written by the ") + claimed + " layer: Vulkan frames are not recorded");
+    sink_failed_ = true;
+    return false;
+  }
+  try {
+    sink_.reset(new FrameSinkHandle(output_, header_, zstd_level_, writer_threads_));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "[viper capture] Vulkan capture disabled: %s\n", e.what());
+    sink_failed_ = true;
+    return false;
+  }
+  setenv("VIPER_CAPTURE_CLAIMED_BY", "vulkan", 1);
+  std::fprintf(stderr, "[viper capture] capturing Vulkan frames to %s\n", output_.c_str());
+  return true;
+}
+
+void Layer::shutdown() {
+  Lock lock(mutex_);
+  if (sink_) sink_->close();
+}
+
+void Layer::reportOnce(const std::string& what) {
+  if (reported_[what]) return;
+  reported_[what] = true;
+  std::fprintf(stderr, "[viper capture] Vulkan: %s\n", what.c_str());
+}
+
+InstanceData* Layer::instance(void* key) {
+  Lock lock(mutex_);
+  auto i = instances_.find(key);
+  return i == instances_.end() ? nullptr : i->second.get();
+}
+
+void Layer::addInstance(VkInstance instance, PFN_vkGetInstanceProcAddr gipa) {
+  auto d = std::make_unique<InstanceData>();
+  d->instance = instance;
+  d->next_gipa = gipa;
+#define VIPER_VK_INSTANCE_FN(name) d->name = reinterpret_cast<PFN_vk##name>(gipa(instance, "vk" #name));
+  VIPER_VK_INSTANCE_FN(DestroyInstance)
+  VIPER_VK_INSTANCE_FN(GetPhysicalDeviceMemoryProperties)
+  VIPER_VK_INSTANCE_FN(GetPhysicalDeviceProperties)
+  VIPER_VK_INSTANCE_FN(GetPhysicalDeviceFeatures)
+  VIPER_VK_INSTANCE_FN(GetPhysicalDeviceSurfaceCapabilitiesKHR)
+  VIPER_VK_INSTANCE_FN(GetPhysicalDeviceQueueFamilyProperties)
+#undef VIPER_VK_INSTANCE_FN
+  Lock lock(mutex_);
+  instances_[dispatchKey(instance)] = std::move(d);
+}
+
+void Layer::removeInstance(VkInstance instance) {
+  Lock lock(mutex_);
+  instances_.erase(dispatchKey(instance));
+}
+
+Layer::Device* Layer::device(void* key) {
+  Lock lock(mutex_);
+  auto i = devices_.find(key);
+  return i == devices_.end() ? nullptr : i->second.get();
+}
+
+Layer::Device* Layer::addDevice(VkPhysicalDevice physical, VkDevice device, PFN_vkGetDeviceProcAddr gdpa,
+                                PFN_vkSetDeviceLoaderData set_loader_data) {
+  auto d = std::make_unique<Device>();
+  d->device = device;
+  d->physical = physical;
+  d->instance = instance(dispatchKey(physical));
+  d->next_gdpa = gdpa;
+  d->set_loader_data = set_loader_data;
+#define VIPER_VK_LOAD(name) d->vk.name = reinterpret_cast<PFN_vk##name>(gdpa(device, "vk" #name));
+  VIPER_VK_DEVICE_FUNCTIONS(VIPER_VK_LOAD)
+#undef VIPER_VK_LOAD
+  if (d->instance) {
+    d->instance->GetPhysicalDeviceMemoryProperties(physical, &d->memory_properties);
+    VkPhysicalDeviceProperties properties{};
+    d->instance->GetPhysicalDeviceProperties(physical, &properties);
+    d->limits = properties.limits;
+  }
+  Device* raw = d.get();
+  Lock lock(mutex_);
+  devices_[dispatchKey(device)] = std::move(d);
+  return raw;
+}
+
+void Layer::removeDevice(VkDevice device) {
+  std::unique_ptr<Device> d;
+  {
+    Lock lock(mutex_);
+    auto i = devices_.find(dispatchKey(device));
+    if (i == devices_.end()) return;
+    d = std::move(i->second);
+    devices_.erase(i);
+  }
+  d->vk.DeviceWaitIdle(device);
+  for (auto& [cb, r] : d->recordings) freeRecording(*d, *r);
+  for (auto& r : d->retired) freeRecording(*d, *r);
+  for (auto& [family, pool] : d->pools) d->vk.DestroyCommandPool(device, pool, nullptr);
+  if (d->fence) d->vk.DestroyFence(device, d->fence, nullptr);
+  for (auto& [fb, info] : d->framebuffers) {
+    if (info.id_view) d->vk.DestroyImageView(device, info.id_view, nullptr);
+    if (info.id_image) d->vk.DestroyImage(device, info.id_image, nullptr);
+    if (info.id_memory) d->vk.FreeMemory(device, info.id_memory, nullptr);
+  }
+  for (auto& [p, info] : d->pipelines)
+    for (VkShaderModule m : info.layer_modules) d->vk.DestroyShaderModule(device, m, nullptr);
+  // The Device itself is kept: hooks of other threads may still hold a reference to it.
+  d.release();
+}
+
+uint32_t Layer::memoryType(const Device& d, uint32_t bits, VkMemoryPropertyFlags flags) {
+  for (uint32_t t = 0; t < d.memory_properties.memoryTypeCount; ++t)
+    if ((bits & (1u << t)) && (d.memory_properties.memoryTypes[t].propertyFlags & flags) == flags) return t;
+  return UINT32_MAX;
+}
+
+bool Layer::createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer, VkDeviceMemory& memory) {
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size;
+  info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  if (d.vk.CreateBuffer(d.device, &info, nullptr, &buffer) != VK_SUCCESS) return false;
+  VkMemoryRequirements req{};
+  d.vk.GetBufferMemoryRequirements(d.device, buffer, &req);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = memoryType(d, req.memoryTypeBits,
+                                     VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT |
+                                         VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  if (alloc.memoryTypeIndex == UINT32_MAX)
+    alloc.memoryTypeIndex =
+        memoryType(d, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  if (alloc.memoryTypeIndex == UINT32_MAX || d.vk.AllocateMemory(d.device, &alloc, nullptr, &memory) != VK_SUCCESS) {
+    d.vk.DestroyBuffer(d.device, buffer, nullptr);
+    buffer = VK_NULL_HANDLE;
+    return false;
+  }
+  d.vk.BindBufferMemory(d.device, buffer, memory, 0);
+  return true;
+}
+
+const uint8_t* Layer::bufferBytes(Device& d, VkBuffer b, VkDeviceSize offset, VkDeviceSize size) {
+  auto buffer = d.buffers.find(b);
+  if (buffer == d.buffers.end() || offset + size > buffer->second.size) return nullptr;
+  auto memory = d.memories.find(buffer->second.memory);
+  if (memory == d.memories.end() || !memory->second.host_visible) return nullptr;
+  MemoryInfo& m = memory->second;
+  const VkDeviceSize at = buffer->second.memory_offset + offset;
+  if (m.program_mapping) {
+    if (at < m.program_offset) return nullptr;
+    return static_cast<const uint8_t*>(m.program_mapping) + (at - m.program_offset);
+  }
+  // Mapped by the layer for as long as the program does not map it (MapMemory takes the lock).
+  void* mapped = nullptr;
+  if (d.vk.MapMemory(d.device, buffer->second.memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) return nullptr;
+  m.program_mapping = mapped;  // unmapped again at the frame's end (unmapLayerMappings)
+  m.program_offset = 0;
+  layer_mapped_.push_back(buffer->second.memory);
+  return static_cast<const uint8_t*>(mapped) + at;
+}
+
+void Layer::unmapLayerMappings(Device& d) {
+  for (VkDeviceMemory memory : layer_mapped_) {
+    auto m = d.memories.find(memory);
+    if (m == d.memories.end()) continue;
+    d.vk.UnmapMemory(d.device, memory);
+    m->second.program_mapping = nullptr;
+  }
+  layer_mapped_.clear();
+}
+
+void Layer::freeRecording(Device& d, Recording& r) {
+  for (PassCapture& p : r.passes) {
+    if (p.id_buffer) d.vk.DestroyBuffer(d.device, p.id_buffer, nullptr);
+    if (p.id_memory) d.vk.FreeMemory(d.device, p.id_memory, nullptr);
+    if (p.depth_buffer) d.vk.DestroyBuffer(d.device, p.depth_buffer, nullptr);
+    if (p.depth_memory) d.vk.FreeMemory(d.device, p.depth_memory, nullptr);
+  }
+  r.passes.clear();
+}
+
+// -----------------------------------------------------------------------------------------------
+// Frames.
+
+bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t width, uint32_t height) {
+  if (!openSink()) return true;
+  CaptureFrame frame;
+  RawImages raw;
+  raw.width = static_cast<int>(width);
+  raw.height = static_cast<int>(height);
+  const size_t pixels = static_cast<size_t>(width) * height;
+
+  // Every recorded draw of the frame, in submission order; (recording, draw + 1) -> frame draw.
+  std::map<std::pair<uint32_t, uint32_t>, uint32_t> frame_index;
+  const PassCapture* scene = nullptr;
+  std::map<VkBuffer, uint64_t> buffer_keys;
+  auto bufferKey = [&](VkBuffer b) -> uint64_t {
+    auto k = buffer_keys.find(b);
+    if (k != buffer_keys.end()) return k->second;
+    auto info = d.buffers.find(b);
+    const uint8_t* bytes = info == d.buffers.end() ? nullptr : bufferBytes(d, b, 0, info->second.size);
+    return buffer_keys[b] = bytes ? contentKey(bytes, info->second.size) : 0;
+  };
+  for (const std::shared_ptr<Recording>& r : d.frame) {
+    frame.unrecorded_draws += r->unrecorded;
+    for (const PassCapture& p : r->passes)
+      if (p.id_buffer && (!scene || p.id_draws >= scene->id_draws)) scene = &p;
+    for (const RecordedDraw& draw : r->draws) {
+      auto pipeline = d.pipelines.find(draw.pipeline);
+      if (pipeline == d.pipelines.end()) {
+        ++frame.unrecorded_draws;
+        continue;
+      }
+      const PipelineInfo& pi = pipeline->second;
+      DrawRecord rec;
+      rec.index = static_cast<uint32_t>(frame.draws.size());
+      frame_index[{r->serial, draw.local + 1}] = rec.index;
+      rec.program_key = pi.program_key;
+      rec.matrix_flags = draw.matrix_flags;
+      rec.world = draw.matrices[0];
+      rec.view = draw.matrices[1];
+      rec.projection = glProjection(draw.matrices[2], draw.y_down);
+      if (!draw.ids) rec.gaps |= kGapNoIds;
+      if ((pi.expected_matrices & ~draw.matrix_flags) != 0) rec.gaps |= kGapMatrixMissing;
+      // The mesh from its buffers (read now: staged copies have landed).
+      PositionLayout layout;
+      layout.type = 0x1406;  // GL_FLOAT
+      layout.size = pi.position_format == VK_FORMAT_R32G32_SFLOAT         ? 2
+                    : pi.position_format == VK_FORMAT_R32G32B32A32_SFLOAT ? 4
+                    : pi.position_format == VK_FORMAT_R32G32B32_SFLOAT    ? 3
+                                                                          : 0;
+      auto strides = pi.strides.find(pi.position_binding);
+      layout.stride = strides == pi.strides.end() ? 0 : strides->second;
+      layout.offset = pi.position_offset;
+      DrawRange range;
+      range.mode = pi.topology == VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST ? 4u : 0u;
+      range.count = draw.count;
+      range.first = draw.indexed ? 0 : draw.first;
+      range.base_vertex = draw.vertex_offset;
+      rec.primitive_count = range.mode == 4 ? draw.count / 3 : 0;
+      auto vb = d.buffers.find(draw.vertex_buffer);
+      const uint8_t* vertices = nullptr;
+      size_t vertex_bytes = 0;
+      if (vb != d.buffers.end() && draw.vertex_buffer_offset <= vb->second.size) {
+        vertex_bytes = vb->second.size - draw.vertex_buffer_offset;
+        vertices = bufferBytes(d, draw.vertex_buffer, draw.vertex_buffer_offset, vertex_bytes);
+      }
+      bool mesh_ok = vertices && layout.size > 0 && range.mode == 4;
+      if (mesh_ok && draw.indexed) {
+        auto ib = d.buffers.find(draw.index_buffer);
+        const size_t index_size = draw.index_type == VK_INDEX_TYPE_UINT16 ? 2 : 4;
+        if (ib == d.buffers.end() || draw.index_buffer_offset > ib->second.size) {
+          mesh_ok = false;
+        } else {
+          range.index_bytes = ib->second.size - draw.index_buffer_offset;
+          range.index_data = bufferBytes(d, draw.index_buffer, draw.index_buffer_offset, range.index_bytes);
+          range.index_type = index_size == 2 ? 0x1403u : 0x1405u;  // GL_UNSIGNED_SHORT / INT
+          range.index_offset = static_cast<size_t>(draw.first) * index_size;
+          mesh_ok = range.index_data != nullptr && draw.index_type != VK_INDEX_TYPE_UINT8_EXT;
+          rec.index_buffer_key = bufferKey(draw.index_buffer);
+        }
+      }
+      ExtractedMesh mesh;
+      if (mesh_ok && extractMesh(vertices, vertex_bytes, layout, range, mesh)) {
+        rec.mesh_key = mesh.mesh.key;
+        rec.vertex_buffer_key = bufferKey(draw.vertex_buffer);
+        if (!meshes_sent_[mesh.mesh.key]) {
+          meshes_sent_[mesh.mesh.key] = true;
+          frame.new_meshes.push_back(std::move(mesh.mesh));
+        }
+      } else {
+        rec.gaps |= kGapNoMesh;
+      }
+      frame.draws.push_back(std::move(rec));
+    }
+  }
+  if (meshes_sent_.size() > 65536) meshes_sent_.clear();  // streamed geometry: memory stays bounded
+
+  // Colour (bottom row first, as RawImages holds it), the scene pass's depth and ids.
+  if (!rgba.empty()) {
+    raw.rgba.resize(pixels * 4);
+    for (uint32_t y = 0; y < height; ++y)
+      std::memcpy(raw.rgba.data() + static_cast<size_t>(height - 1 - y) * width * 4,
+                  rgba.data() + static_cast<size_t>(y) * width * 4, width * 4);
+  }
+  if (scene && (scene->width != width || scene->height != height)) {
+    reportOnce("the scene's render target is " + std::to_string(scene->width) + "x" + std::to_string(scene->height) +
+               ", the window " + std::to_string(width) + "x" + std::to_string(height) + ": no depth or ids written");
+    scene = nullptr;
+  }
+  if (scene) {
+    const uint8_t* ids = nullptr;
+    void* mapped = nullptr;
+    if (d.vk.MapMemory(d.device, scene->id_memory, 0, VK_WHOLE_SIZE, 0, &mapped) == VK_SUCCESS) ids = static_cast<uint8_t*>(mapped);
+    if (ids) {
+      raw.ids.resize(pixels * 2);
+      for (uint32_t y = 0; y < height; ++y) {
+        const uint32_t* row = reinterpret_cast<const uint32_t*>(ids) + static_cast<size_t>(y) * width * 4;
+        float* out = raw.ids.data() + static_cast<size_t>(height - 1 - y) * width * 2;
+        for (uint32_t x = 0; x < width; ++x) {
+          const uint32_t* px = row + x * 4;
+          auto found = px[3] ? frame_index.find({px[0], px[1]}) : frame_index.end();
+          out[2 * x] = found == frame_index.end() ? 0.0f : static_cast<float>(found->second + 1);
+          out[2 * x + 1] = found == frame_index.end() ? 0.0f : static_cast<float>(px[2]);
+        }
+      }
+      d.vk.UnmapMemory(d.device, scene->id_memory);
+    }
+    if (scene->depth_memory && d.vk.MapMemory(d.device, scene->depth_memory, 0, VK_WHOLE_SIZE, 0, &mapped) == VK_SUCCESS) {
+      const size_t bytes = depthBytes(scene->depth_format);
+      raw.depth.resize(pixels);
+      for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x)
+          raw.depth[static_cast<size_t>(height - 1 - y) * width + x] =
+              depthValue(static_cast<const uint8_t*>(mapped) + (static_cast<size_t>(y) * width + x) * bytes, scene->depth_format);
+      d.vk.UnmapMemory(d.device, scene->depth_memory);
+    }
+  }
+  unmapLayerMappings(d);
+  frame.number = frames_written_;
+  frame.time_s = fixed_fps_ > 0.0 ? static_cast<double>(frame.number) / fixed_fps_ : monotonicSeconds() - start_s_;
+  frame.condition = condition_;
+  frame.width = width;
+  frame.height = height;
+  sink_->push(std::move(frame), std::move(raw));
+  ++frames_written_;
+  return !(frame_limit_ && frames_written_ >= frame_limit_);
+}
+
+namespace {
+
+Device& deviceOf(VkQueue queue) { return *Layer::get().device(dispatchKey(queue)); }
+
+void endFrame(Device& d) {
+  d.frame.clear();
+  for (auto& r : d.retired)
+    if (r.use_count() == 1) Layer::get().freeRecording(d, *r);
+  d.retired.erase(std::remove_if(d.retired.begin(), d.retired.end(),
+                                 [](const std::shared_ptr<Recording>& r) { return r->passes.empty(); }),
+                  d.retired.end());
+}
+
+}  // namespace
+
+VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const VkSubmitInfo* submits, VkFence fence) {
+  Device& d = deviceOf(queue);
+  Layer& layer = Layer::get();
+  if (layer.capturing()) {
+    Lock lock(layer.mutex());
+    for (uint32_t s = 0; s < count; ++s)
+      for (uint32_t c = 0; c < submits[s].commandBufferCount; ++c) {
+        auto r = d.recordings.find(submits[s].pCommandBuffers[c]);
+        if (r == d.recordings.end()) continue;
+        readSubmittedMatrices(d, *r->second);
+        d.frame.push_back(r->second);
+        for (VkCommandBuffer secondary : r->second->executed) {
+          auto sr = d.recordings.find(secondary);
+          if (sr == d.recordings.end()) continue;
+          readSubmittedMatrices(d, *sr->second);
+          d.frame.push_back(sr->second);
+        }
+      }
+    layer.unmapLayerMappings(d);
+  }
+  return d.vk.QueueSubmit(queue, count, submits, fence);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInfoKHR* info) {
+  Device& d = deviceOf(queue);
+  Layer& layer = Layer::get();
+  if (!layer.capturing() || info->swapchainCount == 0) return d.vk.QueuePresentKHR(queue, info);
+  std::unique_lock<std::mutex> lock(layer.mutex());
+  const bool write = layer.presentsSeen()++ >= layer.skipFrames();
+  auto sc = d.swapchains.find(info->pSwapchains[0]);
+  if (!write || sc == d.swapchains.end()) {
+    endFrame(d);
+    lock.unlock();
+    return d.vk.QueuePresentKHR(queue, info);
+  }
+  const SwapchainInfo& swapchain = sc->second;
+  const uint32_t width = swapchain.extent.width, height = swapchain.extent.height;
+  VkPresentInfoKHR copy = *info;
+  std::vector<uint8_t> rgba;
+  VkSemaphore done = VK_NULL_HANDLE;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkCommandBuffer cb = VK_NULL_HANDLE;
+  VkCommandPool pool = VK_NULL_HANDLE;
+  const uint32_t family = d.queue_families.count(queue) ? d.queue_families[queue] : 0;
+  const bool bgra = swapchain.format == VK_FORMAT_B8G8R8A8_UNORM || swapchain.format == VK_FORMAT_B8G8R8A8_SRGB;
+  const bool rgba_format = swapchain.format == VK_FORMAT_R8G8B8A8_UNORM || swapchain.format == VK_FORMAT_R8G8B8A8_SRGB;
+  if (swapchain.readable && (bgra || rgba_format) &&
+      layer.createReadbackBuffer(d, static_cast<VkDeviceSize>(width) * height * 4, buffer, memory)) {
+    if (!d.pools.count(family)) {
+      VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+      pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+      pi.queueFamilyIndex = family;
+      d.vk.CreateCommandPool(d.device, &pi, nullptr, &d.pools[family]);
+      VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+      if (!d.fence) d.vk.CreateFence(d.device, &fi, nullptr, &d.fence);
+    }
+    pool = d.pools[family];
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = pool;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    d.vk.AllocateCommandBuffers(d.device, &ai, &cb);
+    if (d.set_loader_data) d.set_loader_data(d.device, cb);
+    else *reinterpret_cast<void**>(cb) = dispatchKey(d.device);
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    d.vk.BeginCommandBuffer(cb, &bi);
+    const VkImage image = swapchain.images[info->pImageIndices[0]];
+    VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    barrier.oldLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = image;
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                            nullptr, 1, &barrier);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {width, height, 1};
+    d.vk.CmdCopyImageToBuffer(cb, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer, 1, &region);
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    barrier.dstAccessMask = 0;
+    barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    barrier.newLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr, 0,
+                            nullptr, 1, &barrier);
+    d.vk.EndCommandBuffer(cb);
+    VkSemaphoreCreateInfo si{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    d.vk.CreateSemaphore(d.device, &si, nullptr, &done);
+    std::vector<VkPipelineStageFlags> stages(info->waitSemaphoreCount, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.waitSemaphoreCount = info->waitSemaphoreCount;
+    submit.pWaitSemaphores = info->pWaitSemaphores;
+    submit.pWaitDstStageMask = stages.data();
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cb;
+    submit.signalSemaphoreCount = 1;
+    submit.pSignalSemaphores = &done;
+    d.vk.QueueSubmit(queue, 1, &submit, d.fence);
+    d.vk.WaitForFences(d.device, 1, &d.fence, VK_TRUE, UINT64_MAX);
+    d.vk.ResetFences(d.device, 1, &d.fence);
+    copy.waitSemaphoreCount = 1;
+    copy.pWaitSemaphores = &done;
+  } else if (!swapchain.readable || !(bgra || rgba_format)) {
+    layer.reportOnce("presented images of format " + std::to_string(swapchain.format) + " are not read back");
+  }
+  // Every submission of the frame is done before its copies are read (simple, and slow on a GPU:
+  // the read-back is synchronous for now).
+  d.vk.DeviceWaitIdle(d.device);
+  if (buffer) {
+    void* mapped = nullptr;
+    if (d.vk.MapMemory(d.device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) == VK_SUCCESS) {
+      rgba.assign(static_cast<uint8_t*>(mapped), static_cast<uint8_t*>(mapped) + static_cast<size_t>(width) * height * 4);
+      d.vk.UnmapMemory(d.device, memory);
+      if (bgra)
+        for (size_t i = 0; i < rgba.size(); i += 4) std::swap(rgba[i], rgba[i + 2]);
+    }
+    d.vk.DestroyBuffer(d.device, buffer, nullptr);
+    d.vk.FreeMemory(d.device, memory, nullptr);
+    d.vk.FreeCommandBuffers(d.device, pool, 1, &cb);
+  }
+  const bool go_on = layer.finishFrame(d, rgba, width, height);
+  endFrame(d);
+  lock.unlock();
+  const VkResult r = d.vk.QueuePresentKHR(queue, &copy);
+  if (done) {
+    // The semaphore is waited on by the present: destroyed once the queue is idle.
+    d.vk.QueueWaitIdle(queue);
+    d.vk.DestroySemaphore(d.device, done, nullptr);
+  }
+  if (!go_on) {
+    std::fprintf(stderr, "[viper capture] captured the frames asked for, stopping the program\n");
+    layer.shutdown();
+    std::fflush(nullptr);
+    std::_Exit(0);
+  }
+  return r;
+}
+
+}  // namespace vulkan
+}  // namespace capture
+}  // namespace viper

@@ -1,0 +1,1192 @@
+// The Vulkan layer's entry points: instance and device creation (dispatch chains), the objects it
+// follows or changes (vk_layer.h says what it changes), and command recording.
+#include "vk_layer.h"
+
+#include "viper/capture/content_key.h"
+
+#include <algorithm>
+#include <cstring>
+
+#define VIPER_VK_EXPORT extern "C" __attribute__((visibility("default")))
+
+namespace viper {
+namespace capture {
+namespace vulkan {
+namespace {
+
+using Device = Layer::Device;
+using Lock = std::lock_guard<std::mutex>;
+
+Layer& L() { return Layer::get(); }
+template <typename T>
+Device& dev(T handle) {
+  return *L().device(dispatchKey(handle));
+}
+
+constexpr VkFormat kIdFormat = VK_FORMAT_R32G32B32A32_UINT;
+
+bool isDepthFormat(VkFormat f) {
+  return f == VK_FORMAT_D16_UNORM || f == VK_FORMAT_X8_D24_UNORM_PACK32 || f == VK_FORMAT_D32_SFLOAT ||
+         f == VK_FORMAT_D16_UNORM_S8_UINT || f == VK_FORMAT_D24_UNORM_S8_UINT || f == VK_FORMAT_D32_SFLOAT_S8_UINT;
+}
+
+template <typename T>
+const T* findInChain(const void* next, VkStructureType type) {
+  for (auto* s = static_cast<const VkBaseInStructure*>(next); s; s = s->pNext)
+    if (s->sType == type) return reinterpret_cast<const T*>(s);
+  return nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Instance and device.
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateInstance(const VkInstanceCreateInfo* info, const VkAllocationCallbacks* alloc,
+                                              VkInstance* out) {
+  auto* link = const_cast<VkLayerInstanceCreateInfo*>(
+      findInChain<VkLayerInstanceCreateInfo>(info->pNext, VK_STRUCTURE_TYPE_LOADER_INSTANCE_CREATE_INFO));
+  while (link && link->function != VK_LAYER_LINK_INFO)
+    link = const_cast<VkLayerInstanceCreateInfo*>(
+        findInChain<VkLayerInstanceCreateInfo>(link->pNext, VK_STRUCTURE_TYPE_LOADER_INSTANCE_CREATE_INFO));
+  if (!link) return VK_ERROR_INITIALIZATION_FAILED;
+  PFN_vkGetInstanceProcAddr gipa = link->u.pLayerInfo->pfnNextGetInstanceProcAddr;
+  link->u.pLayerInfo = link->u.pLayerInfo->pNext;
+  auto create = reinterpret_cast<PFN_vkCreateInstance>(gipa(VK_NULL_HANDLE, "vkCreateInstance"));
+  const VkResult r = create(info, alloc, out);
+  if (r == VK_SUCCESS) L().addInstance(*out, gipa);
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyInstance(VkInstance instance, const VkAllocationCallbacks* alloc) {
+  InstanceData* d = L().instance(dispatchKey(instance));
+  PFN_vkDestroyInstance destroy = d ? d->DestroyInstance : nullptr;
+  L().removeInstance(instance);
+  if (destroy) destroy(instance, alloc);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateDevice(VkPhysicalDevice physical, const VkDeviceCreateInfo* info,
+                                            const VkAllocationCallbacks* alloc, VkDevice* out) {
+  auto chain = [&](VkLayerFunction f) {
+    auto* c = const_cast<VkLayerDeviceCreateInfo*>(
+        findInChain<VkLayerDeviceCreateInfo>(info->pNext, VK_STRUCTURE_TYPE_LOADER_DEVICE_CREATE_INFO));
+    while (c && c->function != f)
+      c = const_cast<VkLayerDeviceCreateInfo*>(
+          findInChain<VkLayerDeviceCreateInfo>(c->pNext, VK_STRUCTURE_TYPE_LOADER_DEVICE_CREATE_INFO));
+    return c;
+  };
+  VkLayerDeviceCreateInfo* link = chain(VK_LAYER_LINK_INFO);
+  VkLayerDeviceCreateInfo* loader_data = chain(VK_LOADER_DATA_CALLBACK);
+  if (!link) return VK_ERROR_INITIALIZATION_FAILED;
+  PFN_vkGetInstanceProcAddr gipa = link->u.pLayerInfo->pfnNextGetInstanceProcAddr;
+  PFN_vkGetDeviceProcAddr gdpa = link->u.pLayerInfo->pfnNextGetDeviceProcAddr;
+  link->u.pLayerInfo = link->u.pLayerInfo->pNext;
+  InstanceData* inst = L().instance(dispatchKey(physical));
+  auto create = reinterpret_cast<PFN_vkCreateDevice>(gipa(inst ? inst->instance : VK_NULL_HANDLE, "vkCreateDevice"));
+
+  // gl_PrimitiveID in fragment shaders needs the geometryShader feature: enabled where the device
+  // has it (the program's own features stay as it asked).
+  VkDeviceCreateInfo copy = *info;
+  VkPhysicalDeviceFeatures features{};
+  VkPhysicalDeviceFeatures supported{};
+  if (inst) inst->GetPhysicalDeviceFeatures(physical, &supported);
+  auto* features2 = const_cast<VkPhysicalDeviceFeatures2*>(
+      findInChain<VkPhysicalDeviceFeatures2>(info->pNext, VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2));
+  VkBool32 program_geometry = VK_FALSE;
+  bool primitive_id = false;
+  if (L().capturing() && supported.geometryShader) {
+    primitive_id = true;
+    if (features2) {
+      program_geometry = features2->features.geometryShader;
+      features2->features.geometryShader = VK_TRUE;  // restored below
+    } else {
+      if (info->pEnabledFeatures) features = *info->pEnabledFeatures;
+      features.geometryShader = VK_TRUE;
+      copy.pEnabledFeatures = &features;
+    }
+  }
+  const VkResult r = create(physical, &copy, alloc, out);
+  if (features2) features2->features.geometryShader = program_geometry;
+  if (r != VK_SUCCESS) return r;
+  Device* d = L().addDevice(physical, *out, gdpa, loader_data ? loader_data->u.pfnSetDeviceLoaderData : nullptr);
+  d->primitive_id = primitive_id;
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyDevice(VkDevice device, const VkAllocationCallbacks* alloc) {
+  PFN_vkDestroyDevice destroy = nullptr;
+  if (Device* d = L().device(dispatchKey(device))) {
+    destroy = d->vk.DestroyDevice;
+    L().removeDevice(device);
+  }
+  if (destroy) destroy(device, alloc);
+}
+
+VKAPI_ATTR void VKAPI_CALL GetDeviceQueue(VkDevice device, uint32_t family, uint32_t index, VkQueue* queue) {
+  Device& d = dev(device);
+  d.vk.GetDeviceQueue(device, family, index, queue);
+  Lock lock(L().mutex());
+  d.queue_families[*queue] = family;
+}
+
+VKAPI_ATTR void VKAPI_CALL GetDeviceQueue2(VkDevice device, const VkDeviceQueueInfo2* info, VkQueue* queue) {
+  Device& d = dev(device);
+  d.vk.GetDeviceQueue2(device, info, queue);
+  Lock lock(L().mutex());
+  d.queue_families[*queue] = info->queueFamilyIndex;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Memory, buffers, images.
+
+VKAPI_ATTR VkResult VKAPI_CALL AllocateMemory(VkDevice device, const VkMemoryAllocateInfo* info,
+                                              const VkAllocationCallbacks* alloc, VkDeviceMemory* out) {
+  Device& d = dev(device);
+  const VkResult r = d.vk.AllocateMemory(device, info, alloc, out);
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    MemoryInfo m;
+    m.size = info->allocationSize;
+    m.type = info->memoryTypeIndex;
+    const VkMemoryPropertyFlags flags = d.memory_properties.memoryTypes[m.type].propertyFlags;
+    m.host_visible = flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
+    m.coherent = flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    d.memories[*out] = m;
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL FreeMemory(VkDevice device, VkDeviceMemory memory, const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    d.memories.erase(memory);
+  }
+  d.vk.FreeMemory(device, memory, alloc);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL MapMemory(VkDevice device, VkDeviceMemory memory, VkDeviceSize offset, VkDeviceSize size,
+                                         VkMemoryMapFlags flags, void** data) {
+  Device& d = dev(device);
+  Lock lock(L().mutex());  // the layer maps memory the program has not mapped, under the same lock
+  const VkResult r = d.vk.MapMemory(device, memory, offset, size, flags, data);
+  if (r == VK_SUCCESS) {
+    auto m = d.memories.find(memory);
+    if (m != d.memories.end()) m->second.program_mapping = *data, m->second.program_offset = offset;
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL UnmapMemory(VkDevice device, VkDeviceMemory memory) {
+  Device& d = dev(device);
+  Lock lock(L().mutex());
+  auto m = d.memories.find(memory);
+  if (m != d.memories.end()) m->second.program_mapping = nullptr;
+  d.vk.UnmapMemory(device, memory);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateBuffer(VkDevice device, const VkBufferCreateInfo* info,
+                                            const VkAllocationCallbacks* alloc, VkBuffer* out) {
+  Device& d = dev(device);
+  const VkResult r = d.vk.CreateBuffer(device, info, alloc, out);
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    d.buffers[*out].size = info->size;
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyBuffer(VkDevice device, VkBuffer buffer, const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    d.buffers.erase(buffer);
+  }
+  d.vk.DestroyBuffer(device, buffer, alloc);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL BindBufferMemory(VkDevice device, VkBuffer buffer, VkDeviceMemory memory,
+                                                VkDeviceSize offset) {
+  Device& d = dev(device);
+  const VkResult r = d.vk.BindBufferMemory(device, buffer, memory, offset);
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    d.buffers[buffer].memory = memory;
+    d.buffers[buffer].memory_offset = offset;
+  }
+  return r;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL BindBufferMemory2(VkDevice device, uint32_t count, const VkBindBufferMemoryInfo* infos) {
+  Device& d = dev(device);
+  const VkResult r = d.vk.BindBufferMemory2(device, count, infos);
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    for (uint32_t i = 0; i < count; ++i) {
+      d.buffers[infos[i].buffer].memory = infos[i].memory;
+      d.buffers[infos[i].buffer].memory_offset = infos[i].memoryOffset;
+    }
+  }
+  return r;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateImage(VkDevice device, const VkImageCreateInfo* info,
+                                           const VkAllocationCallbacks* alloc, VkImage* out) {
+  Device& d = dev(device);
+  // Depth attachments are read back at the end of the scene's render pass.
+  VkImageCreateInfo copy = *info;
+  const bool depth = L().capturing() && isDepthFormat(info->format) &&
+                     (info->usage & VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT) &&
+                     info->samples == VK_SAMPLE_COUNT_1_BIT;
+  if (depth) copy.usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  const VkResult r = d.vk.CreateImage(device, &copy, alloc, out);
+  if (r == VK_SUCCESS && depth) {
+    Lock lock(L().mutex());
+    d.depth_images[*out] = info->format;
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyImage(VkDevice device, VkImage image, const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    d.depth_images.erase(image);
+  }
+  d.vk.DestroyImage(device, image, alloc);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateImageView(VkDevice device, const VkImageViewCreateInfo* info,
+                                               const VkAllocationCallbacks* alloc, VkImageView* out) {
+  Device& d = dev(device);
+  const VkResult r = d.vk.CreateImageView(device, info, alloc, out);
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    d.views[*out] = ImageViewInfo{info->image, info->format};
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyImageView(VkDevice device, VkImageView view, const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    d.views.erase(view);
+  }
+  d.vk.DestroyImageView(device, view, alloc);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Swapchains: their images are read back at each present.
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateSwapchainKHR(VkDevice device, const VkSwapchainCreateInfoKHR* info,
+                                                  const VkAllocationCallbacks* alloc, VkSwapchainKHR* out) {
+  Device& d = dev(device);
+  VkSwapchainCreateInfoKHR copy = *info;
+  bool readable = false;
+  if (L().capturing() && d.instance && d.instance->GetPhysicalDeviceSurfaceCapabilitiesKHR) {
+    VkSurfaceCapabilitiesKHR caps{};
+    if (d.instance->GetPhysicalDeviceSurfaceCapabilitiesKHR(d.physical, info->surface, &caps) == VK_SUCCESS &&
+        (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT)) {
+      copy.imageUsage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+      readable = true;
+    }
+  }
+  const VkResult r = d.vk.CreateSwapchainKHR(device, &copy, alloc, out);
+  if (r != VK_SUCCESS) return r;
+  uint32_t count = 0;
+  d.vk.GetSwapchainImagesKHR(device, *out, &count, nullptr);
+  SwapchainInfo s;
+  s.images.resize(count);
+  d.vk.GetSwapchainImagesKHR(device, *out, &count, s.images.data());
+  s.format = info->imageFormat;
+  s.extent = info->imageExtent;
+  s.readable = readable;
+  Lock lock(L().mutex());
+  if (!readable && L().capturing()) L().reportOnce("the swapchain's images cannot be read back: no colour captured");
+  d.swapchains[*out] = std::move(s);
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroySwapchainKHR(VkDevice device, VkSwapchainKHR swapchain,
+                                               const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    d.swapchains.erase(swapchain);
+  }
+  d.vk.DestroySwapchainKHR(device, swapchain, alloc);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Render passes and framebuffers: the id attachment.
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateRenderPass(VkDevice device, const VkRenderPassCreateInfo* info,
+                                                const VkAllocationCallbacks* alloc, VkRenderPass* out) {
+  Device& d = dev(device);
+  RenderPassInfo rp;
+  rp.attachment_count = info->attachmentCount;
+  for (uint32_t a = 0; a < info->attachmentCount; ++a) {
+    rp.formats.push_back(info->pAttachments[a].format);
+    rp.final_layouts.push_back(info->pAttachments[a].finalLayout);
+  }
+  rp.id_location.assign(info->subpassCount, -1);
+  rp.depth_attachment.assign(info->subpassCount, -1);
+  std::vector<VkAttachmentDescription> attachments(info->pAttachments, info->pAttachments + info->attachmentCount);
+  std::vector<VkSubpassDescription> subpasses(info->pSubpasses, info->pSubpasses + info->subpassCount);
+  std::vector<std::vector<VkAttachmentReference>> colors(info->subpassCount), resolves(info->subpassCount);
+  bool any = false;
+  for (uint32_t s = 0; s < info->subpassCount && L().capturing() && d.primitive_id; ++s) {
+    const VkSubpassDescription& sp = info->pSubpasses[s];
+    if (!sp.pDepthStencilAttachment || sp.pDepthStencilAttachment->attachment == VK_ATTACHMENT_UNUSED) continue;
+    const uint32_t depth = sp.pDepthStencilAttachment->attachment;
+    rp.depth_attachment[s] = static_cast<int>(depth);
+    if (attachments[depth].samples != VK_SAMPLE_COUNT_1_BIT) {
+      rp.why_no_ids = "multisampled depth attachment";
+      continue;
+    }
+    attachments[depth].storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // read back at the pass's end
+    colors[s].assign(sp.pColorAttachments, sp.pColorAttachments + sp.colorAttachmentCount);
+    rp.id_location[s] = static_cast<int>(sp.colorAttachmentCount);
+    colors[s].push_back({info->attachmentCount, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
+    subpasses[s].colorAttachmentCount = static_cast<uint32_t>(colors[s].size());
+    subpasses[s].pColorAttachments = colors[s].data();
+    if (sp.pResolveAttachments) {
+      resolves[s].assign(sp.pResolveAttachments, sp.pResolveAttachments + sp.colorAttachmentCount);
+      resolves[s].push_back({VK_ATTACHMENT_UNUSED, VK_IMAGE_LAYOUT_UNDEFINED});
+      subpasses[s].pResolveAttachments = resolves[s].data();
+    }
+    any = true;
+  }
+  VkRenderPassCreateInfo copy = *info;
+  if (any) {
+    rp.id_attachment = info->attachmentCount;
+    VkAttachmentDescription id{};
+    id.format = kIdFormat;
+    id.samples = VK_SAMPLE_COUNT_1_BIT;
+    id.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    id.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    id.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    id.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    id.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    id.finalLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    attachments.push_back(id);
+    copy.attachmentCount = static_cast<uint32_t>(attachments.size());
+    copy.pAttachments = attachments.data();
+    copy.pSubpasses = subpasses.data();
+  } else if (rp.why_no_ids.empty()) {
+    rp.why_no_ids = "no depth attachment";
+  }
+  const VkResult r = d.vk.CreateRenderPass(device, &copy, alloc, out);
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    d.render_passes[*out] = std::move(rp);
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyRenderPass(VkDevice device, VkRenderPass pass, const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    d.render_passes.erase(pass);
+  }
+  d.vk.DestroyRenderPass(device, pass, alloc);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateFramebuffer(VkDevice device, const VkFramebufferCreateInfo* info,
+                                                 const VkAllocationCallbacks* alloc, VkFramebuffer* out) {
+  Device& d = dev(device);
+  FramebufferInfo fb;
+  fb.render_pass = info->renderPass;
+  fb.width = info->width, fb.height = info->height;
+  bool ids = false;
+  {
+    Lock lock(L().mutex());
+    auto rp = d.render_passes.find(info->renderPass);
+    ids = rp != d.render_passes.end() && rp->second.id_attachment != VK_ATTACHMENT_UNUSED;
+  }
+  if (info->flags & VK_FRAMEBUFFER_CREATE_IMAGELESS_BIT) {
+    if (ids) {
+      Lock lock(L().mutex());
+      L().reportOnce("an imageless framebuffer of a render pass the layer gave ids: not supported yet");
+    }
+    return d.vk.CreateFramebuffer(device, info, alloc, out);
+  }
+  fb.views.assign(info->pAttachments, info->pAttachments + info->attachmentCount);
+  VkFramebufferCreateInfo copy = *info;
+  std::vector<VkImageView> views = fb.views;
+  if (ids) {
+    VkImageCreateInfo image{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    image.imageType = VK_IMAGE_TYPE_2D;
+    image.format = kIdFormat;
+    image.extent = {info->width, info->height, 1};
+    image.mipLevels = 1;
+    image.arrayLayers = std::max(1u, info->layers);
+    image.samples = VK_SAMPLE_COUNT_1_BIT;
+    image.tiling = VK_IMAGE_TILING_OPTIMAL;
+    image.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    image.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    d.vk.CreateImage(device, &image, nullptr, &fb.id_image);
+    VkMemoryRequirements req{};
+    d.vk.GetImageMemoryRequirements(device, fb.id_image, &req);
+    VkMemoryAllocateInfo mem{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    mem.allocationSize = req.size;
+    mem.memoryTypeIndex = Layer::memoryType(d, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (mem.memoryTypeIndex == UINT32_MAX) mem.memoryTypeIndex = Layer::memoryType(d, req.memoryTypeBits, 0);
+    d.vk.AllocateMemory(device, &mem, nullptr, &fb.id_memory);
+    d.vk.BindImageMemory(device, fb.id_image, fb.id_memory, 0);
+    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view.image = fb.id_image;
+    view.viewType = image.arrayLayers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+    view.format = kIdFormat;
+    view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, image.arrayLayers};
+    d.vk.CreateImageView(device, &view, nullptr, &fb.id_view);
+    views.push_back(fb.id_view);
+    copy.attachmentCount = static_cast<uint32_t>(views.size());
+    copy.pAttachments = views.data();
+  }
+  const VkResult r = d.vk.CreateFramebuffer(device, &copy, alloc, out);
+  Lock lock(L().mutex());
+  if (r == VK_SUCCESS) d.framebuffers[*out] = fb;
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyFramebuffer(VkDevice device, VkFramebuffer framebuffer,
+                                              const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  FramebufferInfo fb;
+  {
+    Lock lock(L().mutex());
+    auto f = d.framebuffers.find(framebuffer);
+    if (f != d.framebuffers.end()) fb = f->second, d.framebuffers.erase(f);
+  }
+  d.vk.DestroyFramebuffer(device, framebuffer, alloc);
+  if (fb.id_view) d.vk.DestroyImageView(device, fb.id_view, nullptr);
+  if (fb.id_image) d.vk.DestroyImage(device, fb.id_image, nullptr);
+  if (fb.id_memory) d.vk.FreeMemory(device, fb.id_memory, nullptr);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shaders, layouts, descriptors, pipelines.
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateShaderModule(VkDevice device, const VkShaderModuleCreateInfo* info,
+                                                  const VkAllocationCallbacks* alloc, VkShaderModule* out) {
+  Device& d = dev(device);
+  const VkResult r = d.vk.CreateShaderModule(device, info, alloc, out);
+  if (r == VK_SUCCESS && L().capturing()) {
+    Lock lock(L().mutex());
+    d.modules[*out].assign(info->pCode, info->pCode + info->codeSize / 4);
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyShaderModule(VkDevice device, VkShaderModule module,
+                                               const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    d.modules.erase(module);
+  }
+  d.vk.DestroyShaderModule(device, module, alloc);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreatePipelineLayout(VkDevice device, const VkPipelineLayoutCreateInfo* info,
+                                                    const VkAllocationCallbacks* alloc, VkPipelineLayout* out) {
+  Device& d = dev(device);
+  LayoutInfo layout;
+  layout.set_layouts.assign(info->pSetLayouts, info->pSetLayouts + info->setLayoutCount);
+  std::vector<VkPushConstantRange> ranges(info->pPushConstantRanges,
+                                          info->pPushConstantRanges + info->pushConstantRangeCount);
+  VkPipelineLayoutCreateInfo copy = *info;
+  if (L().capturing()) {
+    // The layer's 8 bytes go past every range of the program's; a range that already has the
+    // fragment stage is extended to them (one range per stage), else one of the fragment's added.
+    uint32_t end = 0;
+    for (const VkPushConstantRange& r : ranges) end = std::max(end, r.offset + r.size);
+    layout.layer_offset = (end + 3u) & ~3u;
+    if (layout.layer_offset + 8 <= d.limits.maxPushConstantsSize) {
+      auto fragment = std::find_if(ranges.begin(), ranges.end(), [](const VkPushConstantRange& r) {
+        return (r.stageFlags & VK_SHADER_STAGE_FRAGMENT_BIT) != 0;
+      });
+      if (fragment != ranges.end()) {
+        fragment->size = layout.layer_offset + 8 - fragment->offset;
+        layout.layer_stages = fragment->stageFlags;
+      } else {
+        ranges.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, layout.layer_offset, 8});
+        layout.layer_stages = VK_SHADER_STAGE_FRAGMENT_BIT;
+      }
+      copy.pushConstantRangeCount = static_cast<uint32_t>(ranges.size());
+      copy.pPushConstantRanges = ranges.data();
+    }
+  }
+  const VkResult r = d.vk.CreatePipelineLayout(device, &copy, alloc, out);
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    d.layouts[*out] = layout;
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyPipelineLayout(VkDevice device, VkPipelineLayout layout,
+                                                 const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    d.layouts.erase(layout);
+  }
+  d.vk.DestroyPipelineLayout(device, layout, alloc);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateDescriptorSetLayout(VkDevice device, const VkDescriptorSetLayoutCreateInfo* info,
+                                                         const VkAllocationCallbacks* alloc,
+                                                         VkDescriptorSetLayout* out) {
+  Device& d = dev(device);
+  const VkResult r = d.vk.CreateDescriptorSetLayout(device, info, alloc, out);
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    DescriptorSetLayoutInfo& l = d.set_layouts[*out];
+    for (uint32_t b = 0; b < info->bindingCount; ++b)
+      l.bindings[info->pBindings[b].binding] = {info->pBindings[b].descriptorType, info->pBindings[b].descriptorCount};
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyDescriptorSetLayout(VkDevice device, VkDescriptorSetLayout layout,
+                                                      const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    d.set_layouts.erase(layout);
+  }
+  d.vk.DestroyDescriptorSetLayout(device, layout, alloc);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL AllocateDescriptorSets(VkDevice device, const VkDescriptorSetAllocateInfo* info,
+                                                      VkDescriptorSet* out) {
+  Device& d = dev(device);
+  const VkResult r = d.vk.AllocateDescriptorSets(device, info, out);
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    for (uint32_t i = 0; i < info->descriptorSetCount; ++i) d.sets[out[i]] = DescriptorSetInfo{info->pSetLayouts[i], {}};
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL UpdateDescriptorSets(VkDevice device, uint32_t write_count, const VkWriteDescriptorSet* writes,
+                                                uint32_t copy_count, const VkCopyDescriptorSet* copies) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    for (uint32_t i = 0; i < write_count; ++i) {
+      const VkWriteDescriptorSet& w = writes[i];
+      const VkDescriptorType t = w.descriptorType;
+      const bool dynamic = t == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC || t == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
+      if (!(dynamic || t == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || t == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)) continue;
+      if (w.dstArrayElement != 0 || !w.pBufferInfo) continue;
+      d.sets[w.dstSet].buffers[w.dstBinding] =
+          DescriptorBuffer{w.pBufferInfo[0].buffer, w.pBufferInfo[0].offset, w.pBufferInfo[0].range, dynamic};
+    }
+    for (uint32_t i = 0; i < copy_count; ++i) {
+      const VkCopyDescriptorSet& c = copies[i];
+      auto from = d.sets[c.srcSet].buffers.find(c.srcBinding);
+      if (c.srcArrayElement == 0 && c.dstArrayElement == 0 && from != d.sets[c.srcSet].buffers.end())
+        d.sets[c.dstSet].buffers[c.dstBinding] = from->second;
+    }
+  }
+  d.vk.UpdateDescriptorSets(device, write_count, writes, copy_count, copies);
+}
+
+// What the layer knows of one graphics pipeline, and its fragment shader rewritten for ids when
+// it draws into a subpass with the id attachment.
+PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& info, VkPipelineShaderStageCreateInfo* stages,
+                              VkPipelineColorBlendStateCreateInfo* blend,
+                              std::vector<VkPipelineColorBlendAttachmentState>& blend_attachments) {
+  PipelineInfo p;
+  p.layout = info.layout;
+  const std::vector<uint32_t>* vertex = nullptr;
+  const std::vector<uint32_t>* fragment = nullptr;
+  int fragment_stage = -1;
+  std::string fragment_entry;
+  for (uint32_t s = 0; s < info.stageCount; ++s) {
+    auto m = d.modules.find(info.pStages[s].module);
+    if (m == d.modules.end()) continue;
+    if (info.pStages[s].stage == VK_SHADER_STAGE_VERTEX_BIT) vertex = &m->second;
+    if (info.pStages[s].stage == VK_SHADER_STAGE_FRAGMENT_BIT) {
+      fragment = &m->second;
+      fragment_stage = static_cast<int>(s);
+      fragment_entry = info.pStages[s].pName;
+    }
+  }
+  uint64_t key = 0;
+  if (vertex) key = combineKeys(key, contentKey(vertex->data(), vertex->size() * 4));
+  if (fragment) key = combineKeys(key, contentKey(fragment->data(), fragment->size() * 4));
+  p.program_key = key;
+  if (info.pDepthStencilState) p.depth_test = info.pDepthStencilState->depthTestEnable;
+  if (info.pInputAssemblyState) p.topology = info.pInputAssemblyState->topology;
+  bool writes_color = false;
+  if (info.pColorBlendState)
+    for (uint32_t a = 0; a < info.pColorBlendState->attachmentCount; ++a)
+      writes_color |= info.pColorBlendState->pAttachments[a].colorWriteMask != 0;
+  p.depth_only = !fragment || !writes_color;
+
+  // Matrices and position by the profile's names, read from the vertex shader's debug names.
+  ModuleReflection reflection;
+  if (vertex) reflection = reflectModule(*vertex);
+  const ProgramProfile* profile = L().profile().match(reflection.names_text, key);
+  p.overlay = profile->overlay;
+  const std::string* names[3] = {&profile->world, &profile->view, &profile->projection};
+  MatrixSource* sources[3] = {&p.world, &p.view, &p.projection};
+  for (int k = 0; k < 3; ++k) {
+    if (names[k]->empty()) continue;
+    p.expected_matrices |= static_cast<uint8_t>(1u << k);
+    auto m = reflection.members.find(*names[k]);
+    if (m != reflection.members.end() && m->second.columns == 4 && m->second.rows == 4)
+      *sources[k] = MatrixSource{true, m->second};
+  }
+  uint32_t position_location = 0;
+  if (!profile->position.empty()) {
+    auto in = reflection.input_locations.find(profile->position);
+    if (in != reflection.input_locations.end()) position_location = in->second;
+  }
+  if (const VkPipelineVertexInputStateCreateInfo* vi = info.pVertexInputState) {
+    for (uint32_t b = 0; b < vi->vertexBindingDescriptionCount; ++b)
+      p.strides[vi->pVertexBindingDescriptions[b].binding] = vi->pVertexBindingDescriptions[b].stride;
+    for (uint32_t a = 0; a < vi->vertexAttributeDescriptionCount; ++a) {
+      const VkVertexInputAttributeDescription& at = vi->pVertexAttributeDescriptions[a];
+      if (at.location != position_location) continue;
+      p.has_position = true;
+      p.position_binding = at.binding;
+      p.position_format = at.format;
+      p.position_offset = at.offset;
+    }
+  }
+
+  // Ids: only in subpasses the layer gave its attachment.
+  auto rp = d.render_passes.find(info.renderPass);
+  if (rp == d.render_passes.end() || info.subpass >= rp->second.id_location.size() ||
+      rp->second.id_location[info.subpass] < 0) {
+    p.why_no_ids = rp == d.render_passes.end() ? "dynamic rendering (not supported yet)" : rp->second.why_no_ids;
+    return p;
+  }
+  const uint32_t location = static_cast<uint32_t>(rp->second.id_location[info.subpass]);
+  // The blend state always gets the attachment (the subpass has it); written only with ids.
+  if (blend && info.pColorBlendState) {
+    *blend = *info.pColorBlendState;
+    blend_attachments.assign(info.pColorBlendState->pAttachments,
+                             info.pColorBlendState->pAttachments + info.pColorBlendState->attachmentCount);
+    VkPipelineColorBlendAttachmentState id{};
+    id.colorWriteMask = 0;
+    blend_attachments.resize(location, VkPipelineColorBlendAttachmentState{});
+    blend_attachments.push_back(id);
+    blend->attachmentCount = static_cast<uint32_t>(blend_attachments.size());
+    blend->pAttachments = blend_attachments.data();
+  }
+  auto layout = d.layouts.find(info.layout);
+  if (p.depth_only) {
+    p.why_no_ids = "depth only";
+  } else if (layout == d.layouts.end() || layout->second.layer_stages == 0) {
+    p.why_no_ids = "no room in the push constants for the layer's id";
+  } else if (!blend) {
+    p.why_no_ids = "no colour blend state";
+  } else {
+    std::string why;
+    const std::vector<uint32_t> rewritten =
+        addIdOutput(*fragment, fragment_entry, IdOutput{location, layout->second.layer_offset}, why);
+    if (rewritten.empty()) {
+      p.why_no_ids = "fragment shader not rewritten: " + why;
+    } else {
+      VkShaderModuleCreateInfo module{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+      module.codeSize = rewritten.size() * 4;
+      module.pCode = rewritten.data();
+      VkShaderModule made = VK_NULL_HANDLE;
+      if (d.vk.CreateShaderModule(d.device, &module, nullptr, &made) == VK_SUCCESS) {
+        stages[fragment_stage].module = made;
+        p.layer_modules.push_back(made);
+        blend_attachments.back().colorWriteMask = 0xf;
+        p.ids = true;
+      } else {
+        p.why_no_ids = "the rewritten fragment shader was refused by the driver";
+      }
+    }
+  }
+  return p;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateGraphicsPipelines(VkDevice device, VkPipelineCache cache, uint32_t count,
+                                                       const VkGraphicsPipelineCreateInfo* infos,
+                                                       const VkAllocationCallbacks* alloc, VkPipeline* out) {
+  Device& d = dev(device);
+  if (!L().capturing()) return d.vk.CreateGraphicsPipelines(device, cache, count, infos, alloc, out);
+  std::vector<VkGraphicsPipelineCreateInfo> copies(infos, infos + count);
+  std::vector<std::vector<VkPipelineShaderStageCreateInfo>> stages(count);
+  std::vector<VkPipelineColorBlendStateCreateInfo> blends(count);
+  std::vector<std::vector<VkPipelineColorBlendAttachmentState>> blend_attachments(count);
+  std::vector<PipelineInfo> described(count);
+  {
+    Lock lock(L().mutex());
+    for (uint32_t i = 0; i < count; ++i) {
+      stages[i].assign(infos[i].pStages, infos[i].pStages + infos[i].stageCount);
+      described[i] = describePipeline(d, infos[i], stages[i].data(), infos[i].pColorBlendState ? &blends[i] : nullptr,
+                                      blend_attachments[i]);
+      copies[i].pStages = stages[i].data();
+      if (infos[i].pColorBlendState && !blend_attachments[i].empty()) copies[i].pColorBlendState = &blends[i];
+    }
+  }
+  const VkResult r = d.vk.CreateGraphicsPipelines(device, cache, count, copies.data(), alloc, out);
+  Lock lock(L().mutex());
+  for (uint32_t i = 0; i < count; ++i) {
+    if (out[i] != VK_NULL_HANDLE) {
+      d.pipelines[out[i]] = described[i];
+    } else {
+      for (VkShaderModule m : described[i].layer_modules) d.vk.DestroyShaderModule(device, m, nullptr);
+    }
+    if (!described[i].why_no_ids.empty() && described[i].why_no_ids != "depth only")
+      L().reportOnce("pipelines without ids: " + described[i].why_no_ids);
+  }
+  return r;
+}
+
+VKAPI_ATTR void VKAPI_CALL DestroyPipeline(VkDevice device, VkPipeline pipeline, const VkAllocationCallbacks* alloc) {
+  Device& d = dev(device);
+  std::vector<VkShaderModule> modules;
+  {
+    Lock lock(L().mutex());
+    auto p = d.pipelines.find(pipeline);
+    if (p != d.pipelines.end()) modules = p->second.layer_modules, d.pipelines.erase(p);
+  }
+  d.vk.DestroyPipeline(device, pipeline, alloc);
+  for (VkShaderModule m : modules) d.vk.DestroyShaderModule(device, m, nullptr);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Command buffers.
+
+Recording* recording(Device& d, VkCommandBuffer cb) {
+  auto r = d.recordings.find(cb);
+  return r == d.recordings.end() ? nullptr : r->second.get();
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL BeginCommandBuffer(VkCommandBuffer cb, const VkCommandBufferBeginInfo* info) {
+  Device& d = dev(cb);
+  if (L().capturing()) {
+    Lock lock(L().mutex());
+    std::shared_ptr<Recording>& r = d.recordings[cb];
+    if (r && r.use_count() > 1) d.retired.push_back(r);  // a frame still holds it
+    else if (r) L().freeRecording(d, *r);
+    r = std::make_shared<Recording>();
+    r->serial = L().nextSerial();
+    if (info->pInheritanceInfo && (info->flags & VK_COMMAND_BUFFER_USAGE_RENDER_PASS_CONTINUE_BIT)) {
+      r->render_pass = info->pInheritanceInfo->renderPass;
+      r->subpass = info->pInheritanceInfo->subpass;
+      r->framebuffer = info->pInheritanceInfo->framebuffer;
+    }
+  }
+  return d.vk.BeginCommandBuffer(cb, info);
+}
+
+VKAPI_ATTR void VKAPI_CALL FreeCommandBuffers(VkDevice device, VkCommandPool pool, uint32_t count,
+                                              const VkCommandBuffer* cbs) {
+  Device& d = dev(device);
+  {
+    Lock lock(L().mutex());
+    for (uint32_t i = 0; i < count; ++i) {
+      auto r = d.recordings.find(cbs[i]);
+      if (r == d.recordings.end()) continue;
+      if (r->second.use_count() > 1) d.retired.push_back(r->second);
+      else L().freeRecording(d, *r->second);
+      d.recordings.erase(r);
+    }
+  }
+  d.vk.FreeCommandBuffers(device, pool, count, cbs);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdBeginRenderPass(VkCommandBuffer cb, const VkRenderPassBeginInfo* info,
+                                              VkSubpassContents contents) {
+  Device& d = dev(cb);
+  std::vector<VkClearValue> clears;
+  VkRenderPassBeginInfo copy = *info;
+  {
+    Lock lock(L().mutex());
+    Recording* r = recording(d, cb);
+    auto rp = d.render_passes.find(info->renderPass);
+    if (r) {
+      r->render_pass = info->renderPass;
+      r->framebuffer = info->framebuffer;
+      r->subpass = 0;
+      r->pass = -1;
+    }
+    if (rp != d.render_passes.end() && rp->second.id_attachment != VK_ATTACHMENT_UNUSED) {
+      clears.assign(info->pClearValues, info->pClearValues + info->clearValueCount);
+      clears.resize(rp->second.id_attachment + 1, VkClearValue{});
+      clears.back() = VkClearValue{};
+      copy.clearValueCount = static_cast<uint32_t>(clears.size());
+      copy.pClearValues = clears.data();
+    }
+  }
+  d.vk.CmdBeginRenderPass(cb, &copy, contents);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdNextSubpass(VkCommandBuffer cb, VkSubpassContents contents) {
+  Device& d = dev(cb);
+  {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb)) ++r->subpass;
+  }
+  d.vk.CmdNextSubpass(cb, contents);
+}
+
+// At the end of a render pass instance that drew recorded draws with ids: its depth and ids are
+// copied into buffers of the layer's, read at the frame's present.
+void copyPassImages(Device& d, VkCommandBuffer cb, Recording& r) {
+  if (r.pass < 0) return;
+  PassCapture& pc = r.passes[static_cast<size_t>(r.pass)];
+  auto fb = d.framebuffers.find(r.framebuffer);
+  auto rp = d.render_passes.find(r.render_pass);
+  if (fb == d.framebuffers.end() || rp == d.render_passes.end() || !fb->second.id_image || pc.id_draws == 0) return;
+  pc.width = fb->second.width, pc.height = fb->second.height;
+  const VkDeviceSize pixels = static_cast<VkDeviceSize>(pc.width) * pc.height;
+  // The depth attachment of the subpass that had the ids (the first such).
+  int depth_attachment = -1;
+  for (size_t s = 0; s < rp->second.id_location.size(); ++s)
+    if (rp->second.id_location[s] >= 0) {
+      depth_attachment = rp->second.depth_attachment[s];
+      break;
+    }
+  VkImage depth_image = VK_NULL_HANDLE;
+  VkImageLayout depth_layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  if (depth_attachment >= 0 && static_cast<size_t>(depth_attachment) < fb->second.views.size()) {
+    auto view = d.views.find(fb->second.views[static_cast<size_t>(depth_attachment)]);
+    if (view != d.views.end() && d.depth_images.count(view->second.image)) {
+      depth_image = view->second.image;
+      pc.depth_format = view->second.format;
+      depth_layout = rp->second.final_layouts[static_cast<size_t>(depth_attachment)];
+    }
+  }
+  if (!L().createReadbackBuffer(d, pixels * 16, pc.id_buffer, pc.id_memory)) return;
+  if (depth_image && !L().createReadbackBuffer(d, pixels * 4, pc.depth_buffer, pc.depth_memory)) depth_image = VK_NULL_HANDLE;
+
+  VkImageMemoryBarrier barriers[2] = {{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER}, {VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER}};
+  barriers[0].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  barriers[0].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+  barriers[0].oldLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  barriers[0].newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  barriers[0].srcQueueFamilyIndex = barriers[0].dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barriers[0].image = fb->second.id_image;
+  barriers[0].subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  const VkImageAspectFlags depth_aspect =
+      pc.depth_format == VK_FORMAT_D16_UNORM || pc.depth_format == VK_FORMAT_D32_SFLOAT ||
+              pc.depth_format == VK_FORMAT_X8_D24_UNORM_PACK32
+          ? VK_IMAGE_ASPECT_DEPTH_BIT
+          : VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT;
+  barriers[1] = barriers[0];
+  barriers[1].srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  barriers[1].oldLayout = depth_layout;
+  barriers[1].image = depth_image;
+  barriers[1].subresourceRange = {depth_aspect, 0, 1, 0, 1};
+  d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, depth_image ? 2 : 1, barriers);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {pc.width, pc.height, 1};
+  d.vk.CmdCopyImageToBuffer(cb, fb->second.id_image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.id_buffer, 1, &region);
+  if (depth_image) {
+    region.imageSubresource.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
+    d.vk.CmdCopyImageToBuffer(cb, depth_image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.depth_buffer, 1, &region);
+    // Back to the layout the program's render pass left it in.
+    VkImageMemoryBarrier back = barriers[1];
+    back.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    back.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    back.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    back.newLayout = depth_layout;
+    d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0,
+                            nullptr, 1, &back);
+  }
+  VkMemoryBarrier host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &host, 0, nullptr, 0,
+                          nullptr);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdEndRenderPass(VkCommandBuffer cb) {
+  Device& d = dev(cb);
+  d.vk.CmdEndRenderPass(cb);
+  Lock lock(L().mutex());
+  if (Recording* r = recording(d, cb)) {
+    copyPassImages(d, cb, *r);
+    r->render_pass = VK_NULL_HANDLE;
+    r->pass = -1;
+  }
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdBindPipeline(VkCommandBuffer cb, VkPipelineBindPoint point, VkPipeline pipeline) {
+  Device& d = dev(cb);
+  if (point == VK_PIPELINE_BIND_POINT_GRAPHICS) {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb)) r->pipeline = pipeline;
+  }
+  d.vk.CmdBindPipeline(cb, point, pipeline);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdBindVertexBuffers(VkCommandBuffer cb, uint32_t first, uint32_t count,
+                                                const VkBuffer* buffers, const VkDeviceSize* offsets) {
+  Device& d = dev(cb);
+  {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb))
+      for (uint32_t i = 0; i < count; ++i) r->vertex_buffers[first + i] = {buffers[i], offsets[i]};
+  }
+  d.vk.CmdBindVertexBuffers(cb, first, count, buffers, offsets);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdBindIndexBuffer(VkCommandBuffer cb, VkBuffer buffer, VkDeviceSize offset, VkIndexType type) {
+  Device& d = dev(cb);
+  {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb)) r->index_buffer = buffer, r->index_offset = offset, r->index_type = type;
+  }
+  d.vk.CmdBindIndexBuffer(cb, buffer, offset, type);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdBindDescriptorSets(VkCommandBuffer cb, VkPipelineBindPoint point, VkPipelineLayout layout,
+                                                 uint32_t first, uint32_t count, const VkDescriptorSet* sets,
+                                                 uint32_t dynamic_count, const uint32_t* dynamic_offsets) {
+  Device& d = dev(cb);
+  if (point == VK_PIPELINE_BIND_POINT_GRAPHICS) {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb)) {
+      uint32_t used = 0;
+      for (uint32_t i = 0; i < count; ++i) {
+        std::vector<uint32_t> offsets;
+        auto s = d.sets.find(sets[i]);
+        if (s != d.sets.end()) {
+          auto l = d.set_layouts.find(s->second.layout);
+          const uint32_t n = l == d.set_layouts.end() ? 0 : l->second.dynamicCount();
+          for (uint32_t k = 0; k < n && used < dynamic_count; ++k) offsets.push_back(dynamic_offsets[used++]);
+        }
+        r->sets[first + i] = {sets[i], offsets};
+      }
+    }
+  }
+  d.vk.CmdBindDescriptorSets(cb, point, layout, first, count, sets, dynamic_count, dynamic_offsets);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdPushConstants(VkCommandBuffer cb, VkPipelineLayout layout, VkShaderStageFlags stages,
+                                            uint32_t offset, uint32_t size, const void* values) {
+  Device& d = dev(cb);
+  {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb))
+      if (offset < r->push.size()) std::memcpy(r->push.data() + offset, values, std::min<size_t>(size, r->push.size() - offset));
+  }
+  d.vk.CmdPushConstants(cb, layout, stages, offset, size, values);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdSetViewport(VkCommandBuffer cb, uint32_t first, uint32_t count, const VkViewport* v) {
+  Device& d = dev(cb);
+  {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb))
+      if (first == 0 && count > 0) r->y_down = v[0].height > 0;
+  }
+  d.vk.CmdSetViewport(cb, first, count, v);
+}
+
+GlMatrix readMatrix(const uint8_t* at, const BlockMember& m) {
+  GlMatrix out;
+  for (int c = 0; c < 4; ++c)
+    for (int row = 0; row < 4; ++row) {
+      float v;
+      const size_t major = m.row_major ? row : c, minor = m.row_major ? c : row;
+      std::memcpy(&v, at + major * m.matrix_stride + minor * 4, 4);
+      out(row, c) = v;
+    }
+  return out;
+}
+
+// Records one draw into the scene: its state now, and the layer's id words pushed before it.
+void recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
+  Recording* r = recording(d, cb);
+  if (!r) return;
+  auto p = d.pipelines.find(r->pipeline);
+  if (p == d.pipelines.end() || p->second.depth_only || !p->second.depth_test || p->second.overlay) return;
+  const PipelineInfo& pi = p->second;
+  // A render pass instance with draws: its depth and ids are read back at its end.
+  if (r->pass < 0 && r->render_pass) {
+    r->passes.emplace_back();
+    r->pass = static_cast<int>(r->passes.size()) - 1;
+  }
+  draw.local = static_cast<uint32_t>(r->draws.size());
+  draw.pipeline = r->pipeline;
+  draw.pass = r->pass;
+  draw.ids = pi.ids && r->pass >= 0;
+  draw.y_down = r->y_down;
+  if (pi.has_position) {
+    auto vb = r->vertex_buffers.find(pi.position_binding);
+    if (vb != r->vertex_buffers.end()) draw.vertex_buffer = vb->second.first, draw.vertex_buffer_offset = vb->second.second;
+  }
+  if (draw.indexed) {
+    draw.index_buffer = r->index_buffer;
+    draw.index_buffer_offset = r->index_offset;
+    draw.index_type = r->index_type;
+  }
+  const MatrixSource* sources[3] = {&pi.world, &pi.view, &pi.projection};
+  for (int k = 0; k < 3; ++k) {
+    if (!sources[k]->known) continue;
+    const BlockMember& m = sources[k]->member;
+    if (m.push_constant) {
+      if (m.offset + 64 <= r->push.size()) {
+        draw.matrices[static_cast<size_t>(k)] = readMatrix(r->push.data() + m.offset, m);
+        draw.matrix_flags |= static_cast<uint8_t>(1u << k);
+      }
+      continue;
+    }
+    auto set = r->sets.find(m.set);
+    if (set == r->sets.end()) continue;
+    auto info = d.sets.find(set->second.first);
+    if (info == d.sets.end()) continue;
+    auto buffer = info->second.buffers.find(m.binding);
+    if (buffer == info->second.buffers.end()) continue;
+    DescriptorBuffer b = buffer->second;
+    if (b.dynamic) {
+      // The dynamic offset of this binding: dynamic bindings take offsets in binding order.
+      auto l = d.set_layouts.find(info->second.layout);
+      uint32_t index = 0;
+      if (l != d.set_layouts.end())
+        for (const auto& [binding, desc] : l->second.bindings) {
+          if (binding == m.binding) break;
+          if (desc.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC || desc.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC)
+            index += desc.count;
+        }
+      if (index < set->second.second.size()) b.offset += set->second.second[index];
+    }
+    draw.matrix_buffers[static_cast<size_t>(k)] = b;
+    draw.matrix_buffer_offsets[static_cast<size_t>(k)] = m.offset;
+    draw.pending_matrices |= static_cast<uint8_t>(1u << k);
+  }
+  auto layout = d.layouts.find(pi.layout);
+  if (draw.ids && layout != d.layouts.end()) {
+    const uint32_t words[2] = {r->serial, draw.local + 1};
+    d.vk.CmdPushConstants(cb, pi.layout, layout->second.layer_stages, layout->second.layer_offset, 8, words);
+    r->passes[static_cast<size_t>(r->pass)].id_draws++;
+  }
+  r->draws.push_back(draw);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdDraw(VkCommandBuffer cb, uint32_t vertices, uint32_t instances, uint32_t first_vertex,
+                                   uint32_t first_instance) {
+  Device& d = dev(cb);
+  if (L().capturing()) {
+    Lock lock(L().mutex());
+    RecordedDraw draw;
+    draw.count = vertices, draw.instances = instances, draw.first = first_vertex;
+    recordDraw(d, cb, draw);
+  }
+  d.vk.CmdDraw(cb, vertices, instances, first_vertex, first_instance);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdDrawIndexed(VkCommandBuffer cb, uint32_t indices, uint32_t instances, uint32_t first_index,
+                                          int32_t vertex_offset, uint32_t first_instance) {
+  Device& d = dev(cb);
+  if (L().capturing()) {
+    Lock lock(L().mutex());
+    RecordedDraw draw;
+    draw.indexed = true;
+    draw.count = indices, draw.instances = instances, draw.first = first_index, draw.vertex_offset = vertex_offset;
+    recordDraw(d, cb, draw);
+  }
+  d.vk.CmdDrawIndexed(cb, indices, instances, first_index, vertex_offset, first_instance);
+}
+
+// Indirect draws: not recorded yet, counted among the draws not recorded when they draw into a
+// pass with ids.
+VKAPI_ATTR void VKAPI_CALL CmdDrawIndirect(VkCommandBuffer cb, VkBuffer buffer, VkDeviceSize offset, uint32_t count,
+                                           uint32_t stride) {
+  Device& d = dev(cb);
+  if (L().capturing()) {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb)) r->unrecorded += count;
+  }
+  d.vk.CmdDrawIndirect(cb, buffer, offset, count, stride);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdDrawIndexedIndirect(VkCommandBuffer cb, VkBuffer buffer, VkDeviceSize offset,
+                                                  uint32_t count, uint32_t stride) {
+  Device& d = dev(cb);
+  if (L().capturing()) {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb)) r->unrecorded += count;
+  }
+  d.vk.CmdDrawIndexedIndirect(cb, buffer, offset, count, stride);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdExecuteCommands(VkCommandBuffer cb, uint32_t count, const VkCommandBuffer* secondaries) {
+  Device& d = dev(cb);
+  {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb)) r->executed.insert(r->executed.end(), secondaries, secondaries + count);
+  }
+  d.vk.CmdExecuteCommands(cb, count, secondaries);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Submission and presentation (the frame itself is built in vk_frame.cpp).
+
+#define VIPER_VK_HOOKS(X)                                                                                      \
+  X(GetDeviceQueue) X(GetDeviceQueue2) X(AllocateMemory) X(FreeMemory) X(MapMemory) X(UnmapMemory)             \
+  X(CreateBuffer) X(DestroyBuffer) X(BindBufferMemory) X(BindBufferMemory2) X(CreateImage) X(DestroyImage)     \
+  X(CreateImageView) X(DestroyImageView) X(CreateSwapchainKHR) X(DestroySwapchainKHR) X(CreateRenderPass)      \
+  X(DestroyRenderPass) X(CreateFramebuffer) X(DestroyFramebuffer) X(CreateShaderModule) X(DestroyShaderModule) \
+  X(CreatePipelineLayout) X(DestroyPipelineLayout) X(CreateDescriptorSetLayout) X(DestroyDescriptorSetLayout)  \
+  X(AllocateDescriptorSets) X(UpdateDescriptorSets) X(CreateGraphicsPipelines) X(DestroyPipeline)              \
+  X(BeginCommandBuffer) X(FreeCommandBuffers) X(CmdBeginRenderPass) X(CmdNextSubpass) X(CmdEndRenderPass)      \
+  X(CmdBindPipeline) X(CmdBindVertexBuffers) X(CmdBindIndexBuffer) X(CmdBindDescriptorSets) X(CmdPushConstants) \
+  X(CmdSetViewport) X(CmdDraw) X(CmdDrawIndexed) X(CmdDrawIndirect) X(CmdDrawIndexedIndirect)                  \
+  X(CmdExecuteCommands) X(QueueSubmit) X(QueuePresentKHR) X(DestroyDevice)
+
+PFN_vkVoidFunction deviceHook(const char* name) {
+#define VIPER_VK_MATCH(fn) \
+  if (std::strcmp(name, "vk" #fn) == 0) return reinterpret_cast<PFN_vkVoidFunction>(&fn);
+  VIPER_VK_HOOKS(VIPER_VK_MATCH)
+#undef VIPER_VK_MATCH
+  return nullptr;
+}
+
+}  // namespace
+
+VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL GetDeviceProcAddr(VkDevice device, const char* name) {
+  if (PFN_vkVoidFunction f = deviceHook(name)) return f;
+  Layer::Device* d = L().device(dispatchKey(device));
+  return d ? d->next_gdpa(device, name) : nullptr;
+}
+
+VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL GetInstanceProcAddr(VkInstance instance, const char* name) {
+  if (std::strcmp(name, "vkGetInstanceProcAddr") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&GetInstanceProcAddr);
+  if (std::strcmp(name, "vkCreateInstance") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CreateInstance);
+  if (std::strcmp(name, "vkDestroyInstance") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&DestroyInstance);
+  if (std::strcmp(name, "vkCreateDevice") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CreateDevice);
+  if (std::strcmp(name, "vkGetDeviceProcAddr") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&GetDeviceProcAddr);
+  if (PFN_vkVoidFunction f = deviceHook(name)) return f;
+  if (!instance) return nullptr;
+  InstanceData* d = L().instance(dispatchKey(instance));
+  return d ? d->next_gipa(instance, name) : nullptr;
+}
+
+}  // namespace vulkan
+}  // namespace capture
+}  // namespace viper
+
+VIPER_VK_EXPORT VKAPI_ATTR VkResult VKAPI_CALL vkNegotiateLoaderLayerInterfaceVersion(VkNegotiateLayerInterface* v) {
+  if (v->loaderLayerInterfaceVersion > 2) v->loaderLayerInterfaceVersion = 2;
+  v->pfnGetInstanceProcAddr = &viper::capture::vulkan::GetInstanceProcAddr;
+  v->pfnGetDeviceProcAddr = &viper::capture::vulkan::GetDeviceProcAddr;
+  v->pfnGetPhysicalDeviceProcAddr = nullptr;
+  return VK_SUCCESS;
+}
+
+VIPER_VK_EXPORT VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL viper_vkGetInstanceProcAddr(VkInstance instance, const char* name) {
+  return viper::capture::vulkan::GetInstanceProcAddr(instance, name);
+}
+
+VIPER_VK_EXPORT VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL viper_vkGetDeviceProcAddr(VkDevice device, const char* name) {
+  return viper::capture::vulkan::GetDeviceProcAddr(device, name);
+}

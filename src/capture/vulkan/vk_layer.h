@@ -1,0 +1,135 @@
+// The Vulkan capture layer (VK_LAYER_VIPER_capture): a loader layer that records what a Vulkan
+// program draws into the same capture stream the OpenGL layer writes. Enabled by `capture` for
+// every program (VK_INSTANCE_LAYERS); a pass-through when VIPER_CAPTURE_OUTPUT is not set.
+//
+// What it changes in the program's objects, none of which the program can see in its image:
+// - render passes whose subpasses have a single-sampled depth attachment get one more colour
+//   attachment of the layer's (RGBA32UI, cleared to 0) in those subpasses, and their depth is
+//   stored; framebuffers of them get the layer's image for it;
+// - pipeline layouts get 8 bytes of push constants past the program's own, for the fragment stage;
+// - the fragment shaders of pipelines drawn in such subpasses write (recording, draw, primitive)
+//   to the id attachment (spirv_module.h), and their blend state gets the attachment;
+// - swapchain images and depth images can be read back (TRANSFER_SRC added to their usage);
+// - the device gets the geometryShader feature (gl_PrimitiveID in fragment shaders) if it has it.
+#pragma once
+
+#include "vk_state.h"
+#include "viper/capture/capture_profile.h"
+#include "viper/capture/capture_stream.h"
+
+namespace viper {
+namespace capture {
+namespace vulkan {
+
+class FrameSinkHandle;
+
+/// The layer's state: every object it follows, per device. Methods take the lock themselves.
+class Layer {
+ public:
+  static Layer& get();
+
+  bool capturing() const { return enabled_; }
+  std::mutex& mutex() { return mutex_; }
+
+  // Instances and devices.
+  InstanceData* instance(void* key);
+  void addInstance(VkInstance instance, PFN_vkGetInstanceProcAddr gipa);
+  void removeInstance(VkInstance instance);
+  struct Device;
+  Device* device(void* key);
+  Device* addDevice(VkPhysicalDevice physical, VkDevice device, PFN_vkGetDeviceProcAddr gdpa,
+                    PFN_vkSetDeviceLoaderData set_loader_data);
+  void removeDevice(VkDevice device);
+
+  struct Device {
+    VkDevice device = VK_NULL_HANDLE;
+    VkPhysicalDevice physical = VK_NULL_HANDLE;
+    InstanceData* instance = nullptr;
+    PFN_vkGetDeviceProcAddr next_gdpa = nullptr;
+    PFN_vkSetDeviceLoaderData set_loader_data = nullptr;
+    DeviceTable vk;
+    VkPhysicalDeviceMemoryProperties memory_properties{};
+    VkPhysicalDeviceLimits limits{};
+    bool primitive_id = false;  ///< geometryShader enabled: fragment shaders may read gl_PrimitiveID
+
+    std::unordered_map<VkQueue, uint32_t> queue_families;
+    std::unordered_map<VkDeviceMemory, MemoryInfo> memories;
+    std::unordered_map<VkBuffer, BufferInfo> buffers;
+    std::unordered_map<VkImage, VkFormat> depth_images;
+    std::unordered_map<VkImageView, ImageViewInfo> views;
+    std::unordered_map<VkRenderPass, RenderPassInfo> render_passes;
+    std::unordered_map<VkFramebuffer, FramebufferInfo> framebuffers;
+    std::unordered_map<VkShaderModule, std::vector<uint32_t>> modules;
+    std::unordered_map<VkPipelineLayout, LayoutInfo> layouts;
+    std::unordered_map<VkDescriptorSetLayout, DescriptorSetLayoutInfo> set_layouts;
+    std::unordered_map<VkDescriptorSet, DescriptorSetInfo> sets;
+    std::unordered_map<VkPipeline, PipelineInfo> pipelines;
+    std::unordered_map<VkSwapchainKHR, SwapchainInfo> swapchains;
+    std::unordered_map<VkCommandBuffer, std::shared_ptr<Recording>> recordings;
+    /// Recordings submitted since the last present, in submission order.
+    std::vector<std::shared_ptr<Recording>> frame;
+    /// Recordings replaced while a frame still held them: their buffers are freed after the frame.
+    std::vector<std::shared_ptr<Recording>> retired;
+    // The layer's own command pool, per queue family, for the read-back of presented images.
+    std::map<uint32_t, VkCommandPool> pools;
+    VkFence fence = VK_NULL_HANDLE;
+  };
+
+  /// A host-visible buffer of the layer's (read back into).
+  bool createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer, VkDeviceMemory& memory);
+  /// A memory type of `bits` with `flags` (UINT32_MAX if none).
+  static uint32_t memoryType(const Device& d, uint32_t bits, VkMemoryPropertyFlags flags);
+  /// Pointer to `size` bytes of buffer `b` at `offset`, mapping its memory for the layer if the
+  /// program has not (nullptr when not host-visible or out of range).
+  const uint8_t* bufferBytes(Device& d, VkBuffer b, VkDeviceSize offset, VkDeviceSize size);
+  /// Unmaps what bufferBytes() mapped (called before the lock is released).
+  void unmapLayerMappings(Device& d);
+  void freeRecording(Device& d, Recording& r);
+  uint64_t& presentsSeen() { return presents_; }
+  uint64_t skipFrames() const { return skip_frames_; }
+  uint32_t nextSerial() { return ++serial_; }
+
+  // The capture (frame building is in vk_frame.cpp).
+  const CaptureProfile& profile() const { return profile_; }
+  /// Called at each present with the lock held, after the presented image was read into `rgba`
+  /// (top row first). Writes the frame; returns false when the frame limit says to stop.
+  bool finishFrame(Device& d, const std::vector<uint8_t>& rgba_top_first, uint32_t width, uint32_t height);
+  /// Says once (stderr) what the layer could not do, with `what` as the key.
+  void reportOnce(const std::string& what);
+  void shutdown();
+
+ private:
+  Layer();
+  bool enabled_ = false;
+  std::mutex mutex_;
+  std::unordered_map<void*, std::unique_ptr<InstanceData>> instances_;
+  std::unordered_map<void*, std::unique_ptr<Device>> devices_;
+  uint32_t serial_ = 0;
+  CaptureProfile profile_;
+  /// Opens the stream at the first frame to write (false when another layer writes it, or it
+  /// cannot be opened).
+  bool openSink();
+  std::unique_ptr<FrameSinkHandle> sink_;
+  bool sink_failed_ = false;
+  std::string output_;
+  CaptureHeader header_;
+  int zstd_level_ = 1, writer_threads_ = 1;
+  std::map<std::string, bool> reported_;
+  // Frame settings, as the OpenGL layer reads them.
+  std::string condition_;
+  uint64_t frame_limit_ = 0, skip_frames_ = 0, presents_ = 0, frames_written_ = 0;
+  double fixed_fps_ = 0.0, start_s_ = 0.0;
+  std::unordered_map<uint64_t, bool> meshes_sent_;
+  std::vector<VkDeviceMemory> layer_mapped_;
+
+  friend class FrameBuilder;
+};
+
+/// Submission and presentation hooks (vk_frame.cpp): recordings join the frame at submit, and the
+/// frame is read back and written at present.
+VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const VkSubmitInfo* submits, VkFence fence);
+VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInfoKHR* info);
+
+}  // namespace vulkan
+}  // namespace capture
+}  // namespace viper

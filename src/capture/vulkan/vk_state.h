@@ -1,0 +1,222 @@
+// The Vulkan capture layer's view of a program: dispatch tables, the objects it follows and what a
+// command buffer recorded. One lock guards it all (the layer's own state, never the program's).
+// How the layer works: docs/capture_layer.md, "Vulkan".
+#pragma once
+
+#include "spirv_module.h"
+#include "viper/capture/capture_frame.h"
+
+#include <vulkan/vk_layer.h>
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace viper {
+namespace capture {
+namespace vulkan {
+
+/// The dispatchable handle's loader key: every dispatchable object of one instance or device shares it.
+template <typename T>
+void* dispatchKey(T handle) {
+  return *reinterpret_cast<void**>(handle);
+}
+
+struct InstanceData {
+  VkInstance instance = VK_NULL_HANDLE;
+  PFN_vkGetInstanceProcAddr next_gipa = nullptr;
+  PFN_vkDestroyInstance DestroyInstance = nullptr;
+  PFN_vkGetPhysicalDeviceMemoryProperties GetPhysicalDeviceMemoryProperties = nullptr;
+  PFN_vkGetPhysicalDeviceProperties GetPhysicalDeviceProperties = nullptr;
+  PFN_vkGetPhysicalDeviceFeatures GetPhysicalDeviceFeatures = nullptr;
+  PFN_vkGetPhysicalDeviceSurfaceCapabilitiesKHR GetPhysicalDeviceSurfaceCapabilitiesKHR = nullptr;
+  PFN_vkGetPhysicalDeviceQueueFamilyProperties GetPhysicalDeviceQueueFamilyProperties = nullptr;
+};
+
+/// The next layer's (or driver's) device functions the layer calls.
+struct DeviceTable {
+#define VIPER_VK_DEVICE_FUNCTIONS(X)                                                                          \
+  X(DestroyDevice) X(GetDeviceQueue) X(GetDeviceQueue2) X(QueueSubmit) X(QueueWaitIdle) X(DeviceWaitIdle)       \
+  X(QueuePresentKHR) X(CreateSwapchainKHR) X(DestroySwapchainKHR) X(GetSwapchainImagesKHR) X(CreateImage)      \
+  X(DestroyImage) X(CreateImageView) X(DestroyImageView) X(CreateBuffer) X(DestroyBuffer)                       \
+  X(GetBufferMemoryRequirements) X(GetImageMemoryRequirements) X(AllocateMemory) X(FreeMemory)                  \
+  X(BindBufferMemory) X(BindImageMemory) X(BindBufferMemory2) X(MapMemory) X(UnmapMemory)                       \
+  X(InvalidateMappedMemoryRanges) X(CreateRenderPass) X(DestroyRenderPass) X(CreateFramebuffer)                \
+  X(DestroyFramebuffer) X(CreateShaderModule) X(DestroyShaderModule) X(CreatePipelineLayout)                   \
+  X(DestroyPipelineLayout) X(CreateGraphicsPipelines) X(DestroyPipeline) X(CreateDescriptorSetLayout)          \
+  X(DestroyDescriptorSetLayout) X(AllocateDescriptorSets) X(UpdateDescriptorSets) X(AllocateCommandBuffers)    \
+  X(FreeCommandBuffers) X(BeginCommandBuffer) X(EndCommandBuffer) X(ResetCommandBuffer) X(CmdBeginRenderPass)  \
+  X(CmdEndRenderPass) X(CmdNextSubpass) X(CmdBindPipeline) X(CmdBindVertexBuffers) X(CmdBindIndexBuffer)       \
+  X(CmdBindDescriptorSets) X(CmdPushConstants) X(CmdDraw) X(CmdDrawIndexed) X(CmdDrawIndirect)                 \
+  X(CmdDrawIndexedIndirect) X(CmdSetViewport) X(CmdPipelineBarrier) X(CmdCopyImageToBuffer)                    \
+  X(CreateCommandPool) X(DestroyCommandPool) X(ResetCommandPool) X(CreateFence) X(WaitForFences) X(ResetFences) \
+  X(DestroyFence) X(CreateSemaphore) X(DestroySemaphore) X(CmdExecuteCommands)
+#define VIPER_VK_DECLARE(name) PFN_vk##name name = nullptr;
+  VIPER_VK_DEVICE_FUNCTIONS(VIPER_VK_DECLARE)
+#undef VIPER_VK_DECLARE
+};
+
+struct MemoryInfo {
+  VkDeviceSize size = 0;
+  uint32_t type = 0;
+  bool host_visible = false;
+  bool coherent = false;
+  void* program_mapping = nullptr;  ///< where the program mapped it (offset 0 of the mapping)
+  VkDeviceSize program_offset = 0;
+};
+
+struct BufferInfo {
+  VkDeviceSize size = 0;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkDeviceSize memory_offset = 0;
+};
+
+/// What the layer did to a render pass: its id attachment, and the location of the id output in
+/// each subpass (-1: that subpass gets no ids).
+struct RenderPassInfo {
+  uint32_t id_attachment = VK_ATTACHMENT_UNUSED;
+  uint32_t attachment_count = 0;  ///< the program's own
+  std::vector<int> id_location;   ///< per subpass
+  std::vector<int> depth_attachment;  ///< per subpass, -1 none
+  std::vector<VkFormat> formats;  ///< per attachment (the program's)
+  std::vector<VkImageLayout> final_layouts;
+  std::string why_no_ids;  ///< empty when ids are written
+};
+
+struct FramebufferInfo {
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  uint32_t width = 0, height = 0;
+  std::vector<VkImageView> views;  ///< the program's attachments
+  VkImage id_image = VK_NULL_HANDLE;
+  VkImageView id_view = VK_NULL_HANDLE;
+  VkDeviceMemory id_memory = VK_NULL_HANDLE;
+};
+
+struct ImageViewInfo {
+  VkImage image = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+};
+
+struct LayoutInfo {
+  uint32_t layer_offset = 0;        ///< where the layer's two id words go in push constants
+  VkShaderStageFlags layer_stages = 0;  ///< stage flags of the range holding them (0: none: no ids)
+  std::vector<VkDescriptorSetLayout> set_layouts;
+};
+
+struct DescriptorSetLayoutInfo {
+  struct Binding {
+    VkDescriptorType type;
+    uint32_t count;
+  };
+  std::map<uint32_t, Binding> bindings;
+  uint32_t dynamicCount() const;
+};
+
+struct DescriptorBuffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceSize offset = 0;
+  VkDeviceSize range = 0;
+  bool dynamic = false;
+};
+
+struct DescriptorSetInfo {
+  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+  std::map<uint32_t, DescriptorBuffer> buffers;  ///< binding (element 0) -> buffer
+};
+
+/// Where one of a draw's matrices is read from.
+struct MatrixSource {
+  bool known = false;
+  BlockMember member;
+};
+
+struct PipelineInfo {
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  uint64_t program_key = 0;
+  bool depth_test = false;
+  bool depth_only = false;  ///< no fragment shader or no colour written: a depth pre-pass
+  bool ids = false;
+  std::string why_no_ids;
+  VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  bool overlay = false;  ///< the profile says so
+  // Position attribute.
+  bool has_position = false;
+  uint32_t position_binding = 0;
+  VkFormat position_format = VK_FORMAT_UNDEFINED;
+  uint32_t position_offset = 0;
+  std::map<uint32_t, uint32_t> strides;  ///< binding -> stride
+  MatrixSource world, view, projection;
+  uint8_t expected_matrices = 0;
+  std::vector<VkShaderModule> layer_modules;  ///< rewritten modules the layer made for it
+};
+
+struct SwapchainInfo {
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent{};
+  std::vector<VkImage> images;
+  bool readable = false;  ///< TRANSFER_SRC was added
+};
+
+/// One draw as a command buffer recorded it.
+struct RecordedDraw {
+  uint32_t local = 0;  ///< index within its recording (the id it writes)
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  int pass = -1;  ///< render pass instance within the recording
+  bool ids = false;
+  bool indexed = false;
+  uint32_t count = 0, instances = 1, first = 0;
+  int32_t vertex_offset = 0;
+  VkBuffer vertex_buffer = VK_NULL_HANDLE;
+  VkDeviceSize vertex_buffer_offset = 0;
+  VkBuffer index_buffer = VK_NULL_HANDLE;
+  VkDeviceSize index_buffer_offset = 0;
+  VkIndexType index_type = VK_INDEX_TYPE_UINT32;
+  bool y_down = true;  ///< viewport height positive: Vulkan's y-down clip space
+  /// Matrices read at record time (push constants) and where to read the rest at submit.
+  std::array<GlMatrix, 3> matrices{GlMatrix::Identity(), GlMatrix::Identity(), GlMatrix::Identity()};
+  std::array<DescriptorBuffer, 3> matrix_buffers{};
+  std::array<uint32_t, 3> matrix_buffer_offsets{};
+  uint8_t matrix_flags = 0;  ///< read at record time
+  uint8_t pending_matrices = 0;  ///< to read at submit
+};
+
+/// A render pass instance with recorded draws: where its depth and ids are copied at its end.
+struct PassCapture {
+  uint32_t width = 0, height = 0;
+  VkFormat depth_format = VK_FORMAT_UNDEFINED;
+  VkBuffer depth_buffer = VK_NULL_HANDLE, id_buffer = VK_NULL_HANDLE;
+  VkDeviceMemory depth_memory = VK_NULL_HANDLE, id_memory = VK_NULL_HANDLE;
+  uint32_t id_draws = 0;
+};
+
+/// What a command buffer recorded since it was begun.
+struct Recording {
+  uint32_t serial = 0;
+  std::vector<RecordedDraw> draws;
+  std::vector<PassCapture> passes;
+  std::vector<VkCommandBuffer> executed;  ///< secondary command buffers it executes
+  // Recording state.
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  uint32_t subpass = 0;
+  int pass = -1;
+  std::map<uint32_t, std::pair<VkBuffer, VkDeviceSize>> vertex_buffers;
+  VkBuffer index_buffer = VK_NULL_HANDLE;
+  VkDeviceSize index_offset = 0;
+  VkIndexType index_type = VK_INDEX_TYPE_UINT32;
+  std::map<uint32_t, std::pair<VkDescriptorSet, std::vector<uint32_t>>> sets;  ///< set -> (set, dynamic offsets)
+  std::array<uint8_t, 256> push{};
+  bool y_down = true;
+  uint32_t unrecorded = 0;  ///< draws into a scene pass that could not be recorded
+};
+
+}  // namespace vulkan
+}  // namespace capture
+}  // namespace viper

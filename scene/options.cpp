@@ -83,18 +83,22 @@ SceneOptions parseOptions(const std::vector<std::string>& args) {
   return o;
 }
 
-std::string usage() {
-  return "Usage: test_scene [options]\n"
-         "Renders viper's headless test scene (EGL surfaceless, OpenGL 3.3 core) into framebuffer 0,\n"
-         "one eglSwapBuffers per frame. Knows nothing of capture.\n"
-         "  --frames N          frames to render (default 30)\n"
+std::string sharedOptionsUsage() {
+  return "  --frames N          frames to render (default 30)\n"
          "  --width W           image width in pixels, 1..8192 (default 640)\n"
          "  --height H          image height in pixels, 1..8192 (default 480)\n"
          "  --seed S            varies building heights, car phases, rain (default 1)\n"
          "  --fps F             simulated frame rate: frame n is at time n/F seconds (default 15)\n"
          "  --oracle FILE       write the true answers per frame and draw (docs/oracle_format.md)\n"
          "  --dump-dir DIR      write each frame's color as DIR/frame_NNNNNN.ppm (read before the swap)\n"
-         "  --benchmark         print the mean frame time (rendering finished: glFinish)\n"
+         "  --benchmark         print the mean frame time (rendering finished: glFinish or a fence)\n";
+}
+
+std::string usage() {
+  return "Usage: test_scene [options]\n"
+         "Renders viper's headless test scene (EGL surfaceless, OpenGL 3.3 core) into framebuffer 0,\n"
+         "one eglSwapBuffers per frame. Knows nothing of capture.\n" +
+         sharedOptionsUsage() +
          "  --gl-loader L       direct (libGL symbols, default) or egl-proc (eglGetProcAddress)\n"
          "  --help              this text\n"
          "Exit codes: 0 ok, 1 runtime failure (EGL/GL/file), 2 bad command line.\n";

@@ -1,4 +1,4 @@
-// Command line of test_scene.
+// Command line of test_scene (vk_test_scene parses the same options, less --gl-loader, plus its own).
 #pragma once
 
 #include "gl_api.h"
@@ -37,6 +37,9 @@ SceneOptions parseOptions(const std::vector<std::string>& args);
 
 /// The --help text.
 std::string usage();
+
+/// The --help lines of the options test_scene shares with vk_test_scene (frames to benchmark).
+std::string sharedOptionsUsage();
 
 }  // namespace scene
 }  // namespace viper

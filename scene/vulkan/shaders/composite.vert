@@ -1,0 +1,7 @@
+// --offscreen: one triangle that covers the whole swapchain image (no vertex buffer, no depth).
+#version 450
+
+void main() {
+  vec2 corner = vec2((gl_VertexIndex << 1) & 2, gl_VertexIndex & 2);
+  gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}

@@ -1,0 +1,144 @@
+// The Vulkan plumbing of vk_test_scene: an X window (xcb), the instance, the device and its queue,
+// the window's swapchain, and the buffer/image helpers the renderer builds on. No scene knowledge.
+#pragma once
+
+#include <vulkan/vulkan.h>
+#include <xcb/xcb.h>
+
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace viper {
+namespace scene {
+namespace vk {
+
+/// A failed Vulkan call; the message names the call and its VkResult.
+class VulkanError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Throws VulkanError("<what>: VK_ERROR_...") unless `result` is VK_SUCCESS.
+void check(VkResult result, const char* what);
+
+/// VK_SUCCESS, VK_ERROR_OUT_OF_DATE_KHR, ... (the number for unknown codes).
+std::string resultName(VkResult result);
+
+/// A buffer with its own memory; `mapped` is the persistent mapping of host-visible memory, else null.
+struct Buffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  void* mapped = nullptr;
+  VkDeviceSize size = 0;
+};
+
+/// A 2D image with its own device-local memory and one view of all of it.
+struct Image {
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+};
+
+/// Instance, X window and surface, physical and logical device, one graphics+present queue.
+class Context {
+ public:
+  /// Opens a `width` x `height` window on $DISPLAY and picks the first device that can draw and
+  /// present to it. Throws std::runtime_error with what to do if there is no X display, no Vulkan
+  /// driver or no device that presents to X; `dynamic_rendering` also requires Vulkan 1.3 or
+  /// VK_KHR_dynamic_rendering.
+  Context(uint32_t width, uint32_t height, bool dynamic_rendering);
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  VkInstance instance() const { return instance_; }
+  VkPhysicalDevice physicalDevice() const { return physical_; }
+  VkDevice device() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  uint32_t queueFamily() const { return queue_family_; }
+  VkSurfaceKHR surface() const { return surface_; }
+  const VkPhysicalDeviceProperties& properties() const { return properties_; }
+  /// "llvmpipe (LLVM 15.0.6, 256 bits), Vulkan 1.3.230".
+  std::string description() const;
+
+  /// vkCmdBeginRendering / vkCmdEndRendering (core or KHR); null unless dynamic rendering was asked for.
+  PFN_vkCmdBeginRenderingKHR cmdBeginRendering = nullptr;
+  PFN_vkCmdEndRenderingKHR cmdEndRendering = nullptr;
+
+  /// A buffer in memory with `properties`; host-visible memory is mapped for the buffer's lifetime.
+  Buffer createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, VkMemoryPropertyFlags properties) const;
+  void destroy(Buffer& buffer) const;
+  /// A device-local 2D image of one mip level and layer, with a view of `aspect`.
+  Image createImage(uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
+                    VkImageAspectFlags aspect) const;
+  void destroy(Image& image) const;
+  /// Records commands with `record` into a one-time command buffer, submits it and waits.
+  void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
+
+ private:
+  void release();
+  void openWindow(uint32_t width, uint32_t height);
+  void createInstance();
+  void pickDevice(bool dynamic_rendering);
+  uint32_t memoryType(uint32_t type_bits, VkMemoryPropertyFlags properties) const;
+
+  xcb_connection_t* connection_ = nullptr;
+  xcb_window_t window_ = 0;
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties properties_{};
+  VkPhysicalDeviceMemoryProperties memory_{};
+  VkDevice device_ = VK_NULL_HANDLE;
+  uint32_t queue_family_ = 0;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  VkCommandPool one_time_pool_ = VK_NULL_HANDLE;
+};
+
+/// The window's swapchain: its images, one view each, acquire and present.
+class Swapchain {
+ public:
+  /// A swapchain of the window's size in B8G8R8A8_UNORM (or R8G8B8A8_UNORM), IMMEDIATE present
+  /// mode where offered, else FIFO. `readable` adds TRANSFER_SRC usage (frame dumps).
+  Swapchain(const Context& context, uint32_t width, uint32_t height, bool readable);
+  ~Swapchain();
+  Swapchain(const Swapchain&) = delete;
+  Swapchain& operator=(const Swapchain&) = delete;
+
+  VkFormat format() const { return format_; }
+  VkExtent2D extent() const { return extent_; }
+  VkPresentModeKHR presentMode() const { return present_mode_; }
+  size_t imageCount() const { return images_.size(); }
+  VkImage image(size_t i) const { return images_[i]; }
+  VkImageView view(size_t i) const { return views_[i]; }
+  /// Whether the format stores blue first (the dump swaps it back).
+  bool bgr() const { return format_ == VK_FORMAT_B8G8R8A8_UNORM; }
+
+  /// Index of the next image; `signal` is signalled when it may be written. Throws VulkanError
+  /// (the window changed and the swapchain is out of date, or the device was lost).
+  uint32_t acquire(VkSemaphore signal) const;
+  /// Presents image `index` once `wait` is signalled.
+  void present(uint32_t index, VkSemaphore wait) const;
+
+ private:
+  void release();
+
+  const Context& context_;
+  VkSwapchainKHR swapchain_ = VK_NULL_HANDLE;
+  VkFormat format_ = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent_{};
+  VkPresentModeKHR present_mode_ = VK_PRESENT_MODE_FIFO_KHR;
+  std::vector<VkImage> images_;
+  std::vector<VkImageView> views_;
+};
+
+/// A view of all of a 2D image (one level, one layer).
+VkImageView createImageView(VkDevice device, VkImage image, VkFormat format, VkImageAspectFlags aspect);
+
+}  // namespace vk
+}  // namespace scene
+}  // namespace viper

@@ -1,0 +1,45 @@
+#include "vk_options.h"
+
+namespace viper {
+namespace scene {
+
+VkSceneOptions parseVkOptions(const std::vector<std::string>& args) {
+  VkSceneOptions o;
+  std::vector<std::string> shared;
+  for (const std::string& arg : args) {
+    const std::string name = arg.substr(0, arg.find('='));
+    bool* flag = name == "--dynamic-rendering"      ? &o.dynamic_rendering
+                 : name == "--offscreen"            ? &o.offscreen
+                 : name == "--host-visible-buffers" ? &o.host_visible_buffers
+                                                    : nullptr;
+    if (flag) {
+      if (name != arg) throw OptionsError(name + " takes no value");
+      *flag = true;
+    } else if (name == "--gl-loader") {
+      throw OptionsError("--gl-loader is test_scene's OpenGL option; vk_test_scene draws with Vulkan");
+    } else {
+      shared.push_back(arg);
+    }
+  }
+  o.scene = parseOptions(shared);
+  return o;
+}
+
+std::string vkUsage() {
+  return "Usage: vk_test_scene [options]\n"
+         "Renders test_scene's scene with Vulkan 1.2/1.3 into an X window's swapchain ($DISPLAY, e.g. Xvfb),\n"
+         "one vkQueuePresentKHR per frame: world matrices in push constants, the camera in a uniform\n"
+         "buffer at a dynamic offset, bones in a storage buffer. Knows nothing of capture; its oracle\n"
+         "equals test_scene's for the same options.\n" +
+         sharedOptionsUsage() +
+         "  --dynamic-rendering vkCmdBeginRendering (Vulkan 1.3 / VK_KHR_dynamic_rendering), not render passes\n"
+         "  --offscreen         draw the scene into an offscreen target, then onto the swapchain image with\n"
+         "                      a full-screen triangle and a HUD panel on top (top-left corner)\n"
+         "  --host-visible-buffers  meshes in host-visible buffers (default: device-local, staging copy)\n"
+         "  --help              this text\n"
+         "Exit codes: 0 ok, 1 runtime failure (no X display, no Vulkan device, Vulkan error, file), 2 bad\n"
+         "command line.\n";
+}
+
+}  // namespace scene
+}  // namespace viper

@@ -1,0 +1,28 @@
+// Command line of vk_test_scene: test_scene's options (less --gl-loader) and the Vulkan ways of drawing.
+#pragma once
+
+#include "scene/options.h"
+
+#include <string>
+#include <vector>
+
+namespace viper {
+namespace scene {
+
+/// test_scene's options plus how vk_test_scene draws (all false: render pass, staging upload).
+struct VkSceneOptions {
+  SceneOptions scene;
+  bool dynamic_rendering = false;     ///< --dynamic-rendering
+  bool offscreen = false;             ///< --offscreen
+  bool host_visible_buffers = false;  ///< --host-visible-buffers
+};
+
+/// Parses argv[1..] as parseOptions does, plus the three flags above. Throws OptionsError as
+/// parseOptions does, and for --gl-loader (an OpenGL option) or a flag given a value.
+VkSceneOptions parseVkOptions(const std::vector<std::string>& args);
+
+/// The --help text of vk_test_scene.
+std::string vkUsage();
+
+}  // namespace scene
+}  // namespace viper

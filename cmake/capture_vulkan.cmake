@@ -63,3 +63,19 @@ endif()
 target_compile_definitions(viper_capture PRIVATE
   VIPER_VULKAN_LAYER_BUILD_PATH="${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/vulkan")
 add_dependencies(viper_capture viper_vulkan_layer)
+
+if(CATKIN_ENABLE_TESTING)
+  # The layer on our Vulkan oracle program in every way it draws, against its truth, its own
+  # pictures and the Khronos validation layer (each run under xvfb-run).
+  catkin_add_gtest(test_capture_vulkan test/capture/test_capture_vulkan.cpp)
+  if(TARGET test_capture_vulkan)
+    target_link_libraries(test_capture_vulkan viper_core gtest_main)
+    target_include_directories(test_capture_vulkan PRIVATE ${PROJECT_SOURCE_DIR})
+    target_compile_definitions(test_capture_vulkan PRIVATE
+      VIPER_CAPTURE_BIN="$<TARGET_FILE:viper_capture>"
+      VIPER_VK_TEST_SCENE_BIN="$<TARGET_FILE:vk_test_scene>"
+      VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+      VIPER_VULKAN_LAYER_DIR="${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/vulkan")
+    add_dependencies(test_capture_vulkan viper_capture viper_vulkan_layer viper_intercept vk_test_scene)
+  endif()
+endif()

@@ -212,6 +212,10 @@ Layer::Device* Layer::addDevice(VkPhysicalDevice physical, VkDevice device, PFN_
 #define VIPER_VK_LOAD(name) d->vk.name = reinterpret_cast<PFN_vk##name>(gdpa(device, "vk" #name));
   VIPER_VK_DEVICE_FUNCTIONS(VIPER_VK_LOAD)
 #undef VIPER_VK_LOAD
+  if (!d->vk.CmdBeginRendering)
+    d->vk.CmdBeginRendering = reinterpret_cast<PFN_vkCmdBeginRendering>(gdpa(device, "vkCmdBeginRenderingKHR"));
+  if (!d->vk.CmdEndRendering)
+    d->vk.CmdEndRendering = reinterpret_cast<PFN_vkCmdEndRendering>(gdpa(device, "vkCmdEndRenderingKHR"));
   if (d->instance) {
     d->instance->GetPhysicalDeviceMemoryProperties(physical, &d->memory_properties);
     VkPhysicalDeviceProperties properties{};
@@ -238,11 +242,13 @@ void Layer::removeDevice(VkDevice device) {
   for (auto& r : d->retired) freeRecording(*d, *r);
   for (auto& [family, pool] : d->pools) d->vk.DestroyCommandPool(device, pool, nullptr);
   if (d->fence) d->vk.DestroyFence(device, d->fence, nullptr);
-  for (auto& [fb, info] : d->framebuffers) {
-    if (info.id_view) d->vk.DestroyImageView(device, info.id_view, nullptr);
-    if (info.id_image) d->vk.DestroyImage(device, info.id_image, nullptr);
-    if (info.id_memory) d->vk.FreeMemory(device, info.id_memory, nullptr);
-  }
+  auto destroy = [&](const IdImage& ids) {
+    if (ids.view) d->vk.DestroyImageView(device, ids.view, nullptr);
+    if (ids.image) d->vk.DestroyImage(device, ids.image, nullptr);
+    if (ids.memory) d->vk.FreeMemory(device, ids.memory, nullptr);
+  };
+  for (auto& [fb, info] : d->framebuffers) destroy(info.ids);
+  for (auto& [size, ids] : d->rendering_ids) destroy(ids);
   for (auto& [p, info] : d->pipelines)
     for (VkShaderModule m : info.layer_modules) d->vk.DestroyShaderModule(device, m, nullptr);
   // The Device itself is kept: hooks of other threads may still hold a reference to it.

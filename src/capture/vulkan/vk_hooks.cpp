@@ -82,29 +82,31 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateDevice(VkPhysicalDevice physical, const VkD
   InstanceData* inst = L().instance(dispatchKey(physical));
   auto create = reinterpret_cast<PFN_vkCreateDevice>(gipa(inst ? inst->instance : VK_NULL_HANDLE, "vkCreateDevice"));
 
-  // gl_PrimitiveID in fragment shaders needs the geometryShader feature: enabled where the device
-  // has it (the program's own features stay as it asked).
+  // gl_PrimitiveID in fragment shaders needs the geometryShader feature, and the id attachment's own
+  // blend state independentBlend: both enabled where the device has them (the program's own
+  // features stay as it asked, its structures as it made them).
   VkDeviceCreateInfo copy = *info;
   VkPhysicalDeviceFeatures features{};
   VkPhysicalDeviceFeatures supported{};
   if (inst) inst->GetPhysicalDeviceFeatures(physical, &supported);
   auto* features2 = const_cast<VkPhysicalDeviceFeatures2*>(
       findInChain<VkPhysicalDeviceFeatures2>(info->pNext, VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2));
-  VkBool32 program_geometry = VK_FALSE;
-  bool primitive_id = false;
-  if (L().capturing() && supported.geometryShader) {
-    primitive_id = true;
+  VkPhysicalDeviceFeatures program_features{};
+  const bool primitive_id = L().capturing() && supported.geometryShader && supported.independentBlend;
+  if (primitive_id) {
     if (features2) {
-      program_geometry = features2->features.geometryShader;
+      program_features = features2->features;
       features2->features.geometryShader = VK_TRUE;  // restored below
+      features2->features.independentBlend = VK_TRUE;
     } else {
       if (info->pEnabledFeatures) features = *info->pEnabledFeatures;
       features.geometryShader = VK_TRUE;
+      features.independentBlend = VK_TRUE;
       copy.pEnabledFeatures = &features;
     }
   }
   const VkResult r = create(physical, &copy, alloc, out);
-  if (features2) features2->features.geometryShader = program_geometry;
+  if (features2 && primitive_id) features2->features = program_features;
   if (r != VK_SUCCESS) return r;
   Device* d = L().addDevice(physical, *out, gdpa, loader_data ? loader_data->u.pfnSetDeviceLoaderData : nullptr);
   d->primitive_id = primitive_id;
@@ -240,7 +242,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateImage(VkDevice device, const VkImageCreateI
   const VkResult r = d.vk.CreateImage(device, &copy, alloc, out);
   if (r == VK_SUCCESS && depth) {
     Lock lock(L().mutex());
-    d.depth_images[*out] = info->format;
+    d.depth_images[*out] = DepthImage{info->format, info->extent.width, info->extent.height};
   }
   return r;
 }
@@ -392,6 +394,43 @@ VKAPI_ATTR void VKAPI_CALL DestroyRenderPass(VkDevice device, VkRenderPass pass,
   d.vk.DestroyRenderPass(device, pass, alloc);
 }
 
+// The layer's id image (RGBA32UI: recording, draw, primitive, written) of one size.
+IdImage makeIdImage(Device& d, uint32_t width, uint32_t height, uint32_t layers) {
+  IdImage ids;
+  VkImageCreateInfo image{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  image.imageType = VK_IMAGE_TYPE_2D;
+  image.format = kIdFormat;
+  image.extent = {width, height, 1};
+  image.mipLevels = 1;
+  image.arrayLayers = layers;
+  image.samples = VK_SAMPLE_COUNT_1_BIT;
+  image.tiling = VK_IMAGE_TILING_OPTIMAL;
+  image.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  image.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  if (d.vk.CreateImage(d.device, &image, nullptr, &ids.image) != VK_SUCCESS) return IdImage{};
+  VkMemoryRequirements req{};
+  d.vk.GetImageMemoryRequirements(d.device, ids.image, &req);
+  VkMemoryAllocateInfo mem{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mem.allocationSize = req.size;
+  mem.memoryTypeIndex = Layer::memoryType(d, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (mem.memoryTypeIndex == UINT32_MAX) mem.memoryTypeIndex = Layer::memoryType(d, req.memoryTypeBits, 0);
+  d.vk.AllocateMemory(d.device, &mem, nullptr, &ids.memory);
+  d.vk.BindImageMemory(d.device, ids.image, ids.memory, 0);
+  VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  view.image = ids.image;
+  view.viewType = layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+  view.format = kIdFormat;
+  view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, layers};
+  d.vk.CreateImageView(d.device, &view, nullptr, &ids.view);
+  return ids;
+}
+
+void destroyIdImage(Device& d, const IdImage& ids) {
+  if (ids.view) d.vk.DestroyImageView(d.device, ids.view, nullptr);
+  if (ids.image) d.vk.DestroyImage(d.device, ids.image, nullptr);
+  if (ids.memory) d.vk.FreeMemory(d.device, ids.memory, nullptr);
+}
+
 VKAPI_ATTR VkResult VKAPI_CALL CreateFramebuffer(VkDevice device, const VkFramebufferCreateInfo* info,
                                                  const VkAllocationCallbacks* alloc, VkFramebuffer* out) {
   Device& d = dev(device);
@@ -415,32 +454,8 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateFramebuffer(VkDevice device, const VkFrameb
   VkFramebufferCreateInfo copy = *info;
   std::vector<VkImageView> views = fb.views;
   if (ids) {
-    VkImageCreateInfo image{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    image.imageType = VK_IMAGE_TYPE_2D;
-    image.format = kIdFormat;
-    image.extent = {info->width, info->height, 1};
-    image.mipLevels = 1;
-    image.arrayLayers = std::max(1u, info->layers);
-    image.samples = VK_SAMPLE_COUNT_1_BIT;
-    image.tiling = VK_IMAGE_TILING_OPTIMAL;
-    image.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    image.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    d.vk.CreateImage(device, &image, nullptr, &fb.id_image);
-    VkMemoryRequirements req{};
-    d.vk.GetImageMemoryRequirements(device, fb.id_image, &req);
-    VkMemoryAllocateInfo mem{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mem.allocationSize = req.size;
-    mem.memoryTypeIndex = Layer::memoryType(d, req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    if (mem.memoryTypeIndex == UINT32_MAX) mem.memoryTypeIndex = Layer::memoryType(d, req.memoryTypeBits, 0);
-    d.vk.AllocateMemory(device, &mem, nullptr, &fb.id_memory);
-    d.vk.BindImageMemory(device, fb.id_image, fb.id_memory, 0);
-    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    view.image = fb.id_image;
-    view.viewType = image.arrayLayers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
-    view.format = kIdFormat;
-    view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, image.arrayLayers};
-    d.vk.CreateImageView(device, &view, nullptr, &fb.id_view);
-    views.push_back(fb.id_view);
+    fb.ids = makeIdImage(d, info->width, info->height, std::max(1u, info->layers));
+    views.push_back(fb.ids.view);
     copy.attachmentCount = static_cast<uint32_t>(views.size());
     copy.pAttachments = views.data();
   }
@@ -460,9 +475,7 @@ VKAPI_ATTR void VKAPI_CALL DestroyFramebuffer(VkDevice device, VkFramebuffer fra
     if (f != d.framebuffers.end()) fb = f->second, d.framebuffers.erase(f);
   }
   d.vk.DestroyFramebuffer(device, framebuffer, alloc);
-  if (fb.id_view) d.vk.DestroyImageView(device, fb.id_view, nullptr);
-  if (fb.id_image) d.vk.DestroyImage(device, fb.id_image, nullptr);
-  if (fb.id_memory) d.vk.FreeMemory(device, fb.id_memory, nullptr);
+  destroyIdImage(d, fb.ids);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -599,7 +612,7 @@ VKAPI_ATTR void VKAPI_CALL UpdateDescriptorSets(VkDevice device, uint32_t write_
 // it draws into a subpass with the id attachment.
 PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& info, VkPipelineShaderStageCreateInfo* stages,
                               VkPipelineColorBlendStateCreateInfo* blend,
-                              std::vector<VkPipelineColorBlendAttachmentState>& blend_attachments) {
+                              std::vector<VkPipelineColorBlendAttachmentState>& blend_attachments, int* dynamic_location) {
   PipelineInfo p;
   p.layout = info.layout;
   const std::vector<uint32_t>* vertex = nullptr;
@@ -660,14 +673,33 @@ PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& inf
     }
   }
 
-  // Ids: only in subpasses the layer gave its attachment.
-  auto rp = d.render_passes.find(info.renderPass);
-  if (rp == d.render_passes.end() || info.subpass >= rp->second.id_location.size() ||
-      rp->second.id_location[info.subpass] < 0) {
-    p.why_no_ids = rp == d.render_passes.end() ? "dynamic rendering (not supported yet)" : rp->second.why_no_ids;
-    return p;
+  // Ids: only in subpasses the layer gave its attachment, or renderings with a single-sampled depth
+  // image (dynamic rendering: the caller adds the id format to the pipeline's rendering info).
+  uint32_t location = 0;
+  if (info.renderPass == VK_NULL_HANDLE) {
+    const auto* rendering =
+        findInChain<VkPipelineRenderingCreateInfo>(info.pNext, VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
+    const bool single_sampled =
+        !info.pMultisampleState || info.pMultisampleState->rasterizationSamples == VK_SAMPLE_COUNT_1_BIT;
+    if (!rendering || rendering->depthAttachmentFormat == VK_FORMAT_UNDEFINED || !d.primitive_id) {
+      p.why_no_ids = "no depth attachment";
+      return p;
+    }
+    if (!single_sampled || rendering->viewMask != 0) {
+      p.why_no_ids = single_sampled ? "multiview rendering" : "multisampled rendering";
+      return p;
+    }
+    location = rendering->colorAttachmentCount;
+    *dynamic_location = static_cast<int>(location);
+  } else {
+    auto rp = d.render_passes.find(info.renderPass);
+    if (rp == d.render_passes.end() || info.subpass >= rp->second.id_location.size() ||
+        rp->second.id_location[info.subpass] < 0) {
+      p.why_no_ids = rp == d.render_passes.end() ? "render pass unknown to the layer" : rp->second.why_no_ids;
+      return p;
+    }
+    location = static_cast<uint32_t>(rp->second.id_location[info.subpass]);
   }
-  const uint32_t location = static_cast<uint32_t>(rp->second.id_location[info.subpass]);
   // The blend state always gets the attachment (the subpass has it); written only with ids.
   if (blend && info.pColorBlendState) {
     *blend = *info.pColorBlendState;
@@ -701,7 +733,14 @@ PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& inf
       if (d.vk.CreateShaderModule(d.device, &module, nullptr, &made) == VK_SUCCESS) {
         stages[fragment_stage].module = made;
         p.layer_modules.push_back(made);
-        blend_attachments.back().colorWriteMask = 0xf;
+        // An id names the surface the depth image holds: a blended draw that writes no depth is an
+        // effect (rain, glare, smoke) and takes no pixel's id; a pass at equal depth (after a depth
+        // pre-pass, whose depth-only draws are not recorded) names the surface it shades.
+        const VkPipelineDepthStencilStateCreateInfo* ds = info.pDepthStencilState;
+        const bool depth_writes = ds && ds->depthTestEnable && ds->depthWriteEnable;
+        const bool shades_decided = ds && ds->depthTestEnable && !ds->depthWriteEnable && ds->depthCompareOp == VK_COMPARE_OP_EQUAL;
+        const bool blended = info.pColorBlendState->attachmentCount > 0 && info.pColorBlendState->pAttachments[0].blendEnable;
+        blend_attachments.back().colorWriteMask = !blended || depth_writes || shades_decided ? 0xf : 0;
         p.ids = true;
       } else {
         p.why_no_ids = "the rewritten fragment shader was refused by the driver";
@@ -721,17 +760,33 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateGraphicsPipelines(VkDevice device, VkPipeli
   std::vector<VkPipelineColorBlendStateCreateInfo> blends(count);
   std::vector<std::vector<VkPipelineColorBlendAttachmentState>> blend_attachments(count);
   std::vector<PipelineInfo> described(count);
+  // Dynamic rendering: the id format is added to the program's VkPipelineRenderingCreateInfo for
+  // the call, and its own list put back after.
+  std::vector<std::vector<VkFormat>> formats(count);
+  std::vector<std::pair<VkPipelineRenderingCreateInfo*, VkPipelineRenderingCreateInfo>> restore;
   {
     Lock lock(L().mutex());
     for (uint32_t i = 0; i < count; ++i) {
       stages[i].assign(infos[i].pStages, infos[i].pStages + infos[i].stageCount);
+      int dynamic_location = -1;
       described[i] = describePipeline(d, infos[i], stages[i].data(), infos[i].pColorBlendState ? &blends[i] : nullptr,
-                                      blend_attachments[i]);
+                                      blend_attachments[i], &dynamic_location);
       copies[i].pStages = stages[i].data();
       if (infos[i].pColorBlendState && !blend_attachments[i].empty()) copies[i].pColorBlendState = &blends[i];
+      if (dynamic_location >= 0) {
+        auto* rendering = const_cast<VkPipelineRenderingCreateInfo*>(
+            findInChain<VkPipelineRenderingCreateInfo>(infos[i].pNext, VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO));
+        restore.emplace_back(rendering, *rendering);
+        formats[i].assign(rendering->pColorAttachmentFormats,
+                          rendering->pColorAttachmentFormats + rendering->colorAttachmentCount);
+        formats[i].push_back(kIdFormat);
+        rendering->colorAttachmentCount = static_cast<uint32_t>(formats[i].size());
+        rendering->pColorAttachmentFormats = formats[i].data();
+      }
     }
   }
   const VkResult r = d.vk.CreateGraphicsPipelines(device, cache, count, copies.data(), alloc, out);
+  for (auto& [rendering, original] : restore) *rendering = original;
   Lock lock(L().mutex());
   for (uint32_t i = 0; i < count; ++i) {
     if (out[i] != VK_NULL_HANDLE) {
@@ -836,14 +891,16 @@ VKAPI_ATTR void VKAPI_CALL CmdNextSubpass(VkCommandBuffer cb, VkSubpassContents 
 
 // At the end of a render pass instance that drew recorded draws with ids: its depth and ids are
 // copied into buffers of the layer's, read at the frame's present.
+void copyImages(Device& d, VkCommandBuffer cb, PassCapture& pc, VkImage id_image, VkImage depth_image,
+                VkImageLayout depth_layout);
+
 void copyPassImages(Device& d, VkCommandBuffer cb, Recording& r) {
   if (r.pass < 0) return;
   PassCapture& pc = r.passes[static_cast<size_t>(r.pass)];
   auto fb = d.framebuffers.find(r.framebuffer);
   auto rp = d.render_passes.find(r.render_pass);
-  if (fb == d.framebuffers.end() || rp == d.render_passes.end() || !fb->second.id_image || pc.id_draws == 0) return;
+  if (fb == d.framebuffers.end() || rp == d.render_passes.end() || !fb->second.ids.image || pc.id_draws == 0) return;
   pc.width = fb->second.width, pc.height = fb->second.height;
-  const VkDeviceSize pixels = static_cast<VkDeviceSize>(pc.width) * pc.height;
   // The depth attachment of the subpass that had the ids (the first such).
   int depth_attachment = -1;
   for (size_t s = 0; s < rp->second.id_location.size(); ++s)
@@ -861,6 +918,14 @@ void copyPassImages(Device& d, VkCommandBuffer cb, Recording& r) {
       depth_layout = rp->second.final_layouts[static_cast<size_t>(depth_attachment)];
     }
   }
+  copyImages(d, cb, pc, fb->second.ids.image, depth_image, depth_layout);
+}
+
+// Records the copies of a pass's ids (in COLOR_ATTACHMENT_OPTIMAL) and depth (in `depth_layout`,
+// where it is left again) into the layer's buffers, read at the frame's present.
+void copyImages(Device& d, VkCommandBuffer cb, PassCapture& pc, VkImage id_image, VkImage depth_image,
+                VkImageLayout depth_layout) {
+  const VkDeviceSize pixels = static_cast<VkDeviceSize>(pc.width) * pc.height;
   if (!L().createReadbackBuffer(d, pixels * 16, pc.id_buffer, pc.id_memory)) return;
   if (depth_image && !L().createReadbackBuffer(d, pixels * 4, pc.depth_buffer, pc.depth_memory)) depth_image = VK_NULL_HANDLE;
 
@@ -870,7 +935,7 @@ void copyPassImages(Device& d, VkCommandBuffer cb, Recording& r) {
   barriers[0].oldLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
   barriers[0].newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
   barriers[0].srcQueueFamilyIndex = barriers[0].dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barriers[0].image = fb->second.id_image;
+  barriers[0].image = id_image;
   barriers[0].subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
   const VkImageAspectFlags depth_aspect =
       pc.depth_format == VK_FORMAT_D16_UNORM || pc.depth_format == VK_FORMAT_D32_SFLOAT ||
@@ -887,7 +952,7 @@ void copyPassImages(Device& d, VkCommandBuffer cb, Recording& r) {
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {pc.width, pc.height, 1};
-  d.vk.CmdCopyImageToBuffer(cb, fb->second.id_image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.id_buffer, 1, &region);
+  d.vk.CmdCopyImageToBuffer(cb, id_image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.id_buffer, 1, &region);
   if (depth_image) {
     region.imageSubresource.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
     d.vk.CmdCopyImageToBuffer(cb, depth_image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.depth_buffer, 1, &region);
@@ -916,6 +981,75 @@ VKAPI_ATTR void VKAPI_CALL CmdEndRenderPass(VkCommandBuffer cb) {
     r->render_pass = VK_NULL_HANDLE;
     r->pass = -1;
   }
+}
+
+// Dynamic rendering: a rendering with a single-sampled depth image of the program's gets the
+// layer's id image as one more colour attachment, as pipelines made for it get the format.
+VKAPI_ATTR void VKAPI_CALL CmdBeginRendering(VkCommandBuffer cb, const VkRenderingInfo* info) {
+  Device& d = dev(cb);
+  VkRenderingInfo copy = *info;
+  std::vector<VkRenderingAttachmentInfo> colors;
+  VkRenderingAttachmentInfo depth{};
+  {
+    Lock lock(L().mutex());
+    Recording* r = recording(d, cb);
+    if (r) r->rendering = false, r->pass = -1;
+    const VkRenderingAttachmentInfo* program_depth = info->pDepthAttachment;
+    auto view = program_depth && program_depth->imageView ? d.views.find(program_depth->imageView) : d.views.end();
+    auto image = view != d.views.end() ? d.depth_images.find(view->second.image) : d.depth_images.end();
+    if (r && L().capturing() && d.primitive_id && image != d.depth_images.end() && info->viewMask == 0) {
+      const DepthImage& di = image->second;
+      IdImage& ids = d.rendering_ids[{di.width, di.height}];
+      if (!ids.image) ids = makeIdImage(d, di.width, di.height, 1);
+      colors.assign(info->pColorAttachments, info->pColorAttachments + info->colorAttachmentCount);
+      VkRenderingAttachmentInfo id{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      id.imageView = ids.view;
+      id.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      id.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      id.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      colors.push_back(id);
+      copy.colorAttachmentCount = static_cast<uint32_t>(colors.size());
+      copy.pColorAttachments = colors.data();
+      depth = *program_depth;
+      depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // read back at the rendering's end
+      copy.pDepthAttachment = &depth;
+      r->rendering = true;
+      r->rendering_ids = ids.image;
+      r->rendering_depth = view->second.image;
+      r->rendering_depth_layout = program_depth->imageLayout;
+      r->rendering_depth_format = di.format;
+      r->rendering_width = di.width;
+      r->rendering_height = di.height;
+      // The id image enters the layout the attachment names (its contents are cleared anyway).
+      VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+      barrier.srcAccessMask = 0;
+      barrier.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+      barrier.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+      barrier.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      barrier.image = ids.image;
+      barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                              VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+    }
+  }
+  d.vk.CmdBeginRendering(cb, &copy);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdEndRendering(VkCommandBuffer cb) {
+  Device& d = dev(cb);
+  d.vk.CmdEndRendering(cb);
+  Lock lock(L().mutex());
+  Recording* r = recording(d, cb);
+  if (!r || !r->rendering) return;
+  if (r->pass >= 0 && r->passes[static_cast<size_t>(r->pass)].id_draws > 0) {
+    PassCapture& pc = r->passes[static_cast<size_t>(r->pass)];
+    pc.width = r->rendering_width, pc.height = r->rendering_height;
+    pc.depth_format = r->rendering_depth_format;
+    copyImages(d, cb, pc, r->rendering_ids, r->rendering_depth, r->rendering_depth_layout);
+  }
+  r->rendering = false;
+  r->pass = -1;
 }
 
 VKAPI_ATTR void VKAPI_CALL CmdBindPipeline(VkCommandBuffer cb, VkPipelineBindPoint point, VkPipeline pipeline) {
@@ -1011,7 +1145,7 @@ void recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
   if (p == d.pipelines.end() || p->second.depth_only || !p->second.depth_test || p->second.overlay) return;
   const PipelineInfo& pi = p->second;
   // A render pass instance with draws: its depth and ids are read back at its end.
-  if (r->pass < 0 && r->render_pass) {
+  if (r->pass < 0 && (r->render_pass || r->rendering)) {
     r->passes.emplace_back();
     r->pass = static_cast<int>(r->passes.size()) - 1;
   }
@@ -1141,13 +1275,17 @@ VKAPI_ATTR void VKAPI_CALL CmdExecuteCommands(VkCommandBuffer cb, uint32_t count
   X(BeginCommandBuffer) X(FreeCommandBuffers) X(CmdBeginRenderPass) X(CmdNextSubpass) X(CmdEndRenderPass)      \
   X(CmdBindPipeline) X(CmdBindVertexBuffers) X(CmdBindIndexBuffer) X(CmdBindDescriptorSets) X(CmdPushConstants) \
   X(CmdSetViewport) X(CmdDraw) X(CmdDrawIndexed) X(CmdDrawIndirect) X(CmdDrawIndexedIndirect)                  \
-  X(CmdExecuteCommands) X(QueueSubmit) X(QueuePresentKHR) X(DestroyDevice)
+  X(CmdExecuteCommands) X(QueueSubmit) X(QueuePresentKHR) X(DestroyDevice) X(CmdBeginRendering)            \
+  X(CmdEndRendering)
 
 PFN_vkVoidFunction deviceHook(const char* name) {
 #define VIPER_VK_MATCH(fn) \
   if (std::strcmp(name, "vk" #fn) == 0) return reinterpret_cast<PFN_vkVoidFunction>(&fn);
   VIPER_VK_HOOKS(VIPER_VK_MATCH)
 #undef VIPER_VK_MATCH
+  // The extension's names of what Vulkan 1.3 made core.
+  if (std::strcmp(name, "vkCmdBeginRenderingKHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdBeginRendering);
+  if (std::strcmp(name, "vkCmdEndRenderingKHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdEndRendering);
   return nullptr;
 }
 

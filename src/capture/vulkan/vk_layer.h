@@ -55,7 +55,9 @@ class Layer {
     std::unordered_map<VkQueue, uint32_t> queue_families;
     std::unordered_map<VkDeviceMemory, MemoryInfo> memories;
     std::unordered_map<VkBuffer, BufferInfo> buffers;
-    std::unordered_map<VkImage, VkFormat> depth_images;
+    std::unordered_map<VkImage, DepthImage> depth_images;
+    /// The layer's id images for dynamic rendering, one per size.
+    std::map<std::pair<uint32_t, uint32_t>, IdImage> rendering_ids;
     std::unordered_map<VkImageView, ImageViewInfo> views;
     std::unordered_map<VkRenderPass, RenderPassInfo> render_passes;
     std::unordered_map<VkFramebuffer, FramebufferInfo> framebuffers;

@@ -56,7 +56,8 @@ struct DeviceTable {
   X(CmdBindDescriptorSets) X(CmdPushConstants) X(CmdDraw) X(CmdDrawIndexed) X(CmdDrawIndirect)                 \
   X(CmdDrawIndexedIndirect) X(CmdSetViewport) X(CmdPipelineBarrier) X(CmdCopyImageToBuffer)                    \
   X(CreateCommandPool) X(DestroyCommandPool) X(ResetCommandPool) X(CreateFence) X(WaitForFences) X(ResetFences) \
-  X(DestroyFence) X(CreateSemaphore) X(DestroySemaphore) X(CmdExecuteCommands)
+  X(DestroyFence) X(CreateSemaphore) X(DestroySemaphore) X(CmdExecuteCommands) X(CmdBeginRendering)       \
+  X(CmdEndRendering)
 #define VIPER_VK_DECLARE(name) PFN_vk##name name = nullptr;
   VIPER_VK_DEVICE_FUNCTIONS(VIPER_VK_DECLARE)
 #undef VIPER_VK_DECLARE
@@ -89,13 +90,24 @@ struct RenderPassInfo {
   std::string why_no_ids;  ///< empty when ids are written
 };
 
+/// A single-sampled depth image the program made: read back at the end of the scene's pass.
+struct DepthImage {
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  uint32_t width = 0, height = 0;
+};
+
+/// The layer's id image for one size (dynamic rendering) or one framebuffer.
+struct IdImage {
+  VkImage image = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+};
+
 struct FramebufferInfo {
   VkRenderPass render_pass = VK_NULL_HANDLE;
   uint32_t width = 0, height = 0;
   std::vector<VkImageView> views;  ///< the program's attachments
-  VkImage id_image = VK_NULL_HANDLE;
-  VkImageView id_view = VK_NULL_HANDLE;
-  VkDeviceMemory id_memory = VK_NULL_HANDLE;
+  IdImage ids;
 };
 
 struct ImageViewInfo {
@@ -206,6 +218,13 @@ struct Recording {
   VkRenderPass render_pass = VK_NULL_HANDLE;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
   uint32_t subpass = 0;
+  /// Inside vkCmdBeginRendering with the layer's id attachment: its images (dynamic rendering).
+  bool rendering = false;
+  VkImage rendering_ids = VK_NULL_HANDLE;
+  VkImage rendering_depth = VK_NULL_HANDLE;
+  VkImageLayout rendering_depth_layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkFormat rendering_depth_format = VK_FORMAT_UNDEFINED;
+  uint32_t rendering_width = 0, rendering_height = 0;
   int pass = -1;
   std::map<uint32_t, std::pair<VkBuffer, VkDeviceSize>> vertex_buffers;
   VkBuffer index_buffer = VK_NULL_HANDLE;

@@ -1,0 +1,182 @@
+// The Vulkan capture layer on our Vulkan oracle program (vk_test_scene) in every way it draws:
+// render passes, dynamic rendering, an offscreen scene composited under a HUD, staged and
+// host-visible buffers. Each capture is compared with the program's own truth (its oracle: draws,
+// matrices, meshes) exactly, its ids and depth against the reprojected meshes, its pictures with
+// the program's own, frame by frame, with and without the layer; and the layer adds no error of
+// the Khronos validation layer. Each run gets its own Xvfb (xvfb-run).
+#include "../common/process_util.h"
+#include "capture_checks.h"
+#include "viper/ground_truth/capture_invariants.h"
+#include "viper/ground_truth/oracle.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace viper {
+namespace {
+
+namespace fs = std::filesystem;
+using test::readFile;
+using test::run;
+
+const std::string kCommon = "--frames 4 --width 320 --height 240 --seed 3 --fps 10";
+
+std::string dir() { return test::tempDir("viper_vk_capture_"); }
+
+bool haveXvfbAndVulkan() {
+  return run("command -v xvfb-run > /dev/null") == 0 && run("command -v vulkaninfo > /dev/null") == 0;
+}
+
+// Runs `command` with a private X server; its output to `log`.
+int underXvfb(const std::string& command, const std::string& log) {
+  return run("XDG_RUNTIME_DIR=" + dir() + " xvfb-run -a -s '-screen 0 640x480x24' " + command + " > " + log + " 2>&1");
+}
+
+std::string capture(const std::string& out, const std::string& flags, const std::string& extra_env = "") {
+  return extra_env + " " + VIPER_CAPTURE_BIN + " --output " + out + " --profile " + VIPER_SOURCE_DIR +
+         "/config/profiles/vk_test_scene.yaml --fps 10 -- " + VIPER_VK_TEST_SCENE_BIN + " " + kCommon + " " + flags;
+}
+
+bool sameMatrix(const GlMatrix& a, const GlMatrix& b, float tolerance) {
+  return (a - b).cwiseAbs().maxCoeff() <= tolerance * std::max(1.0f, b.cwiseAbs().maxCoeff());
+}
+
+struct Mode {
+  const char* name;
+  const char* flags;
+};
+
+class VulkanCapture : public ::testing::TestWithParam<Mode> {};
+
+TEST_P(VulkanCapture, EqualsTheProgramsOwnTruth) {
+  if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
+  const Mode& mode = GetParam();
+  const std::string base = dir() + "/" + mode.name;
+  const std::string vcap = base + ".vcap", oracle_path = base + ".oracle", log = base + ".log";
+  ASSERT_EQ(underXvfb(capture(vcap, std::string(mode.flags) + " --oracle " + oracle_path + " --dump-dir " + base + "_with"),
+                      log),
+            0)
+      << readFile(log);
+  EXPECT_NE(readFile(log).find("4 frames written"), std::string::npos) << readFile(log);
+  EXPECT_NE(readFile(log).find("nothing left out"), std::string::npos) << readFile(log);
+
+  std::vector<CaptureFrame> frames;
+  MeshRegistry meshes;
+  test::readCapture(vcap, frames, meshes);
+  const Oracle oracle = readOracle(oracle_path);
+  ASSERT_EQ(frames.size(), 4u);
+  ASSERT_EQ(oracle.frames.size(), 4u);
+  ReprojectionCheck reprojection;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    SCOPED_TRACE("frame " + std::to_string(f));
+    const CaptureFrame& frame = frames[f];
+    const OracleFrame& truth = oracle.frames[f];
+    EXPECT_EQ(frame.width, 320u);
+    EXPECT_EQ(frame.height, 240u);
+    EXPECT_DOUBLE_EQ(frame.time_s, truth.time_s);
+    // Every draw of the scene, in order, with the matrices the program used and its mesh.
+    ASSERT_EQ(frame.draws.size(), truth.draws.size());
+    EXPECT_EQ(frame.unrecorded_draws, 0u);
+    for (size_t i = 0; i < frame.draws.size(); ++i) {
+      SCOPED_TRACE("draw " + std::to_string(i) + " (" + truth.draws[i].part + ")");
+      const DrawRecord& d = frame.draws[i];
+      EXPECT_EQ(d.gaps, 0);
+      ASSERT_EQ(d.matrix_flags, kHasWorld | kHasView | kHasProjection);
+      EXPECT_EQ(d.world, truth.draws[i].world);  // push constants: the bytes the program pushed
+      EXPECT_EQ(d.view, truth.view);            // a uniform buffer at a dynamic offset
+      // The program's projection is GL's in Vulkan's clip space (y down, depth 0..1): the capture
+      // records GL's again, to float rounding.
+      EXPECT_TRUE(sameMatrix(d.projection, truth.projection, 1e-6f)) << d.projection << "\n\n" << truth.projection;
+      const OracleMesh* mesh = oracle.mesh(truth.draws[i].mesh);
+      const MeshRecord* captured = meshes.find(d.mesh_key);
+      ASSERT_TRUE(mesh && captured);
+      EXPECT_EQ(captured->positions_xyz, mesh->positions_xyz);
+      EXPECT_EQ(captured->indices, mesh->indices);
+    }
+    reprojection.add(checkReprojection(frame, meshes));
+  }
+  // Ids and depth against the triangles they name. The skinned person is placed rigidly (the
+  // Vulkan layer does not record deformed positions yet): its pixels are the ones off by more.
+  const double within = std::count_if(reprojection.distance_px.begin(), reprojection.distance_px.end(),
+                                      [](float v) { return v <= 0.5f; }) /
+                        static_cast<double>(reprojection.distance_px.size());
+  std::printf("%s: ids on %.2f%% of scene pixels, %.3f%% within 0.5 px, depth p99 %.2e relative\n", mode.name,
+              100.0 * reprojection.id_pixels / reprojection.scene_pixels, 100.0 * within,
+              quantile(reprojection.depth_relative, 0.99));
+  EXPECT_EQ(reprojection.id_pixels, reprojection.scene_pixels);
+  EXPECT_EQ(reprojection.placed_pixels, reprojection.id_pixels);
+  EXPECT_GE(within, 0.995);
+  EXPECT_LE(quantile(reprojection.depth_relative, 0.99), 1e-3);
+
+  // The program does not notice: its frames are the same without the layer, and the capture's
+  // colour is what it showed.
+  const std::string without = base + "_without";
+  ASSERT_EQ(underXvfb(std::string(VIPER_VK_TEST_SCENE_BIN) + " " + kCommon + " " + mode.flags + " --dump-dir " + without,
+                      log),
+            0)
+      << readFile(log);
+  for (int f = 0; f < 4; ++f) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/frame_%06d.ppm", f);
+    const std::string with_capture = readFile(base + "_with" + name);
+    ASSERT_FALSE(with_capture.empty()) << name;
+    EXPECT_TRUE(with_capture == readFile(without + name)) << name << " differs with the layer";
+    // PPM: "P6\n320 240\n255\n" then RGB rows, top first, as the capture's colour.
+    const size_t header = with_capture.size() - 320 * 240 * 3;
+    const std::vector<uint8_t>& color = frames[static_cast<size_t>(f)].color_rgb;
+    ASSERT_EQ(color.size(), 320u * 240 * 3);
+    size_t differing = 0, first = color.size();
+    for (size_t i = 0; i < color.size(); ++i)
+      if (color[i] != static_cast<uint8_t>(with_capture[header + i])) ++differing, first = std::min(first, i);
+    EXPECT_EQ(differing, 0u) << name << ": the capture's colour is not what the program presented (first at byte "
+                             << first << ": " << int(color[first]) << " vs " << int(static_cast<uint8_t>(with_capture[header + first]))
+                             << ")";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, VulkanCapture,
+                         ::testing::Values(Mode{"render_pass", ""}, Mode{"dynamic_rendering", "--dynamic-rendering"},
+                                           Mode{"host_visible", "--host-visible-buffers"},
+                                           Mode{"offscreen", "--offscreen --dynamic-rendering"}),
+                         [](const ::testing::TestParamInfo<Mode>& info) { return std::string(info.param.name); });
+
+// The Khronos validation layer, below ours, sees every call the program and the layer make: the
+// layer must add no error to a program that has none.
+TEST(VulkanCaptureValidation, AddsNoValidationError) {
+  if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
+  if (!fs::exists("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json"))
+    GTEST_SKIP() << "vulkan-validationlayers not installed";
+  for (const char* flags : {"", "--dynamic-rendering --offscreen"}) {
+    SCOPED_TRACE(flags);
+    const std::string log = dir() + "/validation.log";
+    ASSERT_EQ(underXvfb(capture(dir() + "/validation.vcap", flags, "env VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation"), log), 0)
+        << readFile(log);
+    const std::string text = readFile(log);
+    EXPECT_NE(text.find("4 frames written"), std::string::npos) << text;
+    EXPECT_EQ(text.find("Validation Error"), std::string::npos) << text;
+    EXPECT_EQ(text.find("VUID"), std::string::npos) << text;
+  }
+}
+
+// `capture` says when a program wrote nothing, and a Vulkan program run without an output is left
+// alone (the layer loaded, nothing written, the frames the same).
+TEST(VulkanCaptureValidation, WithoutAnOutputTheLayerOnlyPassesCallsOn) {
+  if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
+  const std::string log = dir() + "/passthrough.log";
+  ASSERT_EQ(underXvfb("env VK_ADD_LAYER_PATH=" + std::string(VIPER_VULKAN_LAYER_DIR) +
+                          " VK_INSTANCE_LAYERS=VK_LAYER_VIPER_capture VK_LOADER_DEBUG=layer " + VIPER_VK_TEST_SCENE_BIN +
+                          " " + kCommon + " --dump-dir " + dir() + "/pass",
+                      log),
+            0)
+      << readFile(log);
+  EXPECT_NE(readFile(log).find("VK_LAYER_VIPER_capture"), std::string::npos) << "the layer was not loaded";
+  EXPECT_EQ(readFile(log).find("[viper capture]"), std::string::npos) << readFile(log);
+}
+
+}  // namespace
+}  // namespace viper

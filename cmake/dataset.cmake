@@ -331,11 +331,25 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDENCIES viper_exporter_full_disk_tester viper_exporter export_viper)
   # With ~loop it plays the bag again and again, stamps continuing: on that bag (times = stamps) and on
   # the committed test bag (recorded: its bag times span less than its stamps).
-  viper_add_tester(bag_player_loop_tester test/ros/bag_player_loop_tester.cpp viper_layout_ros)
+  # (console_bridge: the tf test reads tf2's warnings there.)
+  viper_add_tester(bag_player_loop_tester test/ros/bag_player_loop_tester.cpp viper_layout_ros console_bridge)
   add_rostest(test/ros/bag_player_loop.test ARGS bag:=${VIPER_WORLD_RAW_BAG} nodelet:=true
     DEPENDENCIES bag_player_loop_tester bag_player viper_ros world_raw_bag)
   add_rostest(test/ros/bag_player_loop.test ARGS bag:=${PROJECT_SOURCE_DIR}/bags/test_scene_raw.bag
     DEPENDENCIES bag_player_loop_tester bag_player viper_ros)
+  # ... tf included: on viper_to_bag's bag of the player tests' layout (its intact sequence 002, with
+  # /tf and /tf_static), the transforms' stamps move on with /clock on every pass.
+  set(VIPER_TEST_LAYOUT_BAG ${PROJECT_BINARY_DIR}/test_data/viper_layout_002.bag)
+  add_custom_command(OUTPUT ${VIPER_TEST_LAYOUT_BAG}
+    COMMAND viper_to_bag --root ${VIPER_TEST_LAYOUT} --out ${VIPER_TEST_LAYOUT_BAG} --sequence 002 --modalities img,camera
+    DEPENDS viper_to_bag ${VIPER_TEST_LAYOUT}/train/camera/001.csv
+    COMMENT "Converting the player tests' layout into a bag with tf")
+  add_custom_target(viper_layout_tf_bag DEPENDS ${VIPER_TEST_LAYOUT_BAG})
+  if(TARGET tests)
+    add_dependencies(tests viper_layout_tf_bag)
+  endif()
+  add_rostest(test/ros/bag_player_loop_tf.test ARGS bag:=${VIPER_TEST_LAYOUT_BAG}
+    DEPENDENCIES bag_player_loop_tester bag_player viper_ros viper_layout_tf_bag)
   # ... and names a damaged chunk, keeping what came before it.
   set(VIPER_WORLD_DAMAGED_BAG ${PROJECT_BINARY_DIR}/test_data/world_raw_damaged.bag)
   add_custom_command(OUTPUT ${VIPER_WORLD_DAMAGED_BAG}

@@ -5,6 +5,7 @@
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <tf2_msgs/TFMessage.h>
 #include <topic_tools/shape_shifter.h>
 #include <viper/DrawList.h>
 #include <viper/MeshStore.h>
@@ -21,8 +22,11 @@ const char* const kImage = "sensor_msgs/Image";
 const char* const kCameraInfo = "sensor_msgs/CameraInfo";
 const char* const kDrawList = "viper/DrawList";
 const char* const kMeshStore = "viper/MeshStore";
+const char* const kTf = "tf2_msgs/TFMessage";
+const char* const kTfStatic = "/tf_static";
 
-bool latched(const dataset::BagConnection& c) { return c.field("latching") == "1"; }
+// /tf_static is latched whatever the bag says: tf2 listeners that start later get it only so.
+bool latched(const dataset::BagConnection& c) { return c.field("latching") == "1" || c.topic == kTfStatic; }
 
 }  // namespace
 
@@ -77,6 +81,7 @@ bool BagPlayer::start(bool is_node) {
     else if (type == kCameraInfo) pubs_[c.topic] = nh_.advertise<sensor_msgs::CameraInfo>(c.topic, q, latch);
     else if (type == kDrawList) pubs_[c.topic] = nh_.advertise<DrawList>(c.topic, q, latch);
     else if (type == kMeshStore) pubs_[c.topic] = nh_.advertise<MeshStore>(c.topic, q, latch);
+    else if (type == kTf) pubs_[c.topic] = nh_.advertise<tf2_msgs::TFMessage>(c.topic, q, latch);
     else {
       topic_tools::ShapeShifter shape;
       shape.morph(c.field("md5sum"), type, c.field("message_definition"), latch ? "1" : "0");
@@ -219,6 +224,31 @@ ros::Time BagPlayer::publishImage(ros::Publisher& pub, const dataset::BagMessage
   return publishShifted(pub, shift, msg);
 }
 
+ros::Time BagPlayer::publishTf(ros::Publisher& pub, const dataset::BagMessage& m, const ros::Duration& shift) {
+  checkType<tf2_msgs::TFMessage>(m);
+  auto msg = boost::make_shared<tf2_msgs::TFMessage>();
+  ros::serialization::IStream in(const_cast<uint8_t*>(m.data), m.size);
+  ros::serialization::deserialize(in, *msg);
+  ros::Time latest;
+  for (geometry_msgs::TransformStamped& t : msg->transforms) {
+    latest = std::max(latest, t.header.stamp);
+    if (!shift.isZero() && !t.header.stamp.isZero()) t.header.stamp += shift;
+  }
+  if (m.connection->topic != kTfStatic) {
+    pub.publish(msg);
+    return latest;
+  }
+  // A latched publisher keeps only its last message, so /tf_static goes out as the union of the
+  // static transforms so far (by child frame, the latest of each), as tf2_ros's static broadcaster
+  // sends it. Every pass sends them again: a bag may change one on the way (generate does when
+  // the camera's mounting changes), and the start of the next pass has the first value again.
+  for (const geometry_msgs::TransformStamped& t : msg->transforms) tf_static_[t.child_frame_id] = t;
+  auto all = boost::make_shared<tf2_msgs::TFMessage>();
+  for (const auto& [child, t] : tf_static_) all->transforms.push_back(t);
+  pub.publish(all);
+  return latest;
+}
+
 ros::Time BagPlayer::publish(const dataset::BagMessage& m, const ros::Duration& shift) {
   ros::Publisher& pub = pubs_[m.connection->topic];
   const std::string& type = m.connection->field("type");
@@ -226,6 +256,7 @@ ros::Time BagPlayer::publish(const dataset::BagMessage& m, const ros::Duration& 
   if (type == kCameraInfo) return publishShifted<sensor_msgs::CameraInfo>(pub, m, shift);
   if (type == kDrawList) return publishShifted<DrawList>(pub, m, shift);
   if (type == kMeshStore) return publishShifted<MeshStore>(pub, m, shift);
+  if (type == kTf) return publishTf(pub, m, shift);
   // Other types as they are: the bytes with the connection's type (as rosbag's ShapeShifter gets them).
   const auto shape = boost::make_shared<topic_tools::ShapeShifter>();
   shape->morph(m.connection->field("md5sum"), type, m.connection->field("message_definition"),
@@ -295,7 +326,8 @@ bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span
       span.times.add(time);
       const ros::Time stamp = publish(m, shift);
       span.stamps.add(stamp);
-      if (!stamp.isZero()) gate_->sent(stamp + shift);
+      // Transforms come at a rate of their own: frames are what the other messages stamp.
+      if (!stamp.isZero() && m.connection->field("type") != kTf) gate_->sent(stamp + shift);
       published_ = ++p.count;
     }
     return true;
@@ -316,7 +348,7 @@ void BagPlayer::run() {
     PassSpan span;
     if (!playPass(shift, progress, span) || !options_.loop || stop_ || !ros::ok()) break;
     shift += span.step();
-    ROS_INFO("bag_player: '%s' from the start again (pass %lu), times and header stamps %.3f s later",
+    ROS_INFO("bag_player: '%s' from the start again (pass %lu), times, header and tf stamps %.3f s later",
              options_.bag.c_str(), static_cast<unsigned long>(pass + 1), shift.toSec());
   }
   ROS_INFO("bag_player: done with '%s': %lu messages published in %.2f s (%.2f s of bag time)%s", options_.bag.c_str(),

@@ -10,6 +10,7 @@
 #include "viper/ros/bridge/pace_gate.h"
 #include "viper/ros/conversions/image_msg_pool.h"
 
+#include <geometry_msgs/TransformStamped.h>
 #include <ros/ros.h>
 
 #include <algorithm>
@@ -33,7 +34,7 @@ struct BagPlayerOptions {
   bool publish_clock = true;   ///< ~publish_clock: publish /clock from the bag's times
   int queue_size = 100;        ///< ~queue_size: outgoing queue per topic
   bool exit_when_done = false; ///< ~exit_when_done: (node only) shut down after the last message
-  bool loop = false;           ///< ~loop: start over at the end, times and header stamps continuing
+  bool loop = false;           ///< ~loop: start over at the end, times, header and tf stamps continuing
   PaceOptions pace;            ///< ~pace_topic, ~max_in_flight, ~pace_timeout_s: back-pressure (pace_gate.h)
 };
 
@@ -79,12 +80,15 @@ class BagPlayer {
   // the message's header stamp (unshifted), zero for types without one.
   ros::Time publish(const dataset::BagMessage& m, const ros::Duration& shift);
   ros::Time publishImage(ros::Publisher& pub, const dataset::BagMessage& m, const ros::Duration& shift);
+  // tf2_msgs/TFMessage: every transform's stamp shifted; returns the latest (unshifted) stamp.
+  ros::Time publishTf(ros::Publisher& pub, const dataset::BagMessage& m, const ros::Duration& shift);
   bool sleepUntil(const ros::WallTime& t);
 
   ros::NodeHandle nh_, pnh_;
   BagPlayerOptions options_;
   bool is_node_ = true;
   std::map<std::string, ros::Publisher> pubs_;  // by topic
+  std::map<std::string, geometry_msgs::TransformStamped> tf_static_;  // by child frame, as last sent
   // The image messages, recycled (by topic), and where the reader decompresses an image's pixels
   // straight into its message: the messages it took, by their pixels, until next() gives them out
   // (one of a chunk that turns out damaged stays until the player stops).

@@ -322,7 +322,7 @@ TEST_F(BridgeTester, EveryFrameOnEveryTopicWithOneStamp) {
   if (expect_damage_) {
     EXPECT_FALSE(error_logs_.empty()) << "no ERROR log naming " << capture_;
     if (!bridge_node_.empty()) {
-      EXPECT_TRUE(ros::service::waitForService(bridge_node_ + "/get_loggers", ros::Duration(2.0)))
+      EXPECT_TRUE(ros::service::waitForService(bridge_node_ + "/get_loggers", ros::Duration(60.0)))
           << bridge_node_ << " died after the damaged frame";
     }
   }

@@ -2,7 +2,9 @@
 // ground truth (wrong encodings, sizes, a broken quaternion) must each be reported on /rosout
 // naming the topic and skipped, the good frames around them scored; one node takes the estimate
 // from tf instead of a topic. Both nodes then go idle, write their report and shut down
-// (~shutdown_after_idle_s); the reports are checked.
+// (~shutdown_after_idle_s); the reports are checked. Every step waits for its event (a node
+// connected, a line logged, a score published, a node gone), each with timeout_s as the cap of a hang:
+// a loaded machine only makes it slower.
 // Private parameters: report_dir (of /evaluate), tf_report_dir (of /evaluate_tf), timeout_s (60).
 #include "../common/process_util.h"
 
@@ -10,12 +12,15 @@
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <opencv_apps/FlowArrayStamped.h>
+#include <ros/master.h>
+#include <ros/network.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/Image.h>
 #include <std_msgs/String.h>
 #include <tf2_msgs/TFMessage.h>
 #include <viper/InstancePredictionArray.h>
+#include <xmlrpcpp/XmlRpcClient.h>
 
 #include <cstring>
 #include <filesystem>
@@ -52,6 +57,35 @@ nav_msgs::Odometry odom(const ros::Time& t, double x) {
   m.pose.pose.position.x = x;
   m.pose.pose.orientation.w = 1.0;
   return m;
+}
+
+// True once `node` sends its /rosout to this node. A subscriber counts a publisher as soon as it
+// asks for the connection, the publisher counts the subscriber once the connection is made: what
+// the node logs in between never reaches us. Asks the node (its XML-RPC getBusInfo).
+bool sendsUsItsRosout(const std::string& node) {
+  const std::string me = ros::this_node::getName();
+  XmlRpc::XmlRpcValue args, result, uri;
+  args[0] = me;
+  args[1] = node;
+  std::string host;
+  uint32_t port = 0;
+  if (!ros::master::execute("lookupNode", args, result, uri, false) || uri.getType() != XmlRpc::XmlRpcValue::TypeString ||
+      !ros::network::splitURI(static_cast<std::string>(uri), host, port))
+    return false;
+  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
+  XmlRpc::XmlRpcValue request, response;
+  request[0] = me;
+  if (!client.execute("getBusInfo", request, response) || response.getType() != XmlRpc::XmlRpcValue::TypeArray ||
+      response.size() < 3)
+    return false;
+  // [connection id, the other node, direction, transport, topic, ...] per connection.
+  for (int i = 0; i < response[2].size(); ++i) {
+    XmlRpc::XmlRpcValue& link = response[2][i];
+    if (link.size() > 4 && static_cast<std::string>(link[1]) == me && static_cast<std::string>(link[2]) == "o" &&
+        static_cast<std::string>(link[4]) == "/rosout")
+      return true;
+  }
+  return false;
 }
 
 class EvaluateBadInput : public ::testing::Test {
@@ -108,24 +142,26 @@ TEST_F(EvaluateBadInput, BadFramesAreReportedAndSkippedGoodOnesScored) {
   ros::AsyncSpinner spinner(1);
   spinner.start();
 
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  // Each wait has its own cap: one slow step does not eat the time of the next.
   auto wait = [&](const std::function<bool()>& ok) {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
     while (!ok() && ros::WallTime::now() < deadline) ros::WallDuration(0.01).sleep();
     return ok();
   };
   ASSERT_TRUE(wait([&] {
     for (const auto* p : {&semantic, &instances, &flow, &sparse, &est_odom})
       if (p->getNumSubscribers() < 1) return false;
-    // Both nodes read the ground truth and publish on /rosout (read directly: rostest may run
-    // without the aggregator); our own /rosout publisher counts as one.
-    for (const auto* p : {&gt_sem, &gt_ids, &gt_flow, &gt_vis})
-      if (p->getNumSubscribers() < 1) return false;
-    return gt_odom.getNumSubscribers() >= 2 && tf.getNumSubscribers() >= 1 && rosout.getNumPublishers() >= 3;
+    // Both nodes read every ground-truth topic (a frame sent before one of them connected is lost
+    // to it) and publish on /rosout (read directly: rostest may run without the aggregator).
+    for (const auto* p : {&gt_sem, &gt_ids, &gt_flow, &gt_vis, &gt_odom})
+      if (p->getNumSubscribers() < 2) return false;
+    return tf.getNumSubscribers() >= 1 && sendsUsItsRosout("/evaluate") && sendsUsItsRosout("/evaluate_tf");
   })) << "evaluate nodes did not connect: prediction subscribers " << semantic.getNumSubscribers() << " "
          << instances.getNumSubscribers() << " " << flow.getNumSubscribers() << " " << sparse.getNumSubscribers() << " "
          << est_odom.getNumSubscribers() << ", ground-truth subscribers " << gt_sem.getNumSubscribers() << " "
          << gt_odom.getNumSubscribers() << ", tf subscribers " << tf.getNumSubscribers() << ", rosout publishers "
-         << rosout.getNumPublishers();
+         << rosout.getNumPublishers() << " (/rosout sent to us: /evaluate " << sendsUsItsRosout("/evaluate")
+         << ", /evaluate_tf " << sendsUsItsRosout("/evaluate_tf") << ")";
 
   std::vector<ros::Time> t;
   for (int k = 0; k < 6; ++k) t.push_back(ros::Time(100.0 + 0.1 * k));
@@ -225,11 +261,12 @@ TEST_F(EvaluateBadInput, BadFramesAreReportedAndSkippedGoodOnesScored) {
   EXPECT_TRUE(wait([&] { return scores("/evaluate_tf").find("  odometry: {poses: 6,") != std::string::npos; }))
       << scores("/evaluate_tf");
 
-  // Idle: both write their report and shut down.
+  // Idle: both write their report and shut down; the reports are complete once the nodes are gone.
   const std::string summary = report_dir + "/summary.md", tf_summary = tf_report_dir + "/summary.csv";
-  ASSERT_TRUE(wait([&] { return std::filesystem::exists(summary) && std::filesystem::exists(tf_summary); }))
+  ASSERT_TRUE(wait([&] { return score_subs[0].getNumPublishers() == 0 && score_subs[1].getNumPublishers() == 0; }))
+      << "the nodes did not shut down after going idle";
+  ASSERT_TRUE(std::filesystem::exists(summary) && std::filesystem::exists(tf_summary))
       << "no report after the nodes went idle";
-  ros::WallDuration(0.5).sleep();  // the files are complete once both exist and the writer moved on
   const std::string md = readFile(summary);
   EXPECT_NE(md.find("Frames scored: semantic 4, instances 4, dense flow 4, sparse flow 5, odometry poses 5."),
             std::string::npos)

@@ -83,7 +83,7 @@ TEST(ViperLayoutPlayer, PlaysGoodFramesAndNamesEveryDamagedFile) {
                         {"/ground_truth/instance_ids", kInstances}, {"/ground_truth/instances_viper", kInstances},
                         {"/ground_truth/flow/forward", kFlow}, {"/ground_truth/flow/backward", kFlow},
                         {"odom", 11}, {"camera_info", 11}, {"boxes_optical", 8}, {"boxes", 7}});
-  }, ros::WallTime::now() + ros::WallDuration(10));
+  }, deadline);
   std::lock_guard<std::mutex> lock(got.mutex_);
 
   // Every damaged file is named, each once, and nothing else is an error.

@@ -24,7 +24,9 @@ set_target_properties(viper_vulkan_layer PROPERTIES
 target_include_directories(viper_vulkan_layer PRIVATE ${Vulkan_INCLUDE_DIRS})
 # Vulkan structures are written `{VK_STRUCTURE_TYPE_...}`, the rest zeroed, as Vulkan code is.
 target_compile_options(viper_vulkan_layer PRIVATE -Wno-missing-field-initializers)
-target_link_libraries(viper_vulkan_layer PRIVATE viper_core Threads::Threads)
+find_package(SPIRV-Tools REQUIRED)
+# SPIRV-Tools validates every rewritten shader before the driver sees it.
+target_link_libraries(viper_vulkan_layer PRIVATE viper_core SPIRV-Tools-static Threads::Threads)
 
 # The layer's manifest, next to the library in the devel space and in the install space: `capture`
 # points the loader at the folder (VK_ADD_LAYER_PATH) and enables the layer by name.
@@ -51,7 +53,6 @@ file(GENERATE OUTPUT ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/
 install(TARGETS viper_vulkan_layer LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  find_package(SPIRV-Tools REQUIRED)
   # The SPIR-V reading and rewriting, on modules glslang compiles, checked by SPIRV-Tools' validator.
   catkin_add_gtest(test_spirv_module test/capture/test_spirv_module.cpp src/capture/vulkan/spirv_module.cpp)
   target_link_libraries(test_spirv_module SPIRV-Tools-static gtest_main)

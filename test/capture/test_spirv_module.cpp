@@ -141,6 +141,21 @@ layout(location = 0) out vec4 color;
 void main() { color = vec4(float(gl_PrimitiveID % 7) / 7.0); }
 )",
      1, 128},
+    // SuperTuxKart's skybox.frag: a push-constant block and no integer type anywhere (the layer's
+    // members need one declared before the block).
+    {"push_block_without_integers", R"(#version 450
+layout(push_constant) uniform Constants { mat4 m_inverse_projection_view_matrix; } u_push_constants;
+layout(location = 0) in vec2 f_uv;
+layout(binding = 0) uniform samplerCube f_skybox_texture;
+layout(location = 0) out vec4 o_color;
+void main() {
+  vec2 uv = 2.0f * f_uv - 1.0f;
+  vec4 front = u_push_constants.m_inverse_projection_view_matrix * vec4(uv, -1.0, 1.0);
+  vec4 back = u_push_constants.m_inverse_projection_view_matrix * vec4(uv, 1.0, 1.0);
+  o_color = texture(f_skybox_texture, back.xyz / back.w - front.xyz / front.w);
+}
+)",
+     1, 64},
     {"no_outputs_at_all", R"(#version 450
 void main() {}
 )",

@@ -1,5 +1,6 @@
 #include "spirv_module.h"
 
+#include <spirv-tools/libspirv.hpp>
 #include <spirv/unified1/spirv.hpp>
 
 #include <algorithm>
@@ -253,6 +254,7 @@ std::vector<uint32_t> addIdOutput(const std::vector<uint32_t>& words, const std:
 
   std::vector<Instruction> scalar_types, annotations, globals, code;
   std::map<size_t, std::vector<Instruction>> after;  // new types to go right after instruction k
+  std::map<size_t, size_t> move_before;  // instruction v of the module goes right before instruction k
   // Scalar and vector types are unique in a module: found, or declared before every other type.
   auto findType = [&](spv::Op op, std::vector<uint32_t> rest) -> uint32_t {
     for (const auto& [tid, t] : x.types)
@@ -312,6 +314,11 @@ std::vector<uint32_t> addIdOutput(const std::vector<uint32_t>& words, const std:
     }
     s->operands.push_back(uint_type);
     s->operands.push_back(uint_type);
+    // The block now names the integer type: a module that declares it only after the block (glslang
+    // does, for SuperTuxKart's skybox) has the declaration moved up to just before the block.
+    const size_t block_at = static_cast<size_t>(s - module.begin());
+    for (size_t k = block_at + 1; k < module.size(); ++k)
+      if (module[k].opcode == spv::OpTypeInt && module[k].operands[0] == uint_type) move_before[block_at] = k;
     annotations.push_back(make(spv::OpMemberDecorate, {block, member_a, spv::DecorationOffset, id.push_offset}));
     annotations.push_back(make(spv::OpMemberDecorate, {block, member_a + 1, spv::DecorationOffset, id.push_offset + 4}));
   } else {
@@ -397,11 +404,35 @@ std::vector<uint32_t> addIdOutput(const std::vector<uint32_t>& words, const std:
     }
     if (k == first_function) out.insert(out.end(), globals.begin(), globals.end());
     if (k == body_at) out.insert(out.end(), code.begin(), code.end());
+    if (move_before.count(k)) out.push_back(module[move_before[k]]);
+    if (std::any_of(move_before.begin(), move_before.end(), [k](const auto& m) { return m.second == k; })) {
+      if (after.count(k)) out.insert(out.end(), after[k].begin(), after[k].end());
+      continue;
+    }
     out.push_back(module[k]);
     if (after.count(k)) out.insert(out.end(), after[k].begin(), after[k].end());
     if (k == last_capability && !has_geometry) out.push_back(make(spv::OpCapability, {spv::CapabilityGeometry}));
   }
-  return assemble(header, out);
+  std::vector<uint32_t> rewritten = assemble(header, out);
+  // Never hand the driver a module that is not valid: SPIRV-Tools' validator, for the Vulkan
+  // version the module's SPIR-V version implies.
+  const spv_target_env env = version >= 0x00010600   ? SPV_ENV_VULKAN_1_3
+                             : version >= 0x00010400 ? SPV_ENV_VULKAN_1_2
+                             : version >= 0x00010300 ? SPV_ENV_VULKAN_1_1
+                                                     : SPV_ENV_VULKAN_1_0;
+  spvtools::SpirvTools tools(env);
+  std::string messages;
+  tools.SetMessageConsumer([&messages](spv_message_level_t, const char*, const spv_position_t&, const char* m) {
+    if (messages.empty()) messages = m;
+  });
+  spvtools::ValidatorOptions options;
+  options.SetRelaxBlockLayout(true);
+  options.SetScalarBlockLayout(true);  // the program's own layouts are the driver's to accept
+  if (!tools.Validate(rewritten.data(), rewritten.size(), options)) {
+    why = "the rewritten module is not valid SPIR-V (" + messages + ")";
+    return {};
+  }
+  return rewritten;
 }
 
 }  // namespace vulkan

@@ -131,6 +131,7 @@ Layer::Layer() {
   writer_threads_ = settings.writer_threads;
   output_ = settings.output;
   start_s_ = monotonicSeconds();
+  debug_ = std::getenv("VIPER_VULKAN_DEBUG") != nullptr;
   enabled_ = true;
 }
 
@@ -469,6 +470,13 @@ bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t wi
   frame.condition = condition_;
   frame.width = width;
   frame.height = height;
+  if (debug_) {
+    std::string kinds;
+    for (const auto& [kind, n] : draw_kinds_) kinds += " " + kind + " " + std::to_string(n) + ";";
+    std::fprintf(stderr, "[viper capture] Vulkan frame %llu: %zu command buffers submitted, %zu draws recorded; draw calls recorded since the last frame:%s\n",
+                 static_cast<unsigned long long>(frame.number), d.frame.size(), frame.draws.size(), kinds.c_str());
+    draw_kinds_.clear();
+  }
   sink_->push(std::move(frame), std::move(raw));
   ++frames_written_;
   return !(frame_limit_ && frames_written_ >= frame_limit_);

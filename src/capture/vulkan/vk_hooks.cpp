@@ -1142,7 +1142,13 @@ void recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
   Recording* r = recording(d, cb);
   if (!r) return;
   auto p = d.pipelines.find(r->pipeline);
-  if (p == d.pipelines.end() || p->second.depth_only || !p->second.depth_test || p->second.overlay) return;
+  const char* skipped = p == d.pipelines.end()  ? "pipeline unknown"
+                        : p->second.depth_only  ? "depth only"
+                        : !p->second.depth_test ? "no depth test"
+                        : p->second.overlay     ? "overlay"
+                                                : nullptr;
+  L().countDraw(skipped ? skipped : "recorded");
+  if (skipped) return;
   const PipelineInfo& pi = p->second;
   // A render pass instance with draws: its depth and ids are read back at its end.
   if (r->pass < 0 && (r->render_pass || r->rendering)) {
@@ -1239,6 +1245,7 @@ VKAPI_ATTR void VKAPI_CALL CmdDrawIndirect(VkCommandBuffer cb, VkBuffer buffer, 
   if (L().capturing()) {
     Lock lock(L().mutex());
     if (Recording* r = recording(d, cb)) r->unrecorded += count;
+    L().countDraw("indirect");
   }
   d.vk.CmdDrawIndirect(cb, buffer, offset, count, stride);
 }
@@ -1249,6 +1256,7 @@ VKAPI_ATTR void VKAPI_CALL CmdDrawIndexedIndirect(VkCommandBuffer cb, VkBuffer b
   if (L().capturing()) {
     Lock lock(L().mutex());
     if (Recording* r = recording(d, cb)) r->unrecorded += count;
+    L().countDraw("indirect");
   }
   d.vk.CmdDrawIndexedIndirect(cb, buffer, offset, count, stride);
 }

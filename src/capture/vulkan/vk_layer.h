@@ -96,6 +96,11 @@ class Layer {
   /// Called at each present with the lock held, after the presented image was read into `rgba`
   /// (top row first). Writes the frame; returns false when the frame limit says to stop.
   bool finishFrame(Device& d, const std::vector<uint8_t>& rgba_top_first, uint32_t width, uint32_t height);
+  /// VIPER_VULKAN_DEBUG=1: what became of the draw calls the program recorded, by kind, printed
+  /// with each frame (for writing a profile for a program the layer was not tried on).
+  void countDraw(const char* kind) {
+    if (debug_) ++draw_kinds_[kind];
+  }
   /// Says once (stderr) what the layer could not do, with `what` as the key.
   void reportOnce(const std::string& what);
   void shutdown();
@@ -117,6 +122,8 @@ class Layer {
   CaptureHeader header_;
   int zstd_level_ = 1, writer_threads_ = 1;
   std::map<std::string, bool> reported_;
+  bool debug_ = false;
+  std::map<std::string, uint64_t> draw_kinds_;
   // Frame settings, as the OpenGL layer reads them.
   std::string condition_;
   uint64_t frame_limit_ = 0, skip_frames_ = 0, presents_ = 0, frames_written_ = 0;

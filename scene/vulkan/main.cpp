@@ -34,7 +34,8 @@ int run(const VkSceneOptions& options) {
             << swapchain.imageCount() << " swapchain images, " << presentModeName(swapchain.presentMode())
             << (options.dynamic_rendering ? ", dynamic rendering" : ", render passes")
             << (options.offscreen ? ", offscreen + composite + HUD" : "")
-            << (options.host_visible_buffers ? ", host-visible buffers" : ", staged device-local buffers") << "\n";
+            << (options.host_visible_buffers ? ", host-visible buffers" : ", staged device-local buffers")
+            << (options.full_push_constants ? ", push constants full" : "") << "\n";
 
   const World world(o.seed, static_cast<double>(o.width) / o.height);
   size_t skinned_draws = 0;
@@ -43,6 +44,7 @@ int run(const VkSceneOptions& options) {
   modes.dynamic_rendering = options.dynamic_rendering;
   modes.offscreen = options.offscreen;
   modes.host_visible_buffers = options.host_visible_buffers;
+  modes.full_push_constants = options.full_push_constants;
   modes.readable = !o.dump_dir.empty();
   vk::Renderer renderer(context, swapchain, world.meshes(), skinned_draws, modes);
   std::unique_ptr<viper::OracleWriter> oracle;

@@ -11,6 +11,7 @@ VkSceneOptions parseVkOptions(const std::vector<std::string>& args) {
     bool* flag = name == "--dynamic-rendering"      ? &o.dynamic_rendering
                  : name == "--offscreen"            ? &o.offscreen
                  : name == "--host-visible-buffers" ? &o.host_visible_buffers
+                 : name == "--full-push-constants"  ? &o.full_push_constants
                                                     : nullptr;
     if (flag) {
       if (name != arg) throw OptionsError(name + " takes no value");
@@ -36,6 +37,8 @@ std::string vkUsage() {
          "  --offscreen         draw the scene into an offscreen target, then onto the swapchain image with\n"
          "                      a full-screen triangle and a HUD panel on top (top-left corner)\n"
          "  --host-visible-buffers  meshes in host-visible buffers (default: device-local, staging copy)\n"
+         "  --full-push-constants   the fragment stage's push-constant range reaches the device's limit\n"
+         "                      (maxPushConstantsSize), as SuperTuxKart's does: no room left past it\n"
          "  --help              this text\n"
          "Exit codes: 0 ok, 1 runtime failure (no X display, no Vulkan device, Vulkan error, file), 2 bad\n"
          "command line.\n";

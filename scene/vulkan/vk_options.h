@@ -15,6 +15,7 @@ struct VkSceneOptions {
   bool dynamic_rendering = false;     ///< --dynamic-rendering
   bool offscreen = false;             ///< --offscreen
   bool host_visible_buffers = false;  ///< --host-visible-buffers
+  bool full_push_constants = false;   ///< --full-push-constants
 };
 
 /// Parses argv[1..] as parseOptions does, plus the three flags above. Throws OptionsError as

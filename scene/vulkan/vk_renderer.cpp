@@ -206,8 +206,10 @@ void Renderer::createDescriptors() {
   set_info.pBindings = &composite_binding;
   check(vkCreateDescriptorSetLayout(device_, &set_info, nullptr, &composite_set_layout_), "vkCreateDescriptorSetLayout");
 
-  // Push constants: the vertex stage's mat4 world at 0, the fragment stage's vec3 color at 64.
-  const VkPushConstantRange push[2] = {{VK_SHADER_STAGE_VERTEX_BIT, 0, 64}, {VK_SHADER_STAGE_FRAGMENT_BIT, 64, 16}};
+  // Push constants: the vertex stage's mat4 world at 0, the fragment stage's vec3 color at 64 (its
+  // range to the device's limit with --full-push-constants).
+  const uint32_t fragment_bytes = modes_.full_push_constants ? limits.maxPushConstantsSize - 64 : 16;
+  const VkPushConstantRange push[2] = {{VK_SHADER_STAGE_VERTEX_BIT, 0, 64}, {VK_SHADER_STAGE_FRAGMENT_BIT, 64, fragment_bytes}};
   VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   layout.setLayoutCount = 1;
   layout.pSetLayouts = &scene_set_layout_;

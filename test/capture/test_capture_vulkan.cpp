@@ -142,7 +142,11 @@ TEST_P(VulkanCapture, EqualsTheProgramsOwnTruth) {
 INSTANTIATE_TEST_SUITE_P(Modes, VulkanCapture,
                          ::testing::Values(Mode{"render_pass", ""}, Mode{"dynamic_rendering", "--dynamic-rendering"},
                                            Mode{"host_visible", "--host-visible-buffers"},
-                                           Mode{"offscreen", "--offscreen --dynamic-rendering"}),
+                                           Mode{"offscreen", "--offscreen --dynamic-rendering"},
+                                           // No room in the push constants (as in SuperTuxKart): the
+                                           // ids come from a uniform buffer of the layer's.
+                                           Mode{"push_constants_full", "--full-push-constants"},
+                                           Mode{"push_constants_full_dynamic", "--full-push-constants --dynamic-rendering"}),
                          [](const ::testing::TestParamInfo<Mode>& info) { return std::string(info.param.name); });
 
 // The Khronos validation layer, below ours, sees every call the program and the layer make: the
@@ -151,7 +155,7 @@ TEST(VulkanCaptureValidation, AddsNoValidationError) {
   if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
   if (!fs::exists("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json"))
     GTEST_SKIP() << "vulkan-validationlayers not installed";
-  for (const char* flags : {"", "--dynamic-rendering --offscreen"}) {
+  for (const char* flags : {"", "--dynamic-rendering --offscreen", "--full-push-constants"}) {
     SCOPED_TRACE(flags);
     const std::string log = dir() + "/validation.log";
     ASSERT_EQ(underXvfb(capture(dir() + "/validation.vcap", flags, "env VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation"), log), 0)

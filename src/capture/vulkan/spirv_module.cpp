@@ -293,9 +293,25 @@ std::vector<uint32_t> addIdOutput(const std::vector<uint32_t>& words, const std:
   };
   std::vector<uint32_t> new_interface;
 
-  // The layer's two push-constant words: members of the shader's own block, or a block of ours.
+  // The layer's two words: members of the shader's own push-constant block, a push-constant block
+  // of ours, or a uniform block of ours at (descriptor_set, 0).
   uint32_t member_a = 0;
-  if (push_variable) {
+  spv::StorageClass id_storage = spv::StorageClassPushConstant;
+  if (id.descriptor_set >= 0) {
+    id_storage = spv::StorageClassUniform;
+    const uint32_t block = bound++;
+    globals.push_back(make(spv::OpTypeStruct, {block, uint_type, uint_type}));
+    annotations.push_back(make(spv::OpDecorate, {block, spv::DecorationBlock}));
+    annotations.push_back(make(spv::OpMemberDecorate, {block, 0, spv::DecorationOffset, 0}));
+    annotations.push_back(make(spv::OpMemberDecorate, {block, 1, spv::DecorationOffset, 4}));
+    const uint32_t block_pointer = pointer(spv::StorageClassUniform, block);
+    push_variable = bound++;  // the variable the two words are read from
+    globals.push_back(make(spv::OpVariable, {block_pointer, push_variable, spv::StorageClassUniform}));
+    annotations.push_back(make(spv::OpDecorate, {push_variable, spv::DecorationDescriptorSet,
+                                                 static_cast<uint32_t>(id.descriptor_set)}));
+    annotations.push_back(make(spv::OpDecorate, {push_variable, spv::DecorationBinding, 0}));
+    if (version >= 0x00010400) new_interface.push_back(push_variable);
+  } else if (push_variable) {
     const uint32_t block = x.pointee(x.variables.at(push_variable).pointer_type);
     auto s = std::find_if(module.begin(), module.end(), [&](const Instruction& i) {
       return i.opcode == spv::OpTypeStruct && i.operands[0] == block;
@@ -332,7 +348,7 @@ std::vector<uint32_t> addIdOutput(const std::vector<uint32_t>& words, const std:
     globals.push_back(make(spv::OpVariable, {block_pointer, push_variable, spv::StorageClassPushConstant}));
     if (version >= 0x00010400) new_interface.push_back(push_variable);
   }
-  const uint32_t push_uint_pointer = pointer(spv::StorageClassPushConstant, uint_type);
+  const uint32_t push_uint_pointer = pointer(id_storage, uint_type);
   const uint32_t index_a = constant(member_a), index_b = constant(member_a + 1), one = constant(1);
 
   // gl_PrimitiveID: the shader's own, or an input of ours.

@@ -50,11 +50,14 @@ struct ModuleReflection {
 /// Reads `words` (a whole SPIR-V module). Never throws; `valid` false with `problem` on bad input.
 ModuleReflection reflectModule(const std::vector<uint32_t>& words);
 
-/// Where the id output goes and what it writes: (push[offset], push[offset + 4], primitive id, 1)
-/// as an unsigned 4-vector at fragment output `location`.
+/// Where the id output goes and what it writes: (a, b, primitive id, 1) as an unsigned 4-vector at
+/// fragment output `location`, with a and b the two words at `push_offset` of the push constants,
+/// or, when `descriptor_set` >= 0, at offsets 0 and 4 of a uniform buffer bound at
+/// (descriptor_set, binding 0) (for programs whose push constants leave no room).
 struct IdOutput {
   uint32_t location = 0;
   uint32_t push_offset = 0;
+  int32_t descriptor_set = -1;
 };
 
 /// Adds the id output to the fragment entry point `entry` of `words`. Returns the new module,

@@ -242,6 +242,12 @@ void Layer::removeDevice(VkDevice device) {
   for (auto& [cb, r] : d->recordings) freeRecording(*d, *r);
   for (auto& r : d->retired) freeRecording(*d, *r);
   for (auto& [family, pool] : d->pools) d->vk.DestroyCommandPool(device, pool, nullptr);
+  const Device::IdBuffer& ib = d->id_buffer;
+  if (ib.pool) d->vk.DestroyDescriptorPool(device, ib.pool, nullptr);
+  if (ib.layout) d->vk.DestroyDescriptorSetLayout(device, ib.layout, nullptr);
+  if (ib.empty) d->vk.DestroyDescriptorSetLayout(device, ib.empty, nullptr);
+  if (ib.buffer) d->vk.DestroyBuffer(device, ib.buffer, nullptr);
+  if (ib.memory) d->vk.FreeMemory(device, ib.memory, nullptr);
   if (d->fence) d->vk.DestroyFence(device, d->fence, nullptr);
   auto destroy = [&](const IdImage& ids) {
     if (ids.view) d->vk.DestroyImageView(device, ids.view, nullptr);
@@ -317,7 +323,81 @@ void Layer::unmapLayerMappings(Device& d) {
   layer_mapped_.clear();
 }
 
+bool Layer::ensureIdBuffer(Device& d) {
+  Device::IdBuffer& ib = d.id_buffer;
+  if (ib.set) return true;
+  if (ib.set_index == -2) return false;  // tried and failed
+  ib.set_index = -2;
+  const uint32_t max_sets = std::min<uint32_t>(d.limits.maxBoundDescriptorSets, 32);
+  if (max_sets < 2) return false;
+  VkDescriptorSetLayoutBinding binding{};
+  binding.binding = 0;
+  binding.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+  binding.descriptorCount = 1;
+  binding.stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
+  VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  if (d.vk.CreateDescriptorSetLayout(d.device, &li, nullptr, &ib.empty) != VK_SUCCESS) return false;
+  li.bindingCount = 1;
+  li.pBindings = &binding;
+  if (d.vk.CreateDescriptorSetLayout(d.device, &li, nullptr, &ib.layout) != VK_SUCCESS) return false;
+  VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC, 1};
+  VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pi.maxSets = 1;
+  pi.poolSizeCount = 1;
+  pi.pPoolSizes = &size;
+  if (d.vk.CreateDescriptorPool(d.device, &pi, nullptr, &ib.pool) != VK_SUCCESS) return false;
+  VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  ai.descriptorPool = ib.pool;
+  ai.descriptorSetCount = 1;
+  ai.pSetLayouts = &ib.layout;
+  if (d.vk.AllocateDescriptorSets(d.device, &ai, &ib.set) != VK_SUCCESS) return false;
+  ib.stride = static_cast<uint32_t>(std::max<VkDeviceSize>(d.limits.minUniformBufferOffsetAlignment, 16));
+  ib.slots = 65536;
+  VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bi.size = static_cast<VkDeviceSize>(ib.stride) * ib.slots;
+  bi.usage = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
+  if (d.vk.CreateBuffer(d.device, &bi, nullptr, &ib.buffer) != VK_SUCCESS) return false;
+  VkMemoryRequirements req{};
+  d.vk.GetBufferMemoryRequirements(d.device, ib.buffer, &req);
+  VkMemoryAllocateInfo mi{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mi.allocationSize = req.size;
+  mi.memoryTypeIndex =
+      memoryType(d, req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  if (mi.memoryTypeIndex == UINT32_MAX || d.vk.AllocateMemory(d.device, &mi, nullptr, &ib.memory) != VK_SUCCESS) return false;
+  d.vk.BindBufferMemory(d.device, ib.buffer, ib.memory, 0);
+  void* mapped = nullptr;
+  if (d.vk.MapMemory(d.device, ib.memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) return false;
+  ib.mapped = static_cast<uint8_t*>(mapped);
+  VkDescriptorBufferInfo buffer{ib.buffer, 0, 8};
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = ib.set;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
+  write.pBufferInfo = &buffer;
+  d.vk.UpdateDescriptorSets(d.device, 1, &write, 0, nullptr);
+  ib.set_index = static_cast<int>(max_sets) - 1;  // the highest: never one a program's layouts share
+  return true;
+}
+
+uint32_t Layer::takeIdSlot(Device& d, uint32_t a, uint32_t b) {
+  Device::IdBuffer& ib = d.id_buffer;
+  uint32_t slot = UINT32_MAX;
+  if (!ib.free.empty()) {
+    slot = ib.free.back();
+    ib.free.pop_back();
+  } else if (ib.next < ib.slots) {
+    slot = ib.next++;
+  } else {
+    return UINT32_MAX;
+  }
+  const uint32_t words[2] = {a, b};
+  std::memcpy(ib.mapped + static_cast<size_t>(slot) * ib.stride, words, 8);
+  return slot;
+}
+
 void Layer::freeRecording(Device& d, Recording& r) {
+  d.id_buffer.free.insert(d.id_buffer.free.end(), r.id_slots.begin(), r.id_slots.end());
+  r.id_slots.clear();
   for (PassCapture& p : r.passes) {
     if (p.id_buffer) d.vk.DestroyBuffer(d.device, p.id_buffer, nullptr);
     if (p.id_memory) d.vk.FreeMemory(d.device, p.id_memory, nullptr);

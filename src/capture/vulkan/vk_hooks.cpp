@@ -531,6 +531,20 @@ VKAPI_ATTR VkResult VKAPI_CALL CreatePipelineLayout(VkDevice device, const VkPip
       copy.pPushConstantRanges = ranges.data();
     }
   }
+  // Push constants full (SuperTuxKart uses all 128 bytes): the words come from the layer's uniform
+  // buffer at the highest set index, the sets between the program's and it left empty.
+  std::vector<VkDescriptorSetLayout> sets;
+  if (L().capturing() && layout.layer_stages == 0) {
+    Lock lock(L().mutex());
+    if (L().ensureIdBuffer(d) && info->setLayoutCount < static_cast<uint32_t>(d.id_buffer.set_index)) {
+      sets = layout.set_layouts;
+      sets.resize(static_cast<size_t>(d.id_buffer.set_index), d.id_buffer.empty);
+      sets.push_back(d.id_buffer.layout);
+      copy.setLayoutCount = static_cast<uint32_t>(sets.size());
+      copy.pSetLayouts = sets.data();
+      layout.id_set = d.id_buffer.set_index;
+    }
+  }
   const VkResult r = d.vk.CreatePipelineLayout(device, &copy, alloc, out);
   if (r == VK_SUCCESS) {
     Lock lock(L().mutex());
@@ -715,14 +729,16 @@ PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& inf
   auto layout = d.layouts.find(info.layout);
   if (p.depth_only) {
     p.why_no_ids = "depth only";
-  } else if (layout == d.layouts.end() || layout->second.layer_stages == 0) {
-    p.why_no_ids = "no room in the push constants for the layer's id";
+  } else if (layout == d.layouts.end() || (layout->second.layer_stages == 0 && layout->second.id_set < 0)) {
+    p.why_no_ids = "no room in the push constants or descriptor sets for the layer's id";
   } else if (!blend) {
     p.why_no_ids = "no colour blend state";
   } else {
     std::string why;
     const std::vector<uint32_t> rewritten =
-        addIdOutput(*fragment, fragment_entry, IdOutput{location, layout->second.layer_offset}, why);
+        addIdOutput(*fragment, fragment_entry,
+                    IdOutput{location, layout->second.layer_offset, layout->second.layer_stages ? -1 : layout->second.id_set},
+                    why);
     if (rewritten.empty()) {
       p.why_no_ids = "fragment shader not rewritten: " + why;
     } else {
@@ -1205,9 +1221,22 @@ void recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
   }
   auto layout = d.layouts.find(pi.layout);
   if (draw.ids && layout != d.layouts.end()) {
-    const uint32_t words[2] = {r->serial, draw.local + 1};
-    d.vk.CmdPushConstants(cb, pi.layout, layout->second.layer_stages, layout->second.layer_offset, 8, words);
-    r->passes[static_cast<size_t>(r->pass)].id_draws++;
+    if (layout->second.layer_stages) {
+      const uint32_t words[2] = {r->serial, draw.local + 1};
+      d.vk.CmdPushConstants(cb, pi.layout, layout->second.layer_stages, layout->second.layer_offset, 8, words);
+    } else {
+      const uint32_t slot = L().takeIdSlot(d, r->serial, draw.local + 1);
+      if (slot == UINT32_MAX) {
+        draw.ids = false;
+        L().reportOnce("more draws in flight than the layer's id buffer has slots: some draws without ids");
+      } else {
+        r->id_slots.push_back(slot);
+        const uint32_t offset = slot * d.id_buffer.stride;
+        d.vk.CmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pi.layout, static_cast<uint32_t>(layout->second.id_set),
+                                   1, &d.id_buffer.set, 1, &offset);
+      }
+    }
+    if (draw.ids) r->passes[static_cast<size_t>(r->pass)].id_draws++;
   }
   r->draws.push_back(draw);
 }

@@ -72,11 +72,28 @@ class Layer {
     std::vector<std::shared_ptr<Recording>> frame;
     /// Recordings replaced while a frame still held them: their buffers are freed after the frame.
     std::vector<std::shared_ptr<Recording>> retired;
+    /// The id words of draws whose push constants are full: one slot (stride bytes) per draw in a
+    /// host-visible uniform buffer, bound at set `id_set` with the slot's dynamic offset.
+    struct IdBuffer {
+      VkDescriptorSetLayout layout = VK_NULL_HANDLE, empty = VK_NULL_HANDLE;
+      VkDescriptorPool pool = VK_NULL_HANDLE;
+      VkDescriptorSet set = VK_NULL_HANDLE;
+      VkBuffer buffer = VK_NULL_HANDLE;
+      VkDeviceMemory memory = VK_NULL_HANDLE;
+      uint8_t* mapped = nullptr;
+      uint32_t stride = 0, slots = 0, next = 0;
+      std::vector<uint32_t> free;
+      int set_index = -1;
+    } id_buffer;
     // The layer's own command pool, per queue family, for the read-back of presented images.
     std::map<uint32_t, VkCommandPool> pools;
     VkFence fence = VK_NULL_HANDLE;
   };
 
+  /// Makes the id buffer's set layouts, pool, set and memory (once); false when the device cannot.
+  bool ensureIdBuffer(Device& d);
+  /// A slot of the id buffer holding (a, b), or UINT32_MAX when all are taken.
+  uint32_t takeIdSlot(Device& d, uint32_t a, uint32_t b);
   /// A host-visible buffer of the layer's (read back into).
   bool createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer, VkDeviceMemory& memory);
   /// A memory type of `bits` with `flags` (UINT32_MAX if none).

@@ -57,6 +57,7 @@ struct DeviceTable {
   X(CmdDrawIndexedIndirect) X(CmdSetViewport) X(CmdPipelineBarrier) X(CmdCopyImageToBuffer)                    \
   X(CreateCommandPool) X(DestroyCommandPool) X(ResetCommandPool) X(CreateFence) X(WaitForFences) X(ResetFences) \
   X(DestroyFence) X(CreateSemaphore) X(DestroySemaphore) X(CmdExecuteCommands) X(CmdBeginRendering)       \
+  X(CreateDescriptorPool) X(DestroyDescriptorPool)                                                         \
   X(CmdEndRendering)
 #define VIPER_VK_DECLARE(name) PFN_vk##name name = nullptr;
   VIPER_VK_DEVICE_FUNCTIONS(VIPER_VK_DECLARE)
@@ -117,7 +118,10 @@ struct ImageViewInfo {
 
 struct LayoutInfo {
   uint32_t layer_offset = 0;        ///< where the layer's two id words go in push constants
-  VkShaderStageFlags layer_stages = 0;  ///< stage flags of the range holding them (0: none: no ids)
+  VkShaderStageFlags layer_stages = 0;  ///< stage flags of the range holding them (0: not there)
+  /// When the push constants leave no room: the set index of the layer's uniform buffer (-1: none;
+  /// with neither, the layout's pipelines write no ids).
+  int id_set = -1;
   std::vector<VkDescriptorSetLayout> set_layouts;
 };
 
@@ -234,6 +238,7 @@ struct Recording {
   std::array<uint8_t, 256> push{};
   bool y_down = true;
   uint32_t unrecorded = 0;  ///< draws into a scene pass that could not be recorded
+  std::vector<uint32_t> id_slots;  ///< slots of the layer's id buffer its draws use
 };
 
 }  // namespace vulkan

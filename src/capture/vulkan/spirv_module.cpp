@@ -152,6 +152,20 @@ void addBlockMembers(const Index& x, uint32_t struct_id, BlockMember where, std:
       size = b.matrix_stride * (b.row_major ? b.rows : b.columns);
     } else if (type != x.types.end() && type->second.opcode == spv::OpTypeVector) {
       size = 4 * type->second.operands[2];
+      b.components = type->second.operands[2];
+    } else if (type != x.types.end() &&
+               (type->second.opcode == spv::OpTypeArray || type->second.opcode == spv::OpTypeRuntimeArray) &&
+               b.array_stride == 0) {
+      // An array of structs (per-object data indexed by instance): its elements' members by name.
+      const uint32_t stride = x.decoration(type->first, spv::DecorationArrayStride, 0);
+      BlockMember element = b;
+      element.array_stride = stride;
+      std::map<std::string, BlockMember> inner;
+      if (stride) addBlockMembers(x, type->second.operands[1], element, inner, nullptr);
+      for (auto& [name, member] : inner) {
+        member.offset += b.offset;
+        out.emplace(name, member);
+      }
     }
     if (end) *end = std::max(*end, b.offset + size);
     auto name = x.member_names.find({struct_id, m});

@@ -26,6 +26,11 @@ struct BlockMember {
   /// Columns and rows of a float matrix member (4 x 4 for mat4); 0 for other members.
   uint32_t columns = 0;
   uint32_t rows = 0;
+  /// Components of a float vector member (3 for vec3); 0 for other members.
+  uint32_t components = 0;
+  /// Members of the structs of an array member (`ObjectData m_objects[]`, each named by its own
+  /// name): bytes between elements; element i's member is at offset + i * array_stride. 0: no array.
+  uint32_t array_stride = 0;
 };
 
 /// What the layer needs to know of one shader module (one entry point's view of it).

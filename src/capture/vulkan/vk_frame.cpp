@@ -9,6 +9,8 @@
 #include "../layer/mesh_extract.h"
 #include "viper/capture/content_key.h"
 
+#include <Eigen/Geometry>
+
 #include <time.h>
 
 #include <algorithm>
@@ -67,27 +69,46 @@ size_t depthBytes(VkFormat format) {
   return format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D16_UNORM_S8_UINT ? 2 : 4;
 }
 
-// Matrices that live in buffers, read when their draw is submitted (what the GPU will read).
+// Matrices and instance data that live in buffers, read when their draw is submitted (what the
+// GPU will read).
 void readSubmittedMatrices(Device& d, Recording& r) {
   for (RecordedDraw& draw : r.draws) {
-    for (int k = 0; k < 3; ++k) {
-      if (!(draw.pending_matrices & (1u << k))) continue;
-      const DescriptorBuffer& b = draw.matrix_buffers[static_cast<size_t>(k)];
-      auto pipeline = d.pipelines.find(draw.pipeline);
-      if (pipeline == d.pipelines.end()) continue;
-      const MatrixSource& source = k == 0 ? pipeline->second.world : k == 1 ? pipeline->second.view : pipeline->second.projection;
-      const uint32_t bytes = source.member.matrix_stride * 4;
-      const uint8_t* at = Layer::get().bufferBytes(d, b.buffer, b.offset + draw.matrix_buffer_offsets[static_cast<size_t>(k)], bytes);
+    Eigen::Vector4f parts[3];
+    bool have[3] = {false, false, false};
+    for (const RecordedDraw::PendingRead& p : draw.pending) {
+      const BlockMember& m = p.member;
+      const uint32_t bytes = p.what < 3 ? m.matrix_stride * 4 : 4 * m.components;
+      const uint8_t* at = Layer::get().bufferBytes(d, p.buffer.buffer, p.buffer.offset + p.offset, bytes);
       if (!at) continue;
-      GlMatrix m;
-      for (int c = 0; c < 4; ++c)
-        for (int row = 0; row < 4; ++row) {
-          const size_t major = source.member.row_major ? row : c, minor = source.member.row_major ? c : row;
-          std::memcpy(&m(row, c), at + major * source.member.matrix_stride + minor * 4, 4);
-        }
-      draw.matrices[static_cast<size_t>(k)] = m;
-      draw.matrix_flags |= static_cast<uint8_t>(1u << k);
+      if (p.what < 3) {
+        GlMatrix matrix;
+        for (int c = 0; c < 4; ++c)
+          for (int row = 0; row < 4; ++row) {
+            const size_t major = m.row_major ? row : c, minor = m.row_major ? c : row;
+            std::memcpy(&matrix(row, c), at + major * m.matrix_stride + minor * 4, 4);
+          }
+        draw.matrices[static_cast<size_t>(p.what)] = matrix;
+        draw.matrix_flags |= static_cast<uint8_t>(1u << p.what);
+      } else {
+        Eigen::Vector4f v(0.0f, 0.0f, 0.0f, 1.0f);
+        std::memcpy(v.data(), at, 4 * std::min<uint32_t>(m.components, 4));
+        parts[p.what - 3] = v;
+        have[p.what - 3] = true;
+      }
     }
+    if (!(have[0] || have[1] || have[2])) continue;
+    // T * R * S, as the OpenGL layer composes an instance's attributes (its readInstanceWorld).
+    Eigen::Affine3f world = Eigen::Affine3f::Identity();
+    if (have[0]) world.translate(parts[0].head<3>());
+    if (have[1]) {
+      Eigen::Quaternionf q(parts[1][3], parts[1][0], parts[1][1], parts[1][2]);
+      if (q.norm() < 1e-6f) continue;
+      q.normalize();
+      world.rotate(draw.rotation_conjugate ? q.conjugate() : q);
+    }
+    if (have[2]) world.scale(parts[2].head<3>());
+    draw.matrices[0] = world.matrix();
+    draw.matrix_flags |= kHasWorld;
   }
 }
 
@@ -448,6 +469,13 @@ bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t wi
       rec.world = draw.matrices[0];
       rec.view = draw.matrices[1];
       rec.projection = glProjection(draw.matrices[2], draw.y_down);
+      if (profile_.left_handed) {
+        // The mirror image in z, in OpenGL's right-handed conventions (capture_profile.h).
+        const GlMatrix f = Eigen::Vector4f(1.0f, 1.0f, -1.0f, 1.0f).asDiagonal();
+        rec.world = f * rec.world * f;
+        rec.view = f * rec.view * f;
+        rec.projection = rec.projection * f;
+      }
       if (!draw.ids) rec.gaps |= kGapNoIds;
       if ((pi.expected_matrices & ~draw.matrix_flags) != 0) rec.gaps |= kGapMatrixMissing;
       // The mesh from its buffers (read now: staged copies have landed).
@@ -494,6 +522,8 @@ bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t wi
         rec.vertex_buffer_key = bufferKey(draw.vertex_buffer);
         if (!meshes_sent_[mesh.mesh.key]) {
           meshes_sent_[mesh.mesh.key] = true;
+          if (profile_.left_handed)
+            for (size_t i = 2; i < mesh.mesh.positions_xyz.size(); i += 3) mesh.mesh.positions_xyz[i] = -mesh.mesh.positions_xyz[i];
           frame.new_meshes.push_back(std::move(mesh.mesh));
         }
       } else {

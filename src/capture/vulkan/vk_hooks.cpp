@@ -669,6 +669,15 @@ PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& inf
     if (m != reflection.members.end() && m->second.columns == 4 && m->second.rows == 4)
       *sources[k] = MatrixSource{true, m->second};
   }
+  const std::string* parts[3] = {&profile->instance_translation, &profile->instance_rotation, &profile->instance_scale};
+  for (int k = 0; k < 3; ++k) {
+    if (parts[k]->empty()) continue;
+    p.expected_matrices |= kHasWorld;
+    auto m = reflection.members.find(*parts[k]);
+    if (m != reflection.members.end() && m->second.components >= 3) p.instance_parts[k] = MatrixSource{true, m->second};
+  }
+  p.instance_rotation_conjugate = profile->instance_rotation_conjugate;
+  if (profile->hasInstanceTransform()) p.world = MatrixSource{};  // the instance's world replaces it
   uint32_t position_location = 0;
   if (!profile->position.empty()) {
     auto in = reflection.input_locations.find(profile->position);
@@ -1154,9 +1163,9 @@ GlMatrix readMatrix(const uint8_t* at, const BlockMember& m) {
 }
 
 // Records one draw into the scene: its state now, and the layer's id words pushed before it.
-void recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
+bool recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
   Recording* r = recording(d, cb);
-  if (!r) return;
+  if (!r) return false;
   auto p = d.pipelines.find(r->pipeline);
   const char* skipped = p == d.pipelines.end()  ? "pipeline unknown"
                         : p->second.depth_only  ? "depth only"
@@ -1164,7 +1173,7 @@ void recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
                         : p->second.overlay     ? "overlay"
                                                 : nullptr;
   L().countDraw(skipped ? skipped : "recorded");
-  if (skipped) return;
+  if (skipped) return false;
   const PipelineInfo& pi = p->second;
   // A render pass instance with draws: its depth and ids are read back at its end.
   if (r->pass < 0 && (r->render_pass || r->rendering)) {
@@ -1185,12 +1194,14 @@ void recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
     draw.index_buffer_offset = r->index_offset;
     draw.index_type = r->index_type;
   }
-  const MatrixSource* sources[3] = {&pi.world, &pi.view, &pi.projection};
-  for (int k = 0; k < 3; ++k) {
+  const MatrixSource* sources[6] = {&pi.world,  &pi.view, &pi.projection, &pi.instance_parts[0], &pi.instance_parts[1],
+                                    &pi.instance_parts[2]};
+  draw.rotation_conjugate = pi.instance_rotation_conjugate;
+  for (int k = 0; k < 6; ++k) {
     if (!sources[k]->known) continue;
     const BlockMember& m = sources[k]->member;
     if (m.push_constant) {
-      if (m.offset + 64 <= r->push.size()) {
+      if (k < 3 && m.offset + 64 <= r->push.size()) {
         draw.matrices[static_cast<size_t>(k)] = readMatrix(r->push.data() + m.offset, m);
         draw.matrix_flags |= static_cast<uint8_t>(1u << k);
       }
@@ -1215,9 +1226,9 @@ void recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
         }
       if (index < set->second.second.size()) b.offset += set->second.second[index];
     }
-    draw.matrix_buffers[static_cast<size_t>(k)] = b;
-    draw.matrix_buffer_offsets[static_cast<size_t>(k)] = m.offset;
-    draw.pending_matrices |= static_cast<uint8_t>(1u << k);
+    // Per-instance data: the element of the draw's (first) instance.
+    const uint32_t element = k >= 3 ? draw.first_instance * m.array_stride : 0;
+    draw.pending.push_back(RecordedDraw::PendingRead{k, b, m.offset + element, m});
   }
   auto layout = d.layouts.find(pi.layout);
   if (draw.ids && layout != d.layouts.end()) {
@@ -1239,16 +1250,25 @@ void recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
     if (draw.ids) r->passes[static_cast<size_t>(r->pass)].id_draws++;
   }
   r->draws.push_back(draw);
+  return true;
 }
 
+// A recorded draw of several instances is issued one instance at a time, each with its own id and
+// world (the same pixels: a draw's instances are drawn in instance order).
 VKAPI_ATTR void VKAPI_CALL CmdDraw(VkCommandBuffer cb, uint32_t vertices, uint32_t instances, uint32_t first_vertex,
                                    uint32_t first_instance) {
   Device& d = dev(cb);
-  if (L().capturing()) {
+  if (L().capturing() && instances > 0) {
     Lock lock(L().mutex());
     RecordedDraw draw;
-    draw.count = vertices, draw.instances = instances, draw.first = first_vertex;
-    recordDraw(d, cb, draw);
+    draw.count = vertices, draw.first = first_vertex, draw.first_instance = first_instance;
+    if (recordDraw(d, cb, draw)) {
+      for (uint32_t i = 0; i < instances; ++i) {
+        if (i > 0) draw.first_instance = first_instance + i, recordDraw(d, cb, draw);
+        d.vk.CmdDraw(cb, vertices, 1, first_vertex, first_instance + i);
+      }
+      return;
+    }
   }
   d.vk.CmdDraw(cb, vertices, instances, first_vertex, first_instance);
 }
@@ -1256,12 +1276,18 @@ VKAPI_ATTR void VKAPI_CALL CmdDraw(VkCommandBuffer cb, uint32_t vertices, uint32
 VKAPI_ATTR void VKAPI_CALL CmdDrawIndexed(VkCommandBuffer cb, uint32_t indices, uint32_t instances, uint32_t first_index,
                                           int32_t vertex_offset, uint32_t first_instance) {
   Device& d = dev(cb);
-  if (L().capturing()) {
+  if (L().capturing() && instances > 0) {
     Lock lock(L().mutex());
     RecordedDraw draw;
     draw.indexed = true;
-    draw.count = indices, draw.instances = instances, draw.first = first_index, draw.vertex_offset = vertex_offset;
-    recordDraw(d, cb, draw);
+    draw.count = indices, draw.first = first_index, draw.vertex_offset = vertex_offset, draw.first_instance = first_instance;
+    if (recordDraw(d, cb, draw)) {
+      for (uint32_t i = 0; i < instances; ++i) {
+        if (i > 0) draw.first_instance = first_instance + i, recordDraw(d, cb, draw);
+        d.vk.CmdDrawIndexed(cb, indices, 1, first_index, vertex_offset, first_instance + i);
+      }
+      return;
+    }
   }
   d.vk.CmdDrawIndexed(cb, indices, instances, first_index, vertex_offset, first_instance);
 }

@@ -168,6 +168,10 @@ struct PipelineInfo {
   uint32_t position_offset = 0;
   std::map<uint32_t, uint32_t> strides;  ///< binding -> stride
   MatrixSource world, view, projection;
+  /// Per-instance world (T * R * S) from members of arrays indexed by the instance (the profile's
+  /// instance_translation, instance_rotation, instance_scale).
+  MatrixSource instance_parts[3];
+  bool instance_rotation_conjugate = false;
   uint8_t expected_matrices = 0;
   std::vector<VkShaderModule> layer_modules;  ///< rewritten modules the layer made for it
 };
@@ -186,7 +190,7 @@ struct RecordedDraw {
   int pass = -1;  ///< render pass instance within the recording
   bool ids = false;
   bool indexed = false;
-  uint32_t count = 0, instances = 1, first = 0;
+  uint32_t count = 0, instances = 1, first = 0, first_instance = 0;
   int32_t vertex_offset = 0;
   VkBuffer vertex_buffer = VK_NULL_HANDLE;
   VkDeviceSize vertex_buffer_offset = 0;
@@ -196,10 +200,17 @@ struct RecordedDraw {
   bool y_down = true;  ///< viewport height positive: Vulkan's y-down clip space
   /// Matrices read at record time (push constants) and where to read the rest at submit.
   std::array<GlMatrix, 3> matrices{GlMatrix::Identity(), GlMatrix::Identity(), GlMatrix::Identity()};
-  std::array<DescriptorBuffer, 3> matrix_buffers{};
-  std::array<uint32_t, 3> matrix_buffer_offsets{};
-  uint8_t matrix_flags = 0;  ///< read at record time
-  uint8_t pending_matrices = 0;  ///< to read at submit
+  uint8_t matrix_flags = 0;  ///< known so far
+  /// What is read from buffers when the draw is submitted: world, view, projection (0-2) or an
+  /// instance's translation, rotation, scale (3-5), at `offset` of `buffer`.
+  struct PendingRead {
+    int what = 0;
+    DescriptorBuffer buffer;
+    uint32_t offset = 0;
+    BlockMember member;
+  };
+  std::vector<PendingRead> pending;
+  bool rotation_conjugate = false;
 };
 
 /// A render pass instance with recorded draws: where its depth and ids are copied at its end.

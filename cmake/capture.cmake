@@ -195,7 +195,7 @@ if(CATKIN_ENABLE_TESTING)
       VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles"
       VIPER_STK_LABELS="${PROJECT_SOURCE_DIR}/config/labels/supertuxkart_candela_city.yaml")
     target_link_libraries(test_supertuxkart viper_core gtest_main ${OpenCV_LIBS})
-    add_dependencies(test_supertuxkart viper_capture viper_intercept)
+    add_dependencies(test_supertuxkart viper_capture viper_intercept viper_vulkan_layer)
   endif()
   # Programs the package was not written for, the fast ones (scripts/capture_corpus.sh; needs them,
   # apitrace and xvfb: scripts/setup.sh --test-programs).

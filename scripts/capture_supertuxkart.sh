@@ -6,15 +6,18 @@
 # Usage: scripts/capture_supertuxkart.sh [--track candela_city] [--frames 60] [--width 1280]
 #          [--height 720] [--karts 4] [--seed 1] [--skip 0] [--out DIR (build/stk)] [--no-bag]
 #          [--bin DIR (the sourced workspace's, else devel/lib/viper)] [--game-args "--kart=tux --ai=nolok,pidgin"] [--no-check]
+#          [--render-driver gl|vulkan (gl)]
 # Writes DIR/<track>.vcap and DIR/<track>_raw.bag. Needs `supertuxkart` and `Xvfb` (installed by
 # scripts/setup.sh --test-programs); runs the game in its own Xvfb display unless --display :N.
 # The game runs with its forward pipeline (--disable-dynamic-lights) and without anisotropic
 # filtering (Mesa 22.3's llvmpipe hangs in one instanced draw with it, with or without capture).
-# Sound is off (ALSOFT_DRIVERS=null) unless ALSOFT_DRIVERS is set.
+# Sound is off (ALSOFT_DRIVERS=null) unless ALSOFT_DRIVERS is set. --render-driver vulkan: the game
+# draws through Vulkan (lavapipe without a GPU), captured by the Vulkan layer with
+# config/profiles/supertuxkart_vulkan.yaml.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 track=candela_city; frames=60; width=1280; height=720; karts=4; seed=1; skip=0
-out="$here/build/stk"; bag=1; display=""; bin=""; game_args=""
+out="$here/build/stk"; bag=1; display=""; bin=""; game_args=""; driver=gl
 # The capture of the sourced workspace, as capture_world.sh finds it (a devel space outside the
 # package, such as scripts/sanitize.sh's, included), else the package's own devel space.
 for dir in $(/usr/bin/python3 "$(command -v catkin_find)" --without-underlays --libexec viper 2>/dev/null); do
@@ -38,10 +41,16 @@ while [ $# -gt 0 ]; do
     --bin) bin="$2"; shift 2 ;;
     --game-args) game_args="$2"; shift 2 ;;
     --no-bag) bag=0; shift ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    --render-driver) driver="$2"; shift 2 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     *) echo "capture_supertuxkart: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
+case "$driver" in
+  gl) profile="$here/config/profiles/supertuxkart.yaml"; driver_args="" ;;
+  vulkan) profile="$here/config/profiles/supertuxkart_vulkan.yaml"; driver_args="--render-driver=vulkan" ;;
+  *) echo "capture_supertuxkart: --render-driver must be gl or vulkan, not '$driver'" >&2; exit 2 ;;
+esac
 stk=/usr/games/supertuxkart
 [ -x "$stk" ] || { echo "capture_supertuxkart: $stk not found: run 'bash scripts/setup.sh --test-programs'" >&2; exit 2; }
 [ -x "$bin/capture" ] || { echo "capture_supertuxkart: no capture in $bin: run scripts/setup.sh first" >&2; exit 2; }
@@ -73,16 +82,16 @@ fi
 
 # Long enough a race that it never ends before the frames are captured (the layer stops the game).
 race_s=$((frames / 2 + 120))
-echo "== capturing $frames frames of SuperTuxKart ($track, ${width}x${height}, $karts karts, seed $seed) -> $capture"
+echo "== capturing $frames frames of SuperTuxKart ($driver, $track, ${width}x${height}, $karts karts, seed $seed) -> $capture"
 rm -f "$capture"
 status=0
 # Sound off (OpenAL Soft's null device), unless ALSOFT_DRIVERS says otherwise: nothing in a capture
 # needs it, and opening PulseAudio hangs the game with a sanitizer runtime preloaded (a sanitized
 # capture layer: docs/sanitizers.md).
 HOME="$game_home" DISPLAY="$display" ALSOFT_DRIVERS="${ALSOFT_DRIVERS:-null}" "$bin/capture" --output "$capture" \
-  --profile "$here/config/profiles/supertuxkart.yaml" --condition day --frames "$frames" \
+  --profile "$profile" --condition day --frames "$frames" \
   --skip-frames "$skip" --start-on-scene -- \
-  "$stk" --track="$track" --numkarts="$karts" --seed="$seed" --profile-time="$race_s" \
+  "$stk" $driver_args --track="$track" --numkarts="$karts" --seed="$seed" --profile-time="$race_s" \
   ${STK_PIPELINE:---disable-dynamic-lights} --anisotropic=0 --windowed --screensize="${width}x${height}" $game_args \
   > "$out/$track.game.log" 2>&1 || status=$?
 grep '\[viper capture\]' "$out/$track.game.log" || true

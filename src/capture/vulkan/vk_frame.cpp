@@ -147,6 +147,7 @@ Layer::Layer() {
   frame_limit_ = settings.frame_limit;
   fixed_fps_ = settings.fixed_fps;
   skip_frames_ = settings.skip_frames;
+  start_on_scene_ = settings.start_on_scene;
   header_ = settings.header;
   zstd_level_ = settings.zstd_level;
   writer_threads_ = settings.writer_threads;
@@ -501,7 +502,7 @@ bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t wi
         vertex_bytes = vb->second.size - draw.vertex_buffer_offset;
         vertices = bufferBytes(d, draw.vertex_buffer, draw.vertex_buffer_offset, vertex_bytes);
       }
-      bool mesh_ok = vertices && layout.size > 0 && range.mode == 4;
+      bool mesh_ok = vertices && layout.size > 0 && range.mode == 4 && !pi.deforming;
       if (mesh_ok && draw.indexed) {
         auto ib = d.buffers.find(draw.index_buffer);
         const size_t index_size = draw.index_type == VK_INDEX_TYPE_UINT16 ? 2 : 4;
@@ -533,6 +534,18 @@ bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t wi
     }
   }
   if (meshes_sent_.size() > 65536) meshes_sent_.clear();  // streamed geometry: memory stays bounded
+  // --start-on-scene: nothing is written before the first frame with a draw that has the camera's
+  // view and projection (menus and loading screens have none).
+  if (start_on_scene_ && !scene_started_) {
+    scene_started_ = std::any_of(frame.draws.begin(), frame.draws.end(), [](const DrawRecord& r) {
+      return (r.matrix_flags & (kHasView | kHasProjection)) == (kHasView | kHasProjection);
+    });
+    if (!scene_started_) {
+      meshes_sent_.clear();  // the meshes go with the first frame written
+      unmapLayerMappings(d);
+      return true;
+    }
+  }
 
   // Colour (bottom row first, as RawImages holds it), the scene pass's depth and ids.
   if (!rgba.empty()) {

@@ -660,6 +660,7 @@ PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& inf
   if (vertex) reflection = reflectModule(*vertex);
   const ProgramProfile* profile = L().profile().match(reflection.names_text, key);
   p.overlay = profile->overlay;
+  p.deforming = profile->deforming == Deforming::kYes;
   const std::string* names[3] = {&profile->world, &profile->view, &profile->projection};
   MatrixSource* sources[3] = {&p.world, &p.view, &p.projection};
   for (int k = 0; k < 3; ++k) {

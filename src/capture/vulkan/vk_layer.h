@@ -145,6 +145,7 @@ class Layer {
   std::string condition_;
   uint64_t frame_limit_ = 0, skip_frames_ = 0, presents_ = 0, frames_written_ = 0;
   double fixed_fps_ = 0.0, start_s_ = 0.0;
+  bool start_on_scene_ = false, scene_started_ = false;
   std::unordered_map<uint64_t, bool> meshes_sent_;
   std::vector<VkDeviceMemory> layer_mapped_;
 

@@ -161,6 +161,9 @@ struct PipelineInfo {
   std::string why_no_ids;
   VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   bool overlay = false;  ///< the profile says so
+  /// The profile says its vertex shader deforms vertices: the layer does not record deformed
+  /// positions yet, so its draws have no mesh (kGapNoMesh) rather than a rigid one that is wrong.
+  bool deforming = false;
   // Position attribute.
   bool has_position = false;
   uint32_t position_binding = 0;

@@ -19,6 +19,35 @@ struct Instruction {
   std::vector<uint32_t> operands;
 };
 
+// The operands the layer reads of the instructions it looks at (a valid module has at least these).
+size_t minimumOperands(uint32_t opcode) {
+  switch (opcode) {
+    case spv::OpCapability:
+    case spv::OpTypeStruct:
+    case spv::OpLabel:
+      return 1;
+    case spv::OpName:
+    case spv::OpDecorate:
+    case spv::OpTypeRuntimeArray:
+    case spv::OpTypeFloat:
+      return 2;
+    case spv::OpMemberName:
+    case spv::OpMemberDecorate:
+    case spv::OpEntryPoint:
+    case spv::OpTypeInt:
+    case spv::OpTypeVector:
+    case spv::OpTypeMatrix:
+    case spv::OpTypeArray:
+    case spv::OpTypePointer:
+    case spv::OpVariable:
+      return 3;
+    case spv::OpFunction:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
 bool parse(const std::vector<uint32_t>& words, std::vector<Instruction>& out, std::string& why) {
   if (words.size() < kHeaderWords || words[0] != spv::MagicNumber) {
     why = "not a SPIR-V module (no magic number)";
@@ -33,6 +62,10 @@ bool parse(const std::vector<uint32_t>& words, std::vector<Instruction>& out, st
     Instruction i;
     i.opcode = words[at] & 0xffffu;
     i.operands.assign(words.begin() + static_cast<long>(at) + 1, words.begin() + static_cast<long>(at + count));
+    if (i.operands.size() < minimumOperands(i.opcode)) {
+      why = "instruction at word " + std::to_string(at) + " (opcode " + std::to_string(i.opcode) + ") has too few operands";
+      return false;
+    }
     out.push_back(std::move(i));
     at += count;
   }

@@ -264,6 +264,10 @@ void Layer::removeDevice(VkDevice device) {
   for (auto& [cb, r] : d->recordings) freeRecording(*d, *r);
   for (auto& r : d->retired) freeRecording(*d, *r);
   for (auto& [family, pool] : d->pools) d->vk.DestroyCommandPool(device, pool, nullptr);
+  for (auto& [size, pooled] : d->readback_pool) {
+    d->vk.DestroyBuffer(device, pooled.first, nullptr);
+    d->vk.FreeMemory(device, pooled.second, nullptr);
+  }
   const Device::IdBuffer& ib = d->id_buffer;
   if (ib.pool) d->vk.DestroyDescriptorPool(device, ib.pool, nullptr);
   if (ib.layout) d->vk.DestroyDescriptorSetLayout(device, ib.layout, nullptr);
@@ -290,7 +294,22 @@ uint32_t Layer::memoryType(const Device& d, uint32_t bits, VkMemoryPropertyFlags
   return UINT32_MAX;
 }
 
+void Layer::releaseReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer buffer, VkDeviceMemory memory) {
+  if (!buffer) return;
+  // Kept for the next frame's copies: fresh allocations cost more in page faults than the copies
+  // themselves (a CPU driver backs device memory with new pages). A few per size at most.
+  if (d.readback_pool.count(size) < 8) d.readback_pool.emplace(size, std::make_pair(buffer, memory));
+  else d.vk.DestroyBuffer(d.device, buffer, nullptr), d.vk.FreeMemory(d.device, memory, nullptr);
+}
+
 bool Layer::createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer, VkDeviceMemory& memory) {
+  auto pooled = d.readback_pool.find(size);
+  if (pooled != d.readback_pool.end()) {
+    buffer = pooled->second.first;
+    memory = pooled->second.second;
+    d.readback_pool.erase(pooled);
+    return true;
+  }
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size;
   info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -421,10 +440,9 @@ void Layer::freeRecording(Device& d, Recording& r) {
   d.id_buffer.free.insert(d.id_buffer.free.end(), r.id_slots.begin(), r.id_slots.end());
   r.id_slots.clear();
   for (PassCapture& p : r.passes) {
-    if (p.id_buffer) d.vk.DestroyBuffer(d.device, p.id_buffer, nullptr);
-    if (p.id_memory) d.vk.FreeMemory(d.device, p.id_memory, nullptr);
-    if (p.depth_buffer) d.vk.DestroyBuffer(d.device, p.depth_buffer, nullptr);
-    if (p.depth_memory) d.vk.FreeMemory(d.device, p.depth_memory, nullptr);
+    const VkDeviceSize pixels = static_cast<VkDeviceSize>(p.width) * p.height;
+    releaseReadbackBuffer(d, pixels * 16, p.id_buffer, p.id_memory);
+    releaseReadbackBuffer(d, pixels * 4, p.depth_buffer, p.depth_memory);
   }
   r.passes.clear();
 }
@@ -432,16 +450,18 @@ void Layer::freeRecording(Device& d, Recording& r) {
 // -----------------------------------------------------------------------------------------------
 // Frames.
 
-bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t width, uint32_t height) {
+bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t width, uint32_t height) {
   if (!openSink()) return true;
   CaptureFrame frame;
-  RawImages raw;
+  // The buffers of a frame written before (fresh 2-8 MB vectors cost more in page faults).
+  RawImages raw = sink_->recycledRaw();
   raw.width = static_cast<int>(width);
   raw.height = static_cast<int>(height);
   const size_t pixels = static_cast<size_t>(width) * height;
 
   // Every recorded draw of the frame, in submission order; (recording, draw + 1) -> frame draw.
-  std::map<std::pair<uint32_t, uint32_t>, uint32_t> frame_index;
+  // Per recording (serial), its draws' frame indices + 1 by their index in the recording (0: none).
+  std::unordered_map<uint32_t, std::vector<uint32_t>> frame_index;
   const PassCapture* scene = nullptr;
   std::map<VkBuffer, uint64_t> buffer_keys;
   auto bufferKey = [&](VkBuffer b) -> uint64_t {
@@ -464,7 +484,9 @@ bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t wi
       const PipelineInfo& pi = pipeline->second;
       DrawRecord rec;
       rec.index = static_cast<uint32_t>(frame.draws.size());
-      frame_index[{r->serial, draw.local + 1}] = rec.index;
+      std::vector<uint32_t>& indices = frame_index[r->serial];
+      if (indices.size() <= draw.local) indices.resize(draw.local + 1, 0);
+      indices[draw.local] = rec.index + 1;
       rec.program_key = pi.program_key;
       rec.matrix_flags = draw.matrix_flags;
       rec.world = draw.matrices[0];
@@ -548,11 +570,18 @@ bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t wi
   }
 
   // Colour (bottom row first, as RawImages holds it), the scene pass's depth and ids.
-  if (!rgba.empty()) {
+  if (presented) {
     raw.rgba.resize(pixels * 4);
-    for (uint32_t y = 0; y < height; ++y)
-      std::memcpy(raw.rgba.data() + static_cast<size_t>(height - 1 - y) * width * 4,
-                  rgba.data() + static_cast<size_t>(y) * width * 4, width * 4);
+    for (uint32_t y = 0; y < height; ++y) {
+      uint8_t* out = raw.rgba.data() + static_cast<size_t>(height - 1 - y) * width * 4;
+      const uint8_t* in = presented + static_cast<size_t>(y) * width * 4;
+      if (!bgra) {
+        std::memcpy(out, in, width * 4);
+        continue;
+      }
+      for (uint32_t x = 0; x < 4 * width; x += 4)
+        out[x] = in[x + 2], out[x + 1] = in[x + 1], out[x + 2] = in[x], out[x + 3] = in[x + 3];
+    }
   }
   if (scene && (scene->width != width || scene->height != height)) {
     reportOnce("the scene's render target is " + std::to_string(scene->width) + "x" + std::to_string(scene->height) +
@@ -565,14 +594,24 @@ bool Layer::finishFrame(Device& d, const std::vector<uint8_t>& rgba, uint32_t wi
     if (d.vk.MapMemory(d.device, scene->id_memory, 0, VK_WHOLE_SIZE, 0, &mapped) == VK_SUCCESS) ids = static_cast<uint8_t*>(mapped);
     if (ids) {
       raw.ids.resize(pixels * 2);
+      uint32_t last_serial = 0;
+      const std::vector<uint32_t>* last_table = nullptr;
       for (uint32_t y = 0; y < height; ++y) {
         const uint32_t* row = reinterpret_cast<const uint32_t*>(ids) + static_cast<size_t>(y) * width * 4;
         float* out = raw.ids.data() + static_cast<size_t>(height - 1 - y) * width * 2;
         for (uint32_t x = 0; x < width; ++x) {
           const uint32_t* px = row + x * 4;
-          auto found = px[3] ? frame_index.find({px[0], px[1]}) : frame_index.end();
-          out[2 * x] = found == frame_index.end() ? 0.0f : static_cast<float>(found->second + 1);
-          out[2 * x + 1] = found == frame_index.end() ? 0.0f : static_cast<float>(px[2]);
+          // Neighbouring pixels mostly share a recording: its table is looked up again only when
+          // the serial changes.
+          if (px[0] != last_serial) {
+            auto found = frame_index.find(px[0]);
+            last_table = found == frame_index.end() ? nullptr : &found->second;
+            last_serial = px[0];
+          }
+          const uint32_t index =
+              px[3] && last_table && px[1] >= 1 && px[1] <= last_table->size() ? (*last_table)[px[1] - 1] : 0;
+          out[2 * x] = static_cast<float>(index);
+          out[2 * x + 1] = index ? static_cast<float>(px[2]) : 0.0f;
         }
       }
       d.vk.UnmapMemory(d.device, scene->id_memory);
@@ -658,7 +697,6 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
   const SwapchainInfo& swapchain = sc->second;
   const uint32_t width = swapchain.extent.width, height = swapchain.extent.height;
   VkPresentInfoKHR copy = *info;
-  std::vector<uint8_t> rgba;
   VkSemaphore done = VK_NULL_HANDLE;
   VkBuffer buffer = VK_NULL_HANDLE;
   VkDeviceMemory memory = VK_NULL_HANDLE;
@@ -732,19 +770,14 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
   // Every submission of the frame is done before its copies are read (simple, and slow on a GPU:
   // the read-back is synchronous for now).
   d.vk.DeviceWaitIdle(d.device);
+  void* mapped = nullptr;
+  if (buffer && d.vk.MapMemory(d.device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) mapped = nullptr;
+  const bool go_on = layer.finishFrame(d, static_cast<const uint8_t*>(mapped), bgra, width, height);
   if (buffer) {
-    void* mapped = nullptr;
-    if (d.vk.MapMemory(d.device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) == VK_SUCCESS) {
-      rgba.assign(static_cast<uint8_t*>(mapped), static_cast<uint8_t*>(mapped) + static_cast<size_t>(width) * height * 4);
-      d.vk.UnmapMemory(d.device, memory);
-      if (bgra)
-        for (size_t i = 0; i < rgba.size(); i += 4) std::swap(rgba[i], rgba[i + 2]);
-    }
-    d.vk.DestroyBuffer(d.device, buffer, nullptr);
-    d.vk.FreeMemory(d.device, memory, nullptr);
+    if (mapped) d.vk.UnmapMemory(d.device, memory);
+    layer.releaseReadbackBuffer(d, static_cast<VkDeviceSize>(width) * height * 4, buffer, memory);
     d.vk.FreeCommandBuffers(d.device, pool, 1, &cb);
   }
-  const bool go_on = layer.finishFrame(d, rgba, width, height);
   endFrame(d);
   lock.unlock();
   const VkResult r = d.vk.QueuePresentKHR(queue, &copy);

@@ -88,14 +88,18 @@ class Layer {
     // The layer's own command pool, per queue family, for the read-back of presented images.
     std::map<uint32_t, VkCommandPool> pools;
     VkFence fence = VK_NULL_HANDLE;
+    /// Read-back buffers not in use, by size.
+    std::multimap<VkDeviceSize, std::pair<VkBuffer, VkDeviceMemory>> readback_pool;
   };
 
   /// Makes the id buffer's set layouts, pool, set and memory (once); false when the device cannot.
   bool ensureIdBuffer(Device& d);
   /// A slot of the id buffer holding (a, b), or UINT32_MAX when all are taken.
   uint32_t takeIdSlot(Device& d, uint32_t a, uint32_t b);
-  /// A host-visible buffer of the layer's (read back into).
+  /// A host-visible buffer of the layer's (read back into), from the pool when one of the size is
+  /// there; releaseReadbackBuffer() gives it back.
   bool createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer, VkDeviceMemory& memory);
+  void releaseReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer buffer, VkDeviceMemory memory);
   /// A memory type of `bits` with `flags` (UINT32_MAX if none).
   static uint32_t memoryType(const Device& d, uint32_t bits, VkMemoryPropertyFlags flags);
   /// Pointer to `size` bytes of buffer `b` at `offset`, mapping its memory for the layer if the
@@ -110,9 +114,10 @@ class Layer {
 
   // The capture (frame building is in vk_frame.cpp).
   const CaptureProfile& profile() const { return profile_; }
-  /// Called at each present with the lock held, after the presented image was read into `rgba`
-  /// (top row first). Writes the frame; returns false when the frame limit says to stop.
-  bool finishFrame(Device& d, const std::vector<uint8_t>& rgba_top_first, uint32_t width, uint32_t height);
+  /// Called at each present with the lock held, after the presented image was read back to
+  /// `presented` (top row first, RGBA or BGRA; null when it could not be). Writes the frame;
+  /// returns false when the frame limit says to stop.
+  bool finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t width, uint32_t height);
   /// VIPER_VULKAN_DEBUG=1: what became of the draw calls the program recorded, by kind, printed
   /// with each frame (for writing a profile for a program the layer was not tried on).
   void countDraw(const char* kind) {

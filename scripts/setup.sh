@@ -42,7 +42,8 @@ for arg in "$@"; do
   case "$arg" in
     --no-build) build=0 ;;
     --test-programs) PKGS+=(supertuxkart minetest apitrace chromium nodejs slurm-wlm munge piglit waffle-utils
-                            glmark2-x11 neverball supertux foobillardplus chromium-bsu extremetuxracer mesa-utils); test_programs=1 ;;
+                            glmark2-x11 neverball supertux foobillardplus chromium-bsu extremetuxracer mesa-utils
+                            wine wine64 g++-mingw-w64-x86-64-posix); test_programs=1 ;;
     --training) PKGS+=(python3-torch) ;;
     *) echo "setup: unknown option '$arg' (known: --no-build, --test-programs, --training)" >&2; exit 2 ;;
   esac

@@ -238,6 +238,8 @@ ModuleReflection reflectModule(const std::vector<uint32_t>& words) {
       where.set = x.decoration(id, spv::DecorationDescriptorSet, 0);
       where.binding = x.decoration(id, spv::DecorationBinding, 0);
       addBlockMembers(x, type, where, r.members, nullptr);
+    } else if (v.storage == spv::StorageClassInput && x.decoration(id, spv::DecorationBuiltIn, ~0u) == spv::BuiltInBaseInstance) {
+      r.reads_base_instance = true;
     } else if (v.storage == spv::StorageClassInput && x.decorated(id, spv::DecorationLocation)) {
       auto name = x.names.find(id);
       if (name != x.names.end()) r.input_locations[name->second] = x.decoration(id, spv::DecorationLocation, 0);

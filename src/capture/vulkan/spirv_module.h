@@ -50,6 +50,8 @@ struct ModuleReflection {
   std::string names_text;
   /// Highest byte offset past the end of the push-constant block the module declares (0 if none).
   uint32_t push_constant_end = 0;
+  /// The module declares the BaseInstance built-in (gl_BaseInstance).
+  bool reads_base_instance = false;
 };
 
 /// Reads `words` (a whole SPIR-V module). Never throws; `valid` false with `problem` on bad input.

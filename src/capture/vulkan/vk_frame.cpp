@@ -237,6 +237,7 @@ Layer::Device* Layer::addDevice(VkPhysicalDevice physical, VkDevice device, PFN_
 #undef VIPER_VK_LOAD
   if (!d->vk.CmdBeginRendering)
     d->vk.CmdBeginRendering = reinterpret_cast<PFN_vkCmdBeginRendering>(gdpa(device, "vkCmdBeginRenderingKHR"));
+  if (!d->vk.QueueSubmit2) d->vk.QueueSubmit2 = reinterpret_cast<PFN_vkQueueSubmit2>(gdpa(device, "vkQueueSubmit2KHR"));
   if (!d->vk.CmdEndRendering)
     d->vk.CmdEndRendering = reinterpret_cast<PFN_vkCmdEndRendering>(gdpa(device, "vkCmdEndRenderingKHR"));
   if (d->instance) {
@@ -416,6 +417,8 @@ bool Layer::ensureIdBuffer(Device& d) {
   write.descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC;
   write.pBufferInfo = &buffer;
   d.vk.UpdateDescriptorSets(d.device, 1, &write, 0, nullptr);
+  std::memset(ib.mapped, 0, 8);  // slot 0: (0, 0), the words of draws that are not recorded
+  ib.next = 1;
   ib.set_index = static_cast<int>(max_sets) - 1;  // the highest: never one a program's layouts share
   return true;
 }
@@ -659,27 +662,48 @@ void endFrame(Device& d) {
 
 }  // namespace
 
+namespace {
+
+// A submitted command buffer's recording joins the frame (and those of the secondaries it
+// executes), its matrices read from their buffers now.
+void joinFrame(Device& d, VkCommandBuffer cb) {
+  auto r = d.recordings.find(cb);
+  if (r == d.recordings.end()) return;
+  readSubmittedMatrices(d, *r->second);
+  d.frame.push_back(r->second);
+  for (VkCommandBuffer secondary : r->second->executed) {
+    auto sr = d.recordings.find(secondary);
+    if (sr == d.recordings.end()) continue;
+    readSubmittedMatrices(d, *sr->second);
+    d.frame.push_back(sr->second);
+  }
+}
+
+}  // namespace
+
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const VkSubmitInfo* submits, VkFence fence) {
   Device& d = deviceOf(queue);
   Layer& layer = Layer::get();
   if (layer.capturing()) {
     Lock lock(layer.mutex());
     for (uint32_t s = 0; s < count; ++s)
-      for (uint32_t c = 0; c < submits[s].commandBufferCount; ++c) {
-        auto r = d.recordings.find(submits[s].pCommandBuffers[c]);
-        if (r == d.recordings.end()) continue;
-        readSubmittedMatrices(d, *r->second);
-        d.frame.push_back(r->second);
-        for (VkCommandBuffer secondary : r->second->executed) {
-          auto sr = d.recordings.find(secondary);
-          if (sr == d.recordings.end()) continue;
-          readSubmittedMatrices(d, *sr->second);
-          d.frame.push_back(sr->second);
-        }
-      }
+      for (uint32_t c = 0; c < submits[s].commandBufferCount; ++c) joinFrame(d, submits[s].pCommandBuffers[c]);
     layer.unmapLayerMappings(d);
   }
   return d.vk.QueueSubmit(queue, count, submits, fence);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit2(VkQueue queue, uint32_t count, const VkSubmitInfo2* submits, VkFence fence) {
+  Device& d = deviceOf(queue);
+  Layer& layer = Layer::get();
+  if (layer.capturing()) {
+    Lock lock(layer.mutex());
+    for (uint32_t s = 0; s < count; ++s)
+      for (uint32_t c = 0; c < submits[s].commandBufferInfoCount; ++c)
+        joinFrame(d, submits[s].pCommandBufferInfos[c].commandBuffer);
+    layer.unmapLayerMappings(d);
+  }
+  return d.vk.QueueSubmit2(queue, count, submits, fence);
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInfoKHR* info) {

@@ -375,7 +375,8 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateRenderPass(VkDevice device, const VkRenderP
     copy.pAttachments = attachments.data();
     copy.pSubpasses = subpasses.data();
   } else if (rp.why_no_ids.empty()) {
-    rp.why_no_ids = "no depth attachment";
+    rp.why_no_ids = !L().capturing() || d.primitive_id ? "no depth attachment"
+                                                       : "the device lacks geometryShader or independentBlend";
   }
   const VkResult r = d.vk.CreateRenderPass(device, &copy, alloc, out);
   if (r == VK_SUCCESS) {
@@ -660,6 +661,14 @@ PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& inf
   if (vertex) reflection = reflectModule(*vertex);
   const ProgramProfile* profile = L().profile().match(reflection.names_text, key);
   p.overlay = profile->overlay;
+  bool dynamic_viewport = false;
+  if (info.pDynamicState)
+    for (uint32_t k = 0; k < info.pDynamicState->dynamicStateCount; ++k)
+      dynamic_viewport |= info.pDynamicState->pDynamicStates[k] == VK_DYNAMIC_STATE_VIEWPORT ||
+                          info.pDynamicState->pDynamicStates[k] == VK_DYNAMIC_STATE_VIEWPORT_WITH_COUNT;
+  if (!dynamic_viewport && info.pViewportState && info.pViewportState->viewportCount > 0 && info.pViewportState->pViewports)
+    p.static_y_down = info.pViewportState->pViewports[0].height > 0 ? 1 : 0;
+  p.reads_base_instance = reflection.reads_base_instance;
   p.deforming = profile->deforming == Deforming::kYes;
   const std::string* names[3] = {&profile->world, &profile->view, &profile->projection};
   MatrixSource* sources[3] = {&p.world, &p.view, &p.projection};
@@ -739,6 +748,10 @@ PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& inf
   auto layout = d.layouts.find(info.layout);
   if (p.depth_only) {
     p.why_no_ids = "depth only";
+  } else if (p.overlay || !p.depth_test) {
+    // Never recorded (the 2D overlay, draws without depth test): they write no ids at all, so
+    // the pixels keep the ids of the scene they are drawn over, as with the OpenGL layer.
+    p.why_no_ids = "not recorded";
   } else if (layout == d.layouts.end() || (layout->second.layer_stages == 0 && layout->second.id_set < 0)) {
     p.why_no_ids = "no room in the push constants or descriptor sets for the layer's id";
   } else if (!blend) {
@@ -820,7 +833,8 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateGraphicsPipelines(VkDevice device, VkPipeli
     } else {
       for (VkShaderModule m : described[i].layer_modules) d.vk.DestroyShaderModule(device, m, nullptr);
     }
-    if (!described[i].why_no_ids.empty() && described[i].why_no_ids != "depth only")
+    if (!described[i].why_no_ids.empty() && described[i].why_no_ids != "depth only" &&
+        described[i].why_no_ids != "not recorded")
       L().reportOnce("pipelines without ids: " + described[i].why_no_ids);
   }
   return r;
@@ -1082,7 +1096,11 @@ VKAPI_ATTR void VKAPI_CALL CmdBindPipeline(VkCommandBuffer cb, VkPipelineBindPoi
   Device& d = dev(cb);
   if (point == VK_PIPELINE_BIND_POINT_GRAPHICS) {
     Lock lock(L().mutex());
-    if (Recording* r = recording(d, cb)) r->pipeline = pipeline;
+    if (Recording* r = recording(d, cb)) {
+      r->pipeline = pipeline;
+      auto p = d.pipelines.find(pipeline);
+      if (p != d.pipelines.end() && p->second.static_y_down >= 0) r->y_down = p->second.static_y_down == 1;
+    }
   }
   d.vk.CmdBindPipeline(cb, point, pipeline);
 }
@@ -1255,7 +1273,14 @@ bool recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
 }
 
 // A recorded draw of several instances is issued one instance at a time, each with its own id and
-// world (the same pixels: a draw's instances are drawn in instance order).
+// world (the same pixels: a draw's instances are drawn in instance order) unless its vertex shader
+// reads gl_BaseInstance, which splitting would change: then it is one draw (the first instance's).
+bool splits(Device& d, VkCommandBuffer cb) {
+  Recording* r = recording(d, cb);
+  auto p = r ? d.pipelines.find(r->pipeline) : d.pipelines.end();
+  return p != d.pipelines.end() && !p->second.reads_base_instance;
+}
+
 VKAPI_ATTR void VKAPI_CALL CmdDraw(VkCommandBuffer cb, uint32_t vertices, uint32_t instances, uint32_t first_vertex,
                                    uint32_t first_instance) {
   Device& d = dev(cb);
@@ -1263,7 +1288,7 @@ VKAPI_ATTR void VKAPI_CALL CmdDraw(VkCommandBuffer cb, uint32_t vertices, uint32
     Lock lock(L().mutex());
     RecordedDraw draw;
     draw.count = vertices, draw.first = first_vertex, draw.first_instance = first_instance;
-    if (recordDraw(d, cb, draw)) {
+    if (recordDraw(d, cb, draw) && splits(d, cb)) {
       for (uint32_t i = 0; i < instances; ++i) {
         if (i > 0) draw.first_instance = first_instance + i, recordDraw(d, cb, draw);
         d.vk.CmdDraw(cb, vertices, 1, first_vertex, first_instance + i);
@@ -1282,7 +1307,7 @@ VKAPI_ATTR void VKAPI_CALL CmdDrawIndexed(VkCommandBuffer cb, uint32_t indices, 
     RecordedDraw draw;
     draw.indexed = true;
     draw.count = indices, draw.first = first_index, draw.vertex_offset = vertex_offset, draw.first_instance = first_instance;
-    if (recordDraw(d, cb, draw)) {
+    if (recordDraw(d, cb, draw) && splits(d, cb)) {
       for (uint32_t i = 0; i < instances; ++i) {
         if (i > 0) draw.first_instance = first_instance + i, recordDraw(d, cb, draw);
         d.vk.CmdDrawIndexed(cb, indices, 1, first_index, vertex_offset, first_instance + i);
@@ -1293,15 +1318,33 @@ VKAPI_ATTR void VKAPI_CALL CmdDrawIndexed(VkCommandBuffer cb, uint32_t indices, 
   d.vk.CmdDrawIndexed(cb, indices, instances, first_index, vertex_offset, first_instance);
 }
 
-// Indirect draws: not recorded yet, counted among the draws not recorded when they draw into a
-// pass with ids.
+// Indirect draws: not recorded yet. One whose pipeline would be recorded is counted among the draws
+// into the scene not recorded, and writes id 0 (no draw), not the id words a draw before it left.
+void unrecordedDraw(Device& d, VkCommandBuffer cb, uint32_t count) {
+  Recording* r = recording(d, cb);
+  if (!r) return;
+  auto p = d.pipelines.find(r->pipeline);
+  if (p == d.pipelines.end() || p->second.depth_only || !p->second.depth_test || p->second.overlay) return;
+  r->unrecorded += count;
+  L().countDraw("indirect");
+  auto layout = d.layouts.find(p->second.layout);
+  if (!p->second.ids || layout == d.layouts.end()) return;
+  if (layout->second.layer_stages) {
+    const uint32_t words[2] = {0, 0};
+    d.vk.CmdPushConstants(cb, p->second.layout, layout->second.layer_stages, layout->second.layer_offset, 8, words);
+  } else {
+    const uint32_t offset = 0;  // slot 0 of the id buffer holds (0, 0)
+    d.vk.CmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, p->second.layout,
+                               static_cast<uint32_t>(layout->second.id_set), 1, &d.id_buffer.set, 1, &offset);
+  }
+}
+
 VKAPI_ATTR void VKAPI_CALL CmdDrawIndirect(VkCommandBuffer cb, VkBuffer buffer, VkDeviceSize offset, uint32_t count,
                                            uint32_t stride) {
   Device& d = dev(cb);
   if (L().capturing()) {
     Lock lock(L().mutex());
-    if (Recording* r = recording(d, cb)) r->unrecorded += count;
-    L().countDraw("indirect");
+    unrecordedDraw(d, cb, count);
   }
   d.vk.CmdDrawIndirect(cb, buffer, offset, count, stride);
 }
@@ -1311,8 +1354,7 @@ VKAPI_ATTR void VKAPI_CALL CmdDrawIndexedIndirect(VkCommandBuffer cb, VkBuffer b
   Device& d = dev(cb);
   if (L().capturing()) {
     Lock lock(L().mutex());
-    if (Recording* r = recording(d, cb)) r->unrecorded += count;
-    L().countDraw("indirect");
+    unrecordedDraw(d, cb, count);
   }
   d.vk.CmdDrawIndexedIndirect(cb, buffer, offset, count, stride);
 }
@@ -1339,7 +1381,7 @@ VKAPI_ATTR void VKAPI_CALL CmdExecuteCommands(VkCommandBuffer cb, uint32_t count
   X(BeginCommandBuffer) X(FreeCommandBuffers) X(CmdBeginRenderPass) X(CmdNextSubpass) X(CmdEndRenderPass)      \
   X(CmdBindPipeline) X(CmdBindVertexBuffers) X(CmdBindIndexBuffer) X(CmdBindDescriptorSets) X(CmdPushConstants) \
   X(CmdSetViewport) X(CmdDraw) X(CmdDrawIndexed) X(CmdDrawIndirect) X(CmdDrawIndexedIndirect)                  \
-  X(CmdExecuteCommands) X(QueueSubmit) X(QueuePresentKHR) X(DestroyDevice) X(CmdBeginRendering)            \
+  X(CmdExecuteCommands) X(QueueSubmit) X(QueueSubmit2) X(QueuePresentKHR) X(DestroyDevice) X(CmdBeginRendering)            \
   X(CmdEndRendering)
 
 PFN_vkVoidFunction deviceHook(const char* name) {
@@ -1350,6 +1392,7 @@ PFN_vkVoidFunction deviceHook(const char* name) {
   // The extension's names of what Vulkan 1.3 made core.
   if (std::strcmp(name, "vkCmdBeginRenderingKHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdBeginRendering);
   if (std::strcmp(name, "vkCmdEndRenderingKHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdEndRendering);
+  if (std::strcmp(name, "vkQueueSubmit2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&QueueSubmit2);
   return nullptr;
 }
 

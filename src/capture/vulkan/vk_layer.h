@@ -160,6 +160,7 @@ class Layer {
 /// Submission and presentation hooks (vk_frame.cpp): recordings join the frame at submit, and the
 /// frame is read back and written at present.
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const VkSubmitInfo* submits, VkFence fence);
+VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit2(VkQueue queue, uint32_t count, const VkSubmitInfo2* submits, VkFence fence);
 VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInfoKHR* info);
 
 }  // namespace vulkan

@@ -57,7 +57,7 @@ struct DeviceTable {
   X(CmdDrawIndexedIndirect) X(CmdSetViewport) X(CmdPipelineBarrier) X(CmdCopyImageToBuffer)                    \
   X(CreateCommandPool) X(DestroyCommandPool) X(ResetCommandPool) X(CreateFence) X(WaitForFences) X(ResetFences) \
   X(DestroyFence) X(CreateSemaphore) X(DestroySemaphore) X(CmdExecuteCommands) X(CmdBeginRendering)       \
-  X(CreateDescriptorPool) X(DestroyDescriptorPool)                                                         \
+  X(CreateDescriptorPool) X(DestroyDescriptorPool) X(QueueSubmit2)                                         \
   X(CmdEndRendering)
 #define VIPER_VK_DECLARE(name) PFN_vk##name name = nullptr;
   VIPER_VK_DEVICE_FUNCTIONS(VIPER_VK_DECLARE)
@@ -161,6 +161,9 @@ struct PipelineInfo {
   std::string why_no_ids;
   VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   bool overlay = false;  ///< the profile says so
+  bool reads_base_instance = false;  ///< its vertex shader reads gl_BaseInstance
+  /// A viewport the pipeline sets itself (not dynamic): -1 none, else whether its height is positive.
+  int static_y_down = -1;
   /// The profile says its vertex shader deforms vertices: the layer does not record deformed
   /// positions yet, so its draws have no mesh (kGapNoMesh) rather than a rigid one that is wrong.
   bool deforming = false;

@@ -192,6 +192,20 @@ TEST_P(FragmentRewrite, GivesAValidModuleThatWritesTheIdsAndKeepsTheProgramsOwnI
   }
 }
 
+TEST_P(FragmentRewrite, FromAUniformBufferOfTheLayersOwnWhenPushConstantsAreFull) {
+  const FragmentCase& c = GetParam();
+  const std::vector<uint32_t> words = compile("frag", c.glsl, "vulkan1.2");
+  ASSERT_FALSE(words.empty());
+  std::string why;
+  const std::vector<uint32_t> out = addIdOutput(words, "main", IdOutput{c.location, 0, 7}, why);
+  ASSERT_FALSE(out.empty()) << why;
+  EXPECT_EQ(validate(out), "") << disassemble(out);
+  const std::string text = disassemble(out);
+  EXPECT_NE(text.find("DescriptorSet 7"), std::string::npos) << text;
+  const ModuleReflection before = reflectModule(words), after = reflectModule(out);
+  EXPECT_EQ(before.push_constant_end, after.push_constant_end);  // the program's push constants untouched
+}
+
 INSTANTIATE_TEST_SUITE_P(Shaders, FragmentRewrite, ::testing::ValuesIn(kFragments),
                          [](const ::testing::TestParamInfo<FragmentCase>& info) { return std::string(info.param.name); });
 

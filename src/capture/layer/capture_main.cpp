@@ -1,6 +1,7 @@
 // `capture [options] -- PROGRAM ARGS...`: runs an OpenGL or Vulkan program with the viper
-// interceptor preloaded and the Vulkan layer enabled, and writes a capture stream (the first API the
-// program draws a frame with is recorded), then reads the stream back and prints its verdict (frames,
+// interceptor preloaded and the Vulkan layer enabled, and writes a capture stream (one layer writes
+// it: the OpenGL interceptor claims it at the program's first call it intercepts, the Vulkan layer
+// at its first frame, whichever comes first), then reads the stream back and prints its verdict (frames,
 // share of the scene with ids and placed, the main reason for what was not recorded). Exit status:
 // the program's (128 + signal if killed), or 74 when the program succeeded but the capture could not
 // be written (a full disk): the layer says so through a pipe (VIPER_CAPTURE_STATUS_FD) and the

@@ -28,14 +28,15 @@ const char* presentModeName(VkPresentModeKHR mode) {
 int run(const VkSceneOptions& options) {
   const SceneOptions& o = options.scene;
   if (!o.dump_dir.empty()) std::filesystem::create_directories(o.dump_dir);
-  vk::Context context(o.width, o.height, options.dynamic_rendering);
+  vk::Context context(o.width, o.height, options.dynamic_rendering, options.render_pass2);
   vk::Swapchain swapchain(context, o.width, o.height, !o.dump_dir.empty());
   std::cerr << "vk_test_scene: " << o.width << "x" << o.height << ", " << context.description() << ", "
             << swapchain.imageCount() << " swapchain images, " << presentModeName(swapchain.presentMode())
             << (options.dynamic_rendering ? ", dynamic rendering" : ", render passes")
             << (options.offscreen ? ", offscreen + composite + HUD" : "")
             << (options.host_visible_buffers ? ", host-visible buffers" : ", staged device-local buffers")
-            << (options.full_push_constants ? ", push constants full" : "") << "\n";
+            << (options.full_push_constants ? ", push constants full" : "")
+            << (options.render_pass2 ? ", render pass 2, imageless framebuffers, vkQueueSubmit2" : "") << "\n";
 
   const World world(o.seed, static_cast<double>(o.width) / o.height);
   size_t skinned_draws = 0;
@@ -45,6 +46,7 @@ int run(const VkSceneOptions& options) {
   modes.offscreen = options.offscreen;
   modes.host_visible_buffers = options.host_visible_buffers;
   modes.full_push_constants = options.full_push_constants;
+  modes.render_pass2 = options.render_pass2;
   modes.readable = !o.dump_dir.empty();
   vk::Renderer renderer(context, swapchain, world.meshes(), skinned_draws, modes);
   std::unique_ptr<viper::OracleWriter> oracle;

@@ -73,11 +73,11 @@ VkImageView createImageView(VkDevice device, VkImage image, VkFormat format, VkI
   return view;
 }
 
-Context::Context(uint32_t width, uint32_t height, bool dynamic_rendering) {
+Context::Context(uint32_t width, uint32_t height, bool dynamic_rendering, bool vulkan13) {
   try {
     openWindow(width, height);
     createInstance();
-    pickDevice(dynamic_rendering);
+    pickDevice(dynamic_rendering, vulkan13);
   } catch (...) {
     release();
     throw;
@@ -159,7 +159,7 @@ void Context::createInstance() {
   check(vkCreateXcbSurfaceKHR(instance_, &surface, nullptr, &surface_), "vkCreateXcbSurfaceKHR");
 }
 
-void Context::pickDevice(bool dynamic_rendering) {
+void Context::pickDevice(bool dynamic_rendering, bool vulkan13) {
   uint32_t count = 0;
   const VkResult enumerated = vkEnumeratePhysicalDevices(instance_, &count, nullptr);
   if (enumerated == VK_ERROR_INITIALIZATION_FAILED)
@@ -177,6 +177,10 @@ void Context::pickDevice(bool dynamic_rendering) {
     auto reject = [&](const std::string& why) { rejected += std::string("; ") + properties.deviceName + ": " + why; };
     if (properties.apiVersion < VK_API_VERSION_1_2) {
       reject("Vulkan " + versionText(properties.apiVersion) + " < 1.2");
+      continue;
+    }
+    if (vulkan13 && properties.apiVersion < VK_API_VERSION_1_3) {
+      reject("Vulkan " + versionText(properties.apiVersion) + " < 1.3 (--render-pass2)");
       continue;
     }
     if (!hasExtension(extensions, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) {
@@ -229,6 +233,14 @@ void Context::pickDevice(bool dynamic_rendering) {
   rendering.dynamicRendering = VK_TRUE;
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   info.pNext = dynamic_rendering ? &rendering : nullptr;
+  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  if (vulkan13) {
+    features12.imagelessFramebuffer = VK_TRUE;
+    features12.pNext = &features13;
+    features13.synchronization2 = VK_TRUE;
+    info.pNext = &features12;
+  }
   info.queueCreateInfoCount = 1;
   info.pQueueCreateInfos = &queue;
   info.enabledExtensionCount = static_cast<uint32_t>(names.size());

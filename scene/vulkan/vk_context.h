@@ -50,7 +50,9 @@ class Context {
   /// present to it. Throws std::runtime_error with what to do if there is no X display, no Vulkan
   /// driver or no device that presents to X; `dynamic_rendering` also requires Vulkan 1.3 or
   /// VK_KHR_dynamic_rendering.
-  Context(uint32_t width, uint32_t height, bool dynamic_rendering);
+  /// `vulkan13`: the device must offer Vulkan 1.3, with imagelessFramebuffer and synchronization2
+  /// enabled (--render-pass2).
+  Context(uint32_t width, uint32_t height, bool dynamic_rendering, bool vulkan13 = false);
   ~Context();
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
@@ -83,7 +85,7 @@ class Context {
   void release();
   void openWindow(uint32_t width, uint32_t height);
   void createInstance();
-  void pickDevice(bool dynamic_rendering);
+  void pickDevice(bool dynamic_rendering, bool vulkan13);
   uint32_t memoryType(uint32_t type_bits, VkMemoryPropertyFlags properties) const;
 
   xcb_connection_t* connection_ = nullptr;

@@ -12,6 +12,7 @@ VkSceneOptions parseVkOptions(const std::vector<std::string>& args) {
                  : name == "--offscreen"            ? &o.offscreen
                  : name == "--host-visible-buffers" ? &o.host_visible_buffers
                  : name == "--full-push-constants"  ? &o.full_push_constants
+                 : name == "--render-pass2"         ? &o.render_pass2
                                                     : nullptr;
     if (flag) {
       if (name != arg) throw OptionsError(name + " takes no value");
@@ -23,6 +24,7 @@ VkSceneOptions parseVkOptions(const std::vector<std::string>& args) {
     }
   }
   o.scene = parseOptions(shared);
+  if (o.render_pass2 && o.dynamic_rendering) throw OptionsError("--render-pass2 and --dynamic-rendering exclude each other");
   return o;
 }
 
@@ -39,6 +41,9 @@ std::string vkUsage() {
          "  --host-visible-buffers  meshes in host-visible buffers (default: device-local, staging copy)\n"
          "  --full-push-constants   the fragment stage's push-constant range reaches the device's limit\n"
          "                      (maxPushConstantsSize), as SuperTuxKart's does: no room left past it\n"
+         "  --render-pass2      Vulkan 1.2/1.3's structures: render passes made with vkCreateRenderPass2\n"
+         "                      and begun with vkCmdBeginRenderPass2, imageless framebuffers, vkQueueSubmit2\n"
+         "                      (needs Vulkan 1.3; not with --dynamic-rendering)\n"
          "  --help              this text\n"
          "Exit codes: 0 ok, 1 runtime failure (no X display, no Vulkan device, Vulkan error, file), 2 bad\n"
          "command line.\n";

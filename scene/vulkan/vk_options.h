@@ -16,6 +16,7 @@ struct VkSceneOptions {
   bool offscreen = false;             ///< --offscreen
   bool host_visible_buffers = false;  ///< --host-visible-buffers
   bool full_push_constants = false;   ///< --full-push-constants
+  bool render_pass2 = false;          ///< --render-pass2
 };
 
 /// Parses argv[1..] as parseOptions does, plus the three flags above. Throws OptionsError as

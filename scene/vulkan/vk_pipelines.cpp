@@ -105,8 +105,51 @@ VkPipeline createPipeline(VkDevice device, VkPipelineLayout layout, const Pipeli
   return pipeline;
 }
 
+namespace {
+
+// The same render pass in Vulkan 1.2's structures, made with vkCreateRenderPass2.
+VkRenderPass createRenderPass2(VkDevice device, const VkRenderPassCreateInfo& info) {
+  std::vector<VkAttachmentDescription2> attachments;
+  for (uint32_t a = 0; a < info.attachmentCount; ++a) {
+    const VkAttachmentDescription& d = info.pAttachments[a];
+    attachments.push_back({VK_STRUCTURE_TYPE_ATTACHMENT_DESCRIPTION_2, nullptr, d.flags, d.format, d.samples, d.loadOp,
+                           d.storeOp, d.stencilLoadOp, d.stencilStoreOp, d.initialLayout, d.finalLayout});
+  }
+  auto reference = [](const VkAttachmentReference& r, VkImageAspectFlags aspect) {
+    return VkAttachmentReference2{VK_STRUCTURE_TYPE_ATTACHMENT_REFERENCE_2, nullptr, r.attachment, r.layout, aspect};
+  };
+  const VkSubpassDescription& s = *info.pSubpasses;
+  std::vector<VkAttachmentReference2> colors;
+  for (uint32_t c = 0; c < s.colorAttachmentCount; ++c) colors.push_back(reference(s.pColorAttachments[c], VK_IMAGE_ASPECT_COLOR_BIT));
+  VkAttachmentReference2 depth{};
+  if (s.pDepthStencilAttachment) depth = reference(*s.pDepthStencilAttachment, VK_IMAGE_ASPECT_DEPTH_BIT);
+  VkSubpassDescription2 subpass{VK_STRUCTURE_TYPE_SUBPASS_DESCRIPTION_2};
+  subpass.pipelineBindPoint = s.pipelineBindPoint;
+  subpass.colorAttachmentCount = static_cast<uint32_t>(colors.size());
+  subpass.pColorAttachments = colors.data();
+  subpass.pDepthStencilAttachment = s.pDepthStencilAttachment ? &depth : nullptr;
+  std::vector<VkSubpassDependency2> dependencies;
+  for (uint32_t k = 0; k < info.dependencyCount; ++k) {
+    const VkSubpassDependency& d = info.pDependencies[k];
+    dependencies.push_back({VK_STRUCTURE_TYPE_SUBPASS_DEPENDENCY_2, nullptr, d.srcSubpass, d.dstSubpass, d.srcStageMask,
+                            d.dstStageMask, d.srcAccessMask, d.dstAccessMask, d.dependencyFlags, 0});
+  }
+  VkRenderPassCreateInfo2 info2{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO_2};
+  info2.attachmentCount = static_cast<uint32_t>(attachments.size());
+  info2.pAttachments = attachments.data();
+  info2.subpassCount = 1;
+  info2.pSubpasses = &subpass;
+  info2.dependencyCount = static_cast<uint32_t>(dependencies.size());
+  info2.pDependencies = dependencies.data();
+  VkRenderPass pass = VK_NULL_HANDLE;
+  check(vkCreateRenderPass2(device, &info2, nullptr, &pass), "vkCreateRenderPass2");
+  return pass;
+}
+
+}  // namespace
+
 VkRenderPass createRenderPass(VkDevice device, VkFormat color, VkAttachmentLoadOp color_load, VkImageLayout final_layout,
-                              VkFormat depth) {
+                              VkFormat depth, bool render_pass2) {
   const bool has_depth = depth != VK_FORMAT_UNDEFINED;
   VkAttachmentDescription attachments[2] = {};
   attachments[0].format = color;
@@ -161,6 +204,7 @@ VkRenderPass createRenderPass(VkDevice device, VkFormat color, VkAttachmentLoadO
   info.pSubpasses = &subpass;
   info.dependencyCount = 2;
   info.pDependencies = dependencies;
+  if (render_pass2) return createRenderPass2(device, info);
   VkRenderPass pass = VK_NULL_HANDLE;
   check(vkCreateRenderPass(device, &info, nullptr, &pass), "vkCreateRenderPass");
   return pass;

@@ -42,9 +42,10 @@ VkPipeline createPipeline(VkDevice device, VkPipelineLayout layout, const Pipeli
 /// `final_layout`) and, unless `depth` is UNDEFINED, a depth attachment that is cleared and not
 /// stored. Its external dependencies wait for earlier attachment writes and sampling of the colour
 /// image, and make the colour writes visible to sampling (SHADER_READ_ONLY_OPTIMAL) or available up
-/// to the transfer stage (where a frame dump's barrier chains on).
+/// to the transfer stage (where a frame dump's barrier chains on). `render_pass2`: made with
+/// vkCreateRenderPass2 from Vulkan 1.2's structures.
 VkRenderPass createRenderPass(VkDevice device, VkFormat color, VkAttachmentLoadOp color_load, VkImageLayout final_layout,
-                              VkFormat depth);
+                              VkFormat depth, bool render_pass2 = false);
 
 /// D32_SFLOAT if the device can render depth into it, else a 24-bit depth format.
 VkFormat pickDepthFormat(VkPhysicalDevice device);

@@ -280,12 +280,13 @@ void Renderer::createPipelines() {
   if (!modes_.dynamic_rendering) {
     scene_render_pass_ = createRenderPass(
         device_, scene_color, VK_ATTACHMENT_LOAD_OP_CLEAR,
-        modes_.offscreen ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, depth_format_);
+        modes_.offscreen ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, depth_format_,
+        modes_.render_pass2);
     scene.render_pass = scene_render_pass_;
     if (modes_.offscreen) {
       // The full-screen triangle covers every pixel: the old contents do not matter.
       composite_render_pass_ = createRenderPass(device_, swapchain_.format(), VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-                                                VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_FORMAT_UNDEFINED);
+                                                VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_FORMAT_UNDEFINED, modes_.render_pass2);
       composite.render_pass = composite_render_pass_;
     }
   }
@@ -318,6 +319,15 @@ void Renderer::createPipelines() {
 
 void Renderer::createFramebuffers() {
   if (modes_.dynamic_rendering) return;
+  // --render-pass2: imageless framebuffers, their attachments described (usage and format as the
+  // images were made) and given at each vkCmdBeginRenderPass2.
+  const VkImageUsageFlags swapchain_usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (modes_.readable ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0);
+  const VkFormat swapchain_format = swapchain_.format();
+  auto describe = [&](VkImageView view, VkImageUsageFlags& usage, const VkFormat*& format) {
+    if (view == depth_.view) usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, format = &depth_format_;
+    else if (modes_.offscreen && view == offscreen_.view) usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, format = &kOffscreenFormat;
+    else usage = swapchain_usage, format = &swapchain_format;
+  };
   auto framebuffer = [&](VkRenderPass pass, std::vector<VkImageView> views) {
     VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
     info.renderPass = pass;
@@ -326,6 +336,21 @@ void Renderer::createFramebuffers() {
     info.width = width_;
     info.height = height_;
     info.layers = 1;
+    std::vector<VkFramebufferAttachmentImageInfo> images;
+    VkFramebufferAttachmentsCreateInfo described{VK_STRUCTURE_TYPE_FRAMEBUFFER_ATTACHMENTS_CREATE_INFO};
+    if (modes_.render_pass2) {
+      for (VkImageView view : views) {
+        VkFramebufferAttachmentImageInfo image{VK_STRUCTURE_TYPE_FRAMEBUFFER_ATTACHMENT_IMAGE_INFO};
+        describe(view, image.usage, image.pViewFormats);
+        image.width = width_, image.height = height_, image.layerCount = 1, image.viewFormatCount = 1;
+        images.push_back(image);
+      }
+      described.attachmentImageInfoCount = static_cast<uint32_t>(images.size());
+      described.pAttachmentImageInfos = images.data();
+      info.pNext = &described;
+      info.flags = VK_FRAMEBUFFER_CREATE_IMAGELESS_BIT;
+      info.pAttachments = nullptr;
+    }
     VkFramebuffer f = VK_NULL_HANDLE;
     check(vkCreateFramebuffer(device_, &info, nullptr, &f), "vkCreateFramebuffer");
     return f;

@@ -21,6 +21,7 @@ struct RenderModes {
   bool offscreen = false;             ///< scene into an offscreen target, composited with a HUD on top
   bool host_visible_buffers = false;  ///< meshes in host-visible buffers written directly (no staging)
   bool full_push_constants = false;   ///< the fragment push-constant range reaches maxPushConstantsSize
+  bool render_pass2 = false;          ///< vkCreateRenderPass2, imageless framebuffers, vkQueueSubmit2
   bool readable = false;              ///< copy each presented image back (the swapchain must be readable)
 };
 

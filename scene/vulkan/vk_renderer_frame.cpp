@@ -64,7 +64,27 @@ void Renderer::drawAndPresent(const FrameState& frame, std::vector<uint8_t>* rgb
   submit.pCommandBuffers = &commands;
   submit.signalSemaphoreCount = 1;
   submit.pSignalSemaphores = &rendered_[image];
-  check(vkQueueSubmit(context_.queue(), 1, &submit, in_flight_[slot]), "vkQueueSubmit");
+  if (modes_.render_pass2) {
+    // synchronization2's submission: the same waits and signals.
+    VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+    wait.semaphore = acquired_[slot];
+    wait.stageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    VkSemaphoreSubmitInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+    signal.semaphore = rendered_[image];
+    signal.stageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    VkCommandBufferSubmitInfo buffer{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+    buffer.commandBuffer = commands;
+    VkSubmitInfo2 submit2{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    submit2.waitSemaphoreInfoCount = 1;
+    submit2.pWaitSemaphoreInfos = &wait;
+    submit2.commandBufferInfoCount = 1;
+    submit2.pCommandBufferInfos = &buffer;
+    submit2.signalSemaphoreInfoCount = 1;
+    submit2.pSignalSemaphoreInfos = &signal;
+    check(vkQueueSubmit2(context_.queue(), 1, &submit2, in_flight_[slot]), "vkQueueSubmit2");
+  } else {
+    check(vkQueueSubmit(context_.queue(), 1, &submit, in_flight_[slot]), "vkQueueSubmit");
+  }
   // Like test_scene, a dump is read (and a benchmark frame finished) before the image is presented.
   if (rgb || wait) check(vkWaitForFences(device_, 1, &in_flight_[slot], VK_TRUE, UINT64_MAX), "vkWaitForFences");
   if (rgb) {
@@ -218,7 +238,19 @@ void Renderer::beginPass(VkCommandBuffer commands, const Pass& pass) {
     begin.renderArea = area;
     begin.clearValueCount = pass.depth ? 2 : pass.clear ? 1 : 0;
     begin.pClearValues = begin.clearValueCount ? clears : nullptr;
-    vkCmdBeginRenderPass(commands, &begin, VK_SUBPASS_CONTENTS_INLINE);
+    if (!modes_.render_pass2) {
+      vkCmdBeginRenderPass(commands, &begin, VK_SUBPASS_CONTENTS_INLINE);
+      return;
+    }
+    // Imageless framebuffer: the views are given here.
+    const VkImageView views[2] = {pass.color_view, depth_.view};
+    VkRenderPassAttachmentBeginInfo attachments{VK_STRUCTURE_TYPE_RENDER_PASS_ATTACHMENT_BEGIN_INFO};
+    attachments.attachmentCount = pass.depth ? 2 : 1;
+    attachments.pAttachments = views;
+    begin.pNext = &attachments;
+    VkSubpassBeginInfo subpass{VK_STRUCTURE_TYPE_SUBPASS_BEGIN_INFO};
+    subpass.contents = VK_SUBPASS_CONTENTS_INLINE;
+    vkCmdBeginRenderPass2(commands, &begin, &subpass);
     return;
   }
   // Dynamic rendering: the layout transitions and waits a render pass would do.
@@ -258,7 +290,9 @@ void Renderer::beginPass(VkCommandBuffer commands, const Pass& pass) {
 
 void Renderer::endPass(VkCommandBuffer commands, const Pass& pass) {
   if (pass.render_pass) {
-    vkCmdEndRenderPass(commands);
+    const VkSubpassEndInfo end{VK_STRUCTURE_TYPE_SUBPASS_END_INFO};
+    if (modes_.render_pass2) vkCmdEndRenderPass2(commands, &end);
+    else vkCmdEndRenderPass(commands);
     return;
   }
   context_.cmdEndRendering(commands);

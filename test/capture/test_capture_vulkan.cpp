@@ -146,7 +146,11 @@ INSTANTIATE_TEST_SUITE_P(Modes, VulkanCapture,
                                            // No room in the push constants (as in SuperTuxKart): the
                                            // ids come from a uniform buffer of the layer's.
                                            Mode{"push_constants_full", "--full-push-constants"},
-                                           Mode{"push_constants_full_dynamic", "--full-push-constants --dynamic-rendering"}),
+                                           Mode{"push_constants_full_dynamic", "--full-push-constants --dynamic-rendering"},
+                                           // Vulkan 1.2/1.3's structures: vkCreateRenderPass2,
+                                           // imageless framebuffers, vkQueueSubmit2.
+                                           Mode{"render_pass2", "--render-pass2"},
+                                           Mode{"render_pass2_offscreen", "--render-pass2 --offscreen"}),
                          [](const ::testing::TestParamInfo<Mode>& info) { return std::string(info.param.name); });
 
 // The Khronos validation layer, below ours, sees every call the program and the layer make: the
@@ -155,7 +159,7 @@ TEST(VulkanCaptureValidation, AddsNoValidationError) {
   if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
   if (!fs::exists("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json"))
     GTEST_SKIP() << "vulkan-validationlayers not installed";
-  for (const char* flags : {"", "--dynamic-rendering --offscreen", "--full-push-constants"}) {
+  for (const char* flags : {"", "--dynamic-rendering --offscreen", "--full-push-constants", "--render-pass2 --offscreen"}) {
     SCOPED_TRACE(flags);
     const std::string log = dir() + "/validation.log";
     ASSERT_EQ(underXvfb(capture(dir() + "/validation.vcap", flags, "env VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation"), log), 0)

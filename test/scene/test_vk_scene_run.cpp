@@ -47,6 +47,8 @@ const std::vector<Mode> kModes = {
     {"host_visible", "--host-visible-buffers", false},
     {"offscreen", "--offscreen", true},
     {"offscreen_dynamic_host", "--offscreen --dynamic-rendering --host-visible-buffers", true},
+    {"render_pass2", "--render-pass2 --full-push-constants", false},
+    {"render_pass2_offscreen", "--render-pass2 --offscreen", true},
 };
 
 bool onPath(const std::string& program) {

@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <set>
+#include <type_traits>
 
 namespace viper {
 namespace capture {
@@ -237,6 +238,13 @@ Layer::Device* Layer::addDevice(VkPhysicalDevice physical, VkDevice device, PFN_
 #undef VIPER_VK_LOAD
   if (!d->vk.CmdBeginRendering)
     d->vk.CmdBeginRendering = reinterpret_cast<PFN_vkCmdBeginRendering>(gdpa(device, "vkCmdBeginRenderingKHR"));
+  auto khr = [&](auto& function, const char* name) {
+    if (!function) function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(gdpa(device, name));
+  };
+  khr(d->vk.CreateRenderPass2, "vkCreateRenderPass2KHR");
+  khr(d->vk.CmdBeginRenderPass2, "vkCmdBeginRenderPass2KHR");
+  khr(d->vk.CmdNextSubpass2, "vkCmdNextSubpass2KHR");
+  khr(d->vk.CmdEndRenderPass2, "vkCmdEndRenderPass2KHR");
   if (!d->vk.QueueSubmit2) d->vk.QueueSubmit2 = reinterpret_cast<PFN_vkQueueSubmit2>(gdpa(device, "vkQueueSubmit2KHR"));
   if (!d->vk.CmdEndRendering)
     d->vk.CmdEndRendering = reinterpret_cast<PFN_vkCmdEndRendering>(gdpa(device, "vkCmdEndRenderingKHR"));

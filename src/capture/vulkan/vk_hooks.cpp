@@ -240,9 +240,10 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateImage(VkDevice device, const VkImageCreateI
                      info->samples == VK_SAMPLE_COUNT_1_BIT;
   if (depth) copy.usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   const VkResult r = d.vk.CreateImage(device, &copy, alloc, out);
-  if (r == VK_SUCCESS && depth) {
+  if (r == VK_SUCCESS && L().capturing()) {
     Lock lock(L().mutex());
-    d.depth_images[*out] = DepthImage{info->format, info->extent.width, info->extent.height};
+    d.image_usage[*out] = copy.usage;
+    if (depth) d.depth_images[*out] = DepthImage{info->format, info->extent.width, info->extent.height};
   }
   return r;
 }
@@ -252,6 +253,7 @@ VKAPI_ATTR void VKAPI_CALL DestroyImage(VkDevice device, VkImage image, const Vk
   {
     Lock lock(L().mutex());
     d.depth_images.erase(image);
+    d.image_usage.erase(image);
   }
   d.vk.DestroyImage(device, image, alloc);
 }
@@ -303,6 +305,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateSwapchainKHR(VkDevice device, const VkSwapc
   s.extent = info->imageExtent;
   s.readable = readable;
   Lock lock(L().mutex());
+  for (VkImage image : s.images) d.image_usage[image] = copy.imageUsage;
   if (!readable && L().capturing()) L().reportOnce("the swapchain's images cannot be read back: no colour captured");
   d.swapchains[*out] = std::move(s);
   return r;
@@ -321,69 +324,116 @@ VKAPI_ATTR void VKAPI_CALL DestroySwapchainKHR(VkDevice device, VkSwapchainKHR s
 // ---------------------------------------------------------------------------------------------
 // Render passes and framebuffers: the id attachment.
 
-VKAPI_ATTR VkResult VKAPI_CALL CreateRenderPass(VkDevice device, const VkRenderPassCreateInfo* info,
-                                                const VkAllocationCallbacks* alloc, VkRenderPass* out) {
-  Device& d = dev(device);
+// Render passes of Vulkan 1.0's structures and of the "2" ones (vkCreateRenderPass2), edited alike.
+struct RenderPass1 {
+  using Info = VkRenderPassCreateInfo;
+  using Attachment = VkAttachmentDescription;
+  using Subpass = VkSubpassDescription;
+  using Reference = VkAttachmentReference;
+  static Reference reference(uint32_t attachment, VkImageLayout layout) { return {attachment, layout}; }
+  static Attachment attachment() { return Attachment{}; }
+  static bool multiview(const Subpass&) { return false; }
+};
+struct RenderPass2 {
+  using Info = VkRenderPassCreateInfo2;
+  using Attachment = VkAttachmentDescription2;
+  using Subpass = VkSubpassDescription2;
+  using Reference = VkAttachmentReference2;
+  static Reference reference(uint32_t attachment, VkImageLayout layout) {
+    return {VK_STRUCTURE_TYPE_ATTACHMENT_REFERENCE_2, nullptr, attachment, layout, VK_IMAGE_ASPECT_COLOR_BIT};
+  }
+  static Attachment attachment() { return Attachment{VK_STRUCTURE_TYPE_ATTACHMENT_DESCRIPTION_2}; }
+  static bool multiview(const Subpass& s) { return s.viewMask != 0; }
+};
+
+// The id attachment added to every single-sampled subpass with depth, the depth stored. `copy` is
+// the create info to pass on (pointing into the vectors given).
+template <typename P>
+struct EditedRenderPass {
   RenderPassInfo rp;
-  rp.attachment_count = info->attachmentCount;
-  for (uint32_t a = 0; a < info->attachmentCount; ++a) {
-    rp.formats.push_back(info->pAttachments[a].format);
-    rp.final_layouts.push_back(info->pAttachments[a].finalLayout);
-  }
-  rp.id_location.assign(info->subpassCount, -1);
-  rp.depth_attachment.assign(info->subpassCount, -1);
-  std::vector<VkAttachmentDescription> attachments(info->pAttachments, info->pAttachments + info->attachmentCount);
-  std::vector<VkSubpassDescription> subpasses(info->pSubpasses, info->pSubpasses + info->subpassCount);
-  std::vector<std::vector<VkAttachmentReference>> colors(info->subpassCount), resolves(info->subpassCount);
-  bool any = false;
-  for (uint32_t s = 0; s < info->subpassCount && L().capturing() && d.primitive_id; ++s) {
-    const VkSubpassDescription& sp = info->pSubpasses[s];
-    if (!sp.pDepthStencilAttachment || sp.pDepthStencilAttachment->attachment == VK_ATTACHMENT_UNUSED) continue;
-    const uint32_t depth = sp.pDepthStencilAttachment->attachment;
-    rp.depth_attachment[s] = static_cast<int>(depth);
-    if (attachments[depth].samples != VK_SAMPLE_COUNT_1_BIT) {
-      rp.why_no_ids = "multisampled depth attachment";
-      continue;
+  typename P::Info copy;
+  std::vector<typename P::Attachment> attachments;
+  std::vector<typename P::Subpass> subpasses;
+  std::vector<std::vector<typename P::Reference>> colors, resolves;
+
+  EditedRenderPass(const Device& d, const typename P::Info* info) : copy(*info) {
+    rp.attachment_count = info->attachmentCount;
+    for (uint32_t a = 0; a < info->attachmentCount; ++a) {
+      rp.formats.push_back(info->pAttachments[a].format);
+      rp.final_layouts.push_back(info->pAttachments[a].finalLayout);
     }
-    attachments[depth].storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // read back at the pass's end
-    colors[s].assign(sp.pColorAttachments, sp.pColorAttachments + sp.colorAttachmentCount);
-    rp.id_location[s] = static_cast<int>(sp.colorAttachmentCount);
-    colors[s].push_back({info->attachmentCount, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL});
-    subpasses[s].colorAttachmentCount = static_cast<uint32_t>(colors[s].size());
-    subpasses[s].pColorAttachments = colors[s].data();
-    if (sp.pResolveAttachments) {
-      resolves[s].assign(sp.pResolveAttachments, sp.pResolveAttachments + sp.colorAttachmentCount);
-      resolves[s].push_back({VK_ATTACHMENT_UNUSED, VK_IMAGE_LAYOUT_UNDEFINED});
-      subpasses[s].pResolveAttachments = resolves[s].data();
+    rp.id_location.assign(info->subpassCount, -1);
+    rp.depth_attachment.assign(info->subpassCount, -1);
+    attachments.assign(info->pAttachments, info->pAttachments + info->attachmentCount);
+    subpasses.assign(info->pSubpasses, info->pSubpasses + info->subpassCount);
+    colors.resize(info->subpassCount);
+    resolves.resize(info->subpassCount);
+    bool any = false;
+    for (uint32_t s = 0; s < info->subpassCount && L().capturing() && d.primitive_id; ++s) {
+      const typename P::Subpass& sp = info->pSubpasses[s];
+      if (!sp.pDepthStencilAttachment || sp.pDepthStencilAttachment->attachment == VK_ATTACHMENT_UNUSED) continue;
+      const uint32_t depth = sp.pDepthStencilAttachment->attachment;
+      rp.depth_attachment[s] = static_cast<int>(depth);
+      if (attachments[depth].samples != VK_SAMPLE_COUNT_1_BIT || P::multiview(sp)) {
+        rp.why_no_ids = P::multiview(sp) ? "multiview subpass" : "multisampled depth attachment";
+        continue;
+      }
+      attachments[depth].storeOp = VK_ATTACHMENT_STORE_OP_STORE;  // read back at the pass's end
+      colors[s].assign(sp.pColorAttachments, sp.pColorAttachments + sp.colorAttachmentCount);
+      rp.id_location[s] = static_cast<int>(sp.colorAttachmentCount);
+      colors[s].push_back(P::reference(info->attachmentCount, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL));
+      subpasses[s].colorAttachmentCount = static_cast<uint32_t>(colors[s].size());
+      subpasses[s].pColorAttachments = colors[s].data();
+      if (sp.pResolveAttachments) {
+        resolves[s].assign(sp.pResolveAttachments, sp.pResolveAttachments + sp.colorAttachmentCount);
+        resolves[s].push_back(P::reference(VK_ATTACHMENT_UNUSED, VK_IMAGE_LAYOUT_UNDEFINED));
+        subpasses[s].pResolveAttachments = resolves[s].data();
+      }
+      any = true;
     }
-    any = true;
+    if (any) {
+      rp.id_attachment = info->attachmentCount;
+      typename P::Attachment id = P::attachment();
+      id.format = kIdFormat;
+      id.samples = VK_SAMPLE_COUNT_1_BIT;
+      id.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      id.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      id.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+      id.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+      id.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+      id.finalLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      attachments.push_back(id);
+      copy.attachmentCount = static_cast<uint32_t>(attachments.size());
+      copy.pAttachments = attachments.data();
+      copy.pSubpasses = subpasses.data();
+    } else if (rp.why_no_ids.empty()) {
+      rp.why_no_ids = !L().capturing() || d.primitive_id ? "no depth attachment"
+                                                         : "the device lacks geometryShader or independentBlend";
+    }
   }
-  VkRenderPassCreateInfo copy = *info;
-  if (any) {
-    rp.id_attachment = info->attachmentCount;
-    VkAttachmentDescription id{};
-    id.format = kIdFormat;
-    id.samples = VK_SAMPLE_COUNT_1_BIT;
-    id.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    id.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    id.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    id.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    id.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    id.finalLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    attachments.push_back(id);
-    copy.attachmentCount = static_cast<uint32_t>(attachments.size());
-    copy.pAttachments = attachments.data();
-    copy.pSubpasses = subpasses.data();
-  } else if (rp.why_no_ids.empty()) {
-    rp.why_no_ids = !L().capturing() || d.primitive_id ? "no depth attachment"
-                                                       : "the device lacks geometryShader or independentBlend";
-  }
-  const VkResult r = d.vk.CreateRenderPass(device, &copy, alloc, out);
+};
+
+template <typename P, typename Create>
+VkResult createRenderPassEdited(VkDevice device, const typename P::Info* info, const VkAllocationCallbacks* alloc,
+                                VkRenderPass* out, Create create) {
+  Device& d = dev(device);
+  EditedRenderPass<P> edited(d, info);
+  const VkResult r = create(device, &edited.copy, alloc, out);
   if (r == VK_SUCCESS) {
     Lock lock(L().mutex());
-    d.render_passes[*out] = std::move(rp);
+    d.render_passes[*out] = std::move(edited.rp);
   }
   return r;
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateRenderPass(VkDevice device, const VkRenderPassCreateInfo* info,
+                                                const VkAllocationCallbacks* alloc, VkRenderPass* out) {
+  return createRenderPassEdited<RenderPass1>(device, info, alloc, out, dev(device).vk.CreateRenderPass);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL CreateRenderPass2(VkDevice device, const VkRenderPassCreateInfo2* info,
+                                                 const VkAllocationCallbacks* alloc, VkRenderPass* out) {
+  return createRenderPassEdited<RenderPass2>(device, info, alloc, out, dev(device).vk.CreateRenderPass2);
 }
 
 VKAPI_ATTR void VKAPI_CALL DestroyRenderPass(VkDevice device, VkRenderPass pass, const VkAllocationCallbacks* alloc) {
@@ -444,15 +494,46 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateFramebuffer(VkDevice device, const VkFrameb
     auto rp = d.render_passes.find(info->renderPass);
     ids = rp != d.render_passes.end() && rp->second.id_attachment != VK_ATTACHMENT_UNUSED;
   }
+  VkFramebufferCreateInfo copy = *info;
   if (info->flags & VK_FRAMEBUFFER_CREATE_IMAGELESS_BIT) {
+    // Imageless: the id attachment's description joins the program's; its view is given at each
+    // vkCmdBeginRenderPass (BeginEdit).
+    fb.imageless = true;
+    auto* described = const_cast<VkFramebufferAttachmentsCreateInfo*>(findInChain<VkFramebufferAttachmentsCreateInfo>(
+        info->pNext, VK_STRUCTURE_TYPE_FRAMEBUFFER_ATTACHMENTS_CREATE_INFO));
+    if (!L().capturing() || !described) return d.vk.CreateFramebuffer(device, info, alloc, out);
+    const VkFramebufferAttachmentsCreateInfo original = *described;
+    std::vector<VkFramebufferAttachmentImageInfo> images(described->pAttachmentImageInfos,
+                                                         described->pAttachmentImageInfos + described->attachmentImageInfoCount);
+    static const VkFormat id_format = kIdFormat;
     if (ids) {
-      Lock lock(L().mutex());
-      L().reportOnce("an imageless framebuffer of a render pass the layer gave ids: not supported yet");
+      VkFramebufferAttachmentImageInfo id{VK_STRUCTURE_TYPE_FRAMEBUFFER_ATTACHMENT_IMAGE_INFO};
+      id.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+      id.width = info->width, id.height = info->height, id.layerCount = std::max(1u, info->layers);
+      id.viewFormatCount = 1;
+      id.pViewFormats = &id_format;
+      images.push_back(id);
+      described->attachmentImageInfoCount = static_cast<uint32_t>(images.size());
+      described->pAttachmentImageInfos = images.data();
+      copy.attachmentCount = described->attachmentImageInfoCount;
+      fb.ids = makeIdImage(d, info->width, info->height, std::max(1u, info->layers));
     }
-    return d.vk.CreateFramebuffer(device, info, alloc, out);
+    const VkResult r = d.vk.CreateFramebuffer(device, &copy, alloc, out);
+    fb.create = *info;
+    fb.create.pNext = nullptr;
+    fb.create.attachmentCount = copy.attachmentCount;
+    fb.image_infos = images;
+    for (VkFramebufferAttachmentImageInfo& image : fb.image_infos) {
+      fb.view_formats.emplace_back(image.pViewFormats, image.pViewFormats + image.viewFormatCount);
+      image.pNext = nullptr;
+    }
+    *described = original;
+    Lock lock(L().mutex());
+    if (r == VK_SUCCESS) d.framebuffers[*out] = fb;
+    else destroyIdImage(d, fb.ids);
+    return r;
   }
   fb.views.assign(info->pAttachments, info->pAttachments + info->attachmentCount);
-  VkFramebufferCreateInfo copy = *info;
   std::vector<VkImageView> views = fb.views;
   if (ids) {
     fb.ids = makeIdImage(d, info->width, info->height, std::max(1u, info->layers));
@@ -476,6 +557,7 @@ VKAPI_ATTR void VKAPI_CALL DestroyFramebuffer(VkDevice device, VkFramebuffer fra
     if (f != d.framebuffers.end()) fb = f->second, d.framebuffers.erase(f);
   }
   d.vk.DestroyFramebuffer(device, framebuffer, alloc);
+  for (auto& [usages, shadow] : fb.shadows) d.vk.DestroyFramebuffer(device, shadow, nullptr);
   destroyIdImage(d, fb.ids);
 }
 
@@ -894,30 +976,106 @@ VKAPI_ATTR void VKAPI_CALL FreeCommandBuffers(VkDevice device, VkCommandPool poo
   d.vk.FreeCommandBuffers(device, pool, count, cbs);
 }
 
-VKAPI_ATTR void VKAPI_CALL CmdBeginRenderPass(VkCommandBuffer cb, const VkRenderPassBeginInfo* info,
-                                              VkSubpassContents contents) {
-  Device& d = dev(cb);
+// An imageless framebuffer whose descriptions name the usage of the images begun with: the program's
+// own, or the layer's copy of it where the layer added usage to those images (depth images and the
+// swapchain's are read back).
+VkFramebuffer framebufferForUsage(Device& d, FramebufferInfo& fb, VkFramebuffer own, const std::vector<VkImageView>& views) {
+  std::vector<VkImageUsageFlags> usages;
+  bool same = true;
+  for (size_t i = 0; i < fb.image_infos.size() && i < views.size(); ++i) {
+    VkImageUsageFlags usage = fb.image_infos[i].usage;
+    auto view = d.views.find(views[i]);
+    if (view != d.views.end()) {
+      auto image = d.image_usage.find(view->second.image);
+      if (image != d.image_usage.end()) usage = image->second;
+    }
+    same &= usage == fb.image_infos[i].usage;
+    usages.push_back(usage);
+  }
+  if (same) return own;
+  VkFramebuffer& shadow = fb.shadows[usages];
+  if (shadow) return shadow;
+  std::vector<VkFramebufferAttachmentImageInfo> images = fb.image_infos;
+  for (size_t i = 0; i < images.size(); ++i) {
+    if (i < usages.size()) images[i].usage = usages[i];
+    images[i].pViewFormats = fb.view_formats[i].data();
+  }
+  VkFramebufferAttachmentsCreateInfo described{VK_STRUCTURE_TYPE_FRAMEBUFFER_ATTACHMENTS_CREATE_INFO};
+  described.attachmentImageInfoCount = static_cast<uint32_t>(images.size());
+  described.pAttachmentImageInfos = images.data();
+  VkFramebufferCreateInfo create = fb.create;
+  create.pNext = &described;
+  if (d.vk.CreateFramebuffer(d.device, &create, nullptr, &shadow) != VK_SUCCESS) {
+    fb.shadows.erase(usages);
+    return own;
+  }
+  return shadow;
+}
+
+// What vkCmdBeginRenderPass(2) passes on: the clear values with the id attachment's (0), and for an
+// imageless framebuffer the attachments with the layer's id view (VkRenderPassAttachmentBeginInfo,
+// changed in place for the call; restore() puts the program's back).
+struct BeginEdit {
+  VkRenderPassBeginInfo copy{};
   std::vector<VkClearValue> clears;
-  VkRenderPassBeginInfo copy = *info;
-  {
+  std::vector<VkImageView> views;
+  VkRenderPassAttachmentBeginInfo* attachments = nullptr;
+  VkRenderPassAttachmentBeginInfo original{};
+
+  BeginEdit(Device& d, VkCommandBuffer cb, const VkRenderPassBeginInfo* info) : copy(*info) {
     Lock lock(L().mutex());
     Recording* r = recording(d, cb);
-    auto rp = d.render_passes.find(info->renderPass);
     if (r) {
       r->render_pass = info->renderPass;
       r->framebuffer = info->framebuffer;
       r->subpass = 0;
       r->pass = -1;
+      r->pass_views.clear();
     }
-    if (rp != d.render_passes.end() && rp->second.id_attachment != VK_ATTACHMENT_UNUSED) {
+    auto rp = d.render_passes.find(info->renderPass);
+    const bool ids = rp != d.render_passes.end() && rp->second.id_attachment != VK_ATTACHMENT_UNUSED;
+    if (ids) {
       clears.assign(info->pClearValues, info->pClearValues + info->clearValueCount);
       clears.resize(rp->second.id_attachment + 1, VkClearValue{});
       clears.back() = VkClearValue{};
       copy.clearValueCount = static_cast<uint32_t>(clears.size());
       copy.pClearValues = clears.data();
     }
+    // An imageless framebuffer (with ids or not): its views' usage is what the layer made it.
+    auto fb = d.framebuffers.find(info->framebuffer);
+    attachments = const_cast<VkRenderPassAttachmentBeginInfo*>(findInChain<VkRenderPassAttachmentBeginInfo>(
+        info->pNext, VK_STRUCTURE_TYPE_RENDER_PASS_ATTACHMENT_BEGIN_INFO));
+    if (fb != d.framebuffers.end() && fb->second.imageless && attachments && !fb->second.image_infos.empty()) {
+      original = *attachments;
+      views.assign(attachments->pAttachments, attachments->pAttachments + attachments->attachmentCount);
+      if (r) r->pass_views = views;
+      if (ids && fb->second.ids.view) views.push_back(fb->second.ids.view);
+      attachments->attachmentCount = static_cast<uint32_t>(views.size());
+      attachments->pAttachments = views.data();
+      copy.framebuffer = framebufferForUsage(d, fb->second, info->framebuffer, views);
+    } else {
+      attachments = nullptr;
+    }
   }
-  d.vk.CmdBeginRenderPass(cb, &copy, contents);
+  void restore() {
+    if (attachments) *attachments = original;
+  }
+};
+
+VKAPI_ATTR void VKAPI_CALL CmdBeginRenderPass(VkCommandBuffer cb, const VkRenderPassBeginInfo* info,
+                                              VkSubpassContents contents) {
+  Device& d = dev(cb);
+  BeginEdit edit(d, cb, info);
+  d.vk.CmdBeginRenderPass(cb, &edit.copy, contents);
+  edit.restore();
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdBeginRenderPass2(VkCommandBuffer cb, const VkRenderPassBeginInfo* info,
+                                               const VkSubpassBeginInfo* subpass) {
+  Device& d = dev(cb);
+  BeginEdit edit(d, cb, info);
+  d.vk.CmdBeginRenderPass2(cb, &edit.copy, subpass);
+  edit.restore();
 }
 
 VKAPI_ATTR void VKAPI_CALL CmdNextSubpass(VkCommandBuffer cb, VkSubpassContents contents) {
@@ -927,6 +1085,15 @@ VKAPI_ATTR void VKAPI_CALL CmdNextSubpass(VkCommandBuffer cb, VkSubpassContents 
     if (Recording* r = recording(d, cb)) ++r->subpass;
   }
   d.vk.CmdNextSubpass(cb, contents);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdNextSubpass2(VkCommandBuffer cb, const VkSubpassBeginInfo* begin, const VkSubpassEndInfo* end) {
+  Device& d = dev(cb);
+  {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb)) ++r->subpass;
+  }
+  d.vk.CmdNextSubpass2(cb, begin, end);
 }
 
 // At the end of a render pass instance that drew recorded draws with ids: its depth and ids are
@@ -950,8 +1117,9 @@ void copyPassImages(Device& d, VkCommandBuffer cb, Recording& r) {
     }
   VkImage depth_image = VK_NULL_HANDLE;
   VkImageLayout depth_layout = VK_IMAGE_LAYOUT_UNDEFINED;
-  if (depth_attachment >= 0 && static_cast<size_t>(depth_attachment) < fb->second.views.size()) {
-    auto view = d.views.find(fb->second.views[static_cast<size_t>(depth_attachment)]);
+  const std::vector<VkImageView>& views = fb->second.imageless ? r.pass_views : fb->second.views;
+  if (depth_attachment >= 0 && static_cast<size_t>(depth_attachment) < views.size()) {
+    auto view = d.views.find(views[static_cast<size_t>(depth_attachment)]);
     if (view != d.views.end() && d.depth_images.count(view->second.image)) {
       depth_image = view->second.image;
       pc.depth_format = view->second.format;
@@ -1012,15 +1180,25 @@ void copyImages(Device& d, VkCommandBuffer cb, PassCapture& pc, VkImage id_image
                           nullptr);
 }
 
-VKAPI_ATTR void VKAPI_CALL CmdEndRenderPass(VkCommandBuffer cb) {
-  Device& d = dev(cb);
-  d.vk.CmdEndRenderPass(cb);
+void endRenderPass(Device& d, VkCommandBuffer cb) {
   Lock lock(L().mutex());
   if (Recording* r = recording(d, cb)) {
     copyPassImages(d, cb, *r);
     r->render_pass = VK_NULL_HANDLE;
     r->pass = -1;
   }
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdEndRenderPass(VkCommandBuffer cb) {
+  Device& d = dev(cb);
+  d.vk.CmdEndRenderPass(cb);
+  endRenderPass(d, cb);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdEndRenderPass2(VkCommandBuffer cb, const VkSubpassEndInfo* end) {
+  Device& d = dev(cb);
+  d.vk.CmdEndRenderPass2(cb, end);
+  endRenderPass(d, cb);
 }
 
 // Dynamic rendering: a rendering with a single-sampled depth image of the program's gets the
@@ -1381,7 +1559,8 @@ VKAPI_ATTR void VKAPI_CALL CmdExecuteCommands(VkCommandBuffer cb, uint32_t count
   X(BeginCommandBuffer) X(FreeCommandBuffers) X(CmdBeginRenderPass) X(CmdNextSubpass) X(CmdEndRenderPass)      \
   X(CmdBindPipeline) X(CmdBindVertexBuffers) X(CmdBindIndexBuffer) X(CmdBindDescriptorSets) X(CmdPushConstants) \
   X(CmdSetViewport) X(CmdDraw) X(CmdDrawIndexed) X(CmdDrawIndirect) X(CmdDrawIndexedIndirect)                  \
-  X(CmdExecuteCommands) X(QueueSubmit) X(QueueSubmit2) X(QueuePresentKHR) X(DestroyDevice) X(CmdBeginRendering)            \
+  X(CmdExecuteCommands) X(QueueSubmit) X(QueueSubmit2) X(QueuePresentKHR) X(DestroyDevice) X(CreateRenderPass2)  \
+  X(CmdBeginRenderPass2) X(CmdNextSubpass2) X(CmdEndRenderPass2) X(CmdBeginRendering)            \
   X(CmdEndRendering)
 
 PFN_vkVoidFunction deviceHook(const char* name) {
@@ -1393,6 +1572,10 @@ PFN_vkVoidFunction deviceHook(const char* name) {
   if (std::strcmp(name, "vkCmdBeginRenderingKHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdBeginRendering);
   if (std::strcmp(name, "vkCmdEndRenderingKHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdEndRendering);
   if (std::strcmp(name, "vkQueueSubmit2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&QueueSubmit2);
+  if (std::strcmp(name, "vkCreateRenderPass2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CreateRenderPass2);
+  if (std::strcmp(name, "vkCmdBeginRenderPass2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdBeginRenderPass2);
+  if (std::strcmp(name, "vkCmdNextSubpass2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdNextSubpass2);
+  if (std::strcmp(name, "vkCmdEndRenderPass2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdEndRenderPass2);
   return nullptr;
 }
 

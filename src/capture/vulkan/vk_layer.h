@@ -59,6 +59,8 @@ class Layer {
     /// The layer's id images for dynamic rendering, one per size.
     std::map<std::pair<uint32_t, uint32_t>, IdImage> rendering_ids;
     std::unordered_map<VkImageView, ImageViewInfo> views;
+    /// Every image's usage as created (the layer's additions included), swapchain images too.
+    std::unordered_map<VkImage, VkImageUsageFlags> image_usage;
     std::unordered_map<VkRenderPass, RenderPassInfo> render_passes;
     std::unordered_map<VkFramebuffer, FramebufferInfo> framebuffers;
     std::unordered_map<VkShaderModule, std::vector<uint32_t>> modules;

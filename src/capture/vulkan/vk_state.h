@@ -57,7 +57,8 @@ struct DeviceTable {
   X(CmdDrawIndexedIndirect) X(CmdSetViewport) X(CmdPipelineBarrier) X(CmdCopyImageToBuffer)                    \
   X(CreateCommandPool) X(DestroyCommandPool) X(ResetCommandPool) X(CreateFence) X(WaitForFences) X(ResetFences) \
   X(DestroyFence) X(CreateSemaphore) X(DestroySemaphore) X(CmdExecuteCommands) X(CmdBeginRendering)       \
-  X(CreateDescriptorPool) X(DestroyDescriptorPool) X(QueueSubmit2)                                         \
+  X(CreateDescriptorPool) X(DestroyDescriptorPool) X(QueueSubmit2) X(CreateRenderPass2)                    \
+  X(CmdBeginRenderPass2) X(CmdNextSubpass2) X(CmdEndRenderPass2)                                           \
   X(CmdEndRendering)
 #define VIPER_VK_DECLARE(name) PFN_vk##name name = nullptr;
   VIPER_VK_DEVICE_FUNCTIONS(VIPER_VK_DECLARE)
@@ -107,8 +108,16 @@ struct IdImage {
 struct FramebufferInfo {
   VkRenderPass render_pass = VK_NULL_HANDLE;
   uint32_t width = 0, height = 0;
-  std::vector<VkImageView> views;  ///< the program's attachments
+  std::vector<VkImageView> views;  ///< the program's attachments (none when imageless)
+  bool imageless = false;          ///< views given at each vkCmdBeginRenderPass
   IdImage ids;
+  /// Imageless: how it was made (the program's image descriptions and the id attachment's), and the
+  /// layer's copies of it whose descriptions name the usage the layer gave the images (the usage
+  /// of the views begun with must equal the description's), by those usages.
+  VkFramebufferCreateInfo create{};
+  std::vector<VkFramebufferAttachmentImageInfo> image_infos;
+  std::vector<std::vector<VkFormat>> view_formats;
+  std::map<std::vector<VkImageUsageFlags>, VkFramebuffer> shadows;
 };
 
 struct ImageViewInfo {
@@ -239,6 +248,7 @@ struct Recording {
   VkRenderPass render_pass = VK_NULL_HANDLE;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
   uint32_t subpass = 0;
+  std::vector<VkImageView> pass_views;  ///< an imageless framebuffer's attachments, this pass
   /// Inside vkCmdBeginRendering with the layer's id attachment: its images (dynamic rendering).
   bool rendering = false;
   VkImage rendering_ids = VK_NULL_HANDLE;

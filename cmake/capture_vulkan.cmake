@@ -7,7 +7,7 @@ if(NOT VIPER_GLSLANG_VALIDATOR)
   message(FATAL_ERROR "glslangValidator not found: install glslang-tools (bash scripts/setup.sh does)")
 endif()
 
-add_library(viper_vulkan_layer SHARED
+set(VIPER_VULKAN_LAYER_SOURCES
   src/capture/vulkan/spirv_module.cpp
   src/capture/vulkan/vk_hooks.cpp
   src/capture/vulkan/vk_frame.cpp
@@ -15,6 +15,7 @@ add_library(viper_vulkan_layer SHARED
   src/capture/layer/capture_settings.cpp
   src/capture/layer/finish_frame.cpp
   src/capture/layer/mesh_extract.cpp)
+add_library(viper_vulkan_layer SHARED ${VIPER_VULKAN_LAYER_SOURCES})
 # Only the loader's entry points are exported; the Vulkan loader is not linked (the layer is
 # called through the dispatch chain the loader gives it).
 set_target_properties(viper_vulkan_layer PROPERTIES
@@ -78,5 +79,44 @@ if(CATKIN_ENABLE_TESTING)
       VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
       VIPER_VULKAN_LAYER_DIR="${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/vulkan")
     add_dependencies(test_capture_vulkan viper_capture viper_vulkan_layer viper_intercept vk_test_scene)
+    # The layer again with AddressSanitizer and UndefinedBehaviorSanitizer (as viper_intercept_asan,
+    # cmake/capture.cmake), with a manifest of its own, for test_capture_vulkan's sanitized run; in a
+    # ThreadSanitizer tree (scripts/sanitize.sh tsan) the tree's own layer is the sanitized one.
+    if(VIPER_STRESS_SANITIZED_TARGET STREQUAL "viper_intercept_asan")
+      add_library(viper_vulkan_layer_asan SHARED EXCLUDE_FROM_ALL ${VIPER_VULKAN_LAYER_SOURCES} ${VIPER_CAPTURE_CORE_SOURCES})
+      set_target_properties(viper_vulkan_layer_asan PROPERTIES
+        CXX_VISIBILITY_PRESET hidden
+        VISIBILITY_INLINES_HIDDEN ON
+        LIBRARY_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/sanitized)
+      target_compile_options(viper_vulkan_layer_asan PRIVATE ${VIPER_SANITIZE_FLAGS} -O1 -Wno-missing-field-initializers)
+      target_link_options(viper_vulkan_layer_asan PRIVATE ${VIPER_SANITIZE_FLAGS})
+      target_include_directories(viper_vulkan_layer_asan PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/src/capture
+        ${Vulkan_INCLUDE_DIRS})
+      target_include_directories(viper_vulkan_layer_asan SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
+      target_link_libraries(viper_vulkan_layer_asan PRIVATE PkgConfig::ZSTD PkgConfig::LIBLZ4 PkgConfig::XXHASH
+        PkgConfig::YAMLCPP SPIRV-Tools-static Threads::Threads ${CMAKE_DL_LIBS})
+      file(GENERATE OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/sanitized/vulkan/${VIPER_VULKAN_LAYER_NAME}.json
+        CONTENT "{
+  \"file_format_version\": \"1.1.2\",
+  \"layer\": {
+    \"name\": \"${VIPER_VULKAN_LAYER_NAME}\",
+    \"type\": \"GLOBAL\",
+    \"library_path\": \"$<TARGET_FILE:viper_vulkan_layer_asan>\",
+    \"api_version\": \"1.3.239\",
+    \"implementation_version\": \"1\",
+    \"description\": \"viper: records what a Vulkan program draws (AddressSanitizer build)\",
+    \"functions\": {
+      \"vkGetInstanceProcAddr\": \"viper_vkGetInstanceProcAddr\",
+      \"vkGetDeviceProcAddr\": \"viper_vkGetDeviceProcAddr\",
+      \"vkNegotiateLoaderLayerInterfaceVersion\": \"vkNegotiateLoaderLayerInterfaceVersion\"
+    }
+  }
+}
+")
+      target_compile_definitions(test_capture_vulkan PRIVATE
+        VIPER_INTERCEPT_ASAN_LIB="$<TARGET_FILE:viper_intercept_asan>"
+        VIPER_VULKAN_LAYER_ASAN_DIR="${CMAKE_CURRENT_BINARY_DIR}/sanitized/vulkan")
+      add_dependencies(test_capture_vulkan viper_vulkan_layer_asan viper_intercept_asan)
+    endif()
   endif()
 endif()

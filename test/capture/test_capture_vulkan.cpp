@@ -186,5 +186,30 @@ TEST(VulkanCaptureValidation, WithoutAnOutputTheLayerOnlyPassesCallsOn) {
   EXPECT_EQ(readFile(log).find("[viper capture]"), std::string::npos) << readFile(log);
 }
 
+#ifdef VIPER_VULKAN_LAYER_ASAN_DIR
+// The layer built with AddressSanitizer and UndefinedBehaviorSanitizer (viper_vulkan_layer_asan),
+// in the ways the oracle program draws that take different paths through it: nothing reported, the
+// capture whole. `capture --library` the sanitized GL layer preloads the sanitizer's runtime first.
+TEST(VulkanCaptureSanitized, AddressAndUndefinedBehaviorSanitizersFindNothing) {
+  if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
+  for (const char* flags : {"", "--dynamic-rendering --offscreen --full-push-constants", "--render-pass2 --host-visible-buffers"}) {
+    SCOPED_TRACE(flags);
+    const std::string log = dir() + "/asan.log";
+    const std::string command =
+        std::string("env ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=0 ") +
+        "UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 VIPER_VULKAN_LAYER_PATH=" VIPER_VULKAN_LAYER_ASAN_DIR " " +
+        VIPER_CAPTURE_BIN + " --library " VIPER_INTERCEPT_ASAN_LIB " --output " + dir() + "/asan.vcap --profile " +
+        VIPER_SOURCE_DIR + "/config/profiles/vk_test_scene.yaml --fps 10 -- " + VIPER_VK_TEST_SCENE_BIN + " " + kCommon +
+        " " + flags;
+    ASSERT_EQ(underXvfb(command, log), 0) << readFile(log);
+    const std::string text = readFile(log);
+    EXPECT_NE(text.find("4 frames written"), std::string::npos) << text;
+    EXPECT_NE(text.find("nothing left out"), std::string::npos) << text;
+    EXPECT_EQ(text.find("AddressSanitizer"), std::string::npos) << text;
+    EXPECT_EQ(text.find("runtime error"), std::string::npos) << text;
+  }
+}
+#endif
+
 }  // namespace
 }  // namespace viper

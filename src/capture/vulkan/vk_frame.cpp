@@ -2,7 +2,7 @@
 // the presented image is copied out, the frame's depth and ids are read from the scene pass's
 // copies, every recorded draw becomes a DrawRecord (matrices in OpenGL's conventions, mesh from
 // its buffers) and the frame goes to the same FrameSink the OpenGL layer writes with.
-#include "vk_layer.h"
+#include "capture_layer.h"
 
 #include "../layer/capture_settings.h"
 #include "../layer/frame_sink.h"

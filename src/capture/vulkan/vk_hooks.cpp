@@ -1,5 +1,5 @@
 // The Vulkan layer's entry points: instance and device creation (dispatch chains), the objects it
-// follows or changes (vk_layer.h says what it changes), and command recording.
+// follows or changes (capture_layer.h says what it changes), and command recording.
 #include "capture_layer.h"
 
 #include "viper/capture/content_key.h"

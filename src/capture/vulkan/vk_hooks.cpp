@@ -37,6 +37,13 @@ const T* findInChain(const void* next, VkStructureType type) {
   return nullptr;
 }
 
+// A destroyed object is forgotten (under the lock) before the driver destroys it.
+template <typename Handle, typename... Maps>
+void forget(Handle handle, Maps&... maps) {
+  Lock lock(L().mutex());
+  (maps.erase(handle), ...);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Instance and device.
 
@@ -158,10 +165,7 @@ VKAPI_ATTR VkResult VKAPI_CALL AllocateMemory(VkDevice device, const VkMemoryAll
 
 VKAPI_ATTR void VKAPI_CALL FreeMemory(VkDevice device, VkDeviceMemory memory, const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  {
-    Lock lock(L().mutex());
-    d.memories.erase(memory);
-  }
+  forget(memory, d.memories);
   d.vk.FreeMemory(device, memory, alloc);
 }
 
@@ -198,10 +202,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateBuffer(VkDevice device, const VkBufferCreat
 
 VKAPI_ATTR void VKAPI_CALL DestroyBuffer(VkDevice device, VkBuffer buffer, const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  {
-    Lock lock(L().mutex());
-    d.buffers.erase(buffer);
-  }
+  forget(buffer, d.buffers);
   d.vk.DestroyBuffer(device, buffer, alloc);
 }
 
@@ -250,11 +251,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateImage(VkDevice device, const VkImageCreateI
 
 VKAPI_ATTR void VKAPI_CALL DestroyImage(VkDevice device, VkImage image, const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  {
-    Lock lock(L().mutex());
-    d.depth_images.erase(image);
-    d.image_usage.erase(image);
-  }
+  forget(image, d.depth_images, d.image_usage);
   d.vk.DestroyImage(device, image, alloc);
 }
 
@@ -271,10 +268,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateImageView(VkDevice device, const VkImageVie
 
 VKAPI_ATTR void VKAPI_CALL DestroyImageView(VkDevice device, VkImageView view, const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  {
-    Lock lock(L().mutex());
-    d.views.erase(view);
-  }
+  forget(view, d.views);
   d.vk.DestroyImageView(device, view, alloc);
 }
 
@@ -314,10 +308,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateSwapchainKHR(VkDevice device, const VkSwapc
 VKAPI_ATTR void VKAPI_CALL DestroySwapchainKHR(VkDevice device, VkSwapchainKHR swapchain,
                                                const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  {
-    Lock lock(L().mutex());
-    d.swapchains.erase(swapchain);
-  }
+  forget(swapchain, d.swapchains);
   d.vk.DestroySwapchainKHR(device, swapchain, alloc);
 }
 
@@ -438,10 +429,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateRenderPass2(VkDevice device, const VkRender
 
 VKAPI_ATTR void VKAPI_CALL DestroyRenderPass(VkDevice device, VkRenderPass pass, const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  {
-    Lock lock(L().mutex());
-    d.render_passes.erase(pass);
-  }
+  forget(pass, d.render_passes);
   d.vk.DestroyRenderPass(device, pass, alloc);
 }
 
@@ -578,10 +566,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateShaderModule(VkDevice device, const VkShade
 VKAPI_ATTR void VKAPI_CALL DestroyShaderModule(VkDevice device, VkShaderModule module,
                                                const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  {
-    Lock lock(L().mutex());
-    d.modules.erase(module);
-  }
+  forget(module, d.modules);
   d.vk.DestroyShaderModule(device, module, alloc);
 }
 
@@ -639,10 +624,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreatePipelineLayout(VkDevice device, const VkPip
 VKAPI_ATTR void VKAPI_CALL DestroyPipelineLayout(VkDevice device, VkPipelineLayout layout,
                                                  const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  {
-    Lock lock(L().mutex());
-    d.layouts.erase(layout);
-  }
+  forget(layout, d.layouts);
   d.vk.DestroyPipelineLayout(device, layout, alloc);
 }
 
@@ -663,10 +645,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateDescriptorSetLayout(VkDevice device, const 
 VKAPI_ATTR void VKAPI_CALL DestroyDescriptorSetLayout(VkDevice device, VkDescriptorSetLayout layout,
                                                       const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  {
-    Lock lock(L().mutex());
-    d.set_layouts.erase(layout);
-  }
+  forget(layout, d.set_layouts);
   d.vk.DestroyDescriptorSetLayout(device, layout, alloc);
 }
 

@@ -6,6 +6,7 @@
 // Both of the game's pipelines: forward (config/profiles/supertuxkart.yaml) and deferred.
 #include "capture_checks.h"
 #include "../common/process_util.h"
+#include "viper/capture/content_key.h"
 #include "viper/ground_truth/instance_pipeline.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -314,6 +316,23 @@ TEST(SuperTuxKart, VulkanRendererGroundTruthHoldsAgainstItself) {
       EXPECT_EQ(draw.gaps & viper::kGapNoIds, 0) << "frame " << f.number << " draw " << draw.index;
       EXPECT_EQ(draw.gaps & viper::kGapMatrixMissing, 0) << "frame " << f.number << " draw " << draw.index;
     }
+  // Texture keys: the content of the images the program uploaded, the same for a mesh in every frame.
+  size_t visible = 0, textured = 0, unstable = 0;
+  std::map<uint64_t, std::vector<uint64_t>> textures_of_mesh;
+  for (const CaptureFrame& f : r.frames)
+    for (const viper::DrawRecord& draw : f.draws) {
+      if (!draw.visible_pixels || !draw.mesh_key) continue;
+      ++visible;
+      // Images the program rendered (shadow maps, render targets) have no key: one uploaded is enough.
+      textured += std::count(draw.texture_keys.begin(), draw.texture_keys.end(), 0u) <
+                  static_cast<long>(draw.texture_keys.size());
+      auto [it, inserted] = textures_of_mesh.emplace(viper::combineKeys(draw.mesh_key, draw.program_key), draw.texture_keys);
+      unstable += !inserted && it->second != draw.texture_keys;
+    }
+  std::printf("texture keys: %zu of %zu visible draws with a mesh have an uploaded texture's; %zu differ from their mesh's first\n",
+              textured, visible, unstable);
+  EXPECT_GE(textured, 0.9 * visible);
+  EXPECT_EQ(unstable, 0u) << "a mesh's texture keys changed between frames";
   const viper::test::FlowSequenceCheck flow_check = viper::test::checkFlowSequence(r.frames, r.meshes);
   ASSERT_EQ(flow_check.problem, "");
   flow_check.print();

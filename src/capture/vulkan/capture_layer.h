@@ -61,6 +61,9 @@ class Layer {
     std::unordered_map<VkImageView, ImageViewInfo> views;
     /// Every image's usage as created (the layer's additions included), swapchain images too.
     std::unordered_map<VkImage, VkImageUsageFlags> image_usage;
+    std::unordered_map<VkImage, VkFormat> image_formats;
+    /// Content keys of images the program uploaded (of their first mip level's bytes).
+    std::unordered_map<VkImage, uint64_t> image_keys;
     std::unordered_map<VkRenderPass, RenderPassInfo> render_passes;
     std::unordered_map<VkFramebuffer, FramebufferInfo> framebuffers;
     std::unordered_map<VkShaderModule, std::vector<uint32_t>> modules;

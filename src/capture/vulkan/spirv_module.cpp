@@ -238,6 +238,17 @@ ModuleReflection reflectModule(const std::vector<uint32_t>& words) {
       where.set = x.decoration(id, spv::DecorationDescriptorSet, 0);
       where.binding = x.decoration(id, spv::DecorationBinding, 0);
       addBlockMembers(x, type, where, r.members, nullptr);
+    } else if (v.storage == spv::StorageClassUniformConstant) {
+      uint32_t t = type;
+      for (int depth = 0; depth < 2; ++depth) {  // an array of them: its element type
+        auto a = x.types.find(t);
+        if (a != x.types.end() && (a->second.opcode == spv::OpTypeArray || a->second.opcode == spv::OpTypeRuntimeArray))
+          t = a->second.operands[1];
+      }
+      auto image = x.types.find(t);
+      if (image != x.types.end() &&
+          (image->second.opcode == spv::OpTypeSampledImage || image->second.opcode == spv::OpTypeImage))
+        r.images.emplace_back(x.decoration(id, spv::DecorationDescriptorSet, 0), x.decoration(id, spv::DecorationBinding, 0));
     } else if (v.storage == spv::StorageClassInput && x.decoration(id, spv::DecorationBuiltIn, ~0u) == spv::BuiltInBaseInstance) {
       r.reads_base_instance = true;
     } else if (v.storage == spv::StorageClassInput && x.decorated(id, spv::DecorationLocation)) {
@@ -245,6 +256,7 @@ ModuleReflection reflectModule(const std::vector<uint32_t>& words) {
       if (name != x.names.end()) r.input_locations[name->second] = x.decoration(id, spv::DecorationLocation, 0);
     }
   }
+  std::sort(r.images.begin(), r.images.end());
   for (const auto& [id, name] : x.names) r.names_text += name + "\n";
   for (const auto& [key, name] : x.member_names) r.names_text += name + "\n";
   r.valid = true;

@@ -52,6 +52,9 @@ struct ModuleReflection {
   uint32_t push_constant_end = 0;
   /// The module declares the BaseInstance built-in (gl_BaseInstance).
   bool reads_base_instance = false;
+  /// (set, binding) of its images and combined image samplers, in set and binding order: the order
+  /// of a draw's texture keys.
+  std::vector<std::pair<uint32_t, uint32_t>> images;
 };
 
 /// Reads `words` (a whole SPIR-V module). Never throws; `valid` false with `problem` on bad input.

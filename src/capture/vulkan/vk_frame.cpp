@@ -499,6 +499,10 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
       if (indices.size() <= draw.local) indices.resize(draw.local + 1, 0);
       indices[draw.local] = rec.index + 1;
       rec.program_key = pi.program_key;
+      for (VkImage image : draw.textures) {
+        auto key = d.image_keys.find(image);
+        rec.texture_keys.push_back(key == d.image_keys.end() ? 0 : key->second);
+      }
       rec.matrix_flags = draw.matrix_flags;
       rec.world = draw.matrices[0];
       rec.view = draw.matrices[1];
@@ -672,11 +676,55 @@ void endFrame(Device& d) {
 
 namespace {
 
+// Bytes of a texel (of a 4x4 block for block-compressed formats; `block` set) of the formats
+// programs upload textures in; 0 for others (not keyed).
+uint32_t texelBytes(VkFormat f, bool& block) {
+  block = false;
+  switch (f) {
+    case VK_FORMAT_R8_UNORM: return 1;
+    case VK_FORMAT_R8G8_UNORM: return 2;
+    case VK_FORMAT_R8G8B8A8_UNORM: case VK_FORMAT_R8G8B8A8_SRGB: case VK_FORMAT_B8G8R8A8_UNORM:
+    case VK_FORMAT_B8G8R8A8_SRGB: case VK_FORMAT_A2B10G10R10_UNORM_PACK32: case VK_FORMAT_R32_SFLOAT: return 4;
+    case VK_FORMAT_R16G16B16A16_SFLOAT: return 8;
+    case VK_FORMAT_R32G32B32A32_SFLOAT: return 16;
+    case VK_FORMAT_BC1_RGB_UNORM_BLOCK: case VK_FORMAT_BC1_RGB_SRGB_BLOCK: case VK_FORMAT_BC1_RGBA_UNORM_BLOCK:
+    case VK_FORMAT_BC1_RGBA_SRGB_BLOCK: case VK_FORMAT_BC4_UNORM_BLOCK: block = true; return 8;
+    case VK_FORMAT_BC2_UNORM_BLOCK: case VK_FORMAT_BC2_SRGB_BLOCK: case VK_FORMAT_BC3_UNORM_BLOCK:
+    case VK_FORMAT_BC3_SRGB_BLOCK: case VK_FORMAT_BC5_UNORM_BLOCK: case VK_FORMAT_BC7_UNORM_BLOCK:
+    case VK_FORMAT_BC7_SRGB_BLOCK: block = true; return 16;
+    default: return 0;
+  }
+}
+
+// Textures the program uploads: each image's key is the content key of the bytes its first mip
+// level is copied from (what the texture is, whatever image holds it).
+void keyUploads(Device& d, const Recording& r) {
+  for (const Recording::Upload& u : r.uploads) {
+    auto format = d.image_formats.find(u.image);
+    bool block = false;
+    const uint32_t texel = format == d.image_formats.end() ? 0 : texelBytes(format->second, block);
+    if (!texel) continue;
+    uint64_t key = 0;
+    for (const VkBufferImageCopy& c : u.regions) {
+      if (c.imageSubresource.mipLevel != 0) continue;
+      const uint64_t row_texels = c.bufferRowLength ? c.bufferRowLength : c.imageExtent.width;
+      const uint64_t rows = c.bufferImageHeight ? c.bufferImageHeight : c.imageExtent.height;
+      const uint64_t layers = static_cast<uint64_t>(c.imageExtent.depth) * c.imageSubresource.layerCount;
+      const uint64_t bytes =
+          block ? ((row_texels + 3) / 4) * ((rows + 3) / 4) * texel * layers : row_texels * rows * texel * layers;
+      const uint8_t* at = Layer::get().bufferBytes(d, u.buffer, c.bufferOffset, bytes);
+      if (at) key = combineKeys(key, contentKey(at, bytes));
+    }
+    if (key) d.image_keys[u.image] = key;
+  }
+}
+
 // A submitted command buffer's recording joins the frame (and those of the secondaries it
-// executes), its matrices read from their buffers now.
+// executes), its matrices read from their buffers now, the textures it uploads keyed.
 void joinFrame(Device& d, VkCommandBuffer cb) {
   auto r = d.recordings.find(cb);
   if (r == d.recordings.end()) return;
+  keyUploads(d, *r->second);
   readSubmittedMatrices(d, *r->second);
   d.frame.push_back(r->second);
   for (VkCommandBuffer secondary : r->second->executed) {

@@ -244,6 +244,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateImage(VkDevice device, const VkImageCreateI
   if (r == VK_SUCCESS && L().capturing()) {
     Lock lock(L().mutex());
     d.image_usage[*out] = copy.usage;
+    d.image_formats[*out] = info->format;
     if (depth) d.depth_images[*out] = DepthImage{info->format, info->extent.width, info->extent.height};
   }
   return r;
@@ -251,7 +252,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateImage(VkDevice device, const VkImageCreateI
 
 VKAPI_ATTR void VKAPI_CALL DestroyImage(VkDevice device, VkImage image, const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  forget(image, d.depth_images, d.image_usage);
+  forget(image, d.depth_images, d.image_usage, d.image_formats, d.image_keys);
   d.vk.DestroyImage(device, image, alloc);
 }
 
@@ -668,6 +669,11 @@ VKAPI_ATTR void VKAPI_CALL UpdateDescriptorSets(VkDevice device, uint32_t write_
     for (uint32_t i = 0; i < write_count; ++i) {
       const VkWriteDescriptorSet& w = writes[i];
       const VkDescriptorType t = w.descriptorType;
+      if ((t == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER || t == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE) && w.pImageInfo &&
+          w.dstArrayElement == 0) {
+        d.sets[w.dstSet].images[w.dstBinding] = w.pImageInfo[0].imageView;
+        continue;
+      }
       const bool dynamic = t == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC || t == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC;
       if (!(dynamic || t == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || t == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)) continue;
       if (w.dstArrayElement != 0 || !w.pBufferInfo) continue;
@@ -679,6 +685,9 @@ VKAPI_ATTR void VKAPI_CALL UpdateDescriptorSets(VkDevice device, uint32_t write_
       auto from = d.sets[c.srcSet].buffers.find(c.srcBinding);
       if (c.srcArrayElement == 0 && c.dstArrayElement == 0 && from != d.sets[c.srcSet].buffers.end())
         d.sets[c.dstSet].buffers[c.dstBinding] = from->second;
+      auto image = d.sets[c.srcSet].images.find(c.srcBinding);
+      if (c.srcArrayElement == 0 && c.dstArrayElement == 0 && image != d.sets[c.srcSet].images.end())
+        d.sets[c.dstSet].images[c.dstBinding] = image->second;
     }
   }
   d.vk.UpdateDescriptorSets(device, write_count, writes, copy_count, copies);
@@ -705,6 +714,7 @@ PipelineInfo describePipeline(Device& d, const VkGraphicsPipelineCreateInfo& inf
       fragment_entry = info.pStages[s].pName;
     }
   }
+  if (fragment) p.images = reflectModule(*fragment).images;
   uint64_t key = 0;
   if (vertex) key = combineKeys(key, contentKey(vertex->data(), vertex->size() * 4));
   if (fragment) key = combineKeys(key, contentKey(fragment->data(), fragment->size() * 4));
@@ -1373,6 +1383,17 @@ bool recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
   const MatrixSource* sources[6] = {&pi.world,  &pi.view, &pi.projection, &pi.instance_parts[0], &pi.instance_parts[1],
                                     &pi.instance_parts[2]};
   draw.rotation_conjugate = pi.instance_rotation_conjugate;
+  for (const auto& [set_index, binding] : pi.images) {
+    VkImage image = VK_NULL_HANDLE;
+    auto set = r->sets.find(set_index);
+    auto info = set == r->sets.end() ? d.sets.end() : d.sets.find(set->second.first);
+    if (info != d.sets.end()) {
+      auto view = info->second.images.find(binding);
+      auto v = view == info->second.images.end() ? d.views.end() : d.views.find(view->second);
+      if (v != d.views.end()) image = v->second.image;
+    }
+    draw.textures.push_back(image);
+  }
   for (int k = 0; k < 6; ++k) {
     if (!sources[k]->known) continue;
     const BlockMember& m = sources[k]->member;
@@ -1516,6 +1537,16 @@ VKAPI_ATTR void VKAPI_CALL CmdDrawIndexedIndirect(VkCommandBuffer cb, VkBuffer b
   d.vk.CmdDrawIndexedIndirect(cb, buffer, offset, count, stride);
 }
 
+VKAPI_ATTR void VKAPI_CALL CmdCopyBufferToImage(VkCommandBuffer cb, VkBuffer buffer, VkImage image, VkImageLayout layout,
+                                                uint32_t count, const VkBufferImageCopy* regions) {
+  Device& d = dev(cb);
+  if (L().capturing()) {
+    Lock lock(L().mutex());
+    if (Recording* r = recording(d, cb)) r->uploads.push_back({buffer, image, {regions, regions + count}});
+  }
+  d.vk.CmdCopyBufferToImage(cb, buffer, image, layout, count, regions);
+}
+
 VKAPI_ATTR void VKAPI_CALL CmdExecuteCommands(VkCommandBuffer cb, uint32_t count, const VkCommandBuffer* secondaries) {
   Device& d = dev(cb);
   {
@@ -1540,7 +1571,7 @@ VKAPI_ATTR void VKAPI_CALL CmdExecuteCommands(VkCommandBuffer cb, uint32_t count
   X(CmdSetViewport) X(CmdDraw) X(CmdDrawIndexed) X(CmdDrawIndirect) X(CmdDrawIndexedIndirect)                  \
   X(CmdExecuteCommands) X(QueueSubmit) X(QueueSubmit2) X(QueuePresentKHR) X(DestroyDevice) X(CreateRenderPass2)  \
   X(CmdBeginRenderPass2) X(CmdNextSubpass2) X(CmdEndRenderPass2) X(CmdBeginRendering)            \
-  X(CmdEndRendering)
+  X(CmdEndRendering) X(CmdCopyBufferToImage)
 
 PFN_vkVoidFunction deviceHook(const char* name) {
 #define VIPER_VK_MATCH(fn) \

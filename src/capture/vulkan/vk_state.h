@@ -58,7 +58,7 @@ struct DeviceTable {
   X(CreateCommandPool) X(DestroyCommandPool) X(ResetCommandPool) X(CreateFence) X(WaitForFences) X(ResetFences) \
   X(DestroyFence) X(CreateSemaphore) X(DestroySemaphore) X(CmdExecuteCommands) X(CmdBeginRendering)       \
   X(CreateDescriptorPool) X(DestroyDescriptorPool) X(QueueSubmit2) X(CreateRenderPass2)                    \
-  X(CmdBeginRenderPass2) X(CmdNextSubpass2) X(CmdEndRenderPass2)                                           \
+  X(CmdBeginRenderPass2) X(CmdNextSubpass2) X(CmdEndRenderPass2) X(CmdCopyBufferToImage)                  \
   X(CmdEndRendering)
 #define VIPER_VK_DECLARE(name) PFN_vk##name name = nullptr;
   VIPER_VK_DEVICE_FUNCTIONS(VIPER_VK_DECLARE)
@@ -153,6 +153,7 @@ struct DescriptorBuffer {
 struct DescriptorSetInfo {
   VkDescriptorSetLayout layout = VK_NULL_HANDLE;
   std::map<uint32_t, DescriptorBuffer> buffers;  ///< binding (element 0) -> buffer
+  std::map<uint32_t, VkImageView> images;        ///< binding (element 0) -> sampled image's view
 };
 
 /// Where one of a draw's matrices is read from.
@@ -171,6 +172,8 @@ struct PipelineInfo {
   VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   bool overlay = false;  ///< the profile says so
   bool reads_base_instance = false;  ///< its vertex shader reads gl_BaseInstance
+  /// (set, binding) of the fragment shader's images, in order (spirv_module.h).
+  std::vector<std::pair<uint32_t, uint32_t>> images;
   /// A viewport the pipeline sets itself (not dynamic): -1 none, else whether its height is positive.
   int static_y_down = -1;
   /// The profile says its vertex shader deforms vertices: the layer does not record deformed
@@ -226,6 +229,9 @@ struct RecordedDraw {
   };
   std::vector<PendingRead> pending;
   bool rotation_conjugate = false;
+  /// The images its fragment shader samples, in its order (their content keys are the draw's
+  /// texture keys).
+  std::vector<VkImage> textures;
 };
 
 /// A render pass instance with recorded draws: where its depth and ids are copied at its end.
@@ -266,6 +272,14 @@ struct Recording {
   bool y_down = true;
   uint32_t unrecorded = 0;  ///< draws into a scene pass that could not be recorded
   std::vector<uint32_t> id_slots;  ///< slots of the layer's id buffer its draws use
+  /// Uploads into images (vkCmdCopyBufferToImage), keyed when submitted: their bytes as the buffer
+  /// holds them then.
+  struct Upload {
+    VkBuffer buffer;
+    VkImage image;
+    std::vector<VkBufferImageCopy> regions;
+  };
+  std::vector<Upload> uploads;
 };
 
 }  // namespace vulkan

@@ -102,6 +102,11 @@ foreach(node flow_baseline vo_baseline segmentation_baseline)
   target_link_libraries(${node} viper_baselines_ros)
   set_target_properties(${node} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
+if(CATKIN_ENABLE_TESTING)
+  # The baselines' camera input through cv_bridge: every encoding they take, bad messages refused.
+  catkin_add_gtest(test_image_input test/ros/test_image_input.cpp)
+  target_link_libraries(test_image_input viper_baselines_ros gtest_main)
+endif()
 install(TARGETS viper_segmentation viper_baselines_ros flow_baseline vo_baseline segmentation_baseline
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}

@@ -28,7 +28,7 @@ if(CATKIN_ENABLE_TESTING)
     target_include_directories(test_capture_d3d11 PRIVATE ${PROJECT_SOURCE_DIR})
     target_compile_definitions(test_capture_d3d11 PRIVATE
       VIPER_CAPTURE_BIN="$<TARGET_FILE:viper_capture>"
-      VIPER_D3D11_SCENE_EXE="${VIPER_D3D11_SCENE_EXE}")
+      VIPER_D3D11_SCENE_EXE="${VIPER_D3D11_SCENE_EXE}" VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
     add_dependencies(test_capture_d3d11 viper_capture viper_intercept d3d11_scene)
   endif()
 endif()

@@ -51,6 +51,17 @@ bool parseBool(const std::string& source, const YAML::Node& node, const std::str
   throw profileError(source, node, "'" + key + "' must be true or false, got '" + text + "'");
 }
 
+// A matrix name (parseMatrixName), as an error of the profile where it is not one.
+std::string matrixName(const std::string& source, const YAML::Node& node, const std::string& key) {
+  const std::string text = scalar(source, node, key);
+  try {
+    parseMatrixName(text);
+  } catch (const std::invalid_argument& e) {
+    throw profileError(source, node, "'" + key + "': " + e.what());
+  }
+  return text;
+}
+
 ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
   if (!node.IsMap()) throw profileError(source, node, "each entry of 'programs' must be a map");
   ProgramProfile p;
@@ -59,12 +70,12 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
     const YAML::Node& value = kv.second;
     if (key == "vertex_contains") p.vertex_contains = scalar(source, value, key);
     else if (key == "program_key") p.program_key = parseKey(source, value);
-    else if (key == "world") p.world = scalar(source, value, key);
-    else if (key == "view") p.view = scalar(source, value, key);
-    else if (key == "projection") p.projection = scalar(source, value, key);
-    else if (key == "model_view") p.model_view = scalar(source, value, key);
-    else if (key == "view_projection") p.view_projection = scalar(source, value, key);
-    else if (key == "model_view_projection") p.model_view_projection = scalar(source, value, key);
+    else if (key == "world") p.world = matrixName(source, value, key);
+    else if (key == "view") p.view = matrixName(source, value, key);
+    else if (key == "projection") p.projection = matrixName(source, value, key);
+    else if (key == "model_view") p.model_view = matrixName(source, value, key);
+    else if (key == "view_projection") p.view_projection = matrixName(source, value, key);
+    else if (key == "model_view_projection") p.model_view_projection = matrixName(source, value, key);
     else if (key == "world_space") p.world_space = parseBool(source, value, key);
     else if (key == "position") p.position = scalar(source, value, key);
     else if (key == "deforming") p.deforming = parseDeforming(source, value);
@@ -112,6 +123,29 @@ ProgramProfile parseEntry(const std::string& source, const YAML::Node& node) {
 }
 
 }  // namespace
+
+MatrixName parseMatrixName(const std::string& text) {
+  MatrixName m;
+  std::istringstream words(text);
+  std::string first, second, more;
+  words >> first >> second >> more;
+  if (second.empty()) {
+    m.name = text;  // a mat4, named as the program names it
+    return m;
+  }
+  if (!more.empty() || (second != "rows" && second != "columns"))
+    throw std::invalid_argument("'" + text + "' is neither a mat4's name nor 'ARRAY[N] rows' or 'ARRAY[N] columns'");
+  const size_t open = first.rfind('[');
+  const std::string digits = open == std::string::npos ? "" : first.substr(open + 1, first.size() - open - 2);
+  if (open == std::string::npos || open == 0 || first.back() != ']' || digits.empty() || digits.size() > 5 ||
+      digits.find_first_not_of("0123456789") != std::string::npos || std::stoi(digits) > kMaxMatrixElement)
+    throw std::invalid_argument("'" + first + "' must be an array element, ARRAY[N] with N from 0 to " +
+                                std::to_string(kMaxMatrixElement) + " (the first of four vec4 elements)");
+  m.name = first.substr(0, open);
+  m.first_element = std::stoi(digits);
+  m.rows = second == "rows";
+  return m;
+}
 
 const ProgramProfile* CaptureProfile::match(const std::string& vertex_source, uint64_t program_key) const {
   static const ProgramProfile kFallback;
@@ -168,8 +202,16 @@ CaptureProfile parseCaptureProfile(const std::string& yaml_text, const std::stri
       profile.depth_clear_ends_scene = parseBool(source_name, kv.second, key);
       continue;
     }
+    if (key == "clip_depth") {
+      const std::string d = scalar(source_name, kv.second, key);
+      if (d != "zero_to_one" && d != "minus_one_to_one")
+        throw profileError(source_name, kv.second, "'clip_depth' must be zero_to_one or minus_one_to_one, got '" + d + "'");
+      profile.clip_depth_zero_to_one = d == "zero_to_one";
+      continue;
+    }
     if (key != "programs")
-      throw profileError(source_name, kv.first, "unknown top-level key '" + key + "' (known: programs, handedness, depth_clear_ends_scene)");
+      throw profileError(source_name, kv.first,
+                         "unknown top-level key '" + key + "' (known: programs, handedness, depth_clear_ends_scene, clip_depth)");
     if (kv.second.IsNull()) continue;
     if (!kv.second.IsSequence()) throw profileError(source_name, kv.second, "'programs' must be a list");
     for (const auto& entry : kv.second) profile.programs.push_back(parseEntry(source_name, entry));

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 
 using namespace viper;
 
@@ -165,6 +167,36 @@ TEST(CaptureProfile, MinetestProfile) {
   const ProgramProfile* nodes = p.match("#define mWorldViewProj gl_ModelViewProjectionMatrix\nuniform mat4 mWorld;", 0);
   EXPECT_EQ(nodes->matrix_stack, "load_view_mult_world");
   EXPECT_EQ(nodes->position, "gl_Vertex");
+}
+
+TEST(CaptureProfile, MatrixNamesOfVec4ArrayElementsAndClipDepth) {
+  const MatrixName mat4 = parseMatrixName("uBones[3]");  // a mat4 array element stays a mat4's name
+  EXPECT_FALSE(mat4.isElements());
+  EXPECT_EQ(mat4.name, "uBones[3]");
+  const MatrixName rows = parseMatrixName("vs_cb0[4] rows");
+  EXPECT_EQ(rows.name, "vs_cb0");
+  EXPECT_EQ(rows.first_element, 4);
+  EXPECT_TRUE(rows.rows);
+  const MatrixName columns = parseMatrixName("Camera.regs[0] columns");
+  EXPECT_EQ(columns.name, "Camera.regs");
+  EXPECT_EQ(columns.first_element, 0);
+  EXPECT_FALSE(columns.rows);
+  for (const char* bad : {"vs_cb0[4] sideways", "vs_cb0 rows", "[4] rows", "vs_cb0[] rows", "vs_cb0[-1] rows",
+                          "vs_cb0[4x] rows", "vs_cb0[65536] rows", "vs_cb0[4] rows extra", "vs_cb0[4 rows"})
+    EXPECT_THROW(parseMatrixName(bad), std::invalid_argument) << bad;
+
+  const CaptureProfile p = loadCaptureProfile("config/profiles/d3d11_scene.yaml");
+  EXPECT_TRUE(p.left_handed);
+  EXPECT_TRUE(p.clip_depth_zero_to_one);
+  const ProgramProfile* cb = p.match("layout(std140, binding = 15) uniform block_vs_cb0 { vec4 vs_cb0[13]; };", 0);
+  EXPECT_EQ(cb->world, "vs_cb0[0] rows");
+  EXPECT_EQ(cb->projection, "vs_cb0[8] rows");
+  EXPECT_FALSE(parseCaptureProfile("programs: []\n", "plain.yaml").clip_depth_zero_to_one);
+  EXPECT_NE(message("clip_depth: reversed\n").find("'clip_depth' must be zero_to_one or minus_one_to_one"),
+            std::string::npos);
+  EXPECT_NE(message("programs:\n  - view: regs[2] diagonally\n").find("'view': 'regs[2] diagonally' is neither"),
+            std::string::npos);
+  EXPECT_NE(message("programs:\n  - projection: regs[x] rows\n").find("must be an array element"), std::string::npos);
 }
 
 TEST(CaptureProfile, MissingFileIsNamed) {

@@ -126,6 +126,44 @@ TEST(FinishFrame, VectorisedPathEqualsTheReferenceOnEveryKindOfPixel) {
   }
 }
 
+// Regression (wined3d): depth and ids of a framebuffer object the program shows upside down are
+// read top row first, the colour of the window bottom row first; all come out top row first.
+TEST(FinishFrame, DepthAndIdsTopRowFirstFromAFlippedScene) {
+  RawImages raw;
+  raw.width = 2;
+  raw.height = 2;
+  raw.depth_ids_top_first = true;
+  raw.rgba = {1, 1, 1, 255, 2, 2, 2, 255, 3, 3, 3, 255, 4, 4, 4, 255};  // bottom row first
+  raw.depth = {0.3f, 0.4f, 0.1f, 0.2f};                                  // top row first
+  raw.ids = {2, 7, 1, 6, 1, 5, 0, 0};
+  for (bool vectorised : {true, false}) {
+    CaptureFrame f;
+    f.draws.resize(2);
+    f.draws[1].index = 1;
+    vectorised ? finishFrame(raw, f) : finishFrameScalar(raw, f);
+    EXPECT_EQ(f.color_rgb, (std::vector<uint8_t>{3, 3, 3, 4, 4, 4, 1, 1, 1, 2, 2, 2}));
+    EXPECT_EQ(f.depth_window, (std::vector<float>{0.3f, 0.4f, 0.1f, 0.2f}));
+    EXPECT_EQ(f.draw_ids, (std::vector<uint32_t>{2, 1, 1, 0}));
+    EXPECT_EQ(f.primitive_ids, (std::vector<uint32_t>{7, 6, 5, 0}));
+    EXPECT_EQ(f.draws[0].visible_pixels, 2u);
+  }
+  // Packed depth likewise, and the vectorised path equals the reference on wide rows.
+  std::mt19937 rng(11);
+  for (bool packed : {false, true}) {
+    RawImages wide = mixedImages(37, 5, 40, packed, rng);
+    wide.depth_ids_top_first = true;
+    CaptureFrame fast = frameOf(40), reference = frameOf(40);
+    finishFrame(wide, fast);
+    finishFrameScalar(wide, reference);
+    expectSameFrames(fast, reference);
+    const size_t w = 37;
+    for (size_t y = 0; y < 5; ++y) {
+      const float id = wide.ids[2 * y * w];  // row y of the read-back is row y of the frame
+      EXPECT_EQ(fast.draw_ids[y * w], id >= 1.0f && id <= 40.0f ? static_cast<uint32_t>(id + 0.5f) : 0u) << y;
+    }
+  }
+}
+
 TEST(FinishFrame, MissingImagesGiveBlackFarAndNoDraws) {
   std::mt19937 rng(3);
   RawImages raw = mixedImages(37, 5, 4, false, rng);

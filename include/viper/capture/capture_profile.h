@@ -23,7 +23,9 @@ struct ProgramProfile {
   /// Matches the program with this content key (0: any).
   uint64_t program_key = 0;
   /// Names of the matrices (empty: not recorded for these programs): a `uniform mat4`, or a mat4
-  /// member of a uniform block (read from the buffer bound to the block at each draw).
+  /// member of a uniform block (read from the buffer bound to the block at each draw), or four
+  /// consecutive elements of a vec4 array, as the matrix's rows or columns (`vs_cb0[4] rows`:
+  /// parseMatrixName).
   std::string world;
   std::string view;
   std::string projection;
@@ -74,6 +76,27 @@ struct ProgramProfile {
   }
 };
 
+/// A matrix as a profile entry names it (world, view, projection and the combined matrices).
+struct MatrixName {
+  /// The mat4 (a uniform, or a member of a uniform block), or the vec4 array.
+  std::string name;
+  /// -1: `name` is a mat4. Else the matrix is the four elements of the vec4 array `name` from this
+  /// index on (a uniform array, or an array member of a uniform block).
+  int first_element = -1;
+  /// The four elements are the rows of the matrix (as it multiplies column vectors); else its
+  /// columns. Direct3D's constant registers hold `mul(v, M)`'s M as rows this way (wined3d).
+  bool rows = false;
+  bool isElements() const { return first_element >= 0; }
+};
+
+/// Largest array index a matrix name may give.
+constexpr int kMaxMatrixElement = 65535;
+
+/// Parses a matrix name of a profile: `NAME` (a mat4), or `NAME[N] rows` / `NAME[N] columns` (the
+/// vec4 elements N..N+3 of the array NAME, N at most kMaxMatrixElement). Throws
+/// std::invalid_argument saying what is wrong with `text`.
+MatrixName parseMatrixName(const std::string& text);
+
 /// A parsed profile: entries are tried in file order, the first match wins.
 struct CaptureProfile {
   /// Where the profile came from (file path, or "<default>").
@@ -90,6 +113,12 @@ struct CaptureProfile {
   /// Minetest does): color and depth are kept as they were, and the frame's later draws are
   /// neither recorded nor given ids.
   bool depth_clear_ends_scene = false;
+  /// `clip_depth: zero_to_one`: the program's projections (and the combined matrices that hold
+  /// one) map depth to 0..w of clip space, as Direct3D's and Vulkan's do, and something after
+  /// them turns that into OpenGL's -w..w (wined3d's vertex shaders end with z = 2 z - w). The
+  /// capture records them in OpenGL's conventions, Dz P with Dz = [1 0 0 0; 0 1 0 0; 0 0 2 -1;
+  /// 0 0 0 1], which maps the same points to the same window depth. Default: OpenGL's -1..1.
+  bool clip_depth_zero_to_one = false;
 
   /// Some entry names a combined matrix or world space: frames are resolved (camera_recovery.h).
   bool combinesMatrices() const;

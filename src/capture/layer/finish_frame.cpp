@@ -130,10 +130,11 @@ void finish(const RawImages& raw, CaptureFrame& frame, bool vectorised) {
 #endif
   for (size_t y = 0; y < h; ++y) {
     const size_t src = (h - 1 - y) * w, dst = y * w;  // GL rows are bottom-up
+    const size_t scene_src = raw.depth_ids_top_first ? dst : src;
     const Row r{has_color ? rgba + src * 4 : nullptr,
-                depth_float ? depth + src : nullptr,
-                depth_packed ? depth_24_8 + src : nullptr,
-                has_ids ? ids + src * 2 : nullptr,
+                depth_float ? depth + scene_src : nullptr,
+                depth_packed ? depth_24_8 + scene_src : nullptr,
+                has_ids ? ids + scene_src * 2 : nullptr,
                 &frame.color_rgb[dst * 3],
                 &frame.depth_window[dst],
                 &frame.draw_ids[dst],

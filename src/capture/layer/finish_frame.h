@@ -9,7 +9,8 @@ namespace viper {
 namespace capture {
 
 /// Fills frame's color_rgb, depth_window, draw_ids and primitive_ids (top row first) from `raw`
-/// (bottom row first, as glReadPixels gives it), and every draw's visible_pixels. Ids that are not a
+/// (bottom row first, as glReadPixels gives it; depth and ids top row first where
+/// raw.depth_ids_top_first), and every draw's visible_pixels. Ids that are not a
 /// draw of the frame (0, NaN, larger than the number of draws) become draw 0, primitive 0. Missing
 /// images give black color, far depth (1.0) and no draws. Reuses the frame's image memory.
 void finishFrame(const RawImages& raw, CaptureFrame& frame);

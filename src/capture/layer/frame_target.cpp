@@ -343,7 +343,13 @@ void FrameTarget::presentInto(RawImages& out, bool to_surface, bool read_back, P
   out.depth.clear();
   out.depth_24_8.clear();
   const GLuint scene = sceneSource();
+  out.depth_ids_top_first = false;
   if (scene) {
+    // Shown in the window upside down (its color image blitted there flipped): its rows, read
+    // bottom first, are the window's top first.
+    const ProgramFbo& f = program_fbos_.at(scene);
+    out.depth_ids_top_first =
+        window_blit_flipped_ && window_blit_source_.type != GL_NONE && window_blit_source_ == f.color;
     // The scene was drawn into a framebuffer object of the program's and composited: its depth and
     // our ids there, read without changing the read buffer the program set on it.
     g.BindFramebuffer(GL_READ_FRAMEBUFFER, scene);

@@ -23,6 +23,9 @@ struct RawImages {
   std::vector<float> depth;    ///< window depth as floats (formats other than depth24/stencil8)
   std::vector<uint32_t> depth_24_8;  ///< packed depth24/stencil8 (depth in the high 24 bits)
   std::vector<float> ids;      ///< 2 floats per pixel: draw id (index + 1), primitive id
+  /// Depth and ids come from a framebuffer object of the program's that reaches the window turned
+  /// upside down (FrameTarget::programBlitToWindow): their rows are top row first, the color's not.
+  bool depth_ids_top_first = false;
 
   /// The same images in a buffer of the GL's, where set (each then replaces its vector).
   const uint8_t* rgba_view = nullptr;
@@ -89,6 +92,25 @@ class FrameTarget {
   /// Sets the read buffer of our framebuffer from program_read_buffer.
   void applyReadBuffer();
 
+  /// An image attached to a framebuffer: a texture's level and layer, or a renderbuffer.
+  struct ImageRef {
+    GLint type = GL_NONE;  ///< GL_TEXTURE, GL_RENDERBUFFER, or GL_NONE (no image)
+    GLuint name = 0;
+    GLint level = 0, layer = 0;
+    bool operator==(const ImageRef& o) const {
+      return type == o.type && name == o.name && level == o.level && layer == o.layer;
+    }
+  };
+
+  /// Before the program's glBlitFramebuffer (or glBlitFramebufferEXT) from its bound read
+  /// framebuffer into its bound draw framebuffer: where that is the window's (ours) and the blit
+  /// copies color from the whole of an image to the whole window, one pixel for one pixel, the
+  /// frame's image is that image, as it is or turned upside down (wined3d presents its back buffer
+  /// so); the last such blit of a frame counts. present() then reads depth and ids of a scene
+  /// framebuffer object whose color image that is the same way up as the color.
+  void programBlitToWindow(GLint src_x0, GLint src_y0, GLint src_x1, GLint src_y1, GLint dst_x0, GLint dst_y0,
+                           GLint dst_x1, GLint dst_y1, GLbitfield mask);
+
   /// A framebuffer object of the program's that may hold its scene (rendered off screen, then
   /// composited into the default framebuffer): complete, single-sampled, with a depth attachment,
   /// the size of the default framebuffer. Draws into it write ids into a texture of ours attached
@@ -103,6 +125,7 @@ class FrameTarget {
     bool ids_enabled = false;        ///< our attachment is a draw buffer now (wanted, and color drawn)
     bool ids_cleared = false;        ///< our attachment was cleared this frame
     uint32_t draws = 0;              ///< draws recorded into it this frame
+    ImageRef color;                  ///< the image of its first draw buffer at this frame's check
   };
   static constexpr GLenum kIdAttachment = GL_COLOR_ATTACHMENT7;
   /// The program's bound draw framebuffer object if it may hold the scene (checked once a frame;
@@ -179,6 +202,10 @@ class FrameTarget {
   void presentInto(RawImages& out, bool to_surface, bool read_back, PackBuffer* into);
 
   std::unordered_map<GLuint, ProgramFbo> program_fbos_;
+  // The image the last whole-window blit of this frame copied into the window, and whether upside
+  // down (programBlitToWindow); type GL_NONE: none.
+  ImageRef window_blit_source_;
+  bool window_blit_flipped_ = false;
   void snapshotScene(bool with_depth);
   GLuint scene_color_fbo_ = 0, scene_color_ = 0, scene_depth_ = 0;  // snapshotScene()
   bool scene_color_taken_ = false, scene_depth_taken_ = false, scene_ended_ = false;

@@ -77,6 +77,12 @@ VIPER_EXPORT void glBindFramebuffer(GLenum target, GLuint framebuffer) {
   if (Interceptor* i = Interceptor::active()) return i->bindFramebuffer(target, framebuffer);
   gl().BindFramebuffer(target, framebuffer);
 }
+VIPER_EXPORT void glBlitFramebuffer(GLint src_x0, GLint src_y0, GLint src_x1, GLint src_y1, GLint dst_x0,
+                                    GLint dst_y0, GLint dst_x1, GLint dst_y1, GLbitfield mask, GLenum filter) {
+  if (Interceptor* i = Interceptor::active())
+    i->blitFramebuffer(src_x0, src_y0, src_x1, src_y1, dst_x0, dst_y0, dst_x1, dst_y1, mask);
+  gl().BlitFramebuffer(src_x0, src_y0, src_x1, src_y1, dst_x0, dst_y0, dst_x1, dst_y1, mask, filter);
+}
 VIPER_EXPORT void glDrawBuffer(GLenum buf) {
   if (Interceptor* i = Interceptor::active()) return i->drawBuffer(buf);
   gl().DrawBuffer(buf);
@@ -475,6 +481,7 @@ VIPER_EXPORT void glMultiDrawElementsIndirect(GLenum mode, GLenum type, const vo
   X(glTransformFeedbackVaryingsEXT, glTransformFeedbackVaryings)\
   X(glBindFramebufferEXT, glBindFramebuffer)\
   X(glDeleteFramebuffersEXT, glDeleteFramebuffers)\
+  X(glBlitFramebufferEXT, glBlitFramebuffer)\
   X(glCheckFramebufferStatusEXT, glCheckFramebufferStatus)\
   X(glGetFramebufferAttachmentParameterivEXT, glGetFramebufferAttachmentParameteriv)\
   X(glDrawBuffersARB, glDrawBuffers)\
@@ -532,7 +539,8 @@ VIPER_NO_SANITIZE void* wrapperFor(const char* name) {
   static const HookEntry kEntries[] = {
       VIPER_ENTRY(glShaderSource), VIPER_ENTRY(glCompileShader), VIPER_ENTRY(glLinkProgram),
       VIPER_ENTRY(glUseProgram), VIPER_ENTRY(glTransformFeedbackVaryings), VIPER_ENTRY(glBindFramebuffer),
-      VIPER_ENTRY(glDrawBuffer), VIPER_ENTRY(glDrawBuffers), VIPER_ENTRY(glReadBuffer), VIPER_ENTRY(glClear),
+      VIPER_ENTRY(glBlitFramebuffer), VIPER_ENTRY(glDrawBuffer), VIPER_ENTRY(glDrawBuffers), VIPER_ENTRY(glReadBuffer),
+      VIPER_ENTRY(glClear),
       VIPER_ENTRY(glGetIntegerv), VIPER_ENTRY(glGetBooleanv), VIPER_ENTRY(glGetFloatv), VIPER_ENTRY(glGetDoublev),
       VIPER_ENTRY(glGetInteger64v), VIPER_ENTRY(glGetFramebufferAttachmentParameteriv),
       VIPER_ENTRY(glGetFramebufferParameteriv), VIPER_ENTRY(glCheckFramebufferStatus),

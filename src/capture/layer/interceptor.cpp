@@ -334,6 +334,12 @@ void Interceptor::bindFramebuffer(GLenum target_enum, GLuint fb) {
   gl().BindFramebuffer(target_enum, fb ? fb : t->fbo());
 }
 
+void Interceptor::blitFramebuffer(GLint src_x0, GLint src_y0, GLint src_x1, GLint src_y1, GLint dst_x0,
+                                  GLint dst_y0, GLint dst_x1, GLint dst_y1, GLbitfield mask) {
+  FrameTarget* t = target();
+  if (t && t->ready()) t->programBlitToWindow(src_x0, src_y0, src_x1, src_y1, dst_x0, dst_y0, dst_x1, dst_y1, mask);
+}
+
 void Interceptor::framebuffersDeleted(GLsizei n, const GLuint* names) {
   FrameTarget* t = target();
   if (!t || !t->ready() || !names) return;

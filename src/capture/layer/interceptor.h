@@ -43,14 +43,17 @@ struct ShaderInfo {
 };
 
 /// Where a matrix the profile names lives: a default-block uniform, or a member of a uniform block
-/// (read from the buffer bound to the block's binding point at each draw).
+/// (read from the buffer bound to the block's binding point at each draw); or four vec4 elements of
+/// an array (MatrixName::isElements), of the default block (their locations) or of a uniform block
+/// (offset and matrix_stride: the first element's and the array's stride).
 struct MatrixSource {
   GLint location = -1;               ///< default-block uniform
+  GLint element_locations[4] = {-1, -1, -1, -1};  ///< default-block vec4 array elements
   GLuint block = GL_INVALID_INDEX;   ///< uniform block index
   GLint offset = 0;                  ///< bytes into the block
   GLint matrix_stride = 16;          ///< bytes between columns (rows if row_major)
-  bool row_major = false;
-  bool found() const { return location >= 0 || block != GL_INVALID_INDEX; }
+  bool row_major = false;            ///< rows, not columns, are matrix_stride apart (or the elements)
+  bool found() const { return location >= 0 || element_locations[0] >= 0 || block != GL_INVALID_INDEX; }
 };
 
 /// Instanced vertex attributes (locations, -1 = absent) that place each instance of a draw.
@@ -250,6 +253,9 @@ class Interceptor {
   /// After glDeleteFramebuffers: a deleted framebuffer the program had bound leaves the default
   /// one (ours) bound in its place, as the GL binds the real one; our ids for it are dropped.
   void framebuffersDeleted(GLsizei n, const GLuint* names);
+  /// Before the program's glBlitFramebuffer (FrameTarget::programBlitToWindow).
+  void blitFramebuffer(GLint src_x0, GLint src_y0, GLint src_x1, GLint src_y1, GLint dst_x0, GLint dst_y0,
+                       GLint dst_x1, GLint dst_y1, GLbitfield mask);
   void drawBuffer(GLenum buf);
   void drawBuffers(GLsizei n, const GLenum* bufs);
   void readBuffer(GLenum buf);
@@ -408,6 +414,9 @@ class Interceptor {
   /// The record's matrices as the profile wants them (the mirror image in z for left-handed
   /// programs), and the gap when one the profile names is missing.
   void finishMatrices(uint8_t expected_matrices, DrawRecord& r) const;
+  /// A projection (or a combined matrix holding one) as read, into OpenGL's clip depth where the
+  /// profile says `clip_depth: zero_to_one` (Dz P); unchanged otherwise.
+  void toGlClipDepth(GlMatrix& projection) const;
   /// beforeDraw() of a draw into the scene's framebuffer (ours, or `scene_fbo`).
   bool beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTarget::ProgramFbo* scene_fbo);
   /// Copies bytes of a buffer as the GPU will read them now (a persistent mapping's memory, else

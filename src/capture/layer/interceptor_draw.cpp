@@ -89,6 +89,14 @@ bool Interceptor::readMatrix(const MatrixSource& m, GlMatrix& out) {
     g.GetUniformfv(cx().current_program, m.location, out.data());  // whatever glUniform* the program used
     return true;
   }
+  if (m.element_locations[0] >= 0) {  // four vec4 elements of a uniform array: rows or columns
+    for (int v = 0; v < 4; ++v) {
+      float vec[4];
+      g.GetUniformfv(cx().current_program, m.element_locations[v], vec);
+      for (int k = 0; k < 4; ++k) (m.row_major ? out(v, k) : out(k, v)) = vec[k];
+    }
+    return true;
+  }
   if (m.block == GL_INVALID_INDEX) return false;
   GLint binding = 0, buffer = 0;
   GLint64 start = 0;
@@ -309,14 +317,21 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
     r.matrix_flags |= kHasWorld;
   }
   if (p->view.found() && readMatrix(p->view, r.view)) r.matrix_flags |= kHasView;
-  if (p->projection.found() && readMatrix(p->projection, r.projection)) r.matrix_flags |= kHasProjection;
+  if (p->projection.found() && readMatrix(p->projection, r.projection)) {
+    r.matrix_flags |= kHasProjection;
+    toGlClipDepth(r.projection);
+  }
   if (combines_) {
     DrawMatrices combined;
     if (p->model_view.found() && readMatrix(p->model_view, combined.model_view)) combined.known |= kMatModelView;
-    if (p->view_projection.found() && readMatrix(p->view_projection, combined.view_projection))
+    if (p->view_projection.found() && readMatrix(p->view_projection, combined.view_projection)) {
       combined.known |= kMatViewProjection;
-    if (p->model_view_projection.found() && readMatrix(p->model_view_projection, combined.model_view_projection))
+      toGlClipDepth(combined.view_projection);
+    }
+    if (p->model_view_projection.found() && readMatrix(p->model_view_projection, combined.model_view_projection)) {
       combined.known |= kMatModelViewProjection;
+      toGlClipDepth(combined.model_view_projection);
+    }
     keepDrawMatrices(*p, r, combined);
   }
   if (!p->combined) finishMatrices(p->expected_matrices, r);
@@ -330,6 +345,12 @@ bool Interceptor::beforeSceneDraw(const DrawCall& call, FrameTarget* t, FrameTar
   if (!r.mesh_key) r.gaps |= kGapNoMesh;
   cx().last_recorded = true;
   return true;
+}
+
+void Interceptor::toGlClipDepth(GlMatrix& projection) const {
+  if (!profile_.clip_depth_zero_to_one) return;
+  // Dz P (capture_profile.h): clip z' = 2 z - w, as the program's own conversion after it does.
+  projection.row(2) = 2.0f * projection.row(2) - projection.row(3);
 }
 
 void Interceptor::finishMatrices(uint8_t expected_matrices, DrawRecord& r) const {

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
+#include <utility>
 
 namespace viper {
 namespace capture {
@@ -23,7 +25,16 @@ GLenum bindingOf(GLenum target) {
     case GL_SHADER_STORAGE_BUFFER: return GL_SHADER_STORAGE_BUFFER_BINDING;
     case GL_UNIFORM_BUFFER: return GL_UNIFORM_BUFFER_BINDING;          // matrices in uniform blocks
     case GL_DRAW_INDIRECT_BUFFER: return GL_DRAW_INDIRECT_BUFFER_BINDING;
-    default: return 0;  // pixel and texture buffers hold neither meshes nor matrices: not shadowed
+    // A buffer object has no type: the target it is made or filled on says nothing of how it is
+    // drawn from later (wined3d makes its vertex and index buffers on GL_PIXEL_UNPACK_BUFFER and
+    // fills them on the array targets), so buffers are shadowed whatever the target.
+    case GL_PIXEL_PACK_BUFFER: return GL_PIXEL_PACK_BUFFER_BINDING;
+    case GL_PIXEL_UNPACK_BUFFER: return GL_PIXEL_UNPACK_BUFFER_BINDING;
+    case GL_TEXTURE_BUFFER: return GL_TEXTURE_BUFFER_BINDING;
+    case GL_ATOMIC_COUNTER_BUFFER: return GL_ATOMIC_COUNTER_BUFFER_BINDING;
+    case GL_DISPATCH_INDIRECT_BUFFER: return GL_DISPATCH_INDIRECT_BUFFER_BINDING;
+    case GL_QUERY_BUFFER: return GL_QUERY_BUFFER_BINDING;
+    default: return 0;
   }
 }
 
@@ -38,28 +49,70 @@ GLenum samplerTarget(GLenum type) {
   }
 }
 
-// A matrix the profile names: a default-block uniform, or a member of a uniform block.
-MatrixSource matrixSource(GLuint program, const std::string& name) {
-  MatrixSource m;
-  if (name.empty()) return m;
-  const RealGl& g = gl();
-  m.location = g.GetUniformLocation(program, name.c_str());
-  if (m.location >= 0) return m;
+// What the GL says of the active uniform `name` of `program` (index GL_INVALID_INDEX: none such).
+struct ActiveUniform {
   GLuint index = GL_INVALID_INDEX;
+  GLint block = -1, offset = -1, matrix_stride = 0, array_stride = 0, size = 0, row_major = 0, type = 0;
+};
+
+ActiveUniform activeUniform(GLuint program, const std::string& name) {
+  const RealGl& g = gl();
+  ActiveUniform u;
   const GLchar* names[1] = {name.c_str()};
-  g.GetUniformIndices(program, 1, names, &index);
-  if (index == GL_INVALID_INDEX) return m;
-  GLint block = -1, offset = -1, stride = 0, row_major = 0, type = 0;
-  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_BLOCK_INDEX, &block);
-  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_OFFSET, &offset);
-  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_MATRIX_STRIDE, &stride);
-  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_IS_ROW_MAJOR, &row_major);
-  g.GetActiveUniformsiv(program, 1, &index, GL_UNIFORM_TYPE, &type);
-  if (block < 0 || offset < 0 || type != GL_FLOAT_MAT4) return m;
-  m.block = static_cast<GLuint>(block);
-  m.offset = offset;
-  m.matrix_stride = stride > 0 ? stride : 16;
-  m.row_major = row_major != 0;
+  g.GetUniformIndices(program, 1, names, &u.index);
+  if (u.index == GL_INVALID_INDEX) return u;
+  const std::pair<GLenum, GLint*> properties[] = {
+      {GL_UNIFORM_BLOCK_INDEX, &u.block},         {GL_UNIFORM_OFFSET, &u.offset},
+      {GL_UNIFORM_MATRIX_STRIDE, &u.matrix_stride}, {GL_UNIFORM_ARRAY_STRIDE, &u.array_stride},
+      {GL_UNIFORM_SIZE, &u.size},                 {GL_UNIFORM_IS_ROW_MAJOR, &u.row_major},
+      {GL_UNIFORM_TYPE, &u.type}};
+  for (const auto& [pname, value] : properties) g.GetActiveUniformsiv(program, 1, &u.index, pname, value);
+  return u;
+}
+
+// Four vec4 elements of an array the profile names (`vs_cb0[4] rows`): of a default-block uniform
+// array, or of an array member of a uniform block.
+MatrixSource elementsSource(GLuint program, const MatrixName& matrix) {
+  MatrixSource m;
+  m.row_major = matrix.rows;
+  const ActiveUniform u = activeUniform(program, matrix.name + "[0]");
+  // The four elements must be active ones of a vec4 array (a driver may trim an array to the
+  // elements the shader reads).
+  if (u.index == GL_INVALID_INDEX || u.type != GL_FLOAT_VEC4 || matrix.first_element + 4 > u.size) return m;
+  if (u.block < 0) {
+    for (int k = 0; k < 4; ++k) {
+      const std::string element = matrix.name + "[" + std::to_string(matrix.first_element + k) + "]";
+      m.element_locations[k] = gl().GetUniformLocation(program, element.c_str());
+      if (m.element_locations[k] < 0) return MatrixSource{};
+    }
+    return m;
+  }
+  if (u.offset < 0 || u.array_stride <= 0) return m;
+  m.block = static_cast<GLuint>(u.block);
+  m.offset = u.offset + matrix.first_element * u.array_stride;
+  m.matrix_stride = u.array_stride;
+  return m;
+}
+
+// A matrix the profile names: a default-block uniform, or a member of a uniform block.
+MatrixSource matrixSource(GLuint program, const std::string& text) {
+  MatrixSource m;
+  if (text.empty()) return m;
+  MatrixName matrix;
+  try {
+    matrix = parseMatrixName(text);  // the profile's parser checked it
+  } catch (const std::invalid_argument&) {
+    return m;
+  }
+  if (matrix.isElements()) return elementsSource(program, matrix);
+  m.location = gl().GetUniformLocation(program, matrix.name.c_str());
+  if (m.location >= 0) return m;
+  const ActiveUniform u = activeUniform(program, matrix.name);
+  if (u.index == GL_INVALID_INDEX || u.block < 0 || u.offset < 0 || u.type != GL_FLOAT_MAT4) return m;
+  m.block = static_cast<GLuint>(u.block);
+  m.offset = u.offset;
+  m.matrix_stride = u.matrix_stride > 0 ? u.matrix_stride : 16;
+  m.row_major = u.row_major != 0;
   return m;
 }
 

@@ -2,6 +2,8 @@
 // qualify, our id attachment on them, their draw buffers and clears.
 #include "frame_target.h"
 
+#include <algorithm>
+
 namespace viper {
 namespace capture {
 
@@ -46,7 +48,48 @@ void depthAttachmentSize(GLint& width, GLint& height, bool dsa) {
   }
 }
 
+// The image at `attachment` of the framebuffer bound to `target` (a program's framebuffer object).
+FrameTarget::ImageRef attachedImage(GLenum target, GLenum attachment) {
+  const RealGl& g = gl();
+  FrameTarget::ImageRef image;
+  auto param = [&](GLenum pname) {
+    GLint v = 0;
+    g.GetFramebufferAttachmentParameteriv(target, attachment, pname, &v);
+    return v;
+  };
+  image.type = param(GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE);
+  if (image.type != GL_TEXTURE && image.type != GL_RENDERBUFFER) {
+    image.type = GL_NONE;
+    return image;
+  }
+  image.name = static_cast<GLuint>(param(GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME));
+  if (image.type == GL_TEXTURE) {
+    image.level = param(GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL);
+    image.layer = param(GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LAYER);
+  }
+  return image;
+}
+
+bool isColorAttachment(GLenum buffer) {
+  return buffer >= GL_COLOR_ATTACHMENT0 && buffer <= GL_COLOR_ATTACHMENT15;
+}
+
 }  // namespace
+
+void FrameTarget::programBlitToWindow(GLint src_x0, GLint src_y0, GLint src_x1, GLint src_y1, GLint dst_x0,
+                                      GLint dst_y0, GLint dst_x1, GLint dst_y1, GLbitfield mask) {
+  if (!fbo_ || program_draw_fb != 0 || program_read_fb == 0 || !(mask & GL_COLOR_BUFFER_BIT)) return;
+  // The whole of the source to the whole window, one pixel for one pixel, not mirrored in x.
+  auto whole = [](GLint a, GLint b, int size) { return std::min(a, b) == 0 && std::max(a, b) == size; };
+  if (!whole(src_x0, src_x1, width_) || !whole(dst_x0, dst_x1, width_) || !whole(src_y0, src_y1, height_) ||
+      !whole(dst_y0, dst_y1, height_) || (src_x1 > src_x0) != (dst_x1 > dst_x0)) {
+    window_blit_source_ = ImageRef{};
+    return;
+  }
+  const GLenum read_buffer = static_cast<GLenum>(glInt(GL_READ_BUFFER));
+  window_blit_source_ = isColorAttachment(read_buffer) ? attachedImage(GL_READ_FRAMEBUFFER, read_buffer) : ImageRef{};
+  window_blit_flipped_ = (src_y1 > src_y0) != (dst_y1 > dst_y0);
+}
 
 bool FrameTarget::isSceneCandidate() const {
   const RealGl& g = gl();
@@ -64,6 +107,8 @@ FrameTarget::ProgramFbo* FrameTarget::sceneFbo(bool clear_stale) {
     f.checked_frame = frame_serial_;
     f.scene = isSceneCandidate();
     if (f.scene) {
+      const GLenum first = f.program_draw_buffers.empty() ? GLenum(GL_NONE) : f.program_draw_buffers[0];
+      f.color = isColorAttachment(first) ? attachedImage(GL_DRAW_FRAMEBUFFER, first) : ImageRef{};
       const RealGl& g = gl();
       if (!f.ids) {
         const GLint prev_tex = glInt(GL_TEXTURE_BINDING_2D);
@@ -165,6 +210,7 @@ GLuint FrameTarget::sceneSource() const {
 void FrameTarget::endFrame() {
   ++frame_serial_;
   scene_color_taken_ = scene_depth_taken_ = scene_ended_ = false;
+  window_blit_source_ = ImageRef{};
   for (auto& [name, f] : program_fbos_) f.draws = 0, f.ids_cleared = false;
 }
 

@@ -12,6 +12,10 @@ fuzz_seconds="${1:-8}"
 bash "$here/scripts/setup.sh" --test-programs --no-build || { echo "0 passed, 1 failed"; exit 1; }
 if [ ! -f "$build/Makefile" ]; then
   bash "$here/scripts/setup.sh" || { echo "0 passed, 1 failed"; exit 1; }
+else
+  # Configured before the test programs were installed (CI's setup, then this): configure again,
+  # so that what needs them is found now (mingw-w64 for the Direct3D 11 program: cmake/d3d11.cmake).
+  (cd "$build" && cmake . > /dev/null) || { echo "cmake failed"; echo "0 passed, 1 failed"; exit 1; }
 fi
 export ROS_HOME="$build/ros_home" ROS_LOG_DIR="$build/ros_home/log"
 # ROS's Python tools (rostest, roslaunch-check) start with `env python3`: Debian's, which has the

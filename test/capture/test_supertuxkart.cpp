@@ -146,6 +146,31 @@ class CleanUp : public testing::Environment {
 };
 const testing::Environment* const kCleanUp = testing::AddGlobalTestEnvironment(new CleanUp);
 
+// The shipped label table (config/labels, made from an OpenGL capture) through the instance
+// pipeline over a run's frames: id pixels with a class, car (class 24) tracks, objects in their boxes.
+struct Labelled {
+  uint64_t id_pixels = 0, labelled = 0;
+  std::map<int32_t, size_t> car_frames;  ///< track -> frames it is seen in
+  size_t longest = 0;                    ///< frames of the longest car track
+  viper::BoxCheck boxes;
+};
+Labelled labelWithShippedTable(const PipelineRun& r) {
+  Labelled l;
+  viper::InstancePipeline pipeline(viper::LabelTable::load(VIPER_STK_LABELS));
+  for (const CaptureFrame& f : r.frames) {
+    const viper::InstanceFrame g = pipeline.process(f);
+    std::vector<viper::FrameObject> objects;
+    for (const viper::TrackedObject& o : g.objects) objects.push_back(o.object);
+    l.boxes.add(viper::checkBoxes(f, objects, r.meshes));
+    for (size_t i = 0; i < f.draw_ids.size(); ++i)
+      if (f.draw_ids[i]) ++l.id_pixels, l.labelled += g.semantic[i] != 0;
+    for (const viper::TrackedObject& o : g.objects)
+      if (o.track_id > 0 && o.object.class_id == 24 && o.object.pixel_count > 0) ++l.car_frames[o.track_id];
+  }
+  for (const auto& [id, n] : l.car_frames) l.longest = std::max(l.longest, n);
+  return l;
+}
+
 void requireTools() {
   for (const char* tool : {kGame, "/usr/bin/apitrace", "/usr/bin/glretrace", "/usr/bin/xvfb-run"})
     ASSERT_TRUE(fs::exists(tool)) << tool << " is missing: run 'bash scripts/setup.sh --test-programs'";
@@ -211,22 +236,11 @@ TEST(SuperTuxKart, ForwardPipelineGroundTruthHoldsAgainstItself) {
 
   // The shipped label table (made from another, longer capture at another size) labels this one:
   // resource keys are the game's content, whatever the run. The followed kart keeps one track.
-  viper::InstancePipeline pipeline(viper::LabelTable::load(VIPER_STK_LABELS));
-  uint64_t id_pixels = 0, labelled = 0;
-  std::map<int32_t, size_t> car_frames;
-  viper::BoxCheck boxes;
-  for (const CaptureFrame& f : r.frames) {
-    const viper::InstanceFrame g = pipeline.process(f);
-    std::vector<viper::FrameObject> objects;
-    for (const viper::TrackedObject& o : g.objects) objects.push_back(o.object);
-    boxes.add(viper::checkBoxes(f, objects, r.meshes));
-    for (size_t i = 0; i < f.draw_ids.size(); ++i)
-      if (f.draw_ids[i]) ++id_pixels, labelled += g.semantic[i] != 0;
-    for (const viper::TrackedObject& o : g.objects)
-      if (o.track_id > 0 && o.object.class_id == 24 && o.object.pixel_count > 0) ++car_frames[o.track_id];
-  }
-  size_t longest = 0;
-  for (const auto& [id, n] : car_frames) longest = std::max(longest, n);
+  const Labelled l = labelWithShippedTable(r);
+  const uint64_t id_pixels = l.id_pixels, labelled = l.labelled;
+  const size_t longest = l.longest;
+  const std::map<int32_t, size_t>& car_frames = l.car_frames;
+  const viper::BoxCheck& boxes = l.boxes;
   std::printf("labels: %.2f%% of id pixels have a class; %zu car tracks, the longest in %zu of %zu frames\n",
               100.0 * labelled / id_pixels, car_frames.size(), longest, r.frames.size());
   EXPECT_GE(labelled, 0.99 * id_pixels);
@@ -337,22 +351,11 @@ TEST(SuperTuxKart, VulkanRendererGroundTruthHoldsAgainstItself) {
   // Content keys do not depend on the API: the label table made from an OpenGL capture labels the
   // Vulkan capture (all but the sky and the deforming drivers, which have no mesh from the Vulkan
   // layer yet), the followed kart keeps one track, and every object's pixels lie in its box.
-  viper::InstancePipeline pipeline(viper::LabelTable::load(VIPER_STK_LABELS));
-  uint64_t id_pixels = 0, labelled = 0;
-  std::map<int32_t, size_t> car_frames;
-  viper::BoxCheck boxes;
-  for (const CaptureFrame& f : r.frames) {
-    const viper::InstanceFrame g = pipeline.process(f);
-    std::vector<viper::FrameObject> objects;
-    for (const viper::TrackedObject& o : g.objects) objects.push_back(o.object);
-    boxes.add(viper::checkBoxes(f, objects, r.meshes));
-    for (size_t i = 0; i < f.draw_ids.size(); ++i)
-      if (f.draw_ids[i]) ++id_pixels, labelled += g.semantic[i] != 0;
-    for (const viper::TrackedObject& o : g.objects)
-      if (o.track_id > 0 && o.object.class_id == 24 && o.object.pixel_count > 0) ++car_frames[o.track_id];
-  }
-  size_t longest = 0;
-  for (const auto& [id, n] : car_frames) longest = std::max(longest, n);
+  const Labelled l = labelWithShippedTable(r);
+  const uint64_t id_pixels = l.id_pixels, labelled = l.labelled;
+  const size_t longest = l.longest;
+  const std::map<int32_t, size_t>& car_frames = l.car_frames;
+  const viper::BoxCheck& boxes = l.boxes;
   std::printf("labels from the OpenGL capture's table: %.2f%% of id pixels have a class; %zu car tracks, the longest "
               "in %zu of %zu frames; boxes p99.9 %.2e\n",
               100.0 * labelled / id_pixels, car_frames.size(), longest, r.frames.size(),

@@ -82,13 +82,7 @@ void readSubmittedMatrices(Device& d, Recording& r) {
       const uint8_t* at = Layer::get().bufferBytes(d, p.buffer.buffer, p.buffer.offset + p.offset, bytes);
       if (!at) continue;
       if (p.what < 3) {
-        GlMatrix matrix;
-        for (int c = 0; c < 4; ++c)
-          for (int row = 0; row < 4; ++row) {
-            const size_t major = m.row_major ? row : c, minor = m.row_major ? c : row;
-            std::memcpy(&matrix(row, c), at + major * m.matrix_stride + minor * 4, 4);
-          }
-        draw.matrices[static_cast<size_t>(p.what)] = matrix;
+        draw.matrices[static_cast<size_t>(p.what)] = readMatrix(at, m);
         draw.matrix_flags |= static_cast<uint8_t>(1u << p.what);
       } else {
         Eigen::Vector4f v(0.0f, 0.0f, 0.0f, 1.0f);

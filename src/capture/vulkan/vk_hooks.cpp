@@ -1336,18 +1336,6 @@ VKAPI_ATTR void VKAPI_CALL CmdSetViewport(VkCommandBuffer cb, uint32_t first, ui
   d.vk.CmdSetViewport(cb, first, count, v);
 }
 
-GlMatrix readMatrix(const uint8_t* at, const BlockMember& m) {
-  GlMatrix out;
-  for (int c = 0; c < 4; ++c)
-    for (int row = 0; row < 4; ++row) {
-      float v;
-      const size_t major = m.row_major ? row : c, minor = m.row_major ? c : row;
-      std::memcpy(&v, at + major * m.matrix_stride + minor * 4, 4);
-      out(row, c) = v;
-    }
-  return out;
-}
-
 // Records one draw into the scene: its state now, and the layer's id words pushed before it.
 bool recordDraw(Device& d, VkCommandBuffer cb, RecordedDraw draw) {
   Recording* r = recording(d, cb);

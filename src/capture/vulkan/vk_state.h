@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -200,6 +201,17 @@ struct SwapchainInfo {
   std::vector<VkImage> images;
   bool readable = false;  ///< TRANSFER_SRC was added
 };
+
+/// A mat4 block member `m` at `at` (its matrix stride and majorness as the shader declares them).
+inline GlMatrix readMatrix(const uint8_t* at, const BlockMember& m) {
+  GlMatrix out;
+  for (int c = 0; c < 4; ++c)
+    for (int row = 0; row < 4; ++row) {
+      const size_t major = m.row_major ? row : c, minor = m.row_major ? c : row;
+      std::memcpy(&out(row, c), at + major * m.matrix_stride + minor * 4, 4);
+    }
+  return out;
+}
 
 /// One draw as a command buffer recorded it.
 struct RecordedDraw {

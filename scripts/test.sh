@@ -28,7 +28,13 @@ set -u
 cd "$build"
 make -j"$(nproc)" all tests || { echo "build failed"; echo "0 passed, 1 failed"; exit 1; }
 rm -rf "$build/test_results"
+# Free space, before and after: the tests write gigabytes at their peak (a wine prefix, captures,
+# generated sequences; each test binary removes its folder when it exits), and a test that runs out
+# of it fails far from the cause.
+free_space() { echo "free space $1: $(df -Ph /tmp | awk 'NR == 2 {print $4}') in /tmp, $(df -Ph "$build" | awk 'NR == 2 {print $4}') in $build"; }
+free_space "before the tests"
 make -j1 run_tests 2>&1 | tee "$build/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|FAILURE|ERROR:|rostest" || true
+free_space "after the tests"
 
 /usr/bin/python3 - "$build/test_results" > "$build/test_counts.txt" <<'PY'
 import sys, glob, xml.etree.ElementTree as ET

@@ -1,13 +1,17 @@
 // Helpers of the tests that run programs: a shell command's exit status, a file's bytes, and one
-// temporary folder per test binary.
+// temporary folder per test binary, removed when it exits.
 #pragma once
 
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 namespace viper {
@@ -45,13 +49,27 @@ inline std::string readFile(const std::string& path) {
   return s.str();
 }
 
-/// /tmp/<prefix>XXXXXX, made on the first call; the same folder on every later call.
+/// /tmp/<prefix>XXXXXX, made on the first call; the same folder on every later call. It goes, with
+/// everything in it, when the test binary exits (a full suite would otherwise leave gigabytes in
+/// /tmp: a wine prefix, SuperTuxKart's captures, generated sequences; on a small disk the later
+/// tests then fail for want of space). VIPER_KEEP_TEST_FILES=1 keeps it, to look at after a failure.
 inline std::string tempDir(const char* prefix = "viper_test_") {
-  static const std::string dir = [prefix] {
+  struct Folder {
+    std::string path;
+    pid_t owner = ::getpid();  // a forked child that exits does not take the parent's folder
+    ~Folder() {
+      const char* keep = std::getenv("VIPER_KEEP_TEST_FILES");
+      if (path.empty() || ::getpid() != owner || (keep && *keep && std::string(keep) != "0")) return;
+      std::error_code ignored;
+      std::filesystem::remove_all(path, ignored);
+    }
+  };
+  static const Folder dir{[prefix] {
     std::string pattern = std::string("/tmp/") + prefix + "XXXXXX";
-    return std::string(mkdtemp(pattern.data()));
-  }();
-  return dir;
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot make " + pattern + ": " + std::strerror(errno));
+    return pattern;
+  }()};
+  return dir.path;
 }
 
 }  // namespace test

@@ -1,5 +1,6 @@
 // The generate command (no roscore) on the world's capture made at build time and on its raw bag
-// (capture_to_bag): the same sequence from either (with writer threads or without), a finished sequence skipped and a changed one
+// (capture_to_bag): the same sequence from either (with writer threads or without) and on every
+// vector path of the kernels, a finished sequence skipped and a changed one
 // redone, the marker's checksums taken as the files were written equal to those of the files on disk, two generators of one sequence taking turns, a damaged capture's intact frames kept, an output that cannot be written an error with no
 // marker. That its ground truth equals the nodes' is viper_layout_roundtrip.test.
 #include "viper/dataset/sequence_lock.h"
@@ -47,6 +48,34 @@ std::map<std::string, std::string> files(const fs::path& root) {
   return out;
 }
 
+// The files of `after` whose bytes differ from `before`'s (or are missing in either), in one line
+// with sizes and the first differing byte: generate writes the same bytes every time, and when it
+// does not, this says where (a CI log keeps a few lines of a failure, not two PNGs' bytes).
+std::string differingFiles(const std::map<std::string, std::string>& before,
+                           const std::map<std::string, std::string>& after) {
+  std::string out;
+  size_t n = 0;
+  auto note = [&](const std::string& text) {
+    if (++n <= 6) out += (out.empty() ? "" : "; ") + text;
+  };
+  for (const auto& [path, bytes] : before) {
+    const auto other = after.find(path);
+    if (other == after.end()) {
+      note(path + " missing");
+      continue;
+    }
+    if (other->second == bytes) continue;
+    size_t i = 0;
+    while (i < bytes.size() && i < other->second.size() && bytes[i] == other->second[i]) ++i;
+    note(path + " (" + std::to_string(bytes.size()) + " -> " + std::to_string(other->second.size()) +
+         " bytes, first difference at byte " + std::to_string(i) + ")");
+  }
+  for (const auto& [path, bytes] : after)
+    if (!before.count(path)) note(path + " new");
+  if (n > 6) out += "; and " + std::to_string(n - 6) + " more";
+  return out;
+}
+
 const std::string kCapture = VIPER_TEST_DATA "/world_roundtrip.vcap";
 const std::string kRawBag = VIPER_TEST_DATA "/world_raw.bag";
 
@@ -77,12 +106,34 @@ TEST(Generate, CaptureAndItsRawBagGiveTheSameSequence) {
   EXPECT_EQ(viper::dataset::verifySequence(a, m), "");
 }
 
+// The per-pixel kernels' paths (VIPER_INSTRUCTIONS caps them: instructions.h) write the same files:
+// a dataset generated on nodes with other CPUs is the same dataset. A CPU without a path runs the
+// widest it has below it (that run then repeats another).
+TEST(Generate, EveryVectorPathWritesTheSameFiles) {
+  const std::string dir = tempDir("viper_generate_") + "/paths";
+  ASSERT_EQ(runGenerate(kRawBag, dir + "/widest", "--outputs layout").rc, 0);
+  const auto widest = files(dir + "/widest");
+  for (const char* path : {"avx512", "avx2", "scalar"}) {
+    SCOPED_TRACE(path);
+    ::setenv("VIPER_INSTRUCTIONS", path, 1);
+    const Result r = runGenerate(kRawBag, dir + "/" + path, "--outputs layout");
+    ::unsetenv("VIPER_INSTRUCTIONS");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    EXPECT_EQ(differingFiles(widest, files(dir + "/" + path)), "");
+  }
+  ::setenv("VIPER_INSTRUCTIONS", "sse9", 1);
+  const Result bad = runGenerate(kRawBag, dir + "/bad", "--outputs layout");
+  ::unsetenv("VIPER_INSTRUCTIONS");
+  EXPECT_EQ(bad.rc, 0);
+  EXPECT_NE(bad.output.find("VIPER_INSTRUCTIONS=sse9 is not one of"), std::string::npos) << bad.output;
+}
+
 TEST(Generate, FinishedIsSkippedChangedIsRedone) {
   const std::string root = tempDir("viper_generate_") + "/resume";
   ASSERT_EQ(runGenerate(kRawBag, root).rc, 0);
   const fs::path png = fs::path(root) / "train/cls/001/001_00004.png";
   const auto written = fs::last_write_time(png);
-  const std::string original = readFile(png.string());
+  const auto first = files(root);
 
   Result again = runGenerate(kRawBag, root);
   EXPECT_EQ(again.rc, 0);
@@ -90,10 +141,11 @@ TEST(Generate, FinishedIsSkippedChangedIsRedone) {
   EXPECT_EQ(fs::last_write_time(png), written) << "a finished sequence was written again";
 
   std::ofstream(png, std::ios::app) << "x";  // damaged after the run
+  ASSERT_TRUE(readFile(png.string()) == first.at(fs::relative(png, root).string()) + "x") << "could not damage " << png;
   again = runGenerate(kRawBag, root);
   EXPECT_EQ(again.rc, 0) << again.output;
   EXPECT_EQ(again.output.find("is finished"), std::string::npos) << "a changed sequence was taken as finished";
-  EXPECT_EQ(readFile(png.string()), original);
+  EXPECT_EQ(differingFiles(first, files(root)), "") << "the redone sequence is not the first one";
   EXPECT_EQ(viper::dataset::verifySequence(root, viper::dataset::readSequenceMarker(root + "/train/001.done")), "");
 
   // --force redoes a finished one.
@@ -119,6 +171,7 @@ TEST(Generate, MarkerChecksumsAsWrittenAreThoseOfTheFilesOnDisk) {
     for (const viper::dataset::MarkedFile& f : m.files)
       EXPECT_EQ(f.sha256, viper::dataset::sha256OfFile(fs::path(root) / f.relative_path)) << f.relative_path;
     EXPECT_EQ(run("cd " + root + " && sha256sum --quiet -c train/001.done"), 0);
+    const auto first = files(root);
 
     // The same size, one byte changed: a flow file and the bag.
     for (const char* changed : {"train/flow/001/001_00005.npz", "train/bag/001.bag"}) {
@@ -130,11 +183,13 @@ TEST(Generate, MarkerChecksumsAsWrittenAreThoseOfTheFilesOnDisk) {
         f.put(static_cast<char>(original[original.size() / 2] ^ 0x20));
       }
       ASSERT_EQ(fs::file_size(file), original.size());
-      EXPECT_NE(viper::dataset::verifySequence(root, m).find(changed), std::string::npos);
+      ASSERT_TRUE(readFile(file.string()) != original) << changed << " could not be changed";
+      const std::string why = viper::dataset::verifySequence(root, m);
+      EXPECT_NE(why.find(changed), std::string::npos) << "verified: '" << why << "'";
       const Result again = runGenerate(kRawBag, root, std::string("--writer-threads ") + threads);
       EXPECT_EQ(again.rc, 0) << again.output;
       EXPECT_EQ(again.output.find("is finished"), std::string::npos) << changed << " changed, yet skipped";
-      EXPECT_TRUE(readFile(file.string()) == original) << changed << " not redone";
+      EXPECT_EQ(differingFiles(first, files(root)), "") << changed << " changed: the redone sequence is not the first one";
       EXPECT_EQ(viper::dataset::verifySequence(root, viper::dataset::readSequenceMarker(root + "/train/001.done")), "");
     }
   }

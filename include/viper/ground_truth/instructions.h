@@ -15,7 +15,8 @@ enum class Instructions {
 };
 
 /// The path a kernel takes on this CPU when asked for `requested`: a path the CPU lacks falls back
-/// to the widest it has below it.
+/// to the widest it has below it. VIPER_INSTRUCTIONS=avx512vbmi|avx512|avx2|scalar (read once)
+/// caps every request at that path, as if the CPU had no wider one.
 Instructions instructionsUsed(Instructions requested);
 
 }  // namespace viper

@@ -1,6 +1,7 @@
-// vk_test_scene: test_scene's scene drawn with Vulkan into an X window, the program the Vulkan
-// capture layer is tested on. It knows nothing of capture; --oracle writes the same true answers
-// as test_scene (OpenGL conventions), --dump-dir the presented images.
+// vk_test_scene: test_scene's scene drawn with Vulkan into an X window (or, --headless, into images
+// of its own that nothing presents), the program the Vulkan capture layer is tested on. It knows
+// nothing of capture; --oracle writes the same true answers as test_scene (OpenGL conventions),
+// --dump-dir the presented (headless: the drawn) images.
 #include "vk_context.h"
 #include "vk_options.h"
 #include "vk_renderer.h"
@@ -28,10 +29,12 @@ const char* presentModeName(VkPresentModeKHR mode) {
 int run(const VkSceneOptions& options) {
   const SceneOptions& o = options.scene;
   if (!o.dump_dir.empty()) std::filesystem::create_directories(o.dump_dir);
-  vk::Context context(o.width, o.height, options.dynamic_rendering, options.render_pass2);
+  vk::Context context(o.width, o.height, options.dynamic_rendering, options.render_pass2, options.headless);
   vk::Swapchain swapchain(context, o.width, o.height, !o.dump_dir.empty());
   std::cerr << "vk_test_scene: " << o.width << "x" << o.height << ", " << context.description() << ", "
-            << swapchain.imageCount() << " swapchain images, " << presentModeName(swapchain.presentMode())
+            << swapchain.imageCount()
+            << (options.headless ? " images of its own, headless (no window, nothing presented)"
+                                 : std::string(" swapchain images, ") + presentModeName(swapchain.presentMode()))
             << (options.dynamic_rendering ? ", dynamic rendering" : ", render passes")
             << (options.offscreen ? ", offscreen + composite + HUD" : "")
             << (options.host_visible_buffers ? ", host-visible buffers" : ", staged device-local buffers")

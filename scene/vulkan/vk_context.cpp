@@ -73,9 +73,10 @@ VkImageView createImageView(VkDevice device, VkImage image, VkFormat format, VkI
   return view;
 }
 
-Context::Context(uint32_t width, uint32_t height, bool dynamic_rendering, bool vulkan13) {
+Context::Context(uint32_t width, uint32_t height, bool dynamic_rendering, bool vulkan13, bool headless)
+    : headless_(headless) {
   try {
-    openWindow(width, height);
+    if (!headless_) openWindow(width, height);
     createInstance();
     pickDevice(dynamic_rendering, vulkan13);
   } catch (...) {
@@ -109,7 +110,8 @@ void Context::openWindow(uint32_t width, uint32_t height) {
     throw std::runtime_error((display ? std::string("cannot open the X display '") + display + "' (DISPLAY)"
                                       : std::string("DISPLAY is not set")) +
                              ": vk_test_scene presents to an X window; start an X server, e.g. "
-                             "`Xvfb :57 -screen 0 1024x768x24 &`, and set DISPLAY=:57");
+                             "`Xvfb :57 -screen 0 1024x768x24 &`, and set DISPLAY=:57 (or draw without one: "
+                             "--headless)");
   }
   xcb_screen_iterator_t it = xcb_setup_roots_iterator(xcb_get_setup(connection_));
   for (int i = 0; i < screen_number && it.rem > 0; ++i) xcb_screen_next(&it);
@@ -133,7 +135,11 @@ void Context::createInstance() {
   std::vector<VkExtensionProperties> extensions(count);
   check(vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data()),
         "vkEnumerateInstanceExtensionProperties");
-  for (const char* name : {VK_KHR_SURFACE_EXTENSION_NAME, VK_KHR_XCB_SURFACE_EXTENSION_NAME})
+  // Headless, no extension at all: nothing is shown, so nothing needs a surface.
+  const std::vector<const char*> names =
+      headless_ ? std::vector<const char*>{}
+                : std::vector<const char*>{VK_KHR_SURFACE_EXTENSION_NAME, VK_KHR_XCB_SURFACE_EXTENSION_NAME};
+  for (const char* name : names)
     if (!hasExtension(extensions, name))
       throw std::runtime_error(std::string("no Vulkan device: the Vulkan loader offers no ") + name +
                                " (is a Vulkan driver such as mesa-vulkan-drivers installed?)");
@@ -143,15 +149,15 @@ void Context::createInstance() {
   app.applicationVersion = 1;
   app.pEngineName = "viper";
   app.apiVersion = VK_API_VERSION_1_3;
-  const char* names[] = {VK_KHR_SURFACE_EXTENSION_NAME, VK_KHR_XCB_SURFACE_EXTENSION_NAME};
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   info.pApplicationInfo = &app;
-  info.enabledExtensionCount = 2;
-  info.ppEnabledExtensionNames = names;
+  info.enabledExtensionCount = static_cast<uint32_t>(names.size());
+  info.ppEnabledExtensionNames = names.data();
   const VkResult result = vkCreateInstance(&info, nullptr, &instance_);
   if (result == VK_ERROR_INCOMPATIBLE_DRIVER)
     throw std::runtime_error("no Vulkan device: vkCreateInstance found no driver (VK_ERROR_INCOMPATIBLE_DRIVER)");
   check(result, "vkCreateInstance");
+  if (headless_) return;
 
   VkXcbSurfaceCreateInfoKHR surface{VK_STRUCTURE_TYPE_XCB_SURFACE_CREATE_INFO_KHR};
   surface.connection = connection_;
@@ -183,7 +189,7 @@ void Context::pickDevice(bool dynamic_rendering, bool vulkan13) {
       reject("Vulkan " + versionText(properties.apiVersion) + " < 1.3 (--render-pass2)");
       continue;
     }
-    if (!hasExtension(extensions, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) {
+    if (!headless_ && !hasExtension(extensions, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) {
       reject("no VK_KHR_swapchain");
       continue;
     }
@@ -204,9 +210,10 @@ void Context::pickDevice(bool dynamic_rendering, bool vulkan13) {
     std::vector<VkQueueFamilyProperties> families(family_count);
     vkGetPhysicalDeviceQueueFamilyProperties(candidate, &family_count, families.data());
     for (uint32_t f = 0; f < family_count && !physical_; ++f) {
-      VkBool32 presents = VK_FALSE;
-      check(vkGetPhysicalDeviceSurfaceSupportKHR(candidate, f, surface_, &presents),
-            "vkGetPhysicalDeviceSurfaceSupportKHR");
+      VkBool32 presents = headless_ ? VK_TRUE : VK_FALSE;  // headless: nothing to present to
+      if (!headless_)
+        check(vkGetPhysicalDeviceSurfaceSupportKHR(candidate, f, surface_, &presents),
+              "vkGetPhysicalDeviceSurfaceSupportKHR");
       if ((families[f].queueFlags & VK_QUEUE_GRAPHICS_BIT) && presents) {
         physical_ = candidate;
         queue_family_ = f;
@@ -215,11 +222,12 @@ void Context::pickDevice(bool dynamic_rendering, bool vulkan13) {
       }
     }
     if (physical_) break;
-    reject("no queue that draws and presents to the window");
+    reject(headless_ ? "no graphics queue" : "no queue that draws and presents to the window");
   }
   if (!physical_)
-    throw std::runtime_error("no Vulkan device draws and presents to the X window (" + std::to_string(count) +
-                             " device(s)" + rejected + ")");
+    throw std::runtime_error(std::string(headless_ ? "no Vulkan device draws (headless)"
+                                                   : "no Vulkan device draws and presents to the X window") +
+                             " (" + std::to_string(count) + " device(s)" + rejected + ")");
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
 
   const float priority = 1.0f;
@@ -227,7 +235,8 @@ void Context::pickDevice(bool dynamic_rendering, bool vulkan13) {
   queue.queueFamilyIndex = queue_family_;
   queue.queueCount = 1;
   queue.pQueuePriorities = &priority;
-  std::vector<const char*> names = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+  std::vector<const char*> names;
+  if (!headless_) names.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   if (dynamic_rendering_extension) names.push_back(VK_KHR_DYNAMIC_RENDERING_EXTENSION_NAME);
   VkPhysicalDeviceDynamicRenderingFeatures rendering{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DYNAMIC_RENDERING_FEATURES};
   rendering.dynamicRendering = VK_TRUE;
@@ -370,8 +379,30 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
 }
 
 Swapchain::Swapchain(const Context& context, uint32_t width, uint32_t height, bool readable) : context_(context) {
-  VkPhysicalDevice physical = context.physicalDevice();
-  VkSurfaceKHR surface = context.surface();
+  try {
+    if (context.headless()) createHeadlessImages(width, height);
+    else createSwapchain(width, height, readable);
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+void Swapchain::createHeadlessImages(uint32_t width, uint32_t height) {
+  // What an offscreen renderer draws into: RGBA8, and readable by a copy whether or not frames are dumped.
+  format_ = VK_FORMAT_R8G8B8A8_UNORM;
+  extent_ = {width, height};
+  usage_ = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  for (uint32_t i = 0; i < kHeadlessImages; ++i) {
+    owned_.push_back(context_.createImage(width, height, format_, usage_, VK_IMAGE_ASPECT_COLOR_BIT));
+    images_.push_back(owned_.back().image);
+    views_.push_back(owned_.back().view);
+  }
+}
+
+void Swapchain::createSwapchain(uint32_t width, uint32_t height, bool readable) {
+  VkPhysicalDevice physical = context_.physicalDevice();
+  VkSurfaceKHR surface = context_.surface();
   VkSurfaceCapabilitiesKHR caps;
   check(vkGetPhysicalDeviceSurfaceCapabilitiesKHR(physical, surface, &caps), "vkGetPhysicalDeviceSurfaceCapabilitiesKHR");
   extent_ = caps.currentExtent.width != UINT32_MAX ? caps.currentExtent : VkExtent2D{width, height};
@@ -402,9 +433,8 @@ Swapchain::Swapchain(const Context& context, uint32_t width, uint32_t height, bo
   if (std::find(modes.begin(), modes.end(), VK_PRESENT_MODE_IMMEDIATE_KHR) != modes.end())
     present_mode_ = VK_PRESENT_MODE_IMMEDIATE_KHR;
 
-  const VkImageUsageFlags usage =
-      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (readable ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0);
-  if ((caps.supportedUsageFlags & usage) != usage)
+  usage_ = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (readable ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0);
+  if ((caps.supportedUsageFlags & usage_) != usage_)
     throw std::runtime_error("the window's swapchain images cannot be drawn into" +
                              std::string(readable ? " and read back (--dump-dir)" : ""));
   VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
@@ -414,7 +444,7 @@ Swapchain::Swapchain(const Context& context, uint32_t width, uint32_t height, bo
   info.imageColorSpace = color_space;
   info.imageExtent = extent_;
   info.imageArrayLayers = 1;
-  info.imageUsage = usage;
+  info.imageUsage = usage_;
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.preTransform = caps.currentTransform;
   info.compositeAlpha = (caps.supportedCompositeAlpha & VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR)
@@ -423,36 +453,49 @@ Swapchain::Swapchain(const Context& context, uint32_t width, uint32_t height, bo
                                                                        -caps.supportedCompositeAlpha);
   info.presentMode = present_mode_;
   info.clipped = VK_TRUE;
-  VkDevice device = context.device();
+  VkDevice device = context_.device();
   check(vkCreateSwapchainKHR(device, &info, nullptr, &swapchain_), "vkCreateSwapchainKHR");
-  try {
-    check(vkGetSwapchainImagesKHR(device, swapchain_, &count, nullptr), "vkGetSwapchainImagesKHR");
-    images_.resize(count);
-    check(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()), "vkGetSwapchainImagesKHR");
-    for (VkImage image : images_) views_.push_back(createImageView(device, image, format_, VK_IMAGE_ASPECT_COLOR_BIT));
-  } catch (...) {
-    release();
-    throw;
-  }
+  check(vkGetSwapchainImagesKHR(device, swapchain_, &count, nullptr), "vkGetSwapchainImagesKHR");
+  images_.resize(count);
+  check(vkGetSwapchainImagesKHR(device, swapchain_, &count, images_.data()), "vkGetSwapchainImagesKHR");
+  for (VkImage image : images_) views_.push_back(createImageView(device, image, format_, VK_IMAGE_ASPECT_COLOR_BIT));
 }
 
 Swapchain::~Swapchain() { release(); }
 
 void Swapchain::release() {
-  for (VkImageView view : views_) vkDestroyImageView(context_.device(), view, nullptr);
+  // Headless, the views belong to the owned images, destroyed with them.
+  if (owned_.empty())
+    for (VkImageView view : views_) vkDestroyImageView(context_.device(), view, nullptr);
+  for (Image& image : owned_) context_.destroy(image);
+  owned_.clear();
   views_.clear();
+  images_.clear();
   if (swapchain_) vkDestroySwapchainKHR(context_.device(), swapchain_, nullptr);
   swapchain_ = VK_NULL_HANDLE;
 }
 
+VkImageLayout Swapchain::finalLayout() const {
+  return headless() ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+}
+
 uint32_t Swapchain::acquire(VkSemaphore signal) const {
+  if (headless()) {
+    const uint32_t index = next_;
+    next_ = (next_ + 1) % static_cast<uint32_t>(images_.size());
+    return index;
+  }
   uint32_t index = 0;
   const VkResult result = vkAcquireNextImageKHR(context_.device(), swapchain_, UINT64_MAX, signal, VK_NULL_HANDLE, &index);
   if (result != VK_SUBOPTIMAL_KHR) check(result, "vkAcquireNextImageKHR");
   return index;
 }
 
-void Swapchain::present(uint32_t index, VkSemaphore wait) const {
+void Swapchain::present(uint32_t index, VkSemaphore wait, VkFence done) const {
+  if (headless()) {
+    check(vkWaitForFences(context_.device(), 1, &done, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+    return;
+  }
   VkPresentInfoKHR info{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   info.waitSemaphoreCount = 1;
   info.pWaitSemaphores = &wait;

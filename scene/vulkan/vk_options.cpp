@@ -13,6 +13,7 @@ VkSceneOptions parseVkOptions(const std::vector<std::string>& args) {
                  : name == "--host-visible-buffers" ? &o.host_visible_buffers
                  : name == "--full-push-constants"  ? &o.full_push_constants
                  : name == "--render-pass2"         ? &o.render_pass2
+                 : name == "--headless"             ? &o.headless
                                                     : nullptr;
     if (flag) {
       if (name != arg) throw OptionsError(name + " takes no value");
@@ -31,9 +32,9 @@ VkSceneOptions parseVkOptions(const std::vector<std::string>& args) {
 std::string vkUsage() {
   return "Usage: vk_test_scene [options]\n"
          "Renders test_scene's scene with Vulkan 1.2/1.3 into an X window's swapchain ($DISPLAY, e.g. Xvfb),\n"
-         "one vkQueuePresentKHR per frame: world matrices in push constants, the camera in a uniform\n"
-         "buffer at a dynamic offset, bones in a storage buffer. Knows nothing of capture; its oracle\n"
-         "equals test_scene's for the same options.\n" +
+         "one vkQueuePresentKHR per frame (--headless: into images of its own, nothing presented): world\n"
+         "matrices in push constants, the camera in a uniform buffer at a dynamic offset, bones in a\n"
+         "storage buffer. Knows nothing of capture; its oracle equals test_scene's for the same options.\n" +
          sharedOptionsUsage() +
          "  --dynamic-rendering vkCmdBeginRendering (Vulkan 1.3 / VK_KHR_dynamic_rendering), not render passes\n"
          "  --offscreen         draw the scene into an offscreen target, then onto the swapchain image with\n"
@@ -44,9 +45,12 @@ std::string vkUsage() {
          "  --render-pass2      Vulkan 1.2/1.3's structures: render passes made with vkCreateRenderPass2\n"
          "                      and begun with vkCmdBeginRenderPass2, imageless framebuffers, vkQueueSubmit2\n"
          "                      (needs Vulkan 1.3; not with --dynamic-rendering)\n"
+         "  --headless          no X connection, window, surface or swapchain: each frame is drawn into an\n"
+         "                      image of its own (R8G8B8A8_UNORM, a ring of two) and nothing is presented,\n"
+         "                      as an offscreen renderer does; combines with every flag above\n"
          "  --help              this text\n"
-         "Exit codes: 0 ok, 1 runtime failure (no X display, no Vulkan device, Vulkan error, file), 2 bad\n"
-         "command line.\n";
+         "Exit codes: 0 ok, 1 runtime failure (no X display without --headless, no Vulkan device, Vulkan\n"
+         "error, file), 2 bad command line.\n";
 }
 
 }  // namespace scene

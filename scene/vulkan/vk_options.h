@@ -9,7 +9,7 @@
 namespace viper {
 namespace scene {
 
-/// test_scene's options plus how vk_test_scene draws (all false: render pass, staging upload).
+/// test_scene's options plus how vk_test_scene draws (all false: render pass, staging upload, a window).
 struct VkSceneOptions {
   SceneOptions scene;
   bool dynamic_rendering = false;     ///< --dynamic-rendering
@@ -17,9 +17,10 @@ struct VkSceneOptions {
   bool host_visible_buffers = false;  ///< --host-visible-buffers
   bool full_push_constants = false;   ///< --full-push-constants
   bool render_pass2 = false;          ///< --render-pass2
+  bool headless = false;              ///< --headless
 };
 
-/// Parses argv[1..] as parseOptions does, plus the three flags above. Throws OptionsError as
+/// Parses argv[1..] as parseOptions does, plus the flags above. Throws OptionsError as
 /// parseOptions does, and for --gl-loader (an OpenGL option) or a flag given a value.
 VkSceneOptions parseVkOptions(const std::vector<std::string>& args);
 

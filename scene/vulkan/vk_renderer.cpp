@@ -280,13 +280,13 @@ void Renderer::createPipelines() {
   if (!modes_.dynamic_rendering) {
     scene_render_pass_ = createRenderPass(
         device_, scene_color, VK_ATTACHMENT_LOAD_OP_CLEAR,
-        modes_.offscreen ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, depth_format_,
+        modes_.offscreen ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : swapchain_.finalLayout(), depth_format_,
         modes_.render_pass2);
     scene.render_pass = scene_render_pass_;
     if (modes_.offscreen) {
       // The full-screen triangle covers every pixel: the old contents do not matter.
       composite_render_pass_ = createRenderPass(device_, swapchain_.format(), VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-                                                VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_FORMAT_UNDEFINED, modes_.render_pass2);
+                                                swapchain_.finalLayout(), VK_FORMAT_UNDEFINED, modes_.render_pass2);
       composite.render_pass = composite_render_pass_;
     }
   }
@@ -321,7 +321,7 @@ void Renderer::createFramebuffers() {
   if (modes_.dynamic_rendering) return;
   // --render-pass2: imageless framebuffers, their attachments described (usage and format as the
   // images were made) and given at each vkCmdBeginRenderPass2.
-  const VkImageUsageFlags swapchain_usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | (modes_.readable ? VK_IMAGE_USAGE_TRANSFER_SRC_BIT : 0);
+  const VkImageUsageFlags swapchain_usage = swapchain_.usage();
   const VkFormat swapchain_format = swapchain_.format();
   auto describe = [&](VkImageView view, VkImageUsageFlags& usage, const VkFormat*& format) {
     if (view == depth_.view) usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, format = &depth_format_;
@@ -377,12 +377,13 @@ void Renderer::createFrameObjects() {
   check(vkAllocateCommandBuffers(device_, &allocate, command_buffers_), "vkAllocateCommandBuffers");
   VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
-  const VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
-  for (uint32_t i = 0; i < kFramesInFlight; ++i) {
+  for (uint32_t i = 0; i < kFramesInFlight; ++i)
     check(vkCreateFence(device_, &fence, nullptr, &in_flight_[i]), "vkCreateFence");
-    check(vkCreateSemaphore(device_, &semaphore, nullptr, &acquired_[i]), "vkCreateSemaphore");
-  }
+  // Headless, nothing is acquired or presented: the frame's fence is all the synchronisation there is.
   rendered_.resize(swapchain_.imageCount(), VK_NULL_HANDLE);
+  if (swapchain_.headless()) return;
+  const VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+  for (VkSemaphore& s : acquired_) check(vkCreateSemaphore(device_, &semaphore, nullptr, &s), "vkCreateSemaphore");
   for (VkSemaphore& s : rendered_) check(vkCreateSemaphore(device_, &semaphore, nullptr, &s), "vkCreateSemaphore");
 }
 

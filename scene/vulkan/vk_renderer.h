@@ -1,6 +1,7 @@
-// Draws test_scene's frames with Vulkan into the window's swapchain, the ways engines do: the world
-// matrix in push constants, the camera in a uniform buffer at a dynamic offset, bones in a storage
-// buffer, meshes in device-local buffers filled through a staging buffer.
+// Draws test_scene's frames with Vulkan into the window's swapchain (or, headless, its stand-in, a
+// ring of plain images), the ways engines do: the world matrix in push constants, the camera in a
+// uniform buffer at a dynamic offset, bones in a storage buffer, meshes in device-local buffers
+// filled through a staging buffer.
 #pragma once
 
 #include "vk_context.h"
@@ -41,9 +42,9 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// Renders `frame` into the next swapchain image and presents it. With `rgb`, fills it with the
-  /// image as presented (rgb8, top row first); with `rgb` or `wait`, returns only after the GPU has
-  /// finished the frame. Throws VulkanError, or std::runtime_error if the frame has more skinned
+  /// Renders `frame` into the next swapchain image and presents it (headless: waits for it). With
+  /// `rgb`, fills it with the image as presented (rgb8, top row first); with `rgb` or `wait`, returns
+  /// only after the GPU has finished the frame. Throws VulkanError, or std::runtime_error if the frame has more skinned
   /// draws than the constructor was told.
   void drawAndPresent(const FrameState& frame, std::vector<uint8_t>* rgb, bool wait);
 
@@ -60,7 +61,7 @@ class Renderer {
     VkImageView color_view = VK_NULL_HANDLE;
     bool depth = false;          // clears and uses depth_
     bool clear = false;          // clears the colour to the sky, else does not care
-    bool sampled_after = false;  // ends in SHADER_READ_ONLY_OPTIMAL, else PRESENT_SRC_KHR
+    bool sampled_after = false;  // ends in SHADER_READ_ONLY_OPTIMAL, else the swapchain's finalLayout()
   };
 
   void release();
@@ -108,7 +109,7 @@ class Renderer {
   VkCommandPool command_pool_ = VK_NULL_HANDLE;
   VkCommandBuffer command_buffers_[kFramesInFlight] = {};
   VkFence in_flight_[kFramesInFlight] = {};
-  VkSemaphore acquired_[kFramesInFlight] = {};
+  VkSemaphore acquired_[kFramesInFlight] = {};  // null when headless, as rendered_'s
   std::vector<VkSemaphore> rendered_;  // per swapchain image: signalled by the frame's submit, waited by its present
   uint64_t frame_count_ = 0;
 };

@@ -55,15 +55,19 @@ void Renderer::drawAndPresent(const FrameState& frame, std::vector<uint8_t>* rgb
   record(commands, slot, image, frame);
   check(vkEndCommandBuffer(commands), "vkEndCommandBuffer");
 
+  // Headless, no semaphores (there is no presentation engine to wait for or to signal): only the fence.
+  const bool presents = !swapchain_.headless();
   const VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
   VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  submit.waitSemaphoreCount = 1;
-  submit.pWaitSemaphores = &acquired_[slot];
-  submit.pWaitDstStageMask = &wait_stage;
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &commands;
-  submit.signalSemaphoreCount = 1;
-  submit.pSignalSemaphores = &rendered_[image];
+  if (presents) {
+    submit.waitSemaphoreCount = 1;
+    submit.pWaitSemaphores = &acquired_[slot];
+    submit.pWaitDstStageMask = &wait_stage;
+    submit.signalSemaphoreCount = 1;
+    submit.pSignalSemaphores = &rendered_[image];
+  }
   if (modes_.render_pass2) {
     // synchronization2's submission: the same waits and signals.
     VkSemaphoreSubmitInfo wait{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
@@ -75,12 +79,14 @@ void Renderer::drawAndPresent(const FrameState& frame, std::vector<uint8_t>* rgb
     VkCommandBufferSubmitInfo buffer{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
     buffer.commandBuffer = commands;
     VkSubmitInfo2 submit2{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
-    submit2.waitSemaphoreInfoCount = 1;
-    submit2.pWaitSemaphoreInfos = &wait;
     submit2.commandBufferInfoCount = 1;
     submit2.pCommandBufferInfos = &buffer;
-    submit2.signalSemaphoreInfoCount = 1;
-    submit2.pSignalSemaphoreInfos = &signal;
+    if (presents) {
+      submit2.waitSemaphoreInfoCount = 1;
+      submit2.pWaitSemaphoreInfos = &wait;
+      submit2.signalSemaphoreInfoCount = 1;
+      submit2.pSignalSemaphoreInfos = &signal;
+    }
     check(vkQueueSubmit2(context_.queue(), 1, &submit2, in_flight_[slot]), "vkQueueSubmit2");
   } else {
     check(vkQueueSubmit(context_.queue(), 1, &submit, in_flight_[slot]), "vkQueueSubmit");
@@ -97,7 +103,7 @@ void Renderer::drawAndPresent(const FrameState& frame, std::vector<uint8_t>* rgb
       (*rgb)[3 * p + 2] = bgra[4 * p + (swap ? 0 : 2)];
     }
   }
-  swapchain_.present(image, rendered_[image]);
+  swapchain_.present(image, rendered_[image], in_flight_[slot]);
 }
 
 void Renderer::writeFrameData(uint32_t slot, const FrameState& frame) {
@@ -178,8 +184,10 @@ void Renderer::recordComposite(VkCommandBuffer commands) {
 
 void Renderer::recordReadback(VkCommandBuffer commands, uint32_t image) {
   // The pass that wrote the image made its writes available, up to the transfer stage, and left
-  // it PRESENT_SRC; this barrier chains on at that stage and makes them visible to the copy.
-  imageBarrier(commands, swapchain_.image(image), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+  // it in the swapchain's final layout (PRESENT_SRC, or headless already TRANSFER_SRC); this barrier
+  // chains on at that stage and makes them visible to the copy.
+  const VkImageLayout final_layout = swapchain_.finalLayout();
+  imageBarrier(commands, swapchain_.image(image), VK_IMAGE_ASPECT_COLOR_BIT, final_layout,
                VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT,
                VK_ACCESS_TRANSFER_READ_BIT);
   VkBufferImageCopy region{};
@@ -187,9 +195,9 @@ void Renderer::recordReadback(VkCommandBuffer commands, uint32_t image) {
   region.imageExtent = {width_, height_, 1};
   vkCmdCopyImageToBuffer(commands, swapchain_.image(image), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer, 1,
                          &region);
-  imageBarrier(commands, swapchain_.image(image), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-               VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
-               VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0);
+  if (final_layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
+    imageBarrier(commands, swapchain_.image(image), VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 final_layout, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0);
   VkBufferMemoryBarrier host{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
   host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
@@ -296,10 +304,10 @@ void Renderer::endPass(VkCommandBuffer commands, const Pass& pass) {
     return;
   }
   context_.cmdEndRendering(commands);
-  // As the render pass's outgoing dependency: to sampling, or to presentation (and the dump's copy,
-  // whose barrier makes the writes visible to it).
+  // As the render pass's outgoing dependency: to sampling, or to presentation (headless, to the
+  // transfer layout) and the dump's copy, whose barrier makes the writes visible to it.
   imageBarrier(commands, pass.color_image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-               pass.sampled_after ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+               pass.sampled_after ? VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL : swapchain_.finalLayout(),
                VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
                pass.sampled_after ? VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT : VK_PIPELINE_STAGE_TRANSFER_BIT,
                pass.sampled_after ? VK_ACCESS_SHADER_READ_BIT : 0);

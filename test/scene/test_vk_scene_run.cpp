@@ -1,7 +1,8 @@
 // Runs the real vk_test_scene binary under a private Xvfb, in every way it draws (render passes,
 // dynamic rendering, offscreen with a composite and a HUD, host-visible buffers), each time under the
 // Khronos validation layer (with synchronisation validation), and compares it with test_scene: the
-// same oracle to the byte, nearly the same pictures.
+// same oracle to the byte, nearly the same pictures. --headless runs without any display and must
+// draw the windowed runs' frames to the byte.
 #include "../common/process_util.h"
 #include "viper/ground_truth/oracle.h"
 
@@ -125,6 +126,29 @@ std::string frameName(int n) {
   return name;
 }
 
+size_t modeIndex(const std::string& name) {
+  for (size_t m = 0; m < kModes.size(); ++m)
+    if (name == kModes[m].name) return m;
+  ADD_FAILURE() << "no mode " << name;
+  return 0;
+}
+
+// The lines of a run's log that the validation layer wrote (errors, warnings, hazards).
+std::string validationReports(const std::string& log) {
+  std::stringstream lines(log);
+  std::string line, reported;
+  while (std::getline(lines, line))
+    if (line.find("Validation") != std::string::npos || line.find("VUID-") != std::string::npos ||
+        line.find("SYNC-HAZARD") != std::string::npos)
+      reported += line + "\n";
+  return reported;
+}
+
+// The loader's own report (VK_LOADER_DEBUG=layer): the layer really was in the chain.
+bool layerInserted(const std::string& log) {
+  return log.find("Insert instance layer \"VK_LAYER_KHRONOS_validation\"") != std::string::npos;
+}
+
 class VkSceneRun : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -147,8 +171,10 @@ class VkSceneRun : public ::testing::Test {
            "khronos_validation.debug_action = VK_DBG_LAYER_ACTION_LOG_MSG\n"
            "khronos_validation.enables = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT\n";
     env_ = "env DISPLAY=" + xvfb_->display() + " XDG_RUNTIME_DIR=" + xdg.string() + " ";
-    validated_env_ = env_ + "VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation VK_LAYER_SETTINGS_PATH=" + dir_ +
-                     " VK_LOADER_DEBUG=layer ";
+    const std::string validation =
+        "VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation VK_LAYER_SETTINGS_PATH=" + dir_ + " VK_LOADER_DEBUG=layer ";
+    validated_env_ = env_ + validation;
+    headless_env_ = "env -u DISPLAY XDG_RUNTIME_DIR=" + xdg.string() + " " + validation;
 
     const std::string probe_log = dir_ + "/probe.log";
     if (test::run(env_ + VIPER_VK_TEST_SCENE_BIN " --frames 1 --width 64 --height 48 >" + probe_log + " 2>&1") != 0 &&
@@ -173,12 +199,13 @@ class VkSceneRun : public ::testing::Test {
     if (!skip_.empty()) GTEST_SKIP() << skip_;
   }
 
-  static std::string dir_, env_, validated_env_, skip_;
+  static std::string dir_, env_, validated_env_, headless_env_, skip_;
   static PrivateXvfb* xvfb_;
   static int gl_status_;
   static std::vector<int> status_;  // by kModes
 };
-std::string VkSceneRun::dir_, VkSceneRun::env_, VkSceneRun::validated_env_, VkSceneRun::skip_;
+std::string VkSceneRun::dir_, VkSceneRun::env_, VkSceneRun::validated_env_, VkSceneRun::headless_env_,
+    VkSceneRun::skip_;
 PrivateXvfb* VkSceneRun::xvfb_ = nullptr;
 int VkSceneRun::gl_status_ = -1;
 std::vector<int> VkSceneRun::status_;
@@ -188,15 +215,38 @@ TEST_F(VkSceneRun, EveryModeRunsCleanUnderTheValidationLayer) {
     SCOPED_TRACE(kModes[m].name);
     const std::string log = test::readFile(dir_ + "/" + kModes[m].name + ".log");
     EXPECT_EQ(status_[m], 0) << log;
-    // The loader's own report (VK_LOADER_DEBUG=layer): the layer really was in the chain.
-    EXPECT_NE(log.find("Insert instance layer \"VK_LAYER_KHRONOS_validation\""), std::string::npos) << log;
-    std::stringstream lines(log);
-    std::string line, reported;
-    while (std::getline(lines, line))
-      if (line.find("Validation") != std::string::npos || line.find("VUID-") != std::string::npos ||
-          line.find("SYNC-HAZARD") != std::string::npos)
-        reported += line + "\n";
-    EXPECT_EQ(reported, "");
+    EXPECT_TRUE(layerInserted(log)) << log;
+    EXPECT_EQ(validationReports(log), "");
+  }
+}
+
+TEST_F(VkSceneRun, HeadlessDrawsTheWindowedFramesWithoutADisplay) {
+  // No DISPLAY at all: a run that opened X would fail. The scene is the same, only the image it is
+  // drawn into differs (its own R8G8B8A8 rather than the swapchain's), so the dumped frames and the
+  // oracle are the windowed run's to the byte, in each way of drawing.
+  for (const char* name : {"render_pass", "dynamic_rendering", "render_pass2", "offscreen"}) {
+    SCOPED_TRACE(name);
+    const size_t m = modeIndex(name);
+    ASSERT_EQ(status_[m], 0);
+    const std::string base = dir_ + "/headless_" + name;
+    const int status = test::run(headless_env_ + VIPER_VK_TEST_SCENE_BIN " " + kCommon + " " + kModes[m].flags +
+                                 " --headless --oracle " + base + ".oracle --dump-dir " + base + " >" + base +
+                                 ".log 2>&1");
+    const std::string log = test::readFile(base + ".log");
+    ASSERT_EQ(status, 0) << log;
+    EXPECT_NE(log.find("headless"), std::string::npos) << log;
+    EXPECT_TRUE(layerInserted(log)) << log;
+    EXPECT_EQ(validationReports(log), "");
+    const std::string oracle = test::readFile(base + ".oracle");
+    EXPECT_FALSE(oracle.empty());
+    EXPECT_TRUE(oracle == test::readFile(dir_ + "/" + name + ".oracle")) << "the oracles differ";
+    for (int n = 0; n < kFrames; ++n) {
+      SCOPED_TRACE("frame " + std::to_string(n));
+      const std::string headless = test::readFile((fs::path(base) / frameName(n)).string());
+      ASSERT_TRUE(readPpm(fs::path(base) / frameName(n)).valid());
+      // Not EXPECT_EQ: a failure would print two 230 KB strings.
+      EXPECT_TRUE(headless == test::readFile((fs::path(dir_) / name / frameName(n)).string())) << "the frames differ";
+    }
   }
 }
 
@@ -286,6 +336,7 @@ TEST(VkSceneOptions, ClearErrorsAndExitCodes) {
   fs::remove(log);
   EXPECT_EQ(test::run(bin + " --gl-loader direct >/dev/null 2>&1"), 2);
   EXPECT_EQ(test::run(bin + " --offscreen=yes >/dev/null 2>&1"), 2);
+  EXPECT_EQ(test::run(bin + " --headless=yes >/dev/null 2>&1"), 2);
   EXPECT_EQ(test::run(bin + " --frames 0 >/dev/null 2>&1"), 2);
   EXPECT_EQ(test::run(bin + " --no-such-option >/dev/null 2>&1"), 2);
   EXPECT_EQ(test::run(bin + " --help >/dev/null 2>&1"), 0);

@@ -150,7 +150,12 @@ INSTANTIATE_TEST_SUITE_P(Modes, VulkanCapture,
                                            // Vulkan 1.2/1.3's structures: vkCreateRenderPass2,
                                            // imageless framebuffers, vkQueueSubmit2.
                                            Mode{"render_pass2", "--render-pass2"},
-                                           Mode{"render_pass2_offscreen", "--render-pass2 --offscreen"}),
+                                           Mode{"render_pass2_offscreen", "--render-pass2 --offscreen"},
+                                           // No swapchain: a frame ends with each submission of the
+                                           // scene pass, its colour the pass's own.
+                                           Mode{"headless", "--headless"},
+                                           Mode{"headless_dynamic_rendering", "--headless --dynamic-rendering"},
+                                           Mode{"headless_render_pass2", "--headless --render-pass2"}),
                          [](const ::testing::TestParamInfo<Mode>& info) { return std::string(info.param.name); });
 
 // The Khronos validation layer, below ours, sees every call the program and the layer make: the
@@ -159,7 +164,8 @@ TEST(VulkanCaptureValidation, AddsNoValidationError) {
   if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
   if (!fs::exists("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json"))
     GTEST_SKIP() << "vulkan-validationlayers not installed";
-  for (const char* flags : {"", "--dynamic-rendering --offscreen", "--full-push-constants", "--render-pass2 --offscreen"}) {
+  for (const char* flags :
+       {"", "--dynamic-rendering --offscreen", "--full-push-constants", "--render-pass2 --offscreen", "--headless"}) {
     SCOPED_TRACE(flags);
     const std::string log = dir() + "/validation.log";
     ASSERT_EQ(underXvfb(capture(dir() + "/validation.vcap", flags, "env VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation"), log), 0)
@@ -192,7 +198,8 @@ TEST(VulkanCaptureValidation, WithoutAnOutputTheLayerOnlyPassesCallsOn) {
 // capture whole. `capture --library` the sanitized GL layer preloads the sanitizer's runtime first.
 TEST(VulkanCaptureSanitized, AddressAndUndefinedBehaviorSanitizersFindNothing) {
   if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
-  for (const char* flags : {"", "--dynamic-rendering --offscreen --full-push-constants", "--render-pass2 --host-visible-buffers"}) {
+  for (const char* flags : {"", "--dynamic-rendering --offscreen --full-push-constants", "--render-pass2 --host-visible-buffers",
+                            "--headless --dynamic-rendering"}) {
     SCOPED_TRACE(flags);
     const std::string log = dir() + "/asan.log";
     const std::string command =

@@ -1,7 +1,8 @@
 // The Vulkan layer's frames: recordings join the frame when they are submitted; at each present
-// the presented image is copied out, the frame's depth and ids are read from the scene pass's
-// copies, every recorded draw becomes a DrawRecord (matrices in OpenGL's conventions, mesh from
-// its buffers) and the frame goes to the same FrameSink the OpenGL layer writes with.
+// the presented image is copied out (a program without a swapchain: after each submission with a
+// scene pass, the pass's colour), the frame's depth and ids are read from the scene pass's copies,
+// every recorded draw becomes a DrawRecord (matrices in OpenGL's conventions, mesh from its
+// buffers) and the frame goes to the same FrameSink the OpenGL layer writes with.
 #include "capture_layer.h"
 
 #include "../layer/capture_settings.h"
@@ -448,6 +449,7 @@ void Layer::freeRecording(Device& d, Recording& r) {
     const VkDeviceSize pixels = static_cast<VkDeviceSize>(p.width) * p.height;
     releaseReadbackBuffer(d, pixels * 16, p.id_buffer, p.id_memory);
     releaseReadbackBuffer(d, pixels * 4, p.depth_buffer, p.depth_memory);
+    releaseReadbackBuffer(d, pixels * 4, p.color_buffer, p.color_memory);
   }
   r.passes.clear();
 }
@@ -714,18 +716,65 @@ void keyUploads(Device& d, const Recording& r) {
 }
 
 // A submitted command buffer's recording joins the frame (and those of the secondaries it
-// executes), its matrices read from their buffers now, the textures it uploads keyed.
-void joinFrame(Device& d, VkCommandBuffer cb) {
+// executes), its matrices read from their buffers now, the textures it uploads keyed. Returns
+// whether it drew into a pass whose ids are read back.
+bool hasScenePass(const Recording& r) {
+  return std::any_of(r.passes.begin(), r.passes.end(), [](const PassCapture& p) { return p.id_buffer != VK_NULL_HANDLE; });
+}
+
+bool joinFrame(Device& d, VkCommandBuffer cb) {
   auto r = d.recordings.find(cb);
-  if (r == d.recordings.end()) return;
+  if (r == d.recordings.end()) return false;
   keyUploads(d, *r->second);
   readSubmittedMatrices(d, *r->second);
   d.frame.push_back(r->second);
+  bool scene = hasScenePass(*r->second);
   for (VkCommandBuffer secondary : r->second->executed) {
     auto sr = d.recordings.find(secondary);
     if (sr == d.recordings.end()) continue;
     readSubmittedMatrices(d, *sr->second);
     d.frame.push_back(sr->second);
+    scene |= hasScenePass(*sr->second);
+  }
+  return scene;
+}
+
+// A program without a swapchain (an offscreen renderer) presents nothing: its frame ends with each
+// submission that carries a scene pass. The device is waited for, and the frame's colour is the
+// scene pass's colour attachment (copied at the pass's end; the pass with the most draws with ids,
+// as finishFrame chooses it).
+void endSubmittedFrame(Device& d) {
+  Layer& layer = Layer::get();
+  std::unique_lock<std::mutex> lock(layer.mutex());
+  if (layer.presentsSeen()++ < layer.skipFrames()) {
+    endFrame(d);
+    return;
+  }
+  const PassCapture* scene = nullptr;
+  for (const std::shared_ptr<Recording>& r : d.frame)
+    for (const PassCapture& p : r->passes)
+      if (p.id_buffer && (!scene || p.id_draws >= scene->id_draws)) scene = &p;
+  if (!scene) {
+    endFrame(d);
+    return;
+  }
+  d.vk.DeviceWaitIdle(d.device);
+  void* color = nullptr;
+  if (!scene->color_memory || d.vk.MapMemory(d.device, scene->color_memory, 0, VK_WHOLE_SIZE, 0, &color) != VK_SUCCESS) {
+    color = nullptr;
+    layer.reportOnce("frames without colour: the scene pass of a program without a swapchain has no colour "
+                     "attachment the layer can copy (8-bit RGBA or BGRA, made while the layer was loaded)");
+  }
+  const bool bgra = scene->color_format == VK_FORMAT_B8G8R8A8_UNORM || scene->color_format == VK_FORMAT_B8G8R8A8_SRGB;
+  const bool go_on = layer.finishFrame(d, static_cast<const uint8_t*>(color), bgra, scene->width, scene->height);
+  if (color) d.vk.UnmapMemory(d.device, scene->color_memory);
+  endFrame(d);
+  lock.unlock();
+  if (!go_on) {
+    std::fprintf(stderr, "[viper capture] captured the frames asked for, stopping the program\n");
+    layer.shutdown();
+    std::fflush(nullptr);
+    std::_Exit(0);
   }
 }
 
@@ -734,26 +783,35 @@ void joinFrame(Device& d, VkCommandBuffer cb) {
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const VkSubmitInfo* submits, VkFence fence) {
   Device& d = deviceOf(queue);
   Layer& layer = Layer::get();
+  bool frame_ends = false;
   if (layer.capturing()) {
     Lock lock(layer.mutex());
     for (uint32_t s = 0; s < count; ++s)
-      for (uint32_t c = 0; c < submits[s].commandBufferCount; ++c) joinFrame(d, submits[s].pCommandBuffers[c]);
+      for (uint32_t c = 0; c < submits[s].commandBufferCount; ++c)
+        frame_ends |= joinFrame(d, submits[s].pCommandBuffers[c]);
     layer.unmapLayerMappings(d);
+    frame_ends &= d.swapchains.empty();
   }
-  return d.vk.QueueSubmit(queue, count, submits, fence);
+  const VkResult r = d.vk.QueueSubmit(queue, count, submits, fence);
+  if (frame_ends && r == VK_SUCCESS) endSubmittedFrame(d);
+  return r;
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit2(VkQueue queue, uint32_t count, const VkSubmitInfo2* submits, VkFence fence) {
   Device& d = deviceOf(queue);
   Layer& layer = Layer::get();
+  bool frame_ends = false;
   if (layer.capturing()) {
     Lock lock(layer.mutex());
     for (uint32_t s = 0; s < count; ++s)
       for (uint32_t c = 0; c < submits[s].commandBufferInfoCount; ++c)
-        joinFrame(d, submits[s].pCommandBufferInfos[c].commandBuffer);
+        frame_ends |= joinFrame(d, submits[s].pCommandBufferInfos[c].commandBuffer);
     layer.unmapLayerMappings(d);
+    frame_ends &= d.swapchains.empty();
   }
-  return d.vk.QueueSubmit2(queue, count, submits, fence);
+  const VkResult r = d.vk.QueueSubmit2(queue, count, submits, fence);
+  if (frame_ends && r == VK_SUCCESS) endSubmittedFrame(d);
+  return r;
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInfoKHR* info) {
@@ -801,24 +859,16 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
     bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     d.vk.BeginCommandBuffer(cb, &bi);
     const VkImage image = swapchain.images[info->pImageIndices[0]];
-    VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-    barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    barrier.oldLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
-    barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-    barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    barrier.image = image;
-    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    VkImageMemoryBarrier barrier = imageBarrier(image, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                                VK_ACCESS_MEMORY_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
                             nullptr, 1, &barrier);
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {width, height, 1};
     d.vk.CmdCopyImageToBuffer(cb, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer, 1, &region);
-    barrier.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    barrier.dstAccessMask = 0;
-    barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-    barrier.newLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+    barrier = imageBarrier(image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+                           VK_ACCESS_TRANSFER_READ_BIT, 0);
     d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr, 0,
                             nullptr, 1, &barrier);
     d.vk.EndCommandBuffer(cb);

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <tuple>
+#include <vector>
 
 #define VIPER_VK_EXPORT extern "C" __attribute__((visibility("default")))
 
@@ -24,6 +26,11 @@ Device& dev(T handle) {
 }
 
 constexpr VkFormat kIdFormat = VK_FORMAT_R32G32B32A32_UINT;
+
+bool isReadableColorFormat(VkFormat f) {
+  return f == VK_FORMAT_R8G8B8A8_UNORM || f == VK_FORMAT_R8G8B8A8_SRGB || f == VK_FORMAT_B8G8R8A8_UNORM ||
+         f == VK_FORMAT_B8G8R8A8_SRGB;
+}
 
 bool isDepthFormat(VkFormat f) {
   return f == VK_FORMAT_D16_UNORM || f == VK_FORMAT_X8_D24_UNORM_PACK32 || f == VK_FORMAT_D32_SFLOAT ||
@@ -240,6 +247,13 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateImage(VkDevice device, const VkImageCreateI
                      (info->usage & VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT) &&
                      info->samples == VK_SAMPLE_COUNT_1_BIT;
   if (depth) copy.usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  // On a device without a swapchain (a program that never presents), the frame's colour is read
+  // from the scene pass's colour attachment: 8-bit RGBA colour attachments can be copied from.
+  if (L().capturing() && isReadableColorFormat(info->format) && (info->usage & VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT) &&
+      info->samples == VK_SAMPLE_COUNT_1_BIT) {
+    Lock lock(L().mutex());
+    if (d.swapchains.empty()) copy.usage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  }
   const VkResult r = d.vk.CreateImage(device, &copy, alloc, out);
   if (r == VK_SUCCESS && L().capturing()) {
     Lock lock(L().mutex());
@@ -356,6 +370,7 @@ struct EditedRenderPass {
     }
     rp.id_location.assign(info->subpassCount, -1);
     rp.depth_attachment.assign(info->subpassCount, -1);
+    rp.color_attachment.assign(info->subpassCount, -1);
     attachments.assign(info->pAttachments, info->pAttachments + info->attachmentCount);
     subpasses.assign(info->pSubpasses, info->pSubpasses + info->subpassCount);
     colors.resize(info->subpassCount);
@@ -366,6 +381,8 @@ struct EditedRenderPass {
       if (!sp.pDepthStencilAttachment || sp.pDepthStencilAttachment->attachment == VK_ATTACHMENT_UNUSED) continue;
       const uint32_t depth = sp.pDepthStencilAttachment->attachment;
       rp.depth_attachment[s] = static_cast<int>(depth);
+      if (sp.colorAttachmentCount > 0 && sp.pColorAttachments[0].attachment != VK_ATTACHMENT_UNUSED)
+        rp.color_attachment[s] = static_cast<int>(sp.pColorAttachments[0].attachment);
       if (attachments[depth].samples != VK_SAMPLE_COUNT_1_BIT || P::multiview(sp)) {
         rp.why_no_ids = P::multiview(sp) ? "multiview subpass" : "multisampled depth attachment";
         continue;
@@ -1086,9 +1103,29 @@ VKAPI_ATTR void VKAPI_CALL CmdNextSubpass2(VkCommandBuffer cb, const VkSubpassBe
 }
 
 // At the end of a render pass instance that drew recorded draws with ids: its depth and ids are
-// copied into buffers of the layer's, read at the frame's present.
-void copyImages(Device& d, VkCommandBuffer cb, PassCapture& pc, VkImage id_image, VkImage depth_image,
-                VkImageLayout depth_layout);
+// copied into buffers of the layer's, read at the frame's present (and its colour, on a device
+// without a swapchain: read when the frame's submission is done).
+struct PassImage {
+  VkImage image = VK_NULL_HANDLE;
+  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;  ///< where the pass left it, and leaves it again
+  VkFormat format = VK_FORMAT_UNDEFINED;
+};
+void copyImages(Device& d, VkCommandBuffer cb, PassCapture& pc, VkImage id_image, PassImage depth, PassImage color);
+
+// The pass's colour image to copy: its first colour attachment's, when the device has no swapchain
+// and the image can be copied from.
+PassImage colorToCopy(Device& d, VkImageView view, VkImageLayout layout) {
+  if (!d.swapchains.empty() || !view) return {};
+  auto v = d.views.find(view);
+  if (v == d.views.end() || !isReadableColorFormat(v->second.format)) return {};
+  auto usage = d.image_usage.find(v->second.image);
+  if (usage == d.image_usage.end() || !(usage->second & VK_IMAGE_USAGE_TRANSFER_SRC_BIT)) {
+    L().reportOnce("a scene colour attachment that cannot be copied from (made before the layer was loaded, or "
+                   "with a format other than 8-bit RGBA/BGRA): frames without colour");
+    return {};
+  }
+  return {v->second.image, layout, v->second.format};
+}
 
 void copyPassImages(Device& d, VkCommandBuffer cb, Recording& r) {
   if (r.pass < 0) return;
@@ -1097,71 +1134,72 @@ void copyPassImages(Device& d, VkCommandBuffer cb, Recording& r) {
   auto rp = d.render_passes.find(r.render_pass);
   if (fb == d.framebuffers.end() || rp == d.render_passes.end() || !fb->second.ids.image || pc.id_draws == 0) return;
   pc.width = fb->second.width, pc.height = fb->second.height;
-  // The depth attachment of the subpass that had the ids (the first such).
-  int depth_attachment = -1;
+  // The depth and colour attachments of the subpass that had the ids (the first such).
+  int depth_attachment = -1, color_attachment = -1;
   for (size_t s = 0; s < rp->second.id_location.size(); ++s)
     if (rp->second.id_location[s] >= 0) {
       depth_attachment = rp->second.depth_attachment[s];
+      color_attachment = rp->second.color_attachment[s];
       break;
     }
-  VkImage depth_image = VK_NULL_HANDLE;
-  VkImageLayout depth_layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  PassImage depth, color;
   const std::vector<VkImageView>& views = fb->second.imageless ? r.pass_views : fb->second.views;
   if (depth_attachment >= 0 && static_cast<size_t>(depth_attachment) < views.size()) {
     auto view = d.views.find(views[static_cast<size_t>(depth_attachment)]);
     if (view != d.views.end() && d.depth_images.count(view->second.image)) {
-      depth_image = view->second.image;
+      depth = {view->second.image, rp->second.final_layouts[static_cast<size_t>(depth_attachment)], view->second.format};
       pc.depth_format = view->second.format;
-      depth_layout = rp->second.final_layouts[static_cast<size_t>(depth_attachment)];
     }
   }
-  copyImages(d, cb, pc, fb->second.ids.image, depth_image, depth_layout);
+  if (color_attachment >= 0 && static_cast<size_t>(color_attachment) < views.size())
+    color = colorToCopy(d, views[static_cast<size_t>(color_attachment)],
+                        rp->second.final_layouts[static_cast<size_t>(color_attachment)]);
+  copyImages(d, cb, pc, fb->second.ids.image, depth, color);
 }
 
-// Records the copies of a pass's ids (in COLOR_ATTACHMENT_OPTIMAL) and depth (in `depth_layout`,
-// where it is left again) into the layer's buffers, read at the frame's present.
-void copyImages(Device& d, VkCommandBuffer cb, PassCapture& pc, VkImage id_image, VkImage depth_image,
-                VkImageLayout depth_layout) {
+// Records the copies of a pass's ids (in COLOR_ATTACHMENT_OPTIMAL), depth and colour (each in the
+// layout the pass left it in, where it is left again) into the layer's buffers, read with the frame.
+void copyImages(Device& d, VkCommandBuffer cb, PassCapture& pc, VkImage id_image, PassImage depth, PassImage color) {
   const VkDeviceSize pixels = static_cast<VkDeviceSize>(pc.width) * pc.height;
   if (!L().createReadbackBuffer(d, pixels * 16, pc.id_buffer, pc.id_memory)) return;
-  if (depth_image && !L().createReadbackBuffer(d, pixels * 4, pc.depth_buffer, pc.depth_memory)) depth_image = VK_NULL_HANDLE;
+  if (depth.image && !L().createReadbackBuffer(d, pixels * 4, pc.depth_buffer, pc.depth_memory)) depth = {};
+  if (color.image && !L().createReadbackBuffer(d, pixels * 4, pc.color_buffer, pc.color_memory)) color = {};
+  if (color.image) pc.color_format = color.format;
 
-  VkImageMemoryBarrier barriers[2] = {{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER}, {VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER}};
-  barriers[0].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  barriers[0].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  barriers[0].oldLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-  barriers[0].newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  barriers[0].srcQueueFamilyIndex = barriers[0].dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  barriers[0].image = id_image;
-  barriers[0].subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
   const VkImageAspectFlags depth_aspect =
       pc.depth_format == VK_FORMAT_D16_UNORM || pc.depth_format == VK_FORMAT_D32_SFLOAT ||
               pc.depth_format == VK_FORMAT_X8_D24_UNORM_PACK32
           ? VK_IMAGE_ASPECT_DEPTH_BIT
           : VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT;
-  barriers[1] = barriers[0];
-  barriers[1].srcAccessMask = VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-  barriers[1].oldLayout = depth_layout;
-  barriers[1].image = depth_image;
-  barriers[1].subresourceRange = {depth_aspect, 0, 1, 0, 1};
+  std::vector<VkImageMemoryBarrier> to, back;
+  to.push_back(imageBarrier(id_image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                            VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT));
+  for (const auto& [image, aspect, written] :
+       {std::tuple{depth, depth_aspect, VkAccessFlags(VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT)},
+        std::tuple{color, VkImageAspectFlags(VK_IMAGE_ASPECT_COLOR_BIT), VkAccessFlags(VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT)}}) {
+    if (!image.image) continue;
+    to.push_back(imageBarrier(image.image, image.layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, written,
+                              VK_ACCESS_TRANSFER_READ_BIT, aspect));
+    // Back to the layout the program's pass left it in.
+    back.push_back(imageBarrier(image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, image.layout, VK_ACCESS_TRANSFER_READ_BIT,
+                                VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT, aspect));
+  }
   d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT,
-                          VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, depth_image ? 2 : 1, barriers);
+                          VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, static_cast<uint32_t>(to.size()),
+                          to.data());
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {pc.width, pc.height, 1};
   d.vk.CmdCopyImageToBuffer(cb, id_image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.id_buffer, 1, &region);
-  if (depth_image) {
+  if (color.image)
+    d.vk.CmdCopyImageToBuffer(cb, color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.color_buffer, 1, &region);
+  if (depth.image) {
     region.imageSubresource.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
-    d.vk.CmdCopyImageToBuffer(cb, depth_image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.depth_buffer, 1, &region);
-    // Back to the layout the program's render pass left it in.
-    VkImageMemoryBarrier back = barriers[1];
-    back.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-    back.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    back.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-    back.newLayout = depth_layout;
-    d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0,
-                            nullptr, 1, &back);
+    d.vk.CmdCopyImageToBuffer(cb, depth.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, pc.depth_buffer, 1, &region);
   }
+  if (!back.empty())
+    d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0,
+                            nullptr, static_cast<uint32_t>(back.size()), back.data());
   VkMemoryBarrier host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
@@ -1227,15 +1265,16 @@ VKAPI_ATTR void VKAPI_CALL CmdBeginRendering(VkCommandBuffer cb, const VkRenderi
       r->rendering_depth_format = di.format;
       r->rendering_width = di.width;
       r->rendering_height = di.height;
+      const PassImage color = info->colorAttachmentCount > 0
+                                  ? colorToCopy(d, info->pColorAttachments[0].imageView, info->pColorAttachments[0].imageLayout)
+                                  : PassImage{};
+      r->rendering_color = color.image;
+      r->rendering_color_layout = color.layout;
+      r->rendering_color_format = color.format;
       // The id image enters the layout the attachment names (its contents are cleared anyway).
-      VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-      barrier.srcAccessMask = 0;
-      barrier.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-      barrier.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-      barrier.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-      barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      barrier.image = ids.image;
-      barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      const VkImageMemoryBarrier barrier = imageBarrier(ids.image, VK_IMAGE_LAYOUT_UNDEFINED,
+                                                        VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
+                                                        VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
       d.vk.CmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
                               VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
     }
@@ -1253,7 +1292,8 @@ VKAPI_ATTR void VKAPI_CALL CmdEndRendering(VkCommandBuffer cb) {
     PassCapture& pc = r->passes[static_cast<size_t>(r->pass)];
     pc.width = r->rendering_width, pc.height = r->rendering_height;
     pc.depth_format = r->rendering_depth_format;
-    copyImages(d, cb, pc, r->rendering_ids, r->rendering_depth, r->rendering_depth_layout);
+    copyImages(d, cb, pc, r->rendering_ids, {r->rendering_depth, r->rendering_depth_layout, r->rendering_depth_format},
+               {r->rendering_color, r->rendering_color_layout, r->rendering_color_format});
   }
   r->rendering = false;
   r->pass = -1;

@@ -29,6 +29,21 @@ void* dispatchKey(T handle) {
   return *reinterpret_cast<void**>(handle);
 }
 
+/// A layout transition of an image's first mip level and layer (the layer's copies), no ownership
+/// transfer.
+inline VkImageMemoryBarrier imageBarrier(VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags src,
+                                         VkAccessFlags dst, VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT) {
+  VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  b.srcAccessMask = src;
+  b.dstAccessMask = dst;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {aspect, 0, 1, 0, 1};
+  return b;
+}
+
 struct InstanceData {
   VkInstance instance = VK_NULL_HANDLE;
   PFN_vkGetInstanceProcAddr next_gipa = nullptr;
@@ -88,6 +103,7 @@ struct RenderPassInfo {
   uint32_t attachment_count = 0;  ///< the program's own
   std::vector<int> id_location;   ///< per subpass
   std::vector<int> depth_attachment;  ///< per subpass, -1 none
+  std::vector<int> color_attachment;  ///< per subpass: its first colour attachment, -1 none
   std::vector<VkFormat> formats;  ///< per attachment (the program's)
   std::vector<VkImageLayout> final_layouts;
   std::string why_no_ids;  ///< empty when ids are written
@@ -252,6 +268,11 @@ struct PassCapture {
   VkFormat depth_format = VK_FORMAT_UNDEFINED;
   VkBuffer depth_buffer = VK_NULL_HANDLE, id_buffer = VK_NULL_HANDLE;
   VkDeviceMemory depth_memory = VK_NULL_HANDLE, id_memory = VK_NULL_HANDLE;
+  /// The pass's colour (its first colour attachment), copied only on a device without a swapchain:
+  /// there the frame's colour is the scene pass's, not a presented image's.
+  VkFormat color_format = VK_FORMAT_UNDEFINED;
+  VkBuffer color_buffer = VK_NULL_HANDLE;
+  VkDeviceMemory color_memory = VK_NULL_HANDLE;
   uint32_t id_draws = 0;
 };
 
@@ -274,6 +295,9 @@ struct Recording {
   VkImageLayout rendering_depth_layout = VK_IMAGE_LAYOUT_UNDEFINED;
   VkFormat rendering_depth_format = VK_FORMAT_UNDEFINED;
   uint32_t rendering_width = 0, rendering_height = 0;
+  VkImage rendering_color = VK_NULL_HANDLE;  ///< the rendering's first colour attachment's image
+  VkImageLayout rendering_color_layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkFormat rendering_color_format = VK_FORMAT_UNDEFINED;
   int pass = -1;
   std::map<uint32_t, std::pair<VkBuffer, VkDeviceSize>> vertex_buffers;
   VkBuffer index_buffer = VK_NULL_HANDLE;

@@ -1,11 +1,13 @@
 // The Vulkan capture layer on our Vulkan oracle program (vk_test_scene) in every way it draws:
 // render passes, dynamic rendering, an offscreen scene composited under a HUD, staged and
-// host-visible buffers. Each capture is compared with the program's own truth (its oracle: draws,
+// host-visible buffers, the staged ones also read through the layer's shadows of their copies as
+// on a discrete GPU. Each capture is compared with the program's own truth (its oracle: draws,
 // matrices, meshes) exactly, its ids and depth against the reprojected meshes, its pictures with
 // the program's own, frame by frame, with and without the layer; and the layer adds no error of
 // the Khronos validation layer. Each run gets its own Xvfb (xvfb-run).
 #include "../common/process_util.h"
 #include "capture_checks.h"
+#include "src/capture/vulkan/vk_state.h"
 #include "viper/ground_truth/capture_invariants.h"
 #include "viper/ground_truth/oracle.h"
 
@@ -46,9 +48,15 @@ bool sameMatrix(const GlMatrix& a, const GlMatrix& b, float tolerance) {
   return (a - b).cwiseAbs().maxCoeff() <= tolerance * std::max(1.0f, b.cwiseAbs().maxCoeff());
 }
 
+// The layer's copy-following path (a discrete GPU's device-local buffers, filled by staging
+// copies) on a driver whose memory is all host-visible: copy destinations are read from the
+// layer's shadows only.
+const char* const kShadowCopies = "VIPER_VULKAN_SHADOW_COPIES=1";
+
 struct Mode {
   const char* name;
   const char* flags;
+  const char* env = "";  ///< variables set for the capture
 };
 
 class VulkanCapture : public ::testing::TestWithParam<Mode> {};
@@ -58,7 +66,8 @@ TEST_P(VulkanCapture, EqualsTheProgramsOwnTruth) {
   const Mode& mode = GetParam();
   const std::string base = dir() + "/" + mode.name;
   const std::string vcap = base + ".vcap", oracle_path = base + ".oracle", log = base + ".log";
-  ASSERT_EQ(underXvfb(capture(vcap, std::string(mode.flags) + " --oracle " + oracle_path + " --dump-dir " + base + "_with"),
+  ASSERT_EQ(underXvfb(capture(vcap, std::string(mode.flags) + " --oracle " + oracle_path + " --dump-dir " + base + "_with",
+                              std::string("env ") + mode.env),
                       log),
             0)
       << readFile(log);
@@ -155,7 +164,11 @@ INSTANTIATE_TEST_SUITE_P(Modes, VulkanCapture,
                                            // scene pass, its colour the pass's own.
                                            Mode{"headless", "--headless"},
                                            Mode{"headless_dynamic_rendering", "--headless --dynamic-rendering"},
-                                           Mode{"headless_render_pass2", "--headless --render-pass2"}),
+                                           Mode{"headless_render_pass2", "--headless --render-pass2"},
+                                           // Staged device-local buffers read from the layer's
+                                           // shadows of what was copied into them.
+                                           Mode{"staged_shadowed", "", kShadowCopies},
+                                           Mode{"headless_shadowed", "--headless", kShadowCopies}),
                          [](const ::testing::TestParamInfo<Mode>& info) { return std::string(info.param.name); });
 
 // The Khronos validation layer, below ours, sees every call the program and the layer make: the
@@ -164,17 +177,60 @@ TEST(VulkanCaptureValidation, AddsNoValidationError) {
   if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
   if (!fs::exists("/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json"))
     GTEST_SKIP() << "vulkan-validationlayers not installed";
-  for (const char* flags :
-       {"", "--dynamic-rendering --offscreen", "--full-push-constants", "--render-pass2 --offscreen", "--headless"}) {
-    SCOPED_TRACE(flags);
+  for (const Mode& mode : {Mode{"", ""}, Mode{"", "--dynamic-rendering --offscreen"}, Mode{"", "--full-push-constants"},
+                           Mode{"", "--render-pass2 --offscreen"}, Mode{"", "--headless"}, Mode{"", "", kShadowCopies}}) {
+    SCOPED_TRACE(std::string(mode.flags) + " " + mode.env);
     const std::string log = dir() + "/validation.log";
-    ASSERT_EQ(underXvfb(capture(dir() + "/validation.vcap", flags, "env VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation"), log), 0)
+    ASSERT_EQ(underXvfb(capture(dir() + "/validation.vcap", mode.flags,
+                                std::string("env VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation ") + mode.env),
+                        log),
+              0)
         << readFile(log);
     const std::string text = readFile(log);
     EXPECT_NE(text.find("4 frames written"), std::string::npos) << text;
     EXPECT_EQ(text.find("Validation Error"), std::string::npos) << text;
     EXPECT_EQ(text.find("VUID"), std::string::npos) << text;
   }
+}
+
+// The shadow of a buffer the layer cannot read (vk_state.h) knows which of its bytes were written:
+// only ranges wholly written are read, and a copy from an unknown range makes its destination
+// unknown again.
+TEST(VulkanBufferShadow, KnowsWhichBytesWereWritten) {
+  using Runs = std::vector<std::pair<VkDeviceSize, VkDeviceSize>>;
+  capture::vulkan::BufferShadow s;
+  s.size = 100;
+  EXPECT_FALSE(s.covers(0, 1));
+  EXPECT_TRUE(s.covers(5, 5));  // nothing to read
+  s.mark(10, 20, true);
+  s.mark(30, 40, true);
+  EXPECT_TRUE(s.covers(10, 20));
+  EXPECT_FALSE(s.covers(10, 21));
+  EXPECT_FALSE(s.covers(15, 35));
+  EXPECT_EQ(s.validFrom(12), 8u);
+  EXPECT_EQ(s.validFrom(20), 0u);
+  EXPECT_EQ(s.validFrom(5), 0u);
+  // Touching and overlapping ranges merge.
+  s.mark(20, 30, true);
+  EXPECT_EQ(s.valid.size(), 1u);
+  EXPECT_TRUE(s.covers(10, 40));
+  EXPECT_EQ(s.validFrom(10), 30u);
+  s.mark(35, 60, true);
+  EXPECT_EQ(s.validRuns(0, 100), (Runs{{10, 60}}));
+  // An unknown range in the middle splits it; runs are clipped to what is asked.
+  s.mark(25, 45, false);
+  EXPECT_EQ(s.validRuns(0, 100), (Runs{{10, 25}, {45, 60}}));
+  EXPECT_EQ(s.validRuns(20, 50), (Runs{{20, 25}, {45, 50}}));
+  EXPECT_FALSE(s.covers(20, 50));
+  EXPECT_EQ(s.validFrom(45), 15u);
+  // Unknown over the ends of ranges and over all of them.
+  s.mark(0, 12, false);
+  s.mark(58, 100, false);
+  EXPECT_EQ(s.validRuns(0, 100), (Runs{{12, 25}, {45, 58}}));
+  s.mark(0, 100, false);
+  EXPECT_TRUE(s.valid.empty());
+  s.mark(0, 100, true);
+  EXPECT_TRUE(s.covers(0, 100));
 }
 
 // `capture` says when a program wrote nothing, and a Vulkan program run without an output is left
@@ -198,16 +254,17 @@ TEST(VulkanCaptureValidation, WithoutAnOutputTheLayerOnlyPassesCallsOn) {
 // capture whole. `capture --library` the sanitized GL layer preloads the sanitizer's runtime first.
 TEST(VulkanCaptureSanitized, AddressAndUndefinedBehaviorSanitizersFindNothing) {
   if (!haveXvfbAndVulkan()) GTEST_SKIP() << "xvfb-run or vulkaninfo (vulkan-tools) not installed";
-  for (const char* flags : {"", "--dynamic-rendering --offscreen --full-push-constants", "--render-pass2 --host-visible-buffers",
-                            "--headless --dynamic-rendering"}) {
-    SCOPED_TRACE(flags);
+  for (const Mode& mode : {Mode{"", ""}, Mode{"", "--dynamic-rendering --offscreen --full-push-constants"},
+                           Mode{"", "--render-pass2 --host-visible-buffers"}, Mode{"", "--headless --dynamic-rendering"},
+                           Mode{"", "--headless", kShadowCopies}}) {
+    SCOPED_TRACE(std::string(mode.flags) + " " + mode.env);
     const std::string log = dir() + "/asan.log";
     const std::string command =
         std::string("env ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=0 ") +
         "UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 VIPER_VULKAN_LAYER_PATH=" VIPER_VULKAN_LAYER_ASAN_DIR " " +
-        VIPER_CAPTURE_BIN + " --library " VIPER_INTERCEPT_ASAN_LIB " --output " + dir() + "/asan.vcap --profile " +
+        mode.env + " " + VIPER_CAPTURE_BIN + " --library " VIPER_INTERCEPT_ASAN_LIB " --output " + dir() + "/asan.vcap --profile " +
         VIPER_SOURCE_DIR + "/config/profiles/vk_test_scene.yaml --fps 10 -- " + VIPER_VK_TEST_SCENE_BIN + " " + kCommon +
-        " " + flags;
+        " " + mode.flags;
     ASSERT_EQ(underXvfb(command, log), 0) << readFile(log);
     const std::string text = readFile(log);
     EXPECT_NE(text.find("4 frames written"), std::string::npos) << text;

@@ -55,6 +55,9 @@ class Layer {
     std::unordered_map<VkQueue, uint32_t> queue_families;
     std::unordered_map<VkDeviceMemory, MemoryInfo> memories;
     std::unordered_map<VkBuffer, BufferInfo> buffers;
+    /// Shadows of the buffers written by copies that the layer cannot read directly (all copy
+    /// destinations with VIPER_VULKAN_SHADOW_COPIES); freed with their buffer.
+    std::unordered_map<VkBuffer, BufferShadow> shadows;
     std::unordered_map<VkImage, DepthImage> depth_images;
     /// The layer's id images for dynamic rendering, one per size.
     std::map<std::pair<uint32_t, uint32_t>, IdImage> rendering_ids;
@@ -107,9 +110,16 @@ class Layer {
   void releaseReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer buffer, VkDeviceMemory memory);
   /// A memory type of `bits` with `flags` (UINT32_MAX if none).
   static uint32_t memoryType(const Device& d, uint32_t bits, VkMemoryPropertyFlags flags);
-  /// Pointer to `size` bytes of buffer `b` at `offset`, mapping its memory for the layer if the
+  /// Pointer to `size` bytes of buffer `b` at `offset`: from its shadow where it has one (nullptr
+  /// unless the whole range is valid there), else from its memory, mapping it for the layer if the
   /// program has not (nullptr when not host-visible or out of range).
   const uint8_t* bufferBytes(Device& d, VkBuffer b, VkDeviceSize offset, VkDeviceSize size);
+  /// Buffer `b`'s bytes from `offset` to its end (to the end of the valid range there, for a
+  /// buffer with a shadow), their number in `size`; nullptr when none can be read.
+  const uint8_t* bufferFrom(Device& d, VkBuffer b, VkDeviceSize offset, size_t& size);
+  /// The shadow of buffer `b`, made now if it has none, when the layer follows the writes into it:
+  /// its memory is not host-visible, or VIPER_VULKAN_SHADOW_COPIES is set (nullptr otherwise).
+  BufferShadow* shadow(Device& d, VkBuffer b);
   /// Unmaps what bufferBytes() mapped (called before the lock is released).
   void unmapLayerMappings(Device& d);
   void freeRecording(Device& d, Recording& r);
@@ -150,6 +160,9 @@ class Layer {
   int zstd_level_ = 1, writer_threads_ = 1;
   std::map<std::string, bool> reported_;
   bool debug_ = false;
+  /// VIPER_VULKAN_SHADOW_COPIES=1: every copy destination gets a shadow and is read from it only,
+  /// so the path a discrete GPU takes runs where all memory is host-visible (lavapipe).
+  bool shadow_copies_ = false;
   std::map<std::string, uint64_t> draw_kinds_;
   // Frame settings, as the OpenGL layer reads them.
   std::string condition_;

@@ -150,6 +150,8 @@ Layer::Layer() {
   output_ = settings.output;
   start_s_ = monotonicSeconds();
   debug_ = std::getenv("VIPER_VULKAN_DEBUG") != nullptr;
+  const char* shadow_copies = std::getenv("VIPER_VULKAN_SHADOW_COPIES");
+  shadow_copies_ = shadow_copies && *shadow_copies && std::strcmp(shadow_copies, "0") != 0;
   enabled_ = true;
 }
 
@@ -240,6 +242,8 @@ Layer::Device* Layer::addDevice(VkPhysicalDevice physical, VkDevice device, PFN_
   khr(d->vk.CmdBeginRenderPass2, "vkCmdBeginRenderPass2KHR");
   khr(d->vk.CmdNextSubpass2, "vkCmdNextSubpass2KHR");
   khr(d->vk.CmdEndRenderPass2, "vkCmdEndRenderPass2KHR");
+  khr(d->vk.CmdCopyBuffer2, "vkCmdCopyBuffer2KHR");
+  khr(d->vk.CmdCopyImageToBuffer2, "vkCmdCopyImageToBuffer2KHR");
   if (!d->vk.QueueSubmit2) d->vk.QueueSubmit2 = reinterpret_cast<PFN_vkQueueSubmit2>(gdpa(device, "vkQueueSubmit2KHR"));
   if (!d->vk.CmdEndRendering)
     d->vk.CmdEndRendering = reinterpret_cast<PFN_vkCmdEndRendering>(gdpa(device, "vkCmdEndRenderingKHR"));
@@ -288,6 +292,7 @@ void Layer::removeDevice(VkDevice device) {
   for (auto& [size, ids] : d->rendering_ids) destroy(ids);
   for (auto& [p, info] : d->pipelines)
     for (VkShaderModule m : info.layer_modules) d->vk.DestroyShaderModule(device, m, nullptr);
+  d->shadows.clear();
   // The Device itself is kept: hooks of other threads may still hold a reference to it.
   d.release();
 }
@@ -339,6 +344,14 @@ bool Layer::createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer,
 }
 
 const uint8_t* Layer::bufferBytes(Device& d, VkBuffer b, VkDeviceSize offset, VkDeviceSize size) {
+  // A buffer with a shadow is read from it only: its memory is not readable, or, with
+  // VIPER_VULKAN_SHADOW_COPIES, the shadow stands for it.
+  auto shadow = d.shadows.find(b);
+  if (shadow != d.shadows.end()) {
+    BufferShadow& s = shadow->second;
+    return offset <= s.size && size <= s.size - offset && s.bytes && s.covers(offset, offset + size) ? s.bytes.get() + offset
+                                                                                                       : nullptr;
+  }
   auto buffer = d.buffers.find(b);
   if (buffer == d.buffers.end() || offset + size > buffer->second.size) return nullptr;
   auto memory = d.memories.find(buffer->second.memory);
@@ -356,6 +369,29 @@ const uint8_t* Layer::bufferBytes(Device& d, VkBuffer b, VkDeviceSize offset, Vk
   m.program_offset = 0;
   layer_mapped_.push_back(buffer->second.memory);
   return static_cast<const uint8_t*>(mapped) + at;
+}
+
+const uint8_t* Layer::bufferFrom(Device& d, VkBuffer b, VkDeviceSize offset, size_t& size) {
+  size = 0;
+  auto info = d.buffers.find(b);
+  if (info == d.buffers.end() || offset > info->second.size) return nullptr;
+  auto shadow = d.shadows.find(b);
+  const VkDeviceSize bytes = shadow == d.shadows.end() ? info->second.size - offset : shadow->second.validFrom(offset);
+  const uint8_t* at = bufferBytes(d, b, offset, bytes);
+  if (at) size = static_cast<size_t>(bytes);
+  return at;
+}
+
+BufferShadow* Layer::shadow(Device& d, VkBuffer b) {
+  auto known = d.shadows.find(b);
+  if (known != d.shadows.end()) return &known->second;
+  auto info = d.buffers.find(b);
+  if (info == d.buffers.end()) return nullptr;
+  auto memory = d.memories.find(info->second.memory);
+  if (!shadow_copies_ && memory != d.memories.end() && memory->second.host_visible) return nullptr;
+  BufferShadow& made = d.shadows[b];
+  made.size = info->second.size;
+  return &made;
 }
 
 void Layer::unmapLayerMappings(Device& d) {
@@ -528,27 +564,16 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
       range.first = draw.indexed ? 0 : draw.first;
       range.base_vertex = draw.vertex_offset;
       rec.primitive_count = range.mode == 4 ? draw.count / 3 : 0;
-      auto vb = d.buffers.find(draw.vertex_buffer);
-      const uint8_t* vertices = nullptr;
       size_t vertex_bytes = 0;
-      if (vb != d.buffers.end() && draw.vertex_buffer_offset <= vb->second.size) {
-        vertex_bytes = vb->second.size - draw.vertex_buffer_offset;
-        vertices = bufferBytes(d, draw.vertex_buffer, draw.vertex_buffer_offset, vertex_bytes);
-      }
+      const uint8_t* vertices = bufferFrom(d, draw.vertex_buffer, draw.vertex_buffer_offset, vertex_bytes);
       bool mesh_ok = vertices && layout.size > 0 && range.mode == 4 && !pi.deforming;
       if (mesh_ok && draw.indexed) {
-        auto ib = d.buffers.find(draw.index_buffer);
         const size_t index_size = draw.index_type == VK_INDEX_TYPE_UINT16 ? 2 : 4;
-        if (ib == d.buffers.end() || draw.index_buffer_offset > ib->second.size) {
-          mesh_ok = false;
-        } else {
-          range.index_bytes = ib->second.size - draw.index_buffer_offset;
-          range.index_data = bufferBytes(d, draw.index_buffer, draw.index_buffer_offset, range.index_bytes);
-          range.index_type = index_size == 2 ? 0x1403u : 0x1405u;  // GL_UNSIGNED_SHORT / INT
-          range.index_offset = static_cast<size_t>(draw.first) * index_size;
-          mesh_ok = range.index_data != nullptr && draw.index_type != VK_INDEX_TYPE_UINT8_EXT;
-          rec.index_buffer_key = bufferKey(draw.index_buffer);
-        }
+        range.index_data = bufferFrom(d, draw.index_buffer, draw.index_buffer_offset, range.index_bytes);
+        range.index_type = index_size == 2 ? 0x1403u : 0x1405u;  // GL_UNSIGNED_SHORT / INT
+        range.index_offset = static_cast<size_t>(draw.first) * index_size;
+        mesh_ok = range.index_data != nullptr && draw.index_type != VK_INDEX_TYPE_UINT8_EXT;
+        rec.index_buffer_key = bufferKey(draw.index_buffer);
       }
       ExtractedMesh mesh;
       if (mesh_ok && extractMesh(vertices, vertex_bytes, layout, range, mesh)) {
@@ -715,9 +740,64 @@ void keyUploads(Device& d, const Recording& r) {
   }
 }
 
+// One region copied into a shadow: from the source's own shadow where it has one (what is unknown
+// there stays unknown), else from its memory where the layer can read it (a staging buffer, read
+// now, before the program reuses it); else the region becomes unknown.
+void copyIntoShadow(Device& d, VkBuffer source, const VkBufferCopy& c, BufferShadow& to) {
+  if (c.dstOffset > to.size || c.size > to.size - c.dstOffset) return;  // not a valid copy: ignored
+  to.mark(c.dstOffset, c.dstOffset + c.size, false);
+  auto from = d.shadows.find(source);
+  if (from != d.shadows.end()) {
+    const BufferShadow& s = from->second;
+    if (c.srcOffset > s.size || c.size > s.size - c.srcOffset) return;
+    for (const auto& [begin, end] : s.validRuns(c.srcOffset, c.srcOffset + c.size)) {
+      const VkDeviceSize at = c.dstOffset + (begin - c.srcOffset);
+      std::memmove(to.data() + at, s.bytes.get() + begin, end - begin);
+      to.mark(at, at + (end - begin), true);
+    }
+    return;
+  }
+  const uint8_t* bytes = Layer::get().bufferBytes(d, source, c.srcOffset, c.size);
+  if (!bytes) {
+    Layer::get().reportOnce("copies from buffers the layer cannot read (not host-visible, not copied into) are not "
+                            "followed: meshes and matrices read where they land are missing");
+    return;
+  }
+  std::memcpy(to.data() + c.dstOffset, bytes, c.size);
+  to.mark(c.dstOffset, c.dstOffset + c.size, true);
+}
+
+// vkCmdUpdateBuffer's bytes, or vkCmdFillBuffer's word repeated, written into a shadow; without
+// data, the range becomes unknown.
+void writeIntoShadow(const Recording::BufferWrite& w, BufferShadow& to) {
+  if (w.offset > to.size || w.size > to.size - w.offset) return;
+  if (w.data.empty()) {
+    to.mark(w.offset, w.offset + w.size, false);
+    return;
+  }
+  uint8_t* out = to.data() + w.offset;
+  for (VkDeviceSize i = 0; i < w.size; i += w.data.size())
+    std::memcpy(out + i, w.data.data(), std::min<VkDeviceSize>(w.data.size(), w.size - i));
+  to.mark(w.offset, w.offset + w.size, true);
+}
+
+// A submitted recording's writes into buffers, applied to their shadows in recording order.
+void applyBufferWrites(Device& d, const Recording& r) {
+  for (const Recording::BufferWrite& w : r.buffer_writes) {
+    auto shadow = d.shadows.find(w.destination);
+    if (shadow == d.shadows.end()) continue;  // the buffer was destroyed since
+    if (!w.source) {
+      writeIntoShadow(w, shadow->second);
+      continue;
+    }
+    for (const VkBufferCopy& c : w.regions) copyIntoShadow(d, w.source, c, shadow->second);
+  }
+}
+
 // A submitted command buffer's recording joins the frame (and those of the secondaries it
-// executes), its matrices read from their buffers now, the textures it uploads keyed. Returns
-// whether it drew into a pass whose ids are read back.
+// executes): its writes into buffers are applied to their shadows first, so that its draws read
+// what they wrote, then its matrices are read from their buffers and the textures it uploads
+// keyed. Returns whether it drew into a pass whose ids are read back.
 bool hasScenePass(const Recording& r) {
   return std::any_of(r.passes.begin(), r.passes.end(), [](const PassCapture& p) { return p.id_buffer != VK_NULL_HANDLE; });
 }
@@ -725,16 +805,18 @@ bool hasScenePass(const Recording& r) {
 bool joinFrame(Device& d, VkCommandBuffer cb) {
   auto r = d.recordings.find(cb);
   if (r == d.recordings.end()) return false;
-  keyUploads(d, *r->second);
-  readSubmittedMatrices(d, *r->second);
-  d.frame.push_back(r->second);
-  bool scene = hasScenePass(*r->second);
+  std::vector<std::shared_ptr<Recording>> joined{r->second};
   for (VkCommandBuffer secondary : r->second->executed) {
     auto sr = d.recordings.find(secondary);
-    if (sr == d.recordings.end()) continue;
-    readSubmittedMatrices(d, *sr->second);
-    d.frame.push_back(sr->second);
-    scene |= hasScenePass(*sr->second);
+    if (sr != d.recordings.end()) joined.push_back(sr->second);
+  }
+  for (const std::shared_ptr<Recording>& j : joined) applyBufferWrites(d, *j);
+  keyUploads(d, *r->second);
+  bool scene = false;
+  for (const std::shared_ptr<Recording>& j : joined) {
+    readSubmittedMatrices(d, *j);
+    d.frame.push_back(j);
+    scene |= hasScenePass(*j);
   }
   return scene;
 }

@@ -209,7 +209,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateBuffer(VkDevice device, const VkBufferCreat
 
 VKAPI_ATTR void VKAPI_CALL DestroyBuffer(VkDevice device, VkBuffer buffer, const VkAllocationCallbacks* alloc) {
   Device& d = dev(device);
-  forget(buffer, d.buffers);
+  forget(buffer, d.buffers, d.shadows);
   d.vk.DestroyBuffer(device, buffer, alloc);
 }
 
@@ -1575,6 +1575,87 @@ VKAPI_ATTR void VKAPI_CALL CmdCopyBufferToImage(VkCommandBuffer cb, VkBuffer buf
   d.vk.CmdCopyBufferToImage(cb, buffer, image, layout, count, regions);
 }
 
+// Writes into buffers the layer cannot read directly (device-local memory on a discrete GPU, filled
+// from a staging buffer): recorded in order, and applied to the buffer's shadow when the command
+// buffer is submitted (vk_frame.cpp), while the staging buffer still holds what they copy.
+// `describe` fills in the write, given the destination's shadow.
+template <typename Describe>
+void followWrite(VkCommandBuffer cb, VkBuffer destination, Describe describe) {
+  if (!L().capturing()) return;
+  Device& d = dev(cb);
+  Lock lock(L().mutex());
+  Recording* r = recording(d, cb);
+  BufferShadow* shadow = r ? L().shadow(d, destination) : nullptr;
+  if (!shadow) return;
+  Recording::BufferWrite write;
+  write.destination = destination;
+  describe(write, *shadow);
+  r->buffer_writes.push_back(std::move(write));
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdCopyBuffer(VkCommandBuffer cb, VkBuffer source, VkBuffer destination, uint32_t count,
+                                         const VkBufferCopy* regions) {
+  followWrite(cb, destination, [&](Recording::BufferWrite& w, const BufferShadow&) {
+    w.source = source;
+    w.regions.assign(regions, regions + count);
+  });
+  dev(cb).vk.CmdCopyBuffer(cb, source, destination, count, regions);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdCopyBuffer2(VkCommandBuffer cb, const VkCopyBufferInfo2* info) {
+  followWrite(cb, info->dstBuffer, [&](Recording::BufferWrite& w, const BufferShadow&) {
+    w.source = info->srcBuffer;
+    for (uint32_t i = 0; i < info->regionCount; ++i)
+      w.regions.push_back({info->pRegions[i].srcOffset, info->pRegions[i].dstOffset, info->pRegions[i].size});
+  });
+  dev(cb).vk.CmdCopyBuffer2(cb, info);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdUpdateBuffer(VkCommandBuffer cb, VkBuffer destination, VkDeviceSize offset,
+                                           VkDeviceSize size, const void* data) {
+  followWrite(cb, destination, [&](Recording::BufferWrite& w, const BufferShadow&) {
+    w.offset = offset, w.size = size;
+    w.data.assign(static_cast<const uint8_t*>(data), static_cast<const uint8_t*>(data) + size);
+  });
+  dev(cb).vk.CmdUpdateBuffer(cb, destination, offset, size, data);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdFillBuffer(VkCommandBuffer cb, VkBuffer destination, VkDeviceSize offset, VkDeviceSize size,
+                                         uint32_t word) {
+  followWrite(cb, destination, [&](Recording::BufferWrite& w, const BufferShadow& shadow) {
+    w.offset = offset;
+    // VK_WHOLE_SIZE: to the end of the buffer, in whole words.
+    w.size = size != VK_WHOLE_SIZE ? size : offset < shadow.size ? (shadow.size - offset) & ~VkDeviceSize{3} : 0;
+    w.data.resize(4);
+    std::memcpy(w.data.data(), &word, 4);
+  });
+  dev(cb).vk.CmdFillBuffer(cb, destination, offset, size, word);
+}
+
+// A copy from an image into a buffer: the layer does not read images, so the buffer's bytes from
+// the lowest region's offset on become unknown in its shadow (rather than keep what was copied
+// there before).
+template <typename Region>
+void forgetFromImage(VkCommandBuffer cb, VkBuffer buffer, uint32_t count, const Region* regions) {
+  VkDeviceSize first = VK_WHOLE_SIZE;
+  for (uint32_t i = 0; i < count; ++i) first = std::min(first, regions[i].bufferOffset);
+  followWrite(cb, buffer, [&](Recording::BufferWrite& w, const BufferShadow& shadow) {
+    w.offset = first;
+    w.size = first < shadow.size ? shadow.size - first : 0;
+  });
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdCopyImageToBuffer(VkCommandBuffer cb, VkImage image, VkImageLayout layout, VkBuffer buffer,
+                                                uint32_t count, const VkBufferImageCopy* regions) {
+  forgetFromImage(cb, buffer, count, regions);
+  dev(cb).vk.CmdCopyImageToBuffer(cb, image, layout, buffer, count, regions);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdCopyImageToBuffer2(VkCommandBuffer cb, const VkCopyImageToBufferInfo2* info) {
+  forgetFromImage(cb, info->dstBuffer, info->regionCount, info->pRegions);
+  dev(cb).vk.CmdCopyImageToBuffer2(cb, info);
+}
+
 VKAPI_ATTR void VKAPI_CALL CmdExecuteCommands(VkCommandBuffer cb, uint32_t count, const VkCommandBuffer* secondaries) {
   Device& d = dev(cb);
   {
@@ -1599,7 +1680,8 @@ VKAPI_ATTR void VKAPI_CALL CmdExecuteCommands(VkCommandBuffer cb, uint32_t count
   X(CmdSetViewport) X(CmdDraw) X(CmdDrawIndexed) X(CmdDrawIndirect) X(CmdDrawIndexedIndirect)                  \
   X(CmdExecuteCommands) X(QueueSubmit) X(QueueSubmit2) X(QueuePresentKHR) X(DestroyDevice) X(CreateRenderPass2)  \
   X(CmdBeginRenderPass2) X(CmdNextSubpass2) X(CmdEndRenderPass2) X(CmdBeginRendering)            \
-  X(CmdEndRendering) X(CmdCopyBufferToImage)
+  X(CmdEndRendering) X(CmdCopyBufferToImage) X(CmdCopyBuffer) X(CmdCopyBuffer2) X(CmdUpdateBuffer) X(CmdFillBuffer) \
+  X(CmdCopyImageToBuffer) X(CmdCopyImageToBuffer2)
 
 PFN_vkVoidFunction deviceHook(const char* name) {
 #define VIPER_VK_MATCH(fn) \
@@ -1614,6 +1696,9 @@ PFN_vkVoidFunction deviceHook(const char* name) {
   if (std::strcmp(name, "vkCmdBeginRenderPass2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdBeginRenderPass2);
   if (std::strcmp(name, "vkCmdNextSubpass2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdNextSubpass2);
   if (std::strcmp(name, "vkCmdEndRenderPass2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdEndRenderPass2);
+  if (std::strcmp(name, "vkCmdCopyBuffer2KHR") == 0) return reinterpret_cast<PFN_vkVoidFunction>(&CmdCopyBuffer2);
+  if (std::strcmp(name, "vkCmdCopyImageToBuffer2KHR") == 0)
+    return reinterpret_cast<PFN_vkVoidFunction>(&CmdCopyImageToBuffer2);
   return nullptr;
 }
 

@@ -9,9 +9,11 @@
 #include <vulkan/vk_layer.h>
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -33,7 +35,8 @@ void* dispatchKey(T handle) {
 /// transfer.
 inline VkImageMemoryBarrier imageBarrier(VkImage image, VkImageLayout from, VkImageLayout to, VkAccessFlags src,
                                          VkAccessFlags dst, VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT) {
-  VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  VkImageMemoryBarrier b{};
+  b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
   b.srcAccessMask = src;
   b.dstAccessMask = dst;
   b.oldLayout = from;
@@ -75,7 +78,8 @@ struct DeviceTable {
   X(DestroyFence) X(CreateSemaphore) X(DestroySemaphore) X(CmdExecuteCommands) X(CmdBeginRendering)       \
   X(CreateDescriptorPool) X(DestroyDescriptorPool) X(QueueSubmit2) X(CreateRenderPass2)                    \
   X(CmdBeginRenderPass2) X(CmdNextSubpass2) X(CmdEndRenderPass2) X(CmdCopyBufferToImage)                  \
-  X(CmdEndRendering)
+  X(CmdEndRendering) X(CmdCopyBuffer) X(CmdCopyBuffer2) X(CmdUpdateBuffer) X(CmdFillBuffer)   \
+  X(CmdCopyImageToBuffer2)
 #define VIPER_VK_DECLARE(name) PFN_vk##name name = nullptr;
   VIPER_VK_DEVICE_FUNCTIONS(VIPER_VK_DECLARE)
 #undef VIPER_VK_DECLARE
@@ -95,6 +99,67 @@ struct BufferInfo {
   VkDeviceMemory memory = VK_NULL_HANDLE;
   VkDeviceSize memory_offset = 0;
 };
+
+/// The layer's copy of a buffer it cannot read directly (memory that is not host-visible, a
+/// discrete GPU's vertex, index and uniform buffers): what the program copied, updated or filled
+/// into it, applied when the command buffers writing it are submitted. Only the byte ranges whose
+/// contents are known are valid, and only those are read.
+struct BufferShadow {
+  VkDeviceSize size = 0;               ///< the buffer's
+  std::unique_ptr<uint8_t[]> bytes;    ///< `size` bytes, allocated at the first write
+  std::map<VkDeviceSize, VkDeviceSize> valid;  ///< disjoint [begin, end) ranges, touching ones merged
+
+  uint8_t* data() {
+    if (!bytes) bytes.reset(new uint8_t[size]);  // not zeroed: only valid ranges are read
+    return bytes.get();
+  }
+  /// Marks [begin, end) known (`known`) or unknown.
+  void mark(VkDeviceSize begin, VkDeviceSize end, bool known);
+  bool covers(VkDeviceSize begin, VkDeviceSize end) const;
+  /// How many bytes from `begin` on are valid, up to the first unknown one.
+  VkDeviceSize validFrom(VkDeviceSize begin) const;
+  /// The valid ranges within [begin, end), clipped to it.
+  std::vector<std::pair<VkDeviceSize, VkDeviceSize>> validRuns(VkDeviceSize begin, VkDeviceSize end) const;
+};
+
+inline void BufferShadow::mark(VkDeviceSize begin, VkDeviceSize end, bool known) {
+  if (begin >= end) return;
+  VkDeviceSize lo = begin, hi = end;
+  auto it = valid.upper_bound(begin);
+  if (it != valid.begin() && std::prev(it)->second >= begin) --it;
+  // Every range that overlaps or touches [begin, end): merged into it, or cut back to outside it.
+  while (it != valid.end() && it->first <= end) {
+    const VkDeviceSize b = it->first, e = it->second;
+    it = valid.erase(it);
+    if (known) {
+      lo = std::min(lo, b), hi = std::max(hi, e);
+      continue;
+    }
+    if (b < begin) valid.emplace(b, begin);
+    if (e > end) valid.emplace(end, e);
+  }
+  if (known) valid.emplace(lo, hi);
+}
+
+inline VkDeviceSize BufferShadow::validFrom(VkDeviceSize begin) const {
+  auto it = valid.upper_bound(begin);
+  if (it == valid.begin()) return 0;
+  --it;
+  return it->second > begin ? it->second - begin : 0;
+}
+
+inline bool BufferShadow::covers(VkDeviceSize begin, VkDeviceSize end) const {
+  return begin >= end || validFrom(begin) >= end - begin;
+}
+
+inline std::vector<std::pair<VkDeviceSize, VkDeviceSize>> BufferShadow::validRuns(VkDeviceSize begin, VkDeviceSize end) const {
+  std::vector<std::pair<VkDeviceSize, VkDeviceSize>> runs;
+  auto it = valid.upper_bound(begin);
+  if (it != valid.begin()) --it;
+  for (; it != valid.end() && it->first < end; ++it)
+    if (it->second > begin) runs.emplace_back(std::max(it->first, begin), std::min(it->second, end));
+  return runs;
+}
 
 /// What the layer did to a render pass: its id attachment, and the location of the id output in
 /// each subpass (-1: that subpass gets no ids).
@@ -316,6 +381,18 @@ struct Recording {
     std::vector<VkBufferImageCopy> regions;
   };
   std::vector<Upload> uploads;
+  /// Writes into buffers the layer keeps shadows of, in recording order, applied to the shadows
+  /// when submitted: copies from `source` (vkCmdCopyBuffer, vkCmdCopyBuffer2), or, without a
+  /// source, `data` repeated over `size` bytes at `offset` (vkCmdUpdateBuffer: its bytes once;
+  /// vkCmdFillBuffer: its word; no data: bytes the layer does not know, copied from an image).
+  struct BufferWrite {
+    VkBuffer destination = VK_NULL_HANDLE;
+    VkBuffer source = VK_NULL_HANDLE;
+    std::vector<VkBufferCopy> regions;
+    VkDeviceSize offset = 0, size = 0;
+    std::vector<uint8_t> data;
+  };
+  std::vector<BufferWrite> buffer_writes;
 };
 
 }  // namespace vulkan

@@ -147,8 +147,8 @@ TEST(CaptureVerdict, NoFrameWrittenFailsRequireIdsUnlessTheProgramFailed) {
   r = runLogged(capture(d + "/none.vcap", "--require-ids 0") + "true", d + "/none.log");
   EXPECT_EQ(r.rc, kMostlyEmpty) << r.output;
   EXPECT_EQ(verdictLine(r.output, d + "/none.vcap"),
-            "0 frames written: the program wrote no capture stream (it made no call the layer intercepts: not an "
-            "OpenGL program, or it failed before drawing)")
+            "0 frames written: the program wrote no capture stream (no frame reached a layer: not an OpenGL or "
+            "Vulkan program, or it failed before its first frame)")
       << r.output;
   // The program's own failure comes first.
   EXPECT_EQ(run(capture(d + "/fails.vcap", "--require-ids 1") + "sh -c 'exit 3' 2> /dev/null"), 3);

@@ -213,8 +213,8 @@ bool printVerdict(const std::string& output, const FileStamp& before, double req
   std::string why_no_frames;
   const FileStamp after = fileStamp(output);
   if (!after.exists || sameStamp(before, after)) {
-    why_no_frames = "the program wrote no capture stream (it made no call the layer intercepts: not an OpenGL "
-                    "program, or it failed before drawing)";
+    why_no_frames = "the program wrote no capture stream (no frame reached a layer: not an OpenGL or Vulkan "
+                    "program, or it failed before its first frame)";
   } else {
     try {
       read = viper::readCaptureCoverage(output);

@@ -31,14 +31,15 @@ set_target_properties(viper_intercept PROPERTIES
   CXX_VISIBILITY_PRESET hidden
   VISIBILITY_INLINES_HIDDEN ON
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
-target_link_libraries(viper_intercept PRIVATE viper_core Threads::Threads ${CMAKE_DL_LIBS})
+# Of the package, only the capture stage is loaded into the program (test_stage_dependencies).
+target_link_libraries(viper_intercept PRIVATE viper_capture_core Threads::Threads ${CMAKE_DL_LIBS})
 
-add_executable(viper_capture src/capture/layer/capture_main.cpp)
+add_executable(viper_capture tools/capture.cpp)
 set_target_properties(viper_capture PROPERTIES
   OUTPUT_NAME capture
   RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
 target_compile_definitions(viper_capture PRIVATE VIPER_INTERCEPT_BUILD_PATH="$<TARGET_FILE:viper_intercept>")
-target_link_libraries(viper_capture PRIVATE viper_core)
+target_link_libraries(viper_capture PRIVATE viper_ground_truth)  # the verdict (capture_verdict.h)
 add_dependencies(viper_capture viper_intercept)
 
 install(TARGETS viper_intercept LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
@@ -86,8 +87,6 @@ if(CATKIN_ENABLE_TESTING)
   else()
     set(VIPER_STRESS_SANITIZED_TARGET viper_intercept_asan)
   endif()
-  file(GLOB VIPER_CAPTURE_CORE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/capture/*.cpp)
-  list(FILTER VIPER_CAPTURE_CORE_SOURCES EXCLUDE REGEX "/resource_census\\.cpp$")
   set(VIPER_SANITIZE_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
   if(VIPER_STRESS_SANITIZED_TARGET STREQUAL "viper_intercept_asan")
     add_library(viper_intercept_asan SHARED EXCLUDE_FROM_ALL ${VIPER_INTERCEPT_SOURCES} ${VIPER_CAPTURE_CORE_SOURCES})

@@ -27,7 +27,7 @@ target_include_directories(viper_vulkan_layer PRIVATE ${Vulkan_INCLUDE_DIRS})
 target_compile_options(viper_vulkan_layer PRIVATE -Wno-missing-field-initializers)
 find_package(SPIRV-Tools REQUIRED)
 # SPIRV-Tools validates every rewritten shader before the driver sees it.
-target_link_libraries(viper_vulkan_layer PRIVATE viper_core SPIRV-Tools-static Threads::Threads)
+target_link_libraries(viper_vulkan_layer PRIVATE viper_capture_core SPIRV-Tools-static Threads::Threads)
 
 # The layer's manifest, next to the library in the devel space and in the install space: `capture`
 # points the loader at the folder (VK_ADD_LAYER_PATH) and enables the layer by name.

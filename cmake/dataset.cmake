@@ -6,7 +6,7 @@
 # (Their libraries are found in cmake/core_dependencies.cmake.)
 
 file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/dataset/*.cpp)
-# The statistics need the class table (viper_core) and the report's plots (viper_report): a library
+# The statistics need the class table (viper_ground_truth) and the line plots (viper_plots): a library
 # of their own, below.
 list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(dataset_statistics|statistics_[a-z]+)\\.cpp$")
 # The submission files use Eigen and viper_core (poses in KITTI axes): a library of their own, below.
@@ -45,7 +45,7 @@ install(TARGETS export_flow RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION
 add_library(viper_dataset_statistics src/dataset/dataset_statistics.cpp src/dataset/statistics_report.cpp
   src/dataset/statistics_plots.cpp)
 target_include_directories(viper_dataset_statistics PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_link_libraries(viper_dataset_statistics PUBLIC viper_dataset viper_core PRIVATE viper_report)
+target_link_libraries(viper_dataset_statistics PUBLIC viper_dataset viper_ground_truth PRIVATE viper_plots)
 set_target_properties(viper_dataset_statistics PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 add_executable(dataset_statistics tools/dataset_statistics.cpp)

@@ -1,15 +1,22 @@
 # Stage 4, evaluation: the evaluate node and its report, and the reference baselines it scores.
 
 # The evaluate node + nodelet (scores perception topics against the ground truth) and its report.
-# Core: src/evaluation/evaluation.cpp, src/evaluation/eval_report.cpp (viper_core). docs/evaluate.md.
+# Core: src/evaluation/evaluation.cpp, src/evaluation/eval_report.cpp (viper_evaluation). docs/evaluate.md.
 find_package(std_srvs REQUIRED)
 find_package(opencv_apps REQUIRED)  # opencv_apps/FlowArrayStamped (Debian: libopencv-apps-dev)
 
-# viper_report: the report's PNG figures (OpenCV), kept out of the core.
+# viper_plots: line plots drawn as images (OpenCV), shared by the report and the dataset statistics;
+# viper_report: the report's PNG figures. Both kept out of the core.
+add_library(viper_plots src/report/plot_image.cpp)
+target_include_directories(viper_plots PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_include_directories(viper_plots SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
+target_link_libraries(viper_plots PUBLIC opencv_core opencv_imgproc opencv_imgcodecs)
+set_target_properties(viper_plots PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 add_library(viper_report src/evaluation/plots.cpp)
 target_include_directories(viper_report PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_report SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_report PUBLIC viper_core opencv_core opencv_imgproc opencv_imgcodecs)
+target_link_libraries(viper_report PUBLIC viper_evaluation viper_plots)
 set_target_properties(viper_report PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
 
@@ -30,7 +37,7 @@ set_target_properties(viper_evaluate_ros PROPERTIES
 add_executable(evaluate nodes/evaluate_node.cpp)
 target_link_libraries(evaluate viper_evaluate_ros)
 set_target_properties(evaluate PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS viper_report viper_evaluate_ros evaluate
+install(TARGETS viper_plots viper_report viper_evaluate_ros evaluate
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

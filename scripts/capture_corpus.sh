@@ -25,6 +25,8 @@
 # packages: scripts/setup.sh --test-programs). Traces, captures and logs stay in DIR (never commit them).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
+# shellcheck source=layer_copies.sh
+source "$here/scripts/layer_copies.sh"
 all_programs=(glmark2 neverball supertux foobillardplus chromium-bsu extremetuxracer glxgears)
 programs=(); out="$here/build/corpus"; frames=""; seconds=""; size=320x240
 bin="$here/devel/lib/viper"; retrace=0; keep=0; list=0
@@ -150,18 +152,16 @@ else
 fi
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
-# A copy of capture, capture_check, the layer and libviper_core.so taken now (as piglit_compare.sh
-# does), so that a rebuild while the corpus runs does not mix two versions of the layer.
+# A copy of capture, capture_check, the layer and the package's libraries they load taken now (as
+# piglit_compare.sh does), so that a rebuild while the corpus runs does not mix two versions of the layer.
 if [ "$bin" != "$out/bin" ]; then
   rm -rf "$out/bin"; mkdir -p "$out/bin"
   cp "$bin/capture" "$bin/capture_check" "$layer_lib" "$out/bin/"
-  core_lib="$(dirname "$layer_lib")/libviper_core.so"
-  [ -f "$core_lib" ] || core_lib=$(ldd "$layer_lib" | awk '$1 == "libviper_core.so" {print $3}')
-  [ -z "$core_lib" ] || cp "$core_lib" "$out/bin/"
+  copy_package_libraries "$(dirname "$layer_lib")" "$out/bin" "$bin/capture" "$bin/capture_check" "$layer_lib"
 fi
 bin="$out/bin"
 export LD_LIBRARY_PATH="$bin${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-layer_id="libviper_intercept.so $(sha1sum "$bin/libviper_intercept.so" | cut -c1-12), libviper_core.so $(sha1sum "$bin/libviper_core.so" 2> /dev/null | cut -c1-12)"
+layer_id="libviper_intercept.so $(sha1sum "$bin/libviper_intercept.so" | cut -c1-12), libviper_capture_core.so $(sha1sum "$bin/libviper_capture_core.so" 2> /dev/null | cut -c1-12)"
 
 # Frame by frame, the plain replay's snapshots against the capture's; frames whose two plain
 # replays differ are left out (the program drew from memory it never wrote) and counted.

@@ -31,6 +31,8 @@
 # many there were and how many wrote a capture.
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
+# shellcheck source=layer_copies.sh
+source "$here/scripts/layer_copies.sh"
 
 # Areas the layer is known to touch, kept to a few minutes on a 2-core machine (both runs):
 # the default framebuffer (front/back reads, draw buffer modes, swap behaviour, the default
@@ -122,7 +124,7 @@ command -v wflinfo > /dev/null || { echo "piglit_compare: wflinfo not found (pac
 [ -x "$bin/capture" ] || { echo "piglit_compare: no capture in $bin: build the package first (scripts/setup.sh)" >&2; exit 2; }
 # The layer run uses a copy of `capture` and the layer taken now, so that a rebuild while it runs
 # does not mix two versions of the layer in one run (LD_LIBRARY_PATH finds the copy's
-# libviper_core.so, which the layer and capture need, before their build's RUNPATH).
+# libviper_*.so, which the layer and capture need, before their build's RUNPATH).
 bin=$(cd "$bin" && pwd)
 layer_lib=""
 for candidate in "$bin/libviper_intercept.so" "$bin/../libviper_intercept.so"; do
@@ -140,13 +142,12 @@ out=$(cd "$out" && pwd)
 rm -rf "$out/plain" "$out/layer" "$out/wrap" "$out/captures" "$out/bin" "$out/differences.txt"
 mkdir -p "$out/wrap/bin" "$out/captures" "$out/bin"
 cp "$bin/capture" "$layer_lib" "$out/bin/" || exit 2
-# libviper_core.so beside the layer when there is one (a copy made by an earlier run, given with
-# --bin), else the one the layer's RUNPATH finds: the build's.
-core_lib="$(dirname "$layer_lib")/libviper_core.so"
-[ -f "$core_lib" ] || core_lib=$(ldd "$layer_lib" | awk '$1 == "libviper_core.so" {print $3}')
-[ -n "$core_lib" ] && { cp "$core_lib" "$out/bin/" || exit 2; }
-# The layer's behaviour lives in both libraries (the shader rewrite is in libviper_core.so).
-layer_id="$(sha1sum "$layer_lib" | cut -c1-12), libviper_core.so $(sha1sum "$out/bin/libviper_core.so" 2> /dev/null | cut -c1-12), built $(date -u -r "$layer_lib" '+%F %T') UTC"
+# The package's libraries they load (libviper_capture_core.so, and the ground truth `capture`
+# reports its verdict with): those beside the layer when there are (a copy made by an earlier run,
+# given with --bin), else those their RUNPATH finds: the build's.
+copy_package_libraries "$(dirname "$layer_lib")" "$out/bin" "$bin/capture" "$layer_lib" || exit 2
+# The layer's behaviour lives in both (the shader rewrite is in libviper_capture_core.so).
+layer_id="$(sha1sum "$layer_lib" | cut -c1-12), libviper_capture_core.so $(sha1sum "$out/bin/libviper_capture_core.so" 2> /dev/null | cut -c1-12), built $(date -u -r "$layer_lib" '+%F %T') UTC"
 # The layer run's PIGLIT_BUILD_DIR: piglit's tests and generated tests as they are, its programs
 # behind the wrapper.
 ln -s "$piglit_root/tests" "$out/wrap/tests"

@@ -5,7 +5,7 @@
 // Exit code 0 = written, 2 = usage/read/write error.
 #include "viper/capture/capture_stream.h"
 #include "viper/ground_truth/class_table.h"
-#include "viper/capture/resource_census.h"
+#include "viper/ground_truth/resource_census.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>

@@ -1,12 +1,16 @@
 #include "viper/capture/capture_frame.h"
 
-#include "../ground_truth/x86_kernels.h"
-
 #include <algorithm>
 #include <string>
 
 #ifdef __SSE2__
 #include <emmintrin.h>
+#endif
+
+// An AVX2 path chosen at run time needs x86-64 and a compiler that takes __attribute__((target))
+// and __builtin_cpu_supports (as the ground-truth kernels' VIPER_X86, x86_kernels.h there).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define VIPER_X86 1
 #endif
 
 namespace viper {

@@ -1,6 +1,6 @@
-// The statistics' figures, drawn by the evaluation report's line plot (viper_report).
+// The statistics' figures, drawn by the report's line plot (viper_plots).
 #include "viper/dataset/statistics_report.h"
-#include "viper/evaluation/plots.h"
+#include "viper/report/plot_image.h"
 
 #include <opencv2/core.hpp>
 

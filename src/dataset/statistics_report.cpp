@@ -1,6 +1,6 @@
 #include "viper/dataset/statistics_report.h"
 
-#include "viper/evaluation/eval_report.h"
+#include "viper/report/csv_number.h"
 
 #include <cmath>
 #include <cstdio>

@@ -253,13 +253,6 @@ void writeFile(const std::filesystem::path& path, const std::string& text, std::
 
 }  // namespace
 
-std::string csvNumber(double v) {
-  if (std::isnan(v)) return "";
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, r.ptr);
-}
-
 std::string reportMarkdown(const EvaluationSummary& s) {
   std::ostringstream md;
   md << "# Evaluation report\n\n";

@@ -3,15 +3,13 @@
 #pragma once
 
 #include "viper/evaluation/evaluation.h"
+#include "viper/report/csv_number.h"
 
 #include <string>
 #include <vector>
 
 namespace viper {
 
-/// A number as CSV and YAML carry it: the shortest text that reads back as the same double
-/// ("66.66666666666667", "100", "0.5"); NaN as "" (CSV) or ".nan" (YAML, see scoresYaml).
-std::string csvNumber(double v);
 
 /// `summary.md`: the frames each metric scored, a summary table (one row per condition and one for
 /// all; the columns of every metric that scored), then each scored metric's section

@@ -2,19 +2,12 @@
 #pragma once
 
 #include "viper/evaluation/evaluation.h"
-
-#include <opencv2/core.hpp>
+#include "viper/report/plot_image.h"
 
 #include <string>
 #include <vector>
 
 namespace viper {
-
-/// Draws `plot` into a width x height BGR image.
-cv::Mat renderLinePlot(const LinePlot& plot, int width = 800, int height = 500);
-
-/// Writes `image` as a PNG file `path`. Throws std::runtime_error naming the file if it cannot.
-void writePng(const cv::Mat& image, const std::string& path);
 
 /// A metric's figure `plot` (PlotLayout) as `dir`/plot.file: the panels side by side. Returns its
 /// path, or "" (and writes nothing) if it has no line. Throws std::runtime_error naming the file.

@@ -1,4 +1,4 @@
-#include "viper/capture/resource_census.h"
+#include "viper/ground_truth/resource_census.h"
 
 #include <algorithm>
 

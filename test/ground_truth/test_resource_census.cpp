@@ -1,5 +1,5 @@
 // ResourceCensus on frames whose pixels are known, and proposeClass's rules.
-#include "viper/capture/resource_census.h"
+#include "viper/ground_truth/resource_census.h"
 
 #include <gtest/gtest.h>
 

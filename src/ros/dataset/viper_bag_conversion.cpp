@@ -21,9 +21,10 @@ struct Sequence {
   std::vector<uint64_t> frames;
 };
 
-class BagWriter {
+// rosbag's writer, counting what it writes (the counts go into ViperToBagStats).
+class CountingRosbagWriter {
  public:
-  BagWriter(rosbag::Bag& bag, ViperToBagStats& stats) : bag_(bag), stats_(stats) {}
+  CountingRosbagWriter(rosbag::Bag& bag, ViperToBagStats& stats) : bag_(bag), stats_(stats) {}
   template <typename M>
   void write(const std::string& topic, const ros::Time& t, const boost::shared_ptr<M>& m) {
     if (!m) return;
@@ -114,7 +115,7 @@ ViperToBagStats convertViperToBag(const ViperToBagOptions& options, const std::s
   ViperMessageBuilder builder(options.frames, options.classes);
   ViperTopicSelection want;
   want.semantic_color = options.semantic_color && options.classes != nullptr;
-  BagWriter out(bag, stats);
+  CountingRosbagWriter out(bag, stats);
   ReplayTiming timing(0.0, options.start_time);
   double base_s = 0.0, last_s = 0.0;
   auto topic = [](const char* t) { return std::string("/") + t; };

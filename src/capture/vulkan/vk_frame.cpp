@@ -108,6 +108,26 @@ void readSubmittedMatrices(Device& d, Recording& r) {
   }
 }
 
+// The frame's scene pass, whose depth and ids (and colour, without a swapchain) the frame takes:
+// of the passes in its command buffers, the one with the most recorded draws given ids (the last
+// of equals); null when none has ids.
+const PassCapture* scenePass(const Device& d) {
+  const PassCapture* scene = nullptr;
+  for (const std::shared_ptr<Recording>& r : d.frame)
+    for (const PassCapture& p : r->passes)
+      if (p.id_buffer && (!scene || p.id_draws >= scene->id_draws)) scene = &p;
+  return scene;
+}
+
+// After the frame the frame limit asked for: the stream is closed and the program stopped.
+void exitWhenDone(bool go_on) {
+  if (go_on) return;
+  std::fprintf(stderr, "[viper capture] captured the frames asked for, stopping the program\n");
+  Layer::get().shutdown();
+  std::fflush(nullptr);
+  std::_Exit(0);
+}
+
 }  // namespace
 
 uint32_t DescriptorSetLayoutInfo::dynamicCount() const {
@@ -505,7 +525,7 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
   // Every recorded draw of the frame, in submission order; (recording, draw + 1) -> frame draw.
   // Per recording (serial), its draws' frame indices + 1 by their index in the recording (0: none).
   std::unordered_map<uint32_t, std::vector<uint32_t>> frame_index;
-  const PassCapture* scene = nullptr;
+  const PassCapture* scene = scenePass(d);
   std::map<VkBuffer, uint64_t> buffer_keys;
   auto bufferKey = [&](VkBuffer b) -> uint64_t {
     auto k = buffer_keys.find(b);
@@ -516,8 +536,6 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
   };
   for (const std::shared_ptr<Recording>& r : d.frame) {
     frame.unrecorded_draws += r->unrecorded;
-    for (const PassCapture& p : r->passes)
-      if (p.id_buffer && (!scene || p.id_draws >= scene->id_draws)) scene = &p;
     for (const RecordedDraw& draw : r->draws) {
       auto pipeline = d.pipelines.find(draw.pipeline);
       if (pipeline == d.pipelines.end()) {
@@ -794,14 +812,15 @@ void applyBufferWrites(Device& d, const Recording& r) {
   }
 }
 
-// A submitted command buffer's recording joins the frame (and those of the secondaries it
-// executes): its writes into buffers are applied to their shadows first, so that its draws read
-// what they wrote, then its matrices are read from their buffers and the textures it uploads
-// keyed. Returns whether it drew into a pass whose ids are read back.
+// Whether a recording drew into a pass whose ids are read back.
 bool hasScenePass(const Recording& r) {
   return std::any_of(r.passes.begin(), r.passes.end(), [](const PassCapture& p) { return p.id_buffer != VK_NULL_HANDLE; });
 }
 
+// A submitted command buffer's recording joins the frame (and those of the secondaries it
+// executes): its writes into buffers are applied to their shadows first, so that its draws read
+// what they wrote, then its matrices are read from their buffers and the textures it uploads
+// keyed. Returns whether one of them drew into a pass whose ids are read back.
 bool joinFrame(Device& d, VkCommandBuffer cb) {
   auto r = d.recordings.find(cb);
   if (r == d.recordings.end()) return false;
@@ -823,8 +842,7 @@ bool joinFrame(Device& d, VkCommandBuffer cb) {
 
 // A program without a swapchain (an offscreen renderer) presents nothing: its frame ends with each
 // submission that carries a scene pass. The device is waited for, and the frame's colour is the
-// scene pass's colour attachment (copied at the pass's end; the pass with the most draws with ids,
-// as finishFrame chooses it).
+// scene pass's colour attachment (copied at the pass's end).
 void endSubmittedFrame(Device& d) {
   Layer& layer = Layer::get();
   std::unique_lock<std::mutex> lock(layer.mutex());
@@ -832,10 +850,7 @@ void endSubmittedFrame(Device& d) {
     endFrame(d);
     return;
   }
-  const PassCapture* scene = nullptr;
-  for (const std::shared_ptr<Recording>& r : d.frame)
-    for (const PassCapture& p : r->passes)
-      if (p.id_buffer && (!scene || p.id_draws >= scene->id_draws)) scene = &p;
+  const PassCapture* scene = scenePass(d);
   if (!scene) {
     endFrame(d);
     return;
@@ -852,48 +867,48 @@ void endSubmittedFrame(Device& d) {
   if (color) d.vk.UnmapMemory(d.device, scene->color_memory);
   endFrame(d);
   lock.unlock();
-  if (!go_on) {
-    std::fprintf(stderr, "[viper capture] captured the frames asked for, stopping the program\n");
-    layer.shutdown();
-    std::fflush(nullptr);
-    std::_Exit(0);
+  exitWhenDone(go_on);
+}
+
+// A submission's command buffers (`each` calls its argument with each) join the frame; on a device
+// without a swapchain the frame ends after the driver took a submission with a scene pass.
+template <typename EachCommandBuffer, typename Forward>
+VkResult submit(Device& d, EachCommandBuffer each, Forward forward) {
+  Layer& layer = Layer::get();
+  bool frame_ends = false;
+  if (layer.capturing()) {
+    Lock lock(layer.mutex());
+    each([&](VkCommandBuffer cb) { frame_ends |= joinFrame(d, cb); });
+    layer.unmapLayerMappings(d);
+    frame_ends &= d.swapchains.empty();
   }
+  const VkResult r = forward();
+  if (frame_ends && r == VK_SUCCESS) endSubmittedFrame(d);
+  return r;
 }
 
 }  // namespace
 
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const VkSubmitInfo* submits, VkFence fence) {
   Device& d = deviceOf(queue);
-  Layer& layer = Layer::get();
-  bool frame_ends = false;
-  if (layer.capturing()) {
-    Lock lock(layer.mutex());
-    for (uint32_t s = 0; s < count; ++s)
-      for (uint32_t c = 0; c < submits[s].commandBufferCount; ++c)
-        frame_ends |= joinFrame(d, submits[s].pCommandBuffers[c]);
-    layer.unmapLayerMappings(d);
-    frame_ends &= d.swapchains.empty();
-  }
-  const VkResult r = d.vk.QueueSubmit(queue, count, submits, fence);
-  if (frame_ends && r == VK_SUCCESS) endSubmittedFrame(d);
-  return r;
+  return submit(
+      d,
+      [&](auto join) {
+        for (uint32_t s = 0; s < count; ++s)
+          for (uint32_t c = 0; c < submits[s].commandBufferCount; ++c) join(submits[s].pCommandBuffers[c]);
+      },
+      [&] { return d.vk.QueueSubmit(queue, count, submits, fence); });
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit2(VkQueue queue, uint32_t count, const VkSubmitInfo2* submits, VkFence fence) {
   Device& d = deviceOf(queue);
-  Layer& layer = Layer::get();
-  bool frame_ends = false;
-  if (layer.capturing()) {
-    Lock lock(layer.mutex());
-    for (uint32_t s = 0; s < count; ++s)
-      for (uint32_t c = 0; c < submits[s].commandBufferInfoCount; ++c)
-        frame_ends |= joinFrame(d, submits[s].pCommandBufferInfos[c].commandBuffer);
-    layer.unmapLayerMappings(d);
-    frame_ends &= d.swapchains.empty();
-  }
-  const VkResult r = d.vk.QueueSubmit2(queue, count, submits, fence);
-  if (frame_ends && r == VK_SUCCESS) endSubmittedFrame(d);
-  return r;
+  return submit(
+      d,
+      [&](auto join) {
+        for (uint32_t s = 0; s < count; ++s)
+          for (uint32_t c = 0; c < submits[s].commandBufferInfoCount; ++c) join(submits[s].pCommandBufferInfos[c].commandBuffer);
+      },
+      [&] { return d.vk.QueueSubmit2(queue, count, submits, fence); });
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInfoKHR* info) {
@@ -992,12 +1007,7 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
     d.vk.QueueWaitIdle(queue);
     d.vk.DestroySemaphore(d.device, done, nullptr);
   }
-  if (!go_on) {
-    std::fprintf(stderr, "[viper capture] captured the frames asked for, stopping the program\n");
-    layer.shutdown();
-    std::fflush(nullptr);
-    std::_Exit(0);
-  }
+  exitWhenDone(go_on);
   return r;
 }
 

@@ -2,14 +2,8 @@
 
 #include "viper/evaluation/eval_report.h"
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <stdexcept>
 
 namespace viper {
 

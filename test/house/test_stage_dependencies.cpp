@@ -1,5 +1,5 @@
 // The house rule of docs/design.md, "Stages depend downwards only" (capture <- ground truth <-
-// evaluation, dataset), held against the code: every #include of the core's stages and of the
+// evaluation, dataset; the report's plots under the last two), held against the code: every #include of the core's stages and of the
 // capture layers, and the libraries the layers load into a foreign program.
 #include <gtest/gtest.h>
 
@@ -82,6 +82,13 @@ TEST(StageDependencies, EvaluationAndDatasetDoNotIncludeEachOther) {
   EXPECT_TRUE(d.empty()) << "dataset reaches into evaluation or ROS:" << describe(d);
 }
 
+// Line plots and CSV numbers (include/viper/report) sit under evaluation and dataset, which both
+// use them: they include no stage.
+TEST(StageDependencies, ReportIncludesNoStage) {
+  const auto v = includesOf({"src/report", "include/viper/report"}, {"capture", "ground_truth", "evaluation", "dataset", "ros"});
+  EXPECT_TRUE(v.empty()) << "the report's plots reach into a stage:" << describe(v);
+}
+
 // The libraries a capture layer makes the program load: of the package's own, only the capture
 // stage's (not the ground truth, metrics and dataset code it has no use for).
 std::set<std::string> neededLibraries(const fs::path& library) {
@@ -104,8 +111,11 @@ TEST(StageDependencies, CaptureLayersLoadOnlyTheCaptureStage) {
     const std::set<std::string> needed = neededLibraries(layer);
     ASSERT_FALSE(needed.empty()) << "readelf -d read nothing of " << layer;
     EXPECT_TRUE(needed.count("libviper_capture_core.so")) << "the layer does not link the capture stage";
-    for (const std::string& lib : needed)
-      if (lib.rfind("libviper_", 0) == 0) EXPECT_EQ(lib, "libviper_capture_core.so") << "the layer loads " << lib;
+    for (const std::string& lib : needed) {
+      if (lib.rfind("libviper_", 0) == 0) {
+        EXPECT_EQ(lib, "libviper_capture_core.so") << "the layer loads " << lib;
+      }
+    }
   }
 }
 

@@ -65,6 +65,8 @@ SceneOptions parseOptions(const std::vector<std::string>& args) {
       o.seed = parseUnsigned(name, take(), 0, UINT64_MAX);
     } else if (name == "--fps") {
       o.fps = parsePositive(name, take());
+    } else if (name == "--frame-ms") {
+      o.frame_ms = parsePositive(name, take());
     } else if (name == "--oracle") {
       o.oracle_path = take();
       if (o.oracle_path.empty()) throw OptionsError("--oracle needs a file name");
@@ -91,7 +93,10 @@ std::string sharedOptionsUsage() {
          "  --fps F             simulated frame rate: frame n is at time n/F seconds (default 15)\n"
          "  --oracle FILE       write the true answers per frame and draw (docs/oracle_format.md)\n"
          "  --dump-dir DIR      write each frame's color as DIR/frame_NNNNNN.ppm (read before the swap)\n"
-         "  --benchmark         print the mean frame time (rendering finished: glFinish or a fence)\n";
+         "  --benchmark         print the mean frame time (rendering finished: glFinish or a fence)\n"
+         "  --frame-ms T        hold each frame to at least T ms, sleeping after it is finished (a program\n"
+         "                      held to a frame rate: 16.667 for 60 frames/s); --benchmark then times the\n"
+         "                      whole frame, the sleep included\n";
 }
 
 std::string usage() {

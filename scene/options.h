@@ -21,6 +21,7 @@ struct SceneOptions {
   std::string oracle_path;  ///< empty: no oracle
   std::string dump_dir;     ///< empty: no PPM dumps
   bool benchmark = false;
+  double frame_ms = 0.0;  ///< --frame-ms: each frame takes at least this long (0: as fast as it renders)
   GlLoader loader = GlLoader::kDirect;
   bool help = false;
 };

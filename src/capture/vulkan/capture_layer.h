@@ -141,6 +141,15 @@ class Layer {
   /// Says once (stderr) what the layer could not do, with `what` as the key.
   void reportOnce(const std::string& what);
   void shutdown();
+  /// Seconds the frames' ends spent, printed at exit when VIPER_CAPTURE_STATS is set (as the
+  /// OpenGL layer prints its own): waiting for the device before the read-back (`wait_s`, added by
+  /// the submission and present hooks), and in finishFrame: the draw list and meshes, the pixels
+  /// (colour, ids, depth converted), handing the frame to the writer threads.
+  struct Stats {
+    uint64_t frames = 0;
+    double wait_s = 0, draws_s = 0, pixels_s = 0, push_s = 0;
+  };
+  Stats& stats() { return stats_; }
 
  private:
   Layer();
@@ -171,6 +180,7 @@ class Layer {
   bool start_on_scene_ = false, scene_started_ = false;
   std::unordered_map<uint64_t, bool> meshes_sent_;
   std::vector<VkDeviceMemory> layer_mapped_;
+  Stats stats_;
 
   friend class FrameBuilder;
 };

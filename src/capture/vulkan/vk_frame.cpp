@@ -200,7 +200,17 @@ bool Layer::openSink() {
 
 void Layer::shutdown() {
   Lock lock(mutex_);
-  if (sink_) sink_->close();
+  if (!sink_) return;
+  sink_->close();
+  if (stats_.frames && std::getenv("VIPER_CAPTURE_STATS")) {
+    const double n = static_cast<double>(stats_.frames) / 1e3;
+    std::fprintf(stderr,
+                 "[viper capture] Vulkan: %llu frames; per frame: waiting for the device %.2f ms, draw list and meshes "
+                 "%.2f ms, pixels (colour, ids, depth) %.2f ms, waiting for the writer %.2f ms, writer threads %.2f ms "
+                 "(%d threads, summed)\n",
+                 static_cast<unsigned long long>(stats_.frames), stats_.wait_s / n, stats_.draws_s / n,
+                 stats_.pixels_s / n, stats_.push_s / n, sink_->busySeconds() / n, sink_->threads());
+  }
 }
 
 void Layer::reportOnce(const std::string& what) {
@@ -515,6 +525,7 @@ void Layer::freeRecording(Device& d, Recording& r) {
 
 bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t width, uint32_t height) {
   if (!openSink()) return true;
+  const double start_s = monotonicSeconds();
   CaptureFrame frame;
   // The buffers of a frame written before (fresh 2-8 MB vectors cost more in page faults).
   RawImages raw = sink_->recycledRaw();
@@ -624,6 +635,8 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
   }
 
   // Colour (bottom row first, as RawImages holds it), the scene pass's depth and ids.
+  const double pixels_s = monotonicSeconds();
+  stats_.draws_s += pixels_s - start_s;
   if (presented) {
     raw.rgba.resize(pixels * 4);
     for (uint32_t y = 0; y < height; ++y) {
@@ -693,7 +706,11 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
                  static_cast<unsigned long long>(frame.number), d.frame.size(), frame.draws.size(), kinds.c_str());
     draw_kinds_.clear();
   }
+  const double push_s = monotonicSeconds();
+  stats_.pixels_s += push_s - pixels_s;
   sink_->push(std::move(frame), std::move(raw));
+  stats_.push_s += monotonicSeconds() - push_s;
+  ++stats_.frames;
   ++frames_written_;
   return !(frame_limit_ && frames_written_ >= frame_limit_);
 }
@@ -855,7 +872,9 @@ void endSubmittedFrame(Device& d) {
     endFrame(d);
     return;
   }
+  const double wait_s = monotonicSeconds();
   d.vk.DeviceWaitIdle(d.device);
+  layer.stats().wait_s += monotonicSeconds() - wait_s;
   void* color = nullptr;
   if (!scene->color_memory || d.vk.MapMemory(d.device, scene->color_memory, 0, VK_WHOLE_SIZE, 0, &color) != VK_SUCCESS) {
     color = nullptr;
@@ -981,7 +1000,9 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
     submit.signalSemaphoreCount = 1;
     submit.pSignalSemaphores = &done;
     d.vk.QueueSubmit(queue, 1, &submit, d.fence);
+    const double wait_s = monotonicSeconds();
     d.vk.WaitForFences(d.device, 1, &d.fence, VK_TRUE, UINT64_MAX);
+    layer.stats().wait_s += monotonicSeconds() - wait_s;
     d.vk.ResetFences(d.device, 1, &d.fence);
     copy.waitSemaphoreCount = 1;
     copy.pWaitSemaphores = &done;
@@ -990,7 +1011,9 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
   }
   // Every submission of the frame is done before its copies are read (simple, and slow on a GPU:
   // the read-back is synchronous for now).
+  const double idle_s = monotonicSeconds();
   d.vk.DeviceWaitIdle(d.device);
+  layer.stats().wait_s += monotonicSeconds() - idle_s;
   void* mapped = nullptr;
   if (buffer && d.vk.MapMemory(d.device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) mapped = nullptr;
   const bool go_on = layer.finishFrame(d, static_cast<const uint8_t*>(mapped), bgra, width, height);

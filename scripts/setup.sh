@@ -28,6 +28,7 @@ PKGS=(
   libeigen3-dev libopencv-dev libyaml-cpp-dev libzstd-dev libxxhash-dev
   libegl-dev libgl-dev libglx-dev libegl-mesa0 libgl1-mesa-dri libgles-dev
   libgtest-dev libbenchmark-dev
+  libcli11-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers spirv-headers spirv-tools glslang-tools
   libxcb1-dev
   xvfb imagemagick

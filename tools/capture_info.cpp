@@ -1,5 +1,6 @@
 // capture_info: prints what a capture stream holds (frames, sizes, draws, meshes, conditions), and
 // reports the first damaged chunk if any. Exit code 0 = intact, 1 = damaged, 2 = usage/open error.
+#include "command_line.h"
 #include "viper/capture/capture_stream.h"
 
 #include <cstdio>
@@ -64,15 +65,15 @@ struct Summary {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool help = argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h");
-  if (argc != 2 || help) {
-    std::cerr << "usage: capture_info FILE.vcap\n  Prints a summary of a viper capture stream and "
-                 "checks every chunk's checksum.\n";
-    return help ? 0 : 2;
-  }
+  CLI::App app("Prints a summary of a viper capture stream and checks every chunk's checksum.", "capture_info");
+  std::string path;
+  app.add_option("FILE.vcap", path, "the capture stream")->required()->type_name("");
+  app.footer("Exit status: 0 intact; 1 damaged (the summary up to the damage, then where it is); 2 usage or open\n"
+             "error.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
   std::unique_ptr<viper::CaptureReader> reader;
   try {
-    reader = std::make_unique<viper::CaptureReader>(argv[1]);
+    reader = std::make_unique<viper::CaptureReader>(path);
   } catch (const std::exception& e) {
     std::cerr << "capture_info: " << e.what() << "\n";
     return 2;

@@ -1,0 +1,61 @@
+// The command line of the tools in tools/, parsed by CLI11 (libcli11-dev) with one convention:
+// --help (-h) prints the help CLI11 makes from the options' descriptions on stdout and exits 0,
+// whatever else the line holds; a usage error (an unknown option, a missing or bad value, a
+// required option left out, options that do not go together) prints "TOOL: what is wrong" and the
+// help on stderr and exits 2 (kUsageError). As with the hand-written loops before CLI11, an option
+// given twice takes its last value, and whole numbers are read in base 10 (CLI11 alone takes 010
+// for octal 8 and refuses 08, as frame numbers are often written).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <optional>
+#include <string>
+
+namespace viper_tools {
+
+/// The exit status of a usage error.
+constexpr int kUsageError = 2;
+
+/// Prints "TOOL: problem" and the help on stderr; returns kUsageError. For what only the whole
+/// command line tells (options that go together), after parseCommandLine.
+inline int usageError(const CLI::App& app, const std::string& problem) {
+  std::cerr << app.get_name() << ": " << problem << "\n" << app.help();
+  return kUsageError;
+}
+
+/// Whole numbers written in base 10 ([+-]digits), their leading zeros dropped for CLI11.
+inline const CLI::Validator kDecimal(
+    [](std::string& value) -> std::string {
+      const size_t digits = !value.empty() && (value[0] == '-' || value[0] == '+') ? 1 : 0;
+      if (digits == value.size() || value.find_first_not_of("0123456789", digits) != std::string::npos)
+        return "'" + value + "' is not a whole number";
+      const size_t first = value.find_first_not_of('0', digits);
+      value = value.substr(0, digits) + (first == std::string::npos ? "0" : value.substr(first));
+      return "";
+    },
+    "", "DECIMAL");
+
+/// Parses argv into `app`'s options (all added by now). Returns the exit status when the tool is
+/// done (0 after --help, kUsageError after a usage error, each printed); std::nullopt when it goes on.
+inline std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv) {
+  app.get_formatter()->label("Usage", "usage");
+  // --help as soon as it is read: before the values' checks (an environment variable's included).
+  app.get_help_ptr()->trigger_on_parse()->each([](const std::string&) { throw CLI::CallForHelp(); });
+  for (CLI::Option* option : app.get_options()) {
+    option->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    const std::string type = option->get_type_name();  // CLI11 names integers' INT or UINT
+    if (type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0) option->transform(kDecimal);
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() != 0) return usageError(app, e.what());
+    std::cout << app.help();
+    return 0;
+  }
+  return std::nullopt;
+}
+
+}  // namespace viper_tools

@@ -100,6 +100,7 @@ void FrameSink::run(CaptureChunkEncoder& encoder) {
     const auto start = std::chrono::steady_clock::now();
     std::string error;
     if (!failed_) {
+      if (item.raw.prepare) item.raw.prepare(item.raw);
       finishFrame(item.raw, item.frame);
       try {
         encoder.encode(item.frame, path_);
@@ -108,6 +109,7 @@ void FrameSink::run(CaptureChunkEncoder& encoder) {
       }
     }
     item.raw.releaseViews();  // a read-back buffer of the GL's is free again
+    item.raw.prepare = nullptr;
     // Busy time: the finish and the encoding here, the write below, not the wait for the turn.
     double busy = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     {

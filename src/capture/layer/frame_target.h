@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <unordered_map>
 #include <vector>
@@ -34,6 +35,11 @@ struct RawImages {
   const float* ids_view = nullptr;
   /// The buffer's flag, true while these views may be read; releaseViews() clears it.
   std::shared_ptr<std::atomic<bool>> view_owner;
+
+  /// Work the writer thread does before finishing the frame, off the program's thread: the Vulkan
+  /// layer copies its read-back bytes into `staged` as they are and converts them here. Null: none.
+  std::function<void(RawImages&)> prepare;
+  std::vector<uint8_t> staged[2];  ///< bytes for `prepare`, their capacity kept with the images
 
 
   /// Done with the buffer: its flag cleared (it may be read into again), the views dropped.

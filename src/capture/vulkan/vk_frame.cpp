@@ -71,6 +71,60 @@ size_t depthBytes(VkFormat format) {
   return format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D16_UNORM_S8_UINT ? 2 : 4;
 }
 
+// What a writer thread converts of a frame (RawImages::prepare): the id and depth copies of the
+// scene pass as read back (top row first; RawImages::staged[0] and [1]), and BGRA colour.
+struct StagedPixels {
+  uint32_t width = 0, height = 0;
+  bool ids = false, depth = false, bgra = false;
+  VkFormat depth_format = VK_FORMAT_UNDEFINED;
+  /// Per recording (serial), its draws' frame indices + 1 by their index in the recording (0: none).
+  std::unordered_map<uint32_t, std::vector<uint32_t>> frame_index;
+};
+
+// Ids (recording serial, draw in the recording, primitive, written) to (frame draw + 1,
+// primitive), depth to floats, both bottom row first as RawImages holds them; BGRA to RGBA.
+void convertStaged(const StagedPixels& s, RawImages& raw) {
+  const size_t width = s.width, height = s.height, pixels = width * height;
+  if (s.ids) {
+    raw.ids.resize(pixels * 2);
+    uint32_t last_serial = 0;
+    const std::vector<uint32_t>* last_table = nullptr;
+    for (size_t y = 0; y < height; ++y) {
+      const uint32_t* row = reinterpret_cast<const uint32_t*>(raw.staged[0].data()) + y * width * 4;
+      float* out = raw.ids.data() + (height - 1 - y) * width * 2;
+      for (size_t x = 0; x < width; ++x) {
+        const uint32_t* px = row + x * 4;
+        // Neighbouring pixels mostly share a recording: its table is looked up again only when
+        // the serial changes.
+        if (px[0] != last_serial) {
+          auto found = s.frame_index.find(px[0]);
+          last_table = found == s.frame_index.end() ? nullptr : &found->second;
+          last_serial = px[0];
+        }
+        const uint32_t index =
+            px[3] && last_table && px[1] >= 1 && px[1] <= last_table->size() ? (*last_table)[px[1] - 1] : 0;
+        out[2 * x] = static_cast<float>(index);
+        out[2 * x + 1] = index ? static_cast<float>(px[2]) : 0.0f;
+      }
+    }
+  }
+  if (s.depth) {
+    const size_t bytes = depthBytes(s.depth_format);
+    raw.depth.resize(pixels);
+    for (size_t y = 0; y < height; ++y) {
+      const uint8_t* in = raw.staged[1].data() + y * width * bytes;
+      float* out = raw.depth.data() + (height - 1 - y) * width;
+      if (s.depth_format == VK_FORMAT_D32_SFLOAT || s.depth_format == VK_FORMAT_D32_SFLOAT_S8_UINT) {
+        std::memcpy(out, in, width * 4);
+        continue;
+      }
+      for (size_t x = 0; x < width; ++x) out[x] = depthValue(in + x * bytes, s.depth_format);
+    }
+  }
+  if (s.bgra)
+    for (size_t i = 0; i < raw.rgba.size(); i += 4) std::swap(raw.rgba[i], raw.rgba[i + 2]);
+}
+
 // Matrices and instance data that live in buffers, read when their draw is submitted (what the
 // GPU will read).
 void readSubmittedMatrices(Device& d, Recording& r) {
@@ -637,62 +691,39 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
   // Colour (bottom row first, as RawImages holds it), the scene pass's depth and ids.
   const double pixels_s = monotonicSeconds();
   stats_.draws_s += pixels_s - start_s;
+  // The program's thread copies the read-back bytes as they are (rows flipped for the colour);
+  // a writer thread converts them (convertStaged): ids to frame draws, depth to floats, BGRA.
   if (presented) {
     raw.rgba.resize(pixels * 4);
-    for (uint32_t y = 0; y < height; ++y) {
-      uint8_t* out = raw.rgba.data() + static_cast<size_t>(height - 1 - y) * width * 4;
-      const uint8_t* in = presented + static_cast<size_t>(y) * width * 4;
-      if (!bgra) {
-        std::memcpy(out, in, width * 4);
-        continue;
-      }
-      for (uint32_t x = 0; x < 4 * width; x += 4)
-        out[x] = in[x + 2], out[x + 1] = in[x + 1], out[x + 2] = in[x], out[x + 3] = in[x + 3];
-    }
+    for (uint32_t y = 0; y < height; ++y)
+      std::memcpy(raw.rgba.data() + static_cast<size_t>(height - 1 - y) * width * 4,
+                  presented + static_cast<size_t>(y) * width * 4, width * 4);
   }
   if (scene && (scene->width != width || scene->height != height)) {
     reportOnce("the scene's render target is " + std::to_string(scene->width) + "x" + std::to_string(scene->height) +
                ", the window " + std::to_string(width) + "x" + std::to_string(height) + ": no depth or ids written");
     scene = nullptr;
   }
+  StagedPixels staged;
+  staged.width = width;
+  staged.height = height;
+  staged.bgra = presented && bgra;
   if (scene) {
-    const uint8_t* ids = nullptr;
-    void* mapped = nullptr;
-    if (d.vk.MapMemory(d.device, scene->id_memory, 0, VK_WHOLE_SIZE, 0, &mapped) == VK_SUCCESS) ids = static_cast<uint8_t*>(mapped);
-    if (ids) {
-      raw.ids.resize(pixels * 2);
-      uint32_t last_serial = 0;
-      const std::vector<uint32_t>* last_table = nullptr;
-      for (uint32_t y = 0; y < height; ++y) {
-        const uint32_t* row = reinterpret_cast<const uint32_t*>(ids) + static_cast<size_t>(y) * width * 4;
-        float* out = raw.ids.data() + static_cast<size_t>(height - 1 - y) * width * 2;
-        for (uint32_t x = 0; x < width; ++x) {
-          const uint32_t* px = row + x * 4;
-          // Neighbouring pixels mostly share a recording: its table is looked up again only when
-          // the serial changes.
-          if (px[0] != last_serial) {
-            auto found = frame_index.find(px[0]);
-            last_table = found == frame_index.end() ? nullptr : &found->second;
-            last_serial = px[0];
-          }
-          const uint32_t index =
-              px[3] && last_table && px[1] >= 1 && px[1] <= last_table->size() ? (*last_table)[px[1] - 1] : 0;
-          out[2 * x] = static_cast<float>(index);
-          out[2 * x + 1] = index ? static_cast<float>(px[2]) : 0.0f;
-        }
-      }
-      d.vk.UnmapMemory(d.device, scene->id_memory);
-    }
-    if (scene->depth_memory && d.vk.MapMemory(d.device, scene->depth_memory, 0, VK_WHOLE_SIZE, 0, &mapped) == VK_SUCCESS) {
-      const size_t bytes = depthBytes(scene->depth_format);
-      raw.depth.resize(pixels);
-      for (uint32_t y = 0; y < height; ++y)
-        for (uint32_t x = 0; x < width; ++x)
-          raw.depth[static_cast<size_t>(height - 1 - y) * width + x] =
-              depthValue(static_cast<const uint8_t*>(mapped) + (static_cast<size_t>(y) * width + x) * bytes, scene->depth_format);
-      d.vk.UnmapMemory(d.device, scene->depth_memory);
-    }
+    auto stage = [&](VkDeviceMemory memory, size_t bytes, std::vector<uint8_t>& to) {
+      void* mapped = nullptr;
+      if (!memory || d.vk.MapMemory(d.device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) return false;
+      to.resize(bytes);
+      std::memcpy(to.data(), mapped, bytes);
+      d.vk.UnmapMemory(d.device, memory);
+      return true;
+    };
+    staged.ids = stage(scene->id_memory, pixels * 16, raw.staged[0]);
+    staged.depth_format = scene->depth_format;
+    staged.depth = stage(scene->depth_memory, pixels * depthBytes(scene->depth_format), raw.staged[1]);
+    staged.frame_index = std::move(frame_index);
   }
+  if (staged.ids || staged.depth || staged.bgra)
+    raw.prepare = [staged = std::move(staged)](RawImages& r) { convertStaged(staged, r); };
   unmapLayerMappings(d);
   frame.number = frames_written_;
   frame.time_s = fixed_fps_ > 0.0 ? static_cast<double>(frame.number) / fixed_fps_ : monotonicSeconds() - start_s_;

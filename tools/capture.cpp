@@ -7,6 +7,7 @@
 // be written (a full disk): the layer says so through a pipe (VIPER_CAPTURE_STATUS_FD) and the
 // stream ends with the last frame written whole; or 65 when the program succeeded but the capture
 // is mostly empty by --require-ids.
+#include "command_line.h"
 #include "viper/capture/capture_profile.h"
 #include "viper/capture/capture_stream.h"
 #include "viper/ground_truth/capture_verdict.h"
@@ -18,11 +19,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <climits>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,42 +40,21 @@ void forwardSignal(int sig) {
   if (g_child > 0) kill(g_child, sig);
 }
 
-int usage(const char* argv0, const char* problem) {
-  if (problem) std::fprintf(stderr, "capture: %s\n", problem);
-  std::fprintf(stderr,
-               "usage: %s --output FILE.vcap [--profile PROFILE.yaml] [--condition TAG] [--frames N]\n"
-               "       [--fps F] [--skip-frames N] [--start-on-scene] [--codec zstd|lz4] [--zstd-level L]\n"
-               "       [--writer-threads N] [--readback auto|sync|async] [--require-ids F] [--library libviper_intercept.so]\n"
-               "       -- PROGRAM [ARGS...]\n"
-               "  --frames N: write N frames, then stop the program\n"
-               "  --fps F: stamp frame n at n / F seconds, for programs that advance a fixed time step\n"
-               "           per frame (default: the monotonic clock at each buffer swap)\n"
-               "  --skip-frames N: show but do not write the first N frames (menus, loading screens)\n"
-               "  --start-on-scene: write from the first frame in which a recorded draw has the\n"
-               "           camera's view and projection matrices (the profile's scene programs)\n"
-               "  --codec zstd|lz4: compression of the stream (default $VIPER_CAPTURE_CODEC, else lz4);\n"
-               "           lz4 takes half the CPU to write and to read (what a replay of the whole 1080p\n"
-               "           pipeline needs to near 60 frames/s on two cores); zstd makes files half the size,\n"
-               "           for captures kept long\n"
-               "  --zstd-level L: with zstd, its level, -131072 to 22 (default $VIPER_CAPTURE_ZSTD_LEVEL,\n"
-               "           else 1: the world at 1920x1080 takes 1.5 MB a frame, 19 ms of the writer\n"
-               "           thread; -7: 2.4 MB, 16 ms; 3: 1.4 MB, 25 ms)\n"
-               "  --writer-threads N: threads that finish, compress and write frames, 1 to 64 (default\n"
-               "           $VIPER_CAPTURE_WRITER_THREADS, else half the CPUs less one, 1 to 8); the stream\n"
-               "           is the same whatever N\n"
-               "  --readback auto|sync|async: read each frame back at its swap (sync), or into buffers\n"
-               "           the GPU fills while the program goes on, handed over at the next swap (async;\n"
-               "           needs glBufferStorage); auto: async except on software renderers (llvmpipe).\n"
-               "           Default $VIPER_CAPTURE_READBACK, else auto. The stream is the same either way\n"
-               "  --require-ids F: F from 0 to 1; the capture passes when at least one frame was written and at\n"
-               "           least F of its scene pixels (depth below 1 or a draw id, over all frames) have a draw id\n"
-               "after the program exits, one line 'capture: FILE: N frames written; ids on I%% of scene pixels, placed\n"
-               "P%%; R draws recorded, U not; left out: REASON' (or 'nothing left out'; '0 frames written: WHY')\n"
-               "exit status: the program's (128 + signal if killed); else 74 (EX_IOERR) if the capture could not be\n"
-               "written (e.g. a full disk; the stream keeps the frames written before); else 65 if --require-ids\n"
-               "was not met; else 0\n",
-               argv0);
-  return 2;
+// A check of a value passed on to the layer as written: a whole number (base 10), or with `real`
+// any number, from `min` (above it with `above_min`) to `max`; `what` says so when it is not (and
+// `env`, the environment variable that may have given it).
+CLI::Validator numberCheck(bool real, double min, bool above_min, double max, const std::string& what,
+                           const std::string& env = "") {
+  return CLI::Validator(
+      [=](std::string& value) -> std::string {
+        char* end = nullptr;
+        const double n =
+            real ? std::strtod(value.c_str(), &end) : static_cast<double>(std::strtoll(value.c_str(), &end, 10));
+        const bool ok = !value.empty() && !*end && (above_min ? n > min : n >= min) && n <= max;
+        if (ok) return "";
+        return "must be " + what + ", not '" + value + "'" + (env.empty() ? "" : " (the option or " + env + ")");
+      },
+      "");
 }
 
 std::string executableDir() {
@@ -245,86 +227,102 @@ bool printVerdict(const std::string& output, const FileStamp& before, double req
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app(
+      "capture [options] -- PROGRAM [ARGS...]: runs an OpenGL or Vulkan PROGRAM with the viper interceptor\n"
+      "preloaded and the Vulkan layer enabled, and writes its capture stream; everything after -- is the\n"
+      "program and its arguments, passed as they are.",
+      "capture");
   std::string output, profile, condition, frames, library, fps, skip, codec, zstd_level, writer_threads, readback,
       require_ids;
   bool start_on_scene = false;
-  int i = 1;
-  for (; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--") {
-      ++i;
-      break;
-    }
-    if (a == "-h" || a == "--help") return usage(argv[0], nullptr), 0;
-    if (a == "--start-on-scene") {
-      start_on_scene = true;
-      continue;
-    }
-    if (i + 1 >= argc) return usage(argv[0], ("option " + a + " needs a value").c_str());
-    const std::string v = argv[++i];
-    if (a == "--output" || a == "-o") output = v;
-    else if (a == "--profile") profile = v;
-    else if (a == "--condition") condition = v;
-    else if (a == "--frames") frames = v;
-    else if (a == "--fps") fps = v;
-    else if (a == "--skip-frames") skip = v;
-    else if (a == "--library") library = v;
-    else if (a == "--codec") codec = v;
-    else if (a == "--zstd-level") zstd_level = v;
-    else if (a == "--writer-threads") writer_threads = v;
-    else if (a == "--readback") readback = v;
-    else if (a == "--require-ids") require_ids = v;
-    else return usage(argv[0], ("unknown option " + a).c_str());
-  }
-  if (i >= argc) return usage(argv[0], "no program given after --");
-  if (output.empty()) return usage(argv[0], "--output is required");
-  if (!frames.empty()) {
-    char* end = nullptr;
-    const long long n = std::strtoll(frames.c_str(), &end, 10);
-    if (*end || n <= 0) return usage(argv[0], "--frames must be a positive integer");
-  }
-  if (!skip.empty()) {
-    char* end = nullptr;
-    const long long n = std::strtoll(skip.c_str(), &end, 10);
-    if (*end || n < 0) return usage(argv[0], "--skip-frames must be a non-negative integer");
-  }
-  if (!fps.empty()) {
-    char* end = nullptr;
-    const double f = std::strtod(fps.c_str(), &end);
-    if (*end || !(f > 0.0) || f > 1e6) return usage(argv[0], "--fps must be a positive number");
-  }
+  std::vector<std::string> program;
+  constexpr double kNoLimit = std::numeric_limits<double>::infinity();
+  app.add_option("-o,--output", output, "the capture stream to write")->required()->type_name("FILE.vcap");
+  app.add_option("--profile", profile,
+                 "where the program keeps its matrices (docs/capture_layer.md); without one no matrices are "
+                 "recorded")
+      ->type_name("PROFILE.yaml");
+  app.add_option("--condition", condition, "condition stored in every frame (day, rain, ...)")->type_name("TAG");
+  app.add_option("--frames", frames, "write N frames, then stop the program")
+      ->type_name("N")
+      ->check(numberCheck(false, 1, false, kNoLimit, "a positive integer"));
+  app.add_option("--fps", fps,
+                 "stamp frame n at n / F seconds, for programs that advance a fixed time step per frame "
+                 "(default: the monotonic clock at each buffer swap)")
+      ->type_name("F")
+      ->check(numberCheck(true, 0, true, 1e6, "a positive number"));
+  app.add_option("--skip-frames", skip, "show but do not write the first N frames (menus, loading screens)")
+      ->type_name("N")
+      ->check(numberCheck(false, 0, false, kNoLimit, "a non-negative integer"));
+  app.add_flag("--start-on-scene", start_on_scene,
+               "write from the first frame in which a recorded draw has the camera's view and projection "
+               "matrices (the profile's scene programs)");
+  app.add_option("--codec", codec,
+                 "compression of the stream (default lz4); lz4 takes half the CPU to write and to read (what a "
+                 "replay of the whole 1080p pipeline needs to near 60 frames/s on two cores); zstd makes files "
+                 "half the size, for captures kept long")
+      ->type_name("zstd|lz4")
+      ->envname("VIPER_CAPTURE_CODEC")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            viper::CaptureCodec parsed;
+            return viper::parseCaptureCodec(value, parsed)
+                       ? ""
+                       : "must be zstd or lz4, not '" + value + "' (the option or $VIPER_CAPTURE_CODEC)";
+          },
+          ""));
+  app.add_option("--zstd-level", zstd_level,
+                 "with zstd, its level, -131072 to 22 (default 1: the world at 1920x1080 takes 1.5 MB a frame, "
+                 "19 ms of the writer thread; -7: 2.4 MB, 16 ms; 3: 1.4 MB, 25 ms)")
+      ->type_name("L")
+      ->envname("VIPER_CAPTURE_ZSTD_LEVEL")
+      ->check(numberCheck(false, -131072, false, 22, "an integer from -131072 to 22", "$VIPER_CAPTURE_ZSTD_LEVEL"));
+  app.add_option("--writer-threads", writer_threads,
+                 "threads that finish, compress and write frames, 1 to 64 (default half the CPUs less one, 1 to "
+                 "8); the stream is the same whatever N")
+      ->type_name("N")
+      ->envname("VIPER_CAPTURE_WRITER_THREADS")
+      ->check(numberCheck(false, 1, false, 64, "an integer from 1 to 64", "$VIPER_CAPTURE_WRITER_THREADS"));
+  app.add_option("--readback", readback,
+                 "read each frame back at its swap (sync), or into buffers the GPU fills while the program goes "
+                 "on, handed over at the next swap (async; needs glBufferStorage); auto (default): async except "
+                 "on software renderers (llvmpipe). The stream is the same either way")
+      ->type_name("auto|sync|async")
+      ->envname("VIPER_CAPTURE_READBACK")
+      ->check(CLI::Validator(
+          [](std::string& value) -> std::string {
+            const bool known = value == "auto" || value == "sync" || value == "async";
+            return known ? ""
+                         : "must be auto, sync or async, not '" + value + "' (the option or $VIPER_CAPTURE_READBACK)";
+          },
+          ""));
+  app.add_option("--require-ids", require_ids,
+                 "F from 0 to 1; the capture passes when at least one frame was written and at least F of its "
+                 "scene pixels (depth below 1 or a draw id, over all frames) have a draw id")
+      ->type_name("F")
+      ->check(numberCheck(true, 0, false, 1, "a number from 0 to 1"));
+  app.add_option("--library", library,
+                 "the interceptor to preload (default $VIPER_INTERCEPT_LIBRARY, else the one next to capture, "
+                 "else the build tree's)")
+      ->type_name("libviper_intercept.so");
+  app.add_option("PROGRAM", program, "after --: the program to run and its arguments, passed as they are")
+      ->type_name("");
+  app.footer(
+      "The defaults of --codec, --zstd-level, --writer-threads and --readback come from their environment\n"
+      "variables when set (Env above).\n"
+      "After the program exits, one line 'capture: FILE: N frames written; ids on I% of scene pixels, placed\n"
+      "P%; R draws recorded, U not; left out: REASON' (or 'nothing left out'; '0 frames written: WHY').\n"
+      "Exit status: the program's (128 + signal if killed); else 74 (EX_IOERR) if the capture could not be\n"
+      "written (e.g. a full disk; the stream keeps the frames written before); else 65 if --require-ids\n"
+      "was not met; else 0; 2 for a usage error.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
+  // The program is what follows the first --, exactly (nothing before it is the program's).
+  const int i = static_cast<int>(std::find(argv + 1, argv + argc, std::string("--")) - argv) + 1;
+  if (i >= argc) return viper_tools::usageError(app, "no program given after --");
+  if (program.size() != static_cast<size_t>(argc - i))
+    return viper_tools::usageError(app, "the program and its arguments go after --, not before it");
   double required_id_share = -1.0;  // none asked
-  if (!require_ids.empty()) {
-    char* end = nullptr;
-    required_id_share = std::strtod(require_ids.c_str(), &end);
-    if (*end || !(required_id_share >= 0.0 && required_id_share <= 1.0))
-      return usage(argv[0], "--require-ids must be a number from 0 to 1");
-  }
-  if (codec.empty())
-    if (const char* env = std::getenv("VIPER_CAPTURE_CODEC")) codec = env;
-  viper::CaptureCodec parsed;
-  if (!codec.empty() && !viper::parseCaptureCodec(codec, parsed))
-    return usage(argv[0], "--codec (or VIPER_CAPTURE_CODEC) must be zstd or lz4");
-  if (zstd_level.empty())
-    if (const char* env = std::getenv("VIPER_CAPTURE_ZSTD_LEVEL")) zstd_level = env;
-  if (!zstd_level.empty()) {
-    char* end = nullptr;
-    const long long n = std::strtoll(zstd_level.c_str(), &end, 10);
-    if (zstd_level.empty() || *end || n < -131072 || n > 22)
-      return usage(argv[0], "--zstd-level (or VIPER_CAPTURE_ZSTD_LEVEL) must be an integer from -131072 to 22");
-  }
-  if (writer_threads.empty())
-    if (const char* env = std::getenv("VIPER_CAPTURE_WRITER_THREADS")) writer_threads = env;
-  if (!writer_threads.empty()) {
-    char* end = nullptr;
-    const long long n = std::strtoll(writer_threads.c_str(), &end, 10);
-    if (*end || n < 1 || n > 64)
-      return usage(argv[0], "--writer-threads (or VIPER_CAPTURE_WRITER_THREADS) must be an integer from 1 to 64");
-  }
-  if (readback.empty())
-    if (const char* env = std::getenv("VIPER_CAPTURE_READBACK")) readback = env;
-  if (!readback.empty() && readback != "auto" && readback != "sync" && readback != "async")
-    return usage(argv[0], "--readback (or VIPER_CAPTURE_READBACK) must be auto, sync or async");
+  if (!require_ids.empty()) required_id_share = std::strtod(require_ids.c_str(), nullptr);
   if (!profile.empty()) {
     try {
       viper::loadCaptureProfile(profile);  // fail here, clearly, rather than inside the program

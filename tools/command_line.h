@@ -10,7 +10,9 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 
 namespace viper_tools {
@@ -24,6 +26,26 @@ inline int usageError(const CLI::App& app, const std::string& problem) {
   std::cerr << app.get_name() << ": " << problem << "\n" << app.help();
   return kUsageError;
 }
+
+/// CLI11's help with each option's description wrapped at 70 columns (its own line breaks kept).
+class HelpFormatter : public CLI::Formatter {
+ public:
+  HelpFormatter() { label("Usage", "usage"); }
+  std::string make_option_desc(const CLI::Option* option) const override {
+    std::string out, line;
+    std::istringstream words(option->get_description());
+    for (std::string paragraph; std::getline(words, paragraph);) {
+      std::istringstream in(paragraph);
+      line.clear();
+      for (std::string word; in >> word;) {
+        if (!line.empty() && line.size() + 1 + word.size() > 70) out += line + "\n", line.clear();
+        line += (line.empty() ? "" : " ") + word;
+      }
+      out += line + "\n";
+    }
+    return out.empty() ? out : out.substr(0, out.size() - 1);
+  }
+};
 
 /// Whole numbers written in base 10 ([+-]digits), their leading zeros dropped for CLI11.
 inline const CLI::Validator kDecimal(
@@ -40,7 +62,7 @@ inline const CLI::Validator kDecimal(
 /// Parses argv into `app`'s options (all added by now). Returns the exit status when the tool is
 /// done (0 after --help, kUsageError after a usage error, each printed); std::nullopt when it goes on.
 inline std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv) {
-  app.get_formatter()->label("Usage", "usage");
+  app.formatter(std::make_shared<HelpFormatter>());
   // --help as soon as it is read: before the values' checks (an environment variable's included).
   app.get_help_ptr()->trigger_on_parse()->each([](const std::string&) { throw CLI::CallForHelp(); });
   for (CLI::Option* option : app.get_options()) {

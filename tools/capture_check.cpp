@@ -3,6 +3,7 @@
 // check is judged against its goal, or named as not run with the reason.
 // Exit code 0 = every check that ran met its goal, 1 = damaged (figures up to the damage printed),
 // 2 = usage/open error, 3 = a check missed its goal, 4 = no check could run.
+#include "command_line.h"
 #include "viper/ground_truth/camera_model.h"
 #include "viper/ground_truth/capture_invariants.h"
 #include "viper/ground_truth/capture_verdict.h"
@@ -19,33 +20,6 @@
 #include <string>
 
 namespace {
-
-int usage(int code = 2) {
-  std::cerr << "usage: capture_check FILE.vcap [--from N] [--frames N] [--per-frame] [--flow] [--labels L.yaml]\n"
-               "                     [--resume-tracks]\n"
-               "  For every pixel with a draw id: projects the triangle its draw and primitive id name with\n"
-               "  the recorded matrices (or post-vertex-shader positions) and prints how far the pixel lies\n"
-               "  from it (px) and how far its depth is from the triangle's (relative), with the fractions\n"
-               "  of scene pixels that have an id and a placed mesh, and what the layer reported it could not\n"
-               "  record (draws without ids, matrices or mesh; draws not recorded). --from N skips frames\n"
-               "  numbered below N.\n"
-               "  --flow: also the flow of each pair of consecutive frames both ways (viper::computeFlow, draws\n"
-               "  associated by mesh and placement): forward-backward endpoint error and the photometric error\n"
-               "  of warping the next frame by the flow, against no motion; and static surfaces (same mesh,\n"
-               "  same world) against the flow the camera's own motion gives from depth (viper::checkStaticFlow).\n"
-               "  --labels: also the instances pipeline with that label table: share of id pixels with a class,\n"
-               "  per thing class its tracks (how many, frames each: ids stable over time), and every object's\n"
-               "  pixels (their depth) against its 3D box (viper::checkBoxes); --resume-tracks:\n"
-               "  the tracker's resume_by_resources (an object back after a long gap takes up its own id).\n"
-               "  Then one line per check: 'NAME: met: ...', 'NAME: FAILED: ... (goal: ...)' or 'NAME: not run:\n"
-               "  WHY'. Goals: reprojection >= 99% of checked pixels within 0.5 px; reprojection depth p99 <= 1e-2\n"
-               "  (relative); flow forward-backward median <= 0.01 px and >= 95% within 0.5 px; flow photometric\n"
-               "  below no motion's (or <= 1 of 255); flow of static surfaces p99 <= 0.1 px; boxes p99.9 <= 1e-3\n"
-               "  of the distance outside.\n"
-               "exit status: 0 every check that ran met its goal; 1 the capture is damaged (figures up to the\n"
-               "  damage); 2 usage or open error; 3 a check missed its goal; 4 no check could run.\n";
-  return code;
-}
 
 // Share of `distances` at most 0.5 px (0 when there is none).
 double withinHalfPixel(const std::vector<float>& distances) {
@@ -228,23 +202,42 @@ FlowInput flowInput(const viper::CaptureFrame& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app(
+      "For every pixel with a draw id: projects the triangle its draw and primitive id name with the recorded\n"
+      "matrices (or post-vertex-shader positions) and prints how far the pixel lies from it (px) and how far\n"
+      "its depth is from the triangle's (relative), with the fractions of scene pixels that have an id and a\n"
+      "placed mesh, and what the layer reported it could not record (draws without ids, matrices or mesh;\n"
+      "draws not recorded).",
+      "capture_check");
   std::string path;
   uint64_t from = 0, max_frames = 0;
   bool per_frame = false, flow = false, resume = false;
   std::string labels;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") return usage(0);
-    if (a == "--from" && i + 1 < argc) from = std::strtoull(argv[++i], nullptr, 10);
-    else if (a == "--frames" && i + 1 < argc) max_frames = std::strtoull(argv[++i], nullptr, 10);
-    else if (a == "--per-frame") per_frame = true;
-    else if (a == "--flow") flow = true;
-    else if (a == "--resume-tracks") resume = true;
-    else if (a == "--labels" && i + 1 < argc) labels = argv[++i];
-    else if (a.rfind("--", 0) == 0 || !path.empty()) return usage();
-    else path = a;
-  }
-  if (path.empty()) return usage();
+  app.add_option("FILE.vcap", path, "the capture to check")->required()->type_name("");
+  app.add_option("--from", from, "skip frames numbered below N");
+  app.add_option("--frames", max_frames, "check at most N frames (0: all)");
+  app.add_flag("--per-frame", per_frame, "also the figures of every frame (and every pair, with --flow)");
+  app.add_flag("--flow", flow,
+               "also the flow of each pair of consecutive frames both ways (viper::computeFlow, draws associated "
+               "by mesh and placement): forward-backward endpoint error and the photometric error of warping "
+               "the next frame by the flow, against no motion; and static surfaces (same mesh, same world) "
+               "against the flow the camera's own motion gives from depth (viper::checkStaticFlow)");
+  app.add_option("--labels", labels,
+                 "also the instances pipeline with that label table: share of id pixels with a class, per thing "
+                 "class its tracks (how many, frames each: ids stable over time), and every object's pixels "
+                 "(their depth) against its 3D box (viper::checkBoxes)")
+      ->type_name("L.yaml");
+  app.add_flag("--resume-tracks", resume,
+               "with --labels, the tracker's resume_by_resources (an object back after a long gap takes up its "
+               "own id)");
+  app.footer(
+      "Then one line per check: 'NAME: met: ...', 'NAME: FAILED: ... (goal: ...)' or 'NAME: not run: WHY'.\n"
+      "Goals: reprojection >= 99% of checked pixels within 0.5 px; reprojection depth p99 <= 1e-2 (relative);\n"
+      "flow forward-backward median <= 0.01 px and >= 95% within 0.5 px; flow photometric below no motion's\n"
+      "(or <= 1 of 255); flow of static surfaces p99 <= 0.1 px; boxes p99.9 <= 1e-3 of the distance outside.\n"
+      "Exit status: 0 every check that ran met its goal; 1 the capture is damaged (figures up to the damage);\n"
+      "2 usage or open error; 3 a check missed its goal; 4 no check could run.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
   std::unique_ptr<viper::CaptureReader> reader;
   try {
     reader = std::make_unique<viper::CaptureReader>(path);

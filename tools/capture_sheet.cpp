@@ -4,6 +4,7 @@
 // green within 0.5 px, red beyond, grey: no placement recorded, black: no id). With --labels, the
 // ground truth instead: color, semantic classes, instances (a color per track), depth, flow.
 // Exit code 0 = written, 1 = a frame was not found, 2 = usage/read/write error.
+#include "command_line.h"
 #include "viper/ground_truth/camera_model.h"
 #include "viper/ground_truth/capture_invariants.h"
 #include "viper/capture/capture_stream.h"
@@ -21,19 +22,10 @@
 #include <map>
 #include <memory>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
 namespace {
-
-int usage(int code = 2) {
-  std::cerr << "usage: capture_sheet FILE.vcap --frames N[,N...] --out SHEET.png [--tile-width 320]\n"
-               "                     [--labels LABELS.yaml [--class-table CSV]]\n"
-               "  One row per frame: color, draw ids, depth, flow to the next frame, reprojection check;\n"
-               "  with --labels: color, semantic classes, instances, depth, flow.\n";
-  return code;
-}
 
 cv::Mat colorImage(const viper::CaptureFrame& f) {
   cv::Mat rgb(static_cast<int>(f.height), static_cast<int>(f.width), CV_8UC3,
@@ -127,31 +119,32 @@ cv::Mat reprojectionImage(const viper::CaptureFrame& f, const viper::MeshRegistr
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app(
+      "A contact sheet of chosen frames of a capture, one row per frame: color, draw ids, depth, flow to the\n"
+      "next frame, reprojection check; with --labels: color, semantic classes, instances, depth, flow.",
+      "capture_sheet");
   std::string path, out_path;
-  std::set<uint64_t> wanted;
+  std::vector<uint64_t> frames;
   int tile_width = 320;
   std::string labels_path, class_table_path = VIPER_CLASS_TABLE;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") return usage(0);
-    if (a == "--frames" && i + 1 < argc) {
-      std::stringstream list(argv[++i]);
-      for (std::string item; std::getline(list, item, ',');) wanted.insert(std::stoull(item));
-    } else if (a == "--out" && i + 1 < argc) {
-      out_path = argv[++i];
-    } else if (a == "--labels" && i + 1 < argc) {
-      labels_path = argv[++i];
-    } else if (a == "--class-table" && i + 1 < argc) {
-      class_table_path = argv[++i];
-    } else if (a == "--tile-width" && i + 1 < argc) {
-      tile_width = std::max(32, std::atoi(argv[++i]));
-    } else if (a.rfind("--", 0) == 0 || !path.empty()) {
-      return usage();
-    } else {
-      path = a;
-    }
-  }
-  if (path.empty() || out_path.empty() || wanted.empty()) return usage();
+  app.add_option("FILE.vcap", path, "the capture")->required()->type_name("");
+  app.add_option("--frames", frames, "the frames, one row each (each needs the next one for its flow)")
+      ->required()
+      ->delimiter(',')
+      ->type_name("N[,N...]");
+  app.add_option("--out", out_path, "the sheet to write")->required()->type_name("SHEET.png");
+  app.add_option("--tile-width", tile_width, "width of each image in the sheet, px (at least 32)")
+      ->capture_default_str();
+  app.add_option("--labels", labels_path, "a label table: the ground truth instead (classes, instances)")
+      ->type_name("LABELS.yaml");
+  app.add_option("--class-table", class_table_path,
+                 "with --labels, the classes' colors (default: the package's config/viper_classes.csv)")
+      ->type_name("CSV");
+  app.footer("Exit status: 0 written; 1 a frame (or the frame after it) is not in the capture; 2 usage, read or\n"
+             "write error.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
+  tile_width = std::max(32, tile_width);
+  std::set<uint64_t> wanted(frames.begin(), frames.end());
   std::vector<cv::Mat> rows;
   try {
     viper::CaptureReader reader(path);

@@ -3,6 +3,7 @@
 // of where it shows, and a proposed class; written as a static web page (DIR/index.html, no server
 // needed) where a person picks a VIPER class per resource and saves the label table YAML.
 // Exit code 0 = written, 2 = usage/read/write error.
+#include "command_line.h"
 #include "viper/capture/capture_stream.h"
 #include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/resource_census.h"
@@ -22,16 +23,6 @@
 namespace fs = std::filesystem;
 
 namespace {
-
-int usage(int code = 2) {
-  std::cerr << "usage: label_resources FILE.vcap --out DIR [--labels PREVIOUS.yaml] [--class-table CSV]\n"
-               "                       [--top N (200)] [--crops N (3)] [--from N]\n"
-               "  Writes DIR/index.html: every resource (mesh, else texture, else program key) the capture's\n"
-               "  visible pixels come from, most pixels first, with crops, a proposed class, and a class to\n"
-               "  pick; 'Save label table' downloads the YAML that the instances node reads (~label_table).\n"
-               "  --labels: a previous table, whose classes are proposed first. --from N: skip frames below N.\n";
-  return code;
-}
 
 std::string jsonString(const std::string& s) {
   std::string out = "\"";
@@ -85,22 +76,26 @@ cv::Mat crop(const viper::CaptureFrame& f, const viper::ResourceStats& r, const 
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app(
+      "Writes DIR/index.html: every resource (mesh, else texture, else program key) the capture's visible\n"
+      "pixels come from, most pixels first, with crops, a proposed class, and a class to pick; 'Save label\n"
+      "table' downloads the YAML that the instances node reads (~label_table).",
+      "label_resources");
   std::string path, out_dir, previous_path, class_table_path = VIPER_CLASS_TABLE;
   size_t top = 200, crops = 3;
   uint64_t from = 0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") return usage(0);
-    if (a == "--out" && i + 1 < argc) out_dir = argv[++i];
-    else if (a == "--labels" && i + 1 < argc) previous_path = argv[++i];
-    else if (a == "--class-table" && i + 1 < argc) class_table_path = argv[++i];
-    else if (a == "--top" && i + 1 < argc) top = std::stoul(argv[++i]);
-    else if (a == "--crops" && i + 1 < argc) crops = std::stoul(argv[++i]);
-    else if (a == "--from" && i + 1 < argc) from = std::stoull(argv[++i]);
-    else if (a.rfind("--", 0) == 0 || !path.empty()) return usage();
-    else path = a;
-  }
-  if (path.empty() || out_dir.empty()) return usage();
+  app.add_option("FILE.vcap", path, "the capture")->required()->type_name("");
+  app.add_option("--out", out_dir, "the folder of the page")->required()->type_name("DIR");
+  app.add_option("--labels", previous_path, "a previous table, whose classes are proposed first")
+      ->type_name("PREVIOUS.yaml");
+  app.add_option("--class-table", class_table_path, "the classes to pick from (default: the package's "
+                                                    "config/viper_classes.csv)")
+      ->type_name("CSV");
+  app.add_option("--top", top, "the N resources with the most pixels")->capture_default_str();
+  app.add_option("--crops", crops, "crops per resource")->capture_default_str();
+  app.add_option("--from", from, "skip frames numbered below N");
+  app.footer("Exit status: 0 written; 2 usage, read or write error.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
   try {
     const viper::ClassTable classes = viper::ClassTable::load(class_table_path);
     viper::LabelTable previous;

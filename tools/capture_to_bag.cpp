@@ -4,6 +4,7 @@
 // written, 1 = problems reported (a damaged stream: the intact frames before it are written; frames
 // the bridge would drop), 2 = usage error, the capture cannot be opened or the bag cannot be written.
 // docs/capture_bridge.md has the details.
+#include "command_line.h"
 #include "viper/capture/capture_stream.h"
 #include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/bridge/bag_writer.h"
@@ -21,16 +22,6 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: capture_to_bag CAPTURE.vcap --output OUT.bag [--frames N] [--compression none|lz4|bz2]\n"
-    "                      [--namespace /capture] [--frame-id camera_optical] [--start-time T]\n"
-    "Writes the raw topics capture_bridge publishes for CAPTURE (NS/color/image_raw, NS/color/camera_info,\n"
-    "NS/depth/image_raw, NS/depth/camera_info, NS/draw_ids, NS/primitive_ids, NS/draws, and NS/mesh_store\n"
-    "whenever a frame brings new meshes, latched) with the bridge's stamps (capture time, or 1 s for the\n"
-    "first frame when capture times start at 0, or --start-time); each message is written at its header\n"
-    "stamp. --frames N: only the first N frames. Default compression: lz4 (as make_test_bag.sh records).\n"
-    "Exit code: 0 all frames written, 1 problems reported (the intact frames written), 2 error.\n";
-
 struct Options {
   std::string capture;
   std::string output;
@@ -41,57 +32,39 @@ struct Options {
   std::optional<double> start_time;
 };
 
-// Parses the command line; returns the error, empty if none.
-std::string parse(int argc, char** argv, Options& o) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg.rfind("--", 0) != 0) {
-      if (!o.capture.empty()) return "more than one capture given ('" + o.capture + "', '" + arg + "')";
-      o.capture = arg;
-      continue;
-    }
-    if (i + 1 >= argc) return "missing value after " + arg;
-    const std::string v = argv[++i];
-    try {
-      if (arg == "--output") o.output = v;
-      else if (arg == "--frames") {
-        const long long n = std::stoll(v);
-        if (n < 1) return "--frames must be >= 1";
-        o.frames = static_cast<uint64_t>(n);
-      } else if (arg == "--compression") o.compression = v;
-      else if (arg == "--namespace") o.ns = v;
-      else if (arg == "--frame-id") o.frame_id = v;
-      else if (arg == "--start-time") o.start_time = std::stod(v);
-      else return "unknown option " + arg;
-    } catch (const std::exception&) {
-      return "bad number '" + v + "' for " + arg;
-    }
-  }
-  if (o.capture.empty() || o.output.empty()) return "a capture and --output are required";
-  if (o.compression != "none" && o.compression != "lz4" && o.compression != "bz2")
-    return "--compression must be none, lz4 or bz2";
-  if (o.start_time && !(*o.start_time > 0)) return "--start-time must be > 0";
-  if (o.ns.empty() || o.ns[0] != '/') return "--namespace must start with '/'";
-  while (o.ns.size() > 1 && o.ns.back() == '/') o.ns.pop_back();
-  return {};
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kUsage;
-      return 0;
-    }
-  }
+  CLI::App app(
+      "Writes the raw topics capture_bridge publishes for CAPTURE (NS/color/image_raw, NS/color/camera_info,\n"
+      "NS/depth/image_raw, NS/depth/camera_info, NS/draw_ids, NS/primitive_ids, NS/draws, and NS/mesh_store\n"
+      "whenever a frame brings new meshes, latched) with the bridge's stamps (capture time, or 1 s for the\n"
+      "first frame when capture times start at 0, or --start-time); each message is written at its header\n"
+      "stamp.",
+      "capture_to_bag");
   Options o;
-  const std::string error = parse(argc, argv, o);
-  if (!error.empty()) {
-    std::cerr << "capture_to_bag: " << error << "\n" << kUsage;
-    return 2;
-  }
+  int64_t frame_count = 0;
+  double start_time = 0.0;
+  app.add_option("CAPTURE.vcap", o.capture, "the capture stream")->required()->type_name("");
+  app.add_option("--output", o.output, "the bag to write")->required()->type_name("OUT.bag");
+  const CLI::Option* frames_given = app.add_option("--frames", frame_count, "only the first N frames");
+  app.add_option("--compression", o.compression, "the bag's chunks (lz4, as make_test_bag.sh records)")
+      ->check(CLI::IsMember({"none", "lz4", "bz2"}))
+      ->capture_default_str();
+  app.add_option("--namespace", o.ns, "the topics' namespace NS, starting with '/'")->capture_default_str();
+  app.add_option("--frame-id", o.frame_id, "the images' frame")->capture_default_str();
+  const CLI::Option* start_time_given =
+      app.add_option("--start-time", start_time, "stamp of the first frame, s (> 0), the others after it as captured")
+          ->type_name("T");
+  app.footer("Exit status: 0 all frames written; 1 problems reported (the intact frames written); 2 usage error,\n"
+             "the capture cannot be opened or the bag cannot be written.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
+  if (*frames_given && frame_count < 1) return viper_tools::usageError(app, "--frames must be >= 1");
+  if (*frames_given) o.frames = static_cast<uint64_t>(frame_count);
+  if (*start_time_given && !(start_time > 0)) return viper_tools::usageError(app, "--start-time must be > 0");
+  if (*start_time_given) o.start_time = start_time;
+  if (o.ns.empty() || o.ns[0] != '/') return viper_tools::usageError(app, "--namespace must start with '/'");
+  while (o.ns.size() > 1 && o.ns.back() == '/') o.ns.pop_back();
 
   // The bridge's conversion and stamps for a file replay (CaptureRawFrames), written as its
   // publishers would (writeRawFrame).

@@ -98,6 +98,9 @@ class Layer {
     VkFence fence = VK_NULL_HANDLE;
     /// Read-back buffers not in use, by size.
     std::multimap<VkDeviceSize, std::pair<VkBuffer, VkDeviceMemory>> readback_pool;
+    /// Every read-back buffer's memory, mapped once for its lifetime: mapping it again each frame
+    /// costs a page fault per page read (NVIDIA: 10 ms for a 1080p frame's copies).
+    std::unordered_map<VkDeviceMemory, const uint8_t*> readback_maps;
   };
 
   /// Makes the id buffer's set layouts, pool, set and memory (once); false when the device cannot.
@@ -108,6 +111,8 @@ class Layer {
   /// there; releaseReadbackBuffer() gives it back.
   bool createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer, VkDeviceMemory& memory);
   void releaseReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer buffer, VkDeviceMemory memory);
+  /// The bytes of a read-back buffer's memory (mapped since it was made); nullptr for none.
+  static const uint8_t* readbackBytes(const Device& d, VkDeviceMemory memory);
   /// A memory type of `bits` with `flags` (UINT32_MAX if none).
   static uint32_t memoryType(const Device& d, uint32_t bits, VkMemoryPropertyFlags flags);
   /// Pointer to `size` bytes of buffer `b` at `offset`: from its shadow where it has one (nullptr

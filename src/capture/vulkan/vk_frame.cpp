@@ -360,6 +360,7 @@ void Layer::removeDevice(VkDevice device) {
     d->vk.DestroyBuffer(device, pooled.first, nullptr);
     d->vk.FreeMemory(device, pooled.second, nullptr);
   }
+  d->readback_maps.clear();
   const Device::IdBuffer& ib = d->id_buffer;
   if (ib.pool) d->vk.DestroyDescriptorPool(device, ib.pool, nullptr);
   if (ib.layout) d->vk.DestroyDescriptorSetLayout(device, ib.layout, nullptr);
@@ -392,7 +393,12 @@ void Layer::releaseReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer buffer,
   // Kept for the next frame's copies: fresh allocations cost more in page faults than the copies
   // themselves (a CPU driver backs device memory with new pages). A few per size at most.
   if (d.readback_pool.count(size) < 8) d.readback_pool.emplace(size, std::make_pair(buffer, memory));
-  else d.vk.DestroyBuffer(d.device, buffer, nullptr), d.vk.FreeMemory(d.device, memory, nullptr);
+  else d.vk.DestroyBuffer(d.device, buffer, nullptr), d.vk.FreeMemory(d.device, memory, nullptr), d.readback_maps.erase(memory);
+}
+
+const uint8_t* Layer::readbackBytes(const Device& d, VkDeviceMemory memory) {
+  auto m = memory ? d.readback_maps.find(memory) : d.readback_maps.end();
+  return m == d.readback_maps.end() ? nullptr : m->second;
 }
 
 bool Layer::createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer, VkDeviceMemory& memory) {
@@ -423,7 +429,16 @@ bool Layer::createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer,
     buffer = VK_NULL_HANDLE;
     return false;
   }
-  d.vk.BindBufferMemory(d.device, buffer, memory, 0);
+  void* mapped = nullptr;
+  if (d.vk.BindBufferMemory(d.device, buffer, memory, 0) != VK_SUCCESS ||
+      d.vk.MapMemory(d.device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) {
+    d.vk.DestroyBuffer(d.device, buffer, nullptr);
+    d.vk.FreeMemory(d.device, memory, nullptr);
+    buffer = VK_NULL_HANDLE;
+    memory = VK_NULL_HANDLE;
+    return false;
+  }
+  d.readback_maps[memory] = static_cast<const uint8_t*>(mapped);
   return true;
 }
 
@@ -710,11 +725,10 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
   staged.bgra = presented && bgra;
   if (scene) {
     auto stage = [&](VkDeviceMemory memory, size_t bytes, std::vector<uint8_t>& to) {
-      void* mapped = nullptr;
-      if (!memory || d.vk.MapMemory(d.device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) return false;
+      const uint8_t* mapped = readbackBytes(d, memory);
+      if (!mapped) return false;
       to.resize(bytes);
       std::memcpy(to.data(), mapped, bytes);
-      d.vk.UnmapMemory(d.device, memory);
       return true;
     };
     staged.ids = stage(scene->id_memory, pixels * 16, raw.staged[0]);
@@ -906,15 +920,13 @@ void endSubmittedFrame(Device& d) {
   const double wait_s = monotonicSeconds();
   d.vk.DeviceWaitIdle(d.device);
   layer.stats().wait_s += monotonicSeconds() - wait_s;
-  void* color = nullptr;
-  if (!scene->color_memory || d.vk.MapMemory(d.device, scene->color_memory, 0, VK_WHOLE_SIZE, 0, &color) != VK_SUCCESS) {
-    color = nullptr;
+  const uint8_t* color = Layer::readbackBytes(d, scene->color_memory);
+  if (!color) {
     layer.reportOnce("frames without colour: the scene pass of a program without a swapchain has no colour "
                      "attachment the layer can copy (8-bit RGBA or BGRA, made while the layer was loaded)");
   }
   const bool bgra = scene->color_format == VK_FORMAT_B8G8R8A8_UNORM || scene->color_format == VK_FORMAT_B8G8R8A8_SRGB;
-  const bool go_on = layer.finishFrame(d, static_cast<const uint8_t*>(color), bgra, scene->width, scene->height);
-  if (color) d.vk.UnmapMemory(d.device, scene->color_memory);
+  const bool go_on = layer.finishFrame(d, color, bgra, scene->width, scene->height);
   endFrame(d);
   lock.unlock();
   exitWhenDone(go_on);
@@ -1045,11 +1057,8 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
   const double idle_s = monotonicSeconds();
   d.vk.DeviceWaitIdle(d.device);
   layer.stats().wait_s += monotonicSeconds() - idle_s;
-  void* mapped = nullptr;
-  if (buffer && d.vk.MapMemory(d.device, memory, 0, VK_WHOLE_SIZE, 0, &mapped) != VK_SUCCESS) mapped = nullptr;
-  const bool go_on = layer.finishFrame(d, static_cast<const uint8_t*>(mapped), bgra, width, height);
+  const bool go_on = layer.finishFrame(d, Layer::readbackBytes(d, memory), bgra, width, height);
   if (buffer) {
-    if (mapped) d.vk.UnmapMemory(d.device, memory);
     layer.releaseReadbackBuffer(d, static_cast<VkDeviceSize>(width) * height * 4, buffer, memory);
     d.vk.FreeCommandBuffers(d.device, pool, 1, &cb);
   }

@@ -3,8 +3,11 @@
 // whatever else the line holds; a usage error (an unknown option, a missing or bad value, a
 // required option left out, options that do not go together) prints "TOOL: what is wrong" and the
 // help on stderr and exits 2 (kUsageError). As with the hand-written loops before CLI11, an option
-// given twice takes its last value, and whole numbers are read in base 10 (CLI11 alone takes 010
-// for octal 8 and refuses 08, as frame numbers are often written).
+// takes one value each time it is given (an option that is a list gathers them), an option given
+// twice otherwise takes its last value, and whole numbers are read in base 10 (CLI11 alone takes 010
+// for octal 8 and refuses 08, as frame numbers are often written). parseCommandLine finds the
+// whole-number options by the type name CLI11 gives them (INT, UINT): leave it to them, and check
+// their limits after parsing (a check added to them would see the number before it is read in base 10).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -66,7 +69,8 @@ inline std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv)
   // --help as soon as it is read: before the values' checks (an environment variable's included).
   app.get_help_ptr()->trigger_on_parse()->each([](const std::string&) { throw CLI::CallForHelp(); });
   for (CLI::Option* option : app.get_options()) {
-    option->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    option->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);  // a list (vector) keeps every value
+    if (!option->get_positional()) option->allow_extra_args(false);  // one value each time it is given
     const std::string type = option->get_type_name();  // CLI11 names integers' INT or UINT
     if (type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0) option->transform(kDecimal);
   }

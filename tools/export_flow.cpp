@@ -5,6 +5,7 @@
 // bad message is reported (topic, stamp, what is wrong), skipped, and keeps its number. Exit
 // code: 0 = every message exported, 1 = some skipped, the rest exported, 2 = usage, bag or write
 // error. docs/dataset_io.md has the details.
+#include "command_line.h"
 #include "viper/dataset/middlebury_flo.h"
 #include "viper/dataset/viper_flow.h"
 #include "viper/dataset/viper_layout.h"
@@ -43,55 +44,6 @@ struct Options {
   uint64_t first_frame = 0;
   int deflate_level = viper::dataset::ZipWriteOptions().deflate_level;
 };
-
-const char* kUsage =
-    "usage: export_flow --bag IN.bag --out DIR [--topic /ground_truth/flow/forward]\n"
-    "                   [--format npz|flo|both] [--seq 001] [--split train] [--modality flow]\n"
-    "                   [--first-frame 0] [--frames-from TOPIC] [--deflate-level 1]\n"
-    "Writes every sensor_msgs/Image (32FC2) of TOPIC to DIR/SPLIT/MODALITY/SEQ/SEQ_FRAME.npz (VIPER)\n"
-    "and/or .flo (Middlebury). FRAME (5 digits) = first-frame + index of the message on the topic,\n"
-    "or with --frames-from (e.g. /capture/color/image_raw) first-frame + index of the flow's stamp\n"
-    "among that topic's header stamps. --modality flowbw for backward flow; --deflate-level 0\n"
-    "stores the npz entries uncompressed.\n"
-    "Exit code: 0 all exported, 1 bad messages skipped (the rest exported), 2 error.\n";
-
-bool parseArgs(int argc, char** argv, Options& o, std::string& error) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    if (i + 1 >= argc) {
-      error = "missing value after " + arg;
-      return false;
-    }
-    const std::string value = argv[++i];
-    try {
-      if (arg == "--bag") o.bag = value;
-      else if (arg == "--out") o.out = value;
-      else if (arg == "--topic") o.topic = value;
-      else if (arg == "--frames-from") o.frames_from = value;
-      else if (arg == "--format") o.format = value;
-      else if (arg == "--seq") o.seq = value;
-      else if (arg == "--split") o.split = value;
-      else if (arg == "--modality") o.modality = value;
-      else if (arg == "--first-frame") o.first_frame = std::stoull(value);
-      else if (arg == "--deflate-level") o.deflate_level = std::stoi(value);
-      else {
-        error = "unknown option " + arg;
-        return false;
-      }
-    } catch (const std::exception&) {
-      error = "bad number '" + value + "' for " + arg;
-      return false;
-    }
-  }
-  if (o.bag.empty() || o.out.empty()) error = "--bag and --out are required";
-  else if (o.format != "npz" && o.format != "flo" && o.format != "both") error = "--format must be npz, flo or both";
-  else if (o.deflate_level < 0 || o.deflate_level > 9) error = "--deflate-level must be 0..9";
-  return error.empty();
-}
 
 std::string stampText(const ros::Time& t) {
   char s[32];
@@ -267,12 +219,30 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app(
+      "Writes every sensor_msgs/Image (32FC2) of TOPIC to DIR/SPLIT/MODALITY/SEQ/SEQ_FRAME.npz (VIPER) and/or\n"
+      ".flo (Middlebury). FRAME (5 digits) = first-frame + index of the message on the topic, or with\n"
+      "--frames-from (e.g. /capture/color/image_raw) first-frame + index of the flow's stamp among that\n"
+      "topic's header stamps.",
+      "export_flow");
   Options o;
-  std::string error;
-  if (!parseArgs(argc, argv, o, error)) {
-    std::cerr << "export_flow: " << error << "\n" << kUsage;
-    return 2;
-  }
+  app.add_option("--bag", o.bag, "the bag to read")->required()->type_name("IN.bag");
+  app.add_option("--out", o.out, "the dataset's root")->required()->type_name("DIR");
+  app.add_option("--topic", o.topic, "the flow images' topic")->capture_default_str();
+  app.add_option("--format", o.format, "VIPER's npz, Middlebury's flo, or both")
+      ->check(CLI::IsMember({"npz", "flo", "both"}))
+      ->capture_default_str();
+  app.add_option("--seq", o.seq, "the sequence")->capture_default_str();
+  app.add_option("--split", o.split, "the split")->capture_default_str();
+  app.add_option("--modality", o.modality, "flowbw for backward flow")->capture_default_str();
+  app.add_option("--first-frame", o.first_frame, "the number of the first frame")->capture_default_str();
+  app.add_option("--frames-from", o.frames_from, "number the frames by the header stamps of this topic")
+      ->type_name("TOPIC");
+  app.add_option("--deflate-level", o.deflate_level, "0..9; 0 stores the npz entries uncompressed")
+      ->capture_default_str();
+  app.footer("Exit status: 0 all exported; 1 bad messages skipped (the rest exported); 2 error.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
+  if (o.deflate_level < 0 || o.deflate_level > 9) return viper_tools::usageError(app, "--deflate-level must be 0..9");
   try {
     viper::dataset::viperFramePath(o.out, o.split, o.modality, o.seq, 0, "npz");
   } catch (const std::invalid_argument& e) {

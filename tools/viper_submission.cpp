@@ -5,6 +5,7 @@
 // ROOT/SPLIT/bag/SEQ.bag: /capture/draws carries stamp and frame_number). A bad message is
 // reported (topic, stamp, what is wrong) and skipped. Exit code: 0 = every message written, 1 =
 // some skipped, the rest written, 2 = usage, bag or write error. docs/evaluate.md has the details.
+#include "command_line.h"
 #include "viper/dataset/viper_submission.h"
 #include "viper/ros/conversions/flow_conversions.h"
 #include "viper/ros/evaluation/evaluate_inputs.h"
@@ -35,48 +36,45 @@ struct Options {
   bool flow_stamp_second = false, estimate_optical = false;
 };
 
-const char* kUsage =
-    "usage: viper_submission --bag PREDICTIONS.bag --frames GT.bag --out DIR [--seq N]\n"
-    "         [--semantic /perception/semantic] [--instances /perception/instances] [--flow /perception/flow]\n"
-    "         [--odom /perception/odom] [--flow-stamp first|second] [--odometry-estimate-frame body|optical]\n"
-    "         [--draws /capture/draws] [--camera-info /capture/color/camera_info]\n"
-    "Writes the predictions of PREDICTIONS.bag as VIPER's submission files: DIR/cls/SEQ_FRAME.png,\n"
-    "DIR/inst/SEQ_FRAME_CLASS_INSTANCE.png + DIR/inst/instances.csv, DIR/flow/SEQ_FRAME.flo,\n"
-    "DIR/odometry/SEQ.txt (KITTI axes). FRAME is the frame number of the prediction's stamp in GT.bag's\n"
-    "draw lists (generate's ROOT/SPLIT/bag/SEQ.bag); N (0..999) defaults to GT.bag's name (001.bag: 1).\n"
-    "A topic without messages is left out. Exit code: 0 all written, 1 bad messages skipped, 2 error.\n";
+// The command line's options, into `o` (what only the whole line tells: check()).
+void addOptions(CLI::App& app, Options& o, std::string& seq, std::string& flow_stamp, std::string& estimate) {
+  app.add_option("--bag", o.bag, "the predictions, recorded on the topics below")
+      ->required()
+      ->type_name("PREDICTIONS.bag");
+  app.add_option("--frames", o.frames,
+                 "the sequence's ground-truth bag (generate's ROOT/SPLIT/bag/SEQ.bag): FRAME is the frame number of "
+                 "the prediction's stamp in its draw lists")
+      ->required()
+      ->type_name("GT.bag");
+  app.add_option("--out", o.out, "the submission's folder")->required()->type_name("DIR");
+  app.add_option("--seq", seq, "the sequence id, 0..999 (default: GT.bag's name, 001.bag: 1)")->type_name("N");
+  app.add_option("--semantic", o.semantic, "semantic classes (sensor_msgs/Image, mono8)")->capture_default_str();
+  app.add_option("--instances", o.instances, "instances (viper/InstancePredictionArray)")->capture_default_str();
+  app.add_option("--flow", o.flow, "flow (sensor_msgs/Image, 32FC2)")->capture_default_str();
+  app.add_option("--odom", o.odom, "odometry (nav_msgs/Odometry)")->capture_default_str();
+  app.add_option("--flow-stamp", flow_stamp, "flow stamped with the first image of its pair, or the second")
+      ->type_name("first|second")
+      ->capture_default_str();
+  app.add_option("--odometry-estimate-frame", estimate, "the frame the odometry estimates: the body or the camera's")
+      ->type_name("body|optical")
+      ->capture_default_str();
+  app.add_option("--draws", o.draws, "GT.bag's draw lists (stamps and frame numbers)")->capture_default_str();
+  app.add_option("--camera-info", o.camera_info, "GT.bag's camera info (the frame size)")->capture_default_str();
+}
 
-bool parseArgs(int argc, char** argv, Options& o, std::string& error) {
-  std::string flow_stamp = "first", estimate = "body", seq;
-  const std::map<std::string, std::string*> options = {
-      {"--bag", &o.bag}, {"--frames", &o.frames}, {"--out", &o.out}, {"--seq", &seq},
-      {"--semantic", &o.semantic}, {"--instances", &o.instances}, {"--flow", &o.flow}, {"--odom", &o.odom},
-      {"--draws", &o.draws}, {"--camera-info", &o.camera_info}, {"--flow-stamp", &flow_stamp},
-      {"--odometry-estimate-frame", &estimate}};
-  for (int i = 1; i < argc; i += 2) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    const auto option = options.find(arg);
-    if (option == options.end()) error = "unknown option " + arg;
-    else if (i + 1 >= argc) error = "missing value after " + arg;
-    else *option->second = argv[i + 1];
-    if (!error.empty()) return false;
-  }
+// What only the whole command line tells; returns the error, empty if none.
+std::string check(Options& o, const std::string& seq, const std::string& flow_stamp, const std::string& estimate) {
   const auto number = [](const std::string& t) {
     return !t.empty() && t.size() <= 3 && t.find_first_not_of("0123456789") == std::string::npos ? std::stoi(t) : -1;
   };
   o.seq = number(seq.empty() ? fs::path(o.frames).stem().string() : seq);
-  if (o.bag.empty() || o.frames.empty() || o.out.empty()) error = "--bag, --frames and --out are required";
-  else if (o.seq < 0 && seq.empty()) error = "--seq is required: the name of " + o.frames + " is not a number 0..999";
-  else if (o.seq < 0) error = "--seq must be a number 0..999 (VIPER's sequence ids)";
-  else if (flow_stamp != "first" && flow_stamp != "second") error = "--flow-stamp must be first or second";
-  else if (estimate != "body" && estimate != "optical") error = "--odometry-estimate-frame must be body or optical";
   o.flow_stamp_second = flow_stamp == "second";
   o.estimate_optical = estimate == "optical";
-  return error.empty();
+  if (o.seq < 0 && seq.empty()) return "--seq is required: the name of " + o.frames + " is not a number 0..999";
+  if (o.seq < 0) return "--seq must be a number 0..999 (VIPER's sequence ids)";
+  if (flow_stamp != "first" && flow_stamp != "second") return "--flow-stamp must be first or second";
+  if (estimate != "body" && estimate != "optical") return "--odometry-estimate-frame must be body or optical";
+  return "";
 }
 
 // The ground-truth sequence: frame number per stamp, and the frame size.
@@ -289,11 +287,20 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app(
+      "Writes the predictions of PREDICTIONS.bag as VIPER's submission files: DIR/cls/SEQ_FRAME.png,\n"
+      "DIR/inst/SEQ_FRAME_CLASS_INSTANCE.png + DIR/inst/instances.csv, DIR/flow/SEQ_FRAME.flo,\n"
+      "DIR/odometry/SEQ.txt (KITTI axes). A topic without messages is left out.",
+      "viper_submission");
+  Options o;
+  std::string seq, flow_stamp = "first", estimate = "body";
+  addOptions(app, o, seq, flow_stamp, estimate);
+  app.footer("Exit status: 0 all written; 1 bad messages skipped; 2 error.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
+  if (const std::string error = check(o, seq, flow_stamp, estimate); !error.empty())
+    return viper_tools::usageError(app, error);
   try {
-    Options o;
-    std::string error;
-    if (parseArgs(argc, argv, o, error)) return run(o);
-    std::cerr << "viper_submission: " << error << "\n" << kUsage;
+    return run(o);
   } catch (const std::exception& e) {  // a damaged bag: rosbag throws while iterating
     std::cerr << "viper_submission: " << e.what() << "\n";
   }

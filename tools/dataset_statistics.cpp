@@ -2,58 +2,35 @@
 // per image, instances per class, vehicles by distance, pixels per class; per split and condition;
 // Jensen-Shannon divergences) as ROOT/statistics.md and ROOT/statistics/*.csv, *.png. What
 // `generate --merge` writes after the manifest, computed again. docs/dataset_generation.md#statistics.
+#include "command_line.h"
 #include "dataset_statistics_run.h"
 
 #include <ros/package.h>
 
+#include <cstdlib>
 #include <filesystem>
 
-namespace {
-
-const char* kUsage =
-    "usage: dataset_statistics --root ROOT [--plan PLAN.yaml] [--class-table CSV] [--distance-bin-m 10]\n"
-    "Reads every sequence of the plan (without --plan: every sequence under ROOT, condition 'unknown')\n"
-    "and writes ROOT/statistics.md and ROOT/statistics/. Exit code: 0 written, 1 written with files\n"
-    "that could not be read (named), 2 error.\n";
-
-}  // namespace
-
 int main(int argc, char** argv) {
+  CLI::App app(
+      "Reads every sequence of the plan (without --plan: every sequence under ROOT, condition 'unknown')\n"
+      "and writes ROOT/statistics.md and ROOT/statistics/.",
+      "dataset_statistics");
   std::string root, plan, class_table;
   viper::dataset::StatisticsOptions options;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kUsage;
-      return 0;
-    }
-    if (i + 1 >= argc) {
-      std::cerr << "dataset_statistics: missing value after " << arg << "\n" << kUsage;
-      return 2;
-    }
-    const std::string v = argv[++i];
-    if (arg == "--root") root = v;
-    else if (arg == "--plan") plan = v;
-    else if (arg == "--class-table") class_table = v;
-    else if (arg == "--distance-bin-m") {
-      size_t used = 0;
-      try {
-        options.distance_bin_m = std::stod(v, &used);
-      } catch (const std::exception&) {
-      }
-      if (used != v.size() || !(options.distance_bin_m > 0.0)) {
-        std::cerr << "dataset_statistics: --distance-bin-m takes metres > 0, not '" << v << "'\n";
-        return 2;
-      }
-    } else {
-      std::cerr << "dataset_statistics: unknown option " << arg << "\n" << kUsage;
-      return 2;
-    }
-  }
-  if (root.empty()) {
-    std::cerr << "dataset_statistics: --root is required\n" << kUsage;
-    return 2;
-  }
+  app.add_option("--root", root, "the dataset, in VIPER's release layout")->required()->type_name("ROOT");
+  app.add_option("--plan", plan, "its plan: the sequences, their conditions and the dataset's name")
+      ->type_name("PLAN.yaml");
+  app.add_option("--class-table", class_table, "the classes (default: the package's config/viper_classes.csv)")
+      ->type_name("CSV");
+  app.add_option("--distance-bin-m", options.distance_bin_m, "width of the bins of vehicles by distance, metres")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            return std::strtod(v.c_str(), nullptr) > 0.0 ? "" : "takes metres > 0, not '" + v + "'";
+          },
+          ""));
+  app.footer("Exit status: 0 written; 1 written with files that could not be read (named); 2 error.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
   if (class_table.empty()) {
     const std::string share = ros::package::getPath("viper");
     class_table = (share.empty() ? std::string(VIPER_SOURCE_DIR) : share) + "/config/viper_classes.csv";

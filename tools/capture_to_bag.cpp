@@ -51,8 +51,10 @@ int main(int argc, char** argv) {
   app.add_option("--compression", o.compression, "the bag's chunks (lz4, as make_test_bag.sh records)")
       ->check(CLI::IsMember({"none", "lz4", "bz2"}))
       ->capture_default_str();
-  app.add_option("--namespace", o.ns, "the topics' namespace NS, starting with '/'")->capture_default_str();
-  app.add_option("--frame-id", o.frame_id, "the images' frame")->capture_default_str();
+  app.add_option("--namespace", o.ns, "the topics' namespace, starting with '/'")
+      ->type_name("NS")
+      ->capture_default_str();
+  app.add_option("--frame-id", o.frame_id, "the images' frame")->type_name("FRAME")->capture_default_str();
   const CLI::Option* start_time_given =
       app.add_option("--start-time", start_time, "stamp of the first frame, s (> 0), the others after it as captured")
           ->type_name("T");

@@ -228,13 +228,13 @@ int main(int argc, char** argv) {
   Options o;
   app.add_option("--bag", o.bag, "the bag to read")->required()->type_name("IN.bag");
   app.add_option("--out", o.out, "the dataset's root")->required()->type_name("DIR");
-  app.add_option("--topic", o.topic, "the flow images' topic")->capture_default_str();
+  app.add_option("--topic", o.topic, "the flow images' topic")->type_name("TOPIC")->capture_default_str();
   app.add_option("--format", o.format, "VIPER's npz, Middlebury's flo, or both")
       ->check(CLI::IsMember({"npz", "flo", "both"}))
       ->capture_default_str();
-  app.add_option("--seq", o.seq, "the sequence")->capture_default_str();
-  app.add_option("--split", o.split, "the split")->capture_default_str();
-  app.add_option("--modality", o.modality, "flowbw for backward flow")->capture_default_str();
+  app.add_option("--seq", o.seq, "the sequence")->type_name("SEQ")->capture_default_str();
+  app.add_option("--split", o.split, "the split")->type_name("SPLIT")->capture_default_str();
+  app.add_option("--modality", o.modality, "flowbw for backward flow")->type_name("MODALITY")->capture_default_str();
   app.add_option("--first-frame", o.first_frame, "the number of the first frame")->capture_default_str();
   app.add_option("--frames-from", o.frames_from, "number the frames by the header stamps of this topic")
       ->type_name("TOPIC");

@@ -48,18 +48,26 @@ void addOptions(CLI::App& app, Options& o, std::string& seq, std::string& flow_s
       ->type_name("GT.bag");
   app.add_option("--out", o.out, "the submission's folder")->required()->type_name("DIR");
   app.add_option("--seq", seq, "the sequence id, 0..999 (default: GT.bag's name, 001.bag: 1)")->type_name("N");
-  app.add_option("--semantic", o.semantic, "semantic classes (sensor_msgs/Image, mono8)")->capture_default_str();
-  app.add_option("--instances", o.instances, "instances (viper/InstancePredictionArray)")->capture_default_str();
-  app.add_option("--flow", o.flow, "flow (sensor_msgs/Image, 32FC2)")->capture_default_str();
-  app.add_option("--odom", o.odom, "odometry (nav_msgs/Odometry)")->capture_default_str();
+  app.add_option("--semantic", o.semantic, "semantic classes (sensor_msgs/Image, mono8)")
+      ->type_name("TOPIC")
+      ->capture_default_str();
+  app.add_option("--instances", o.instances, "instances (viper/InstancePredictionArray)")
+      ->type_name("TOPIC")
+      ->capture_default_str();
+  app.add_option("--flow", o.flow, "flow (sensor_msgs/Image, 32FC2)")->type_name("TOPIC")->capture_default_str();
+  app.add_option("--odom", o.odom, "odometry (nav_msgs/Odometry)")->type_name("TOPIC")->capture_default_str();
   app.add_option("--flow-stamp", flow_stamp, "flow stamped with the first image of its pair, or the second")
       ->type_name("first|second")
       ->capture_default_str();
   app.add_option("--odometry-estimate-frame", estimate, "the frame the odometry estimates: the body or the camera's")
       ->type_name("body|optical")
       ->capture_default_str();
-  app.add_option("--draws", o.draws, "GT.bag's draw lists (stamps and frame numbers)")->capture_default_str();
-  app.add_option("--camera-info", o.camera_info, "GT.bag's camera info (the frame size)")->capture_default_str();
+  app.add_option("--draws", o.draws, "GT.bag's draw lists (stamps and frame numbers)")
+      ->type_name("TOPIC")
+      ->capture_default_str();
+  app.add_option("--camera-info", o.camera_info, "GT.bag's camera info (the frame size)")
+      ->type_name("TOPIC")
+      ->capture_default_str();
 }
 
 // What only the whole command line tells; returns the error, empty if none.

@@ -4,6 +4,7 @@
 // are reported (topic, stamp, what is wrong) and skipped; the rest is exported. Exit code: 0 =
 // everything exported, 1 = some messages skipped, 2 = usage error, unreadable bag, or a file that
 // cannot be written. docs/viper_layout.md has the details.
+#include "command_line.h"
 #include "viper/ground_truth/class_table.h"
 #include "viper/dataset/viper_layout.h"
 #include "viper/ros/dataset/export_roles.h"
@@ -44,80 +45,17 @@ struct Options {
   uint64_t first_frame = 0;
 };
 
-const char* kUsage =
-    "usage: export_viper --bag GT.bag --out DIR [options]     (a recorded bag)\n"
-    "       export_viper --live --out DIR [options]           (live topics, until Ctrl-C)\n"
-    "options: [--split train] [--seq 001] [--first-frame 0] [--frames-from TOPIC]\n"
-    "         [--img-format png|jpg] [--jpeg-quality 95] [--png-level 1] [--deflate-level 1]\n"
-    "         [--cls-palette viper|gray] [--class-table CSV] [--camera auto|draws|odom|none]\n"
-    "         [--absolute-poses] [--near 0.1] [--far 1000] [--topic ROLE=TOPIC ...]\n"
-    "Roles and default topics (ROLE= with no topic turns a role off):\n"
-    "  color=/capture/color/image_raw -> img     semantic=/ground_truth/semantic -> cls\n"
-    "  instance_ids=/ground_truth/instance_ids + semantic, or instances_viper=/ground_truth/instances_viper -> inst\n"
-    "  flow=/ground_truth/flow/forward -> flow   flowbw=/ground_truth/flow/backward -> flowbw\n"
-    "  boxes=/ground_truth/boxes_optical + objects=/ground_truth/objects (2D boxes) -> bb\n"
-    "  draws=/capture/draws, or odom=/ground_truth/odom + camera_info=/capture/color/camera_info -> camera\n"
-    "Frame n is the n-th header stamp of --frames-from (default: the color topic), plus --first-frame.\n"
-    "Exit code: 0 all exported, 1 bad messages skipped (the rest exported), 2 error.\n";
-
-bool parseArgs(int argc, char** argv, Options& o, std::string& error) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    if (arg == "--live") {
-      o.live = true;
-      continue;
-    }
-    if (arg == "--absolute-poses") {
-      o.exporter.relative_poses = false;
-      continue;
-    }
-    if (i + 1 >= argc) {
-      error = "missing value after " + arg;
-      return false;
-    }
-    const std::string v = argv[++i];
-    try {
-      if (arg == "--bag") o.bag = v;
-      else if (arg == "--out") o.exporter.root = v;
-      else if (arg == "--split") o.exporter.split = v;
-      else if (arg == "--seq") o.exporter.seq = v;
-      else if (arg == "--first-frame") o.first_frame = std::stoull(v);
-      else if (arg == "--frames-from") o.frames_from = v;
-      else if (arg == "--img-format") o.exporter.image_extension = v;
-      else if (arg == "--jpeg-quality") o.exporter.images.jpeg_quality = std::stoi(v);
-      else if (arg == "--png-level") o.exporter.images.png_compression_level = std::stoi(v);
-      else if (arg == "--deflate-level") o.exporter.zip.deflate_level = std::stoi(v);
-      else if (arg == "--cls-palette") o.cls_palette = v;
-      else if (arg == "--class-table") o.class_table = v;
-      else if (arg == "--camera") o.camera = v;
-      else if (arg == "--near") o.exporter.near_m = std::stod(v);
-      else if (arg == "--far") o.exporter.far_m = std::stod(v);
-      else if (arg == "--topic") {
-        const size_t eq = v.find('=');
-        ExportRole* role = eq == std::string::npos ? nullptr : viper::findExportRole(o.roles, v.substr(0, eq));
-        if (role == nullptr) {
-          error = "--topic takes ROLE=TOPIC with a role of: color, semantic, instance_ids, instances_viper, flow, "
-                  "flowbw, boxes, objects, draws, odom, camera_info (got '" + v + "')";
-          return false;
-        }
-        role->topic = v.substr(eq + 1);
-      } else {
-        error = "unknown option " + arg;
-        return false;
-      }
-    } catch (const std::exception&) {
-      error = "bad number '" + v + "' for " + arg;
-      return false;
-    }
+// The topics of --topic ROLE=TOPIC (ROLE= turns a role off), given in order; the error, empty if none.
+std::string setTopics(const std::vector<std::string>& role_topics, Options& o) {
+  for (const std::string& v : role_topics) {
+    const size_t eq = v.find('=');
+    ExportRole* role = eq == std::string::npos ? nullptr : viper::findExportRole(o.roles, v.substr(0, eq));
+    if (role == nullptr)
+      return "--topic takes ROLE=TOPIC with a role of: color, semantic, instance_ids, instances_viper, flow, "
+             "flowbw, boxes, objects, draws, odom, camera_info (got '" + v + "')";
+    role->topic = v.substr(eq + 1);
   }
-  if (o.exporter.root.empty()) error = "--out is required";
-  else if (o.live == !o.bag.empty()) error = "give either --bag or --live";
-  else error = viper::exportOptionsProblem(o.exporter, o.cls_palette, o.camera);
-  return error.empty();
+  return "";
 }
 
 const ExportRole& role(const Options& o, const std::string& name) { return viper::exportRole(o.roles, name); }
@@ -245,12 +183,61 @@ int main(int argc, char** argv) {
   // Live: ROS takes its own arguments (name:=value remappings) out of argv first.
   if (std::any_of(argv + 1, argv + argc, [](const char* a) { return std::string(a) == "--live"; }))
     ros::init(argc, argv, "export_viper");
+  CLI::App app(
+      "Writes ground truth into VIPER's release layout, from a recorded bag (--bag) or from live topics\n"
+      "(--live, until Ctrl-C): img, cls, inst, flow, flowbw, bb and the camera file.\n"
+      "Roles and default topics (ROLE= with no topic turns a role off):\n"
+      "  color=/capture/color/image_raw -> img     semantic=/ground_truth/semantic -> cls\n"
+      "  instance_ids=/ground_truth/instance_ids + semantic, or instances_viper=/ground_truth/instances_viper -> inst\n"
+      "  flow=/ground_truth/flow/forward -> flow   flowbw=/ground_truth/flow/backward -> flowbw\n"
+      "  boxes=/ground_truth/boxes_optical + objects=/ground_truth/objects (2D boxes) -> bb\n"
+      "  draws=/capture/draws, or odom=/ground_truth/odom + camera_info=/capture/color/camera_info -> camera\n"
+      "Frame n is the n-th header stamp of --frames-from (default: the color topic), plus --first-frame.",
+      "export_viper");
   Options o;
-  std::string error;
-  if (!parseArgs(argc, argv, o, error)) {
-    std::cerr << "export_viper: " << error << "\n" << kUsage;
-    return 2;
-  }
+  std::vector<std::string> role_topics;
+  bool absolute_poses = false;
+  app.add_option("--bag", o.bag, "a recorded bag of ground truth")->type_name("GT.bag");
+  app.add_flag("--live", o.live, "the live topics instead, until Ctrl-C (a ROS node)");
+  app.add_option("--out", o.exporter.root, "the layout's root")->required()->type_name("DIR");
+  app.add_option("--split", o.exporter.split, "the split")->type_name("SPLIT")->capture_default_str();
+  app.add_option("--seq", o.exporter.seq, "the sequence")->type_name("SEQ")->capture_default_str();
+  app.add_option("--first-frame", o.first_frame, "the number of the first frame")->capture_default_str();
+  app.add_option("--frames-from", o.frames_from,
+                 "number the frames by the header stamps of this topic (default: the color topic if present, "
+                 "else semantic, else the first image topic)")
+      ->type_name("TOPIC");
+  app.add_option("--img-format", o.exporter.image_extension, "img files")->type_name("png|jpg")->capture_default_str();
+  app.add_option("--jpeg-quality", o.exporter.images.jpeg_quality, "0..100")->capture_default_str();
+  app.add_option("--png-level", o.exporter.images.png_compression_level, "PNG compression, 0..9")
+      ->capture_default_str();
+  app.add_option("--deflate-level", o.exporter.zip.deflate_level, "npz compression, 0..9")->capture_default_str();
+  app.add_option("--cls-palette", o.cls_palette, "cls files: the class table's colors, or gray levels")
+      ->type_name("viper|gray")
+      ->capture_default_str();
+  app.add_option("--class-table", o.class_table,
+                 "the classes' colors (default: the package's config/viper_classes.csv)")
+      ->type_name("CSV");
+  app.add_option("--camera", o.camera,
+                 "the camera file from the draws, from odometry and camera info, or none (auto: draws if "
+                 "present, else odom)")
+      ->type_name("auto|draws|odom|none")
+      ->capture_default_str();
+  app.add_flag("--absolute-poses", absolute_poses,
+               "view matrices as they are (default: relative to the first exported frame, as VIPER)");
+  app.add_option("--near", o.exporter.near_m, "with --camera odom, the depth range of the projection written, m")
+      ->capture_default_str();
+  app.add_option("--far", o.exporter.far_m, "with --camera odom, the depth range of the projection written, m")
+      ->capture_default_str();
+  app.add_option("--topic", role_topics, "a role's topic (ROLE= turns it off); may be given again")
+      ->type_name("ROLE=TOPIC");
+  app.footer("Exit status: 0 all exported; 1 bad messages skipped (the rest exported); 2 error.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
+  o.exporter.relative_poses = !absolute_poses;
+  std::string error = setTopics(role_topics, o);
+  if (error.empty() && o.live == !o.bag.empty()) error = "give either --bag or --live";
+  if (error.empty()) error = viper::exportOptionsProblem(o.exporter, o.cls_palette, o.camera);
+  if (!error.empty()) return viper_tools::usageError(app, error);
   try {
     viper::dataset::viperFramePath(o.exporter.root, o.exporter.split, "img", o.exporter.seq, 0, "png");
   } catch (const std::invalid_argument& e) {

@@ -4,6 +4,7 @@
 // complete. Exit code: 0 written (or already finished), 1 written with problems reported (bad
 // frames dropped, damaged input: the intact frames written), 2 usage error or an output that cannot
 // be written. docs/dataset_generation.md.
+#include "command_line.h"
 #include "viper/dataset/dataset_manifest.h"
 #include "viper/dataset/dataset_plan.h"
 #include "viper/dataset/sequence_lock.h"
@@ -29,86 +30,81 @@
 
 namespace {
 
-const char* kUsage =
-    "usage: generate --input CAPTURE.vcap|RAW.bag --labels LABELS.yaml --out ROOT [options]\n"
-    "       generate --plan PLAN.yaml --out ROOT [--task-index I --task-count N] [options]\n"
-    "       generate --write-plan viper|small|tiny --plan PLAN.yaml\n"
-    "       generate --merge --plan PLAN.yaml --out ROOT\n"
-    "options: [--split train] [--seq 001] [--outputs layout,bag] [--frames N] [--force]\n"
-    "         [--img-format png|jpg] [--jpeg-quality 95] [--png-level 1] [--deflate-level 1]\n"
-    "         [--class-table CSV] [--compression none|lz4|bz2] [--no-flow] [--flow-wide-baseline K]\n"
-    "         [--extrapolate-frames 10] [--resume-tracks] [--writer-threads N]\n"
-    "Writes ROOT/SPLIT/{img,cls,inst,flow,flowbw,bb}/SEQ/, ROOT/SPLIT/camera/SEQ.csv (layout) and\n"
-    "ROOT/SPLIT/bag/SEQ.bag (bag: raw and ground-truth topics at their stamps, for bag_player), then\n"
-    "ROOT/SPLIT/SEQ.done (frame count and sha256 of every file). A finished sequence (its marker checks\n"
-    "out) is skipped unless --force; an unfinished one is redone.\n"
-    "--merge: checks every planned sequence is finished, then writes ROOT/MANIFEST.sha256 and\n"
-    "ROOT/manifest.md (refuses, naming what is missing, otherwise: exit 2), then the dataset's statistics:\n"
-    "ROOT/statistics.md and ROOT/statistics/ (dataset_statistics computes them again).\n"
-    "--plan: every sequence of the plan (or shard I of N: every N-th from the I-th; SLURM_ARRAY_TASK_ID\n"
-    "and SLURM_ARRAY_TASK_COUNT when set), each the built-in world under capture with the sequence's\n"
-    "condition, ego mode, seed, length and size (and the plan's city and the sequence's region),\n"
-    "generated as above (labels: from the world's own oracle of the run, unless --labels).\n"
-    "--writer-threads: threads that encode the layout's PNG and npz files beside the ground truth\n"
-    "(default: one per CPU this process may use, at most 4; 0: none). The files are the same either way.\n"
-    "Exit code: 0 written or already finished, 1 problems reported (the rest written), 2 error.\n";
-
 struct Options {
   std::string input, labels, class_table;
   std::string plan, write_plan;
-  std::optional<uint32_t> task_index, task_count;
+  uint32_t task_index = 0, task_count = 0;
+  bool task_index_given = false, task_count_given = false;  // both or neither (shard())
   bool force = false, merge = false;
   viper::SequenceSettings sequence;
 };
 
-std::string parse(int argc, char** argv, Options& o) {
+// The command line's options, into `o` (what only the whole line tells: check()).
+void addOptions(CLI::App& app, Options& o, int& writer_threads, std::string& outputs) {
   viper::SequenceSettings& s = o.sequence;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::cout << kUsage;
-      std::exit(0);
-    }
-    if (arg == "--force") { o.force = true; continue; }
-    if (arg == "--merge") { o.merge = true; continue; }
-    if (arg == "--no-flow") { s.ground_truth.flow_enabled = false; continue; }
-    if (arg == "--resume-tracks") { s.ground_truth.instances.resume_tracks_by_resources = true; continue; }
-    if (i + 1 >= argc) return "missing value after " + arg;
-    const std::string v = argv[++i];
-    try {
-      if (arg == "--input") o.input = v;
-      else if (arg == "--plan") o.plan = v;
-      else if (arg == "--write-plan") o.write_plan = v;
-      else if (arg == "--task-index") o.task_index = static_cast<uint32_t>(std::stoul(v));
-      else if (arg == "--task-count") o.task_count = static_cast<uint32_t>(std::stoul(v));
-      else if (arg == "--labels") o.labels = v;
-      else if (arg == "--out") s.root = v;
-      else if (arg == "--split") s.split = v;
-      else if (arg == "--seq") s.seq = v;
-      else if (arg == "--frames") s.max_frames = std::stoull(v);
-      else if (arg == "--img-format") s.layout.image_extension = v;
-      else if (arg == "--jpeg-quality") s.layout.images.jpeg_quality = std::stoi(v);
-      else if (arg == "--writer-threads") {
-        const int n = std::stoi(v);
-        if (n < 0 || n > 64) return "--writer-threads must be 0..64, got " + v;
-        s.layout.writer_threads = static_cast<unsigned>(n);
-      }
-      else if (arg == "--png-level") s.layout.images.png_compression_level = std::stoi(v);
-      else if (arg == "--deflate-level") s.layout.zip.deflate_level = std::stoi(v);
-      else if (arg == "--class-table") o.class_table = v;
-      else if (arg == "--compression") s.outputs.bag_compression = v;
-      else if (arg == "--flow-wide-baseline") s.ground_truth.flow.wide_baseline = std::stoi(v);
-      else if (arg == "--extrapolate-frames") s.ground_truth.instances.extrapolate_frames = std::stoi(v);
-      else if (arg == "--outputs") {
-        s.outputs.layout = v.find("layout") != std::string::npos;
-        s.outputs.bag = v.find("bag") != std::string::npos;
-        if (!s.outputs.layout && !s.outputs.bag) return "--outputs takes layout, bag or layout,bag";
-      } else {
-        return "unknown option " + arg;
-      }
-    } catch (const std::exception&) {
-      return "bad number '" + v + "' for " + arg;
-    }
+  app.add_option("--input", o.input, "one sequence from a capture or a raw bag")->type_name("CAPTURE.vcap|RAW.bag");
+  app.add_option("--labels", o.labels,
+                 "the label table (with --plan: instead of the labels from the world's own oracle of the run)")
+      ->type_name("LABELS.yaml");
+  app.add_option("--out", s.root, "the dataset's root")->type_name("ROOT");
+  app.add_option("--plan", o.plan,
+                 "every sequence of the plan (or shard I of N: every N-th from the I-th; SLURM_ARRAY_TASK_ID and "
+                 "SLURM_ARRAY_TASK_COUNT when set), each the built-in world under capture with the sequence's "
+                 "condition, ego mode, seed, length and size (and the plan's city and the sequence's region); "
+                 "with --write-plan, --merge: the plan to write, to merge")
+      ->type_name("PLAN.yaml");
+  app.add_option("--task-index", o.task_index, "with --plan, the shard I (with --task-count)");
+  app.add_option("--task-count", o.task_count, "with --plan, the number of shards N (with --task-index)");
+  app.add_option("--write-plan", o.write_plan, "writes the preset plan to --plan")->type_name("viper|small|tiny");
+  app.add_flag("--merge", o.merge,
+               "checks every planned sequence is finished, then writes ROOT/MANIFEST.sha256 and ROOT/manifest.md "
+               "(refuses, naming what is missing, otherwise: exit 2), then the dataset's statistics: "
+               "ROOT/statistics.md and ROOT/statistics/ (dataset_statistics computes them again)");
+  app.add_option("--split", s.split, "the split")->type_name("SPLIT")->capture_default_str();
+  app.add_option("--seq", s.seq, "the sequence (with --input)")->type_name("SEQ")->capture_default_str();
+  app.add_option("--outputs", outputs, "VIPER's layout, the ground-truth bag, or both")
+      ->type_name("layout,bag")
+      ->capture_default_str();
+  app.add_option("--frames", s.max_frames, "only the first N frames (0: all)");
+  app.add_flag("--force", o.force, "redo a finished sequence");
+  app.add_option("--img-format", s.layout.image_extension, "img files")->type_name("png|jpg")->capture_default_str();
+  app.add_option("--jpeg-quality", s.layout.images.jpeg_quality, "0..100")->capture_default_str();
+  app.add_option("--png-level", s.layout.images.png_compression_level, "PNG compression, 0..9")
+      ->capture_default_str();
+  app.add_option("--deflate-level", s.layout.zip.deflate_level, "npz compression, 0..9")->capture_default_str();
+  app.add_option("--class-table", o.class_table, "the classes (default: the package's config/viper_classes.csv)")
+      ->type_name("CSV");
+  app.add_option("--compression", s.outputs.bag_compression, "the bag's chunks")
+      ->type_name("none|lz4|bz2")
+      ->capture_default_str();
+  app.add_flag_callback("--no-flow", [&s] { s.ground_truth.flow_enabled = false; }, "no flow, no flowbw");
+  app.add_option("--flow-wide-baseline", s.ground_truth.flow.wide_baseline,
+                 "K >= 0: also the flow of frame f to f+K (0: none)")
+      ->capture_default_str();
+  app.add_option("--extrapolate-frames", s.ground_truth.instances.extrapolate_frames,
+                 "frames a track is kept without its object (>= 0)")
+      ->capture_default_str();
+  app.add_flag("--resume-tracks", s.ground_truth.instances.resume_tracks_by_resources,
+               "an object back after a long gap takes up its own track id (the tracker's resume_by_resources)");
+  app.add_option("--writer-threads", writer_threads,
+                 "threads that encode the layout's PNG and npz files beside the ground truth, 0..64 (default: one "
+                 "per CPU this process may use, at most 4; 0: none). The files are the same either way");
+}
+
+// What only the whole command line tells; returns the error, empty if none.
+std::string check(Options& o, const CLI::App& app, int writer_threads, const std::string& outputs) {
+  viper::SequenceSettings& s = o.sequence;
+  o.task_index_given = app.count("--task-index") > 0;
+  o.task_count_given = app.count("--task-count") > 0;
+  if (app.count("--writer-threads")) {
+    if (writer_threads < 0 || writer_threads > 64)
+      return "--writer-threads must be 0..64, got " + std::to_string(writer_threads);
+    s.layout.writer_threads = static_cast<unsigned>(writer_threads);
+  }
+  if (app.count("--outputs")) {
+    s.outputs.layout = outputs.find("layout") != std::string::npos;
+    s.outputs.bag = outputs.find("bag") != std::string::npos;
+    if (!s.outputs.layout && !s.outputs.bag) return "--outputs takes layout, bag or layout,bag";
   }
   if (!o.write_plan.empty()) return o.plan.empty() ? "--write-plan needs --plan (the file to write)" : "";
   if (o.merge && (o.plan.empty() || s.root.empty())) return "--merge needs --plan and --out";
@@ -229,9 +225,10 @@ bool shard(const Options& o, uint32_t& index, uint32_t& count, std::string& erro
   index = 0, count = 1;
   const char* slurm_id = std::getenv("SLURM_ARRAY_TASK_ID");
   const char* slurm_count = std::getenv("SLURM_ARRAY_TASK_COUNT");
-  if (o.task_index || o.task_count) {
-    if (!o.task_index || !o.task_count) return error = "--task-index and --task-count go together", false;
-    index = *o.task_index, count = *o.task_count;
+  if (o.task_index_given || o.task_count_given) {
+    if (!o.task_index_given || !o.task_count_given)
+      return error = "--task-index and --task-count go together", false;
+    index = o.task_index, count = o.task_count;
   } else if (slurm_id && slurm_count) {
     index = static_cast<uint32_t>(std::stoul(slurm_id)), count = static_cast<uint32_t>(std::stoul(slurm_count));
     const char* slurm_min = std::getenv("SLURM_ARRAY_TASK_MIN");
@@ -243,13 +240,25 @@ bool shard(const Options& o, uint32_t& index, uint32_t& count, std::string& erro
 }
 
 int main(int argc, char** argv) {
+  CLI::App app(
+      "generate --input CAPTURE.vcap|RAW.bag --labels LABELS.yaml --out ROOT [options]\n"
+      "generate --plan PLAN.yaml --out ROOT [--task-index I --task-count N] [options]\n"
+      "generate --write-plan viper|small|tiny --plan PLAN.yaml\n"
+      "generate --merge --plan PLAN.yaml --out ROOT\n"
+      "Writes ROOT/SPLIT/{img,cls,inst,flow,flowbw,bb}/SEQ/, ROOT/SPLIT/camera/SEQ.csv (layout) and\n"
+      "ROOT/SPLIT/bag/SEQ.bag (bag: raw and ground-truth topics at their stamps, for bag_player), then\n"
+      "ROOT/SPLIT/SEQ.done (frame count and sha256 of every file). A finished sequence (its marker checks\n"
+      "out) is skipped unless --force; an unfinished one is redone.",
+      "generate");
   Options o;
   o.sequence.layout.writer_threads = viper::dataset::WriteQueue::defaultThreads();
-  const std::string error = parse(argc, argv, o);
-  if (!error.empty()) {
-    std::cerr << "generate: " << error << "\n" << kUsage;
-    return 2;
-  }
+  int writer_threads = 0;
+  std::string outputs = "layout,bag";
+  addOptions(app, o, writer_threads, outputs);
+  app.footer("Exit status: 0 written or already finished; 1 problems reported (the rest written); 2 error.");
+  if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
+  if (const std::string error = check(o, app, writer_threads, outputs); !error.empty())
+    return viper_tools::usageError(app, error);
   if (!o.write_plan.empty()) {
     try {
       const viper::dataset::DatasetPlan plan = viper::dataset::presetPlan(o.write_plan);

@@ -36,10 +36,10 @@ struct RawImages {
   /// The buffer's flag, true while these views may be read; releaseViews() clears it.
   std::shared_ptr<std::atomic<bool>> view_owner;
 
-  /// Work the writer thread does before finishing the frame, off the program's thread: the Vulkan
-  /// layer copies its read-back bytes into `staged` as they are and converts them here. Null: none.
+  /// Work the writer thread does before finishing the frame, off the program's thread (the Vulkan
+  /// layer converts its read-back buffers into the vectors here). Null: none. Dropped, unrun, with
+  /// a frame that is not written.
   std::function<void(RawImages&)> prepare;
-  std::vector<uint8_t> staged[2];  ///< bytes for `prepare`, their capacity kept with the images
 
 
   /// Done with the buffer: its flag cleared (it may be read into again), the views dropped.

@@ -98,9 +98,9 @@ class Layer {
     VkFence fence = VK_NULL_HANDLE;
     /// Read-back buffers not in use, by size.
     std::multimap<VkDeviceSize, std::pair<VkBuffer, VkDeviceMemory>> readback_pool;
-    /// Every read-back buffer's memory, mapped once for its lifetime: mapping it again each frame
-    /// costs a page fault per page read (NVIDIA: 10 ms for a 1080p frame's copies).
+    /// Every read-back buffer's memory, mapped once for its lifetime (not again each frame).
     std::unordered_map<VkDeviceMemory, const uint8_t*> readback_maps;
+    std::shared_ptr<ReadbackLeases> leases = std::make_shared<ReadbackLeases>();
   };
 
   /// Makes the id buffer's set layouts, pool, set and memory (once); false when the device cannot.
@@ -134,10 +134,12 @@ class Layer {
 
   // The capture (frame building is in vk_frame.cpp).
   const CaptureProfile& profile() const { return profile_; }
-  /// Called at each present with the lock held, after the presented image was read back to
-  /// `presented` (top row first, RGBA or BGRA; null when it could not be). Writes the frame;
-  /// returns false when the frame limit says to stop.
-  bool finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t width, uint32_t height);
+  /// Called at each frame's end with the lock held, once the device has finished the frame, after
+  /// its colour was read back into the read-back buffer of memory `color` (top row first, RGBA or
+  /// BGRA; null when it could not be). Writes the frame: its read-back buffers (colour, the scene
+  /// pass's ids and depth) are leased to the writer thread that converts them. Returns false when
+  /// the frame limit says to stop.
+  bool finishFrame(Device& d, VkDeviceMemory color, bool bgra, uint32_t width, uint32_t height);
   /// VIPER_VULKAN_DEBUG=1: what became of the draw calls the program recorded, by kind, printed
   /// with each frame (for writing a profile for a program the layer was not tried on).
   void countDraw(const char* kind) {
@@ -148,11 +150,12 @@ class Layer {
   void shutdown();
   /// Seconds the frames' ends spent, printed at exit when VIPER_CAPTURE_STATS is set (as the
   /// OpenGL layer prints its own): waiting for the device before the read-back (`wait_s`, added by
-  /// the submission and present hooks), and in finishFrame: the draw list and meshes, the pixels
-  /// (colour, ids, depth converted), handing the frame to the writer threads.
+  /// the submission and present hooks), in finishFrame: the draw list and meshes, the read-back
+  /// buffers leased to the frame's conversion, handing the frame to the writer threads; and at
+  /// submission, waiting for read-back buffers a writer thread still converts (`lease_wait_s`).
   struct Stats {
     uint64_t frames = 0;
-    double wait_s = 0, draws_s = 0, pixels_s = 0, push_s = 0;
+    double wait_s = 0, draws_s = 0, pixels_s = 0, push_s = 0, lease_wait_s = 0;
   };
   Stats& stats() { return stats_; }
 

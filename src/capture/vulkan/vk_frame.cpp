@@ -71,26 +71,59 @@ size_t depthBytes(VkFormat format) {
   return format == VK_FORMAT_D16_UNORM || format == VK_FORMAT_D16_UNORM_S8_UINT ? 2 : 4;
 }
 
-// What a writer thread converts of a frame (RawImages::prepare): the id and depth copies of the
-// scene pass as read back (top row first; RawImages::staged[0] and [1]), and BGRA colour.
+// Read-back memories leased to a frame's conversion, given back when it has run or is dropped.
+class Lease {
+ public:
+  Lease(std::shared_ptr<ReadbackLeases> leases, std::vector<VkDeviceMemory> memories)
+      : leases_(std::move(leases)), memories_(std::move(memories)) {
+    for (VkDeviceMemory m : memories_) leases_->take(m);
+  }
+  Lease(const Lease&) = delete;
+  Lease& operator=(const Lease&) = delete;
+  ~Lease() { giveBack(); }
+  void giveBack() {
+    for (VkDeviceMemory m : memories_) leases_->give(m);
+    memories_.clear();
+  }
+
+ private:
+  std::shared_ptr<ReadbackLeases> leases_;
+  std::vector<VkDeviceMemory> memories_;
+};
+
+// What a writer thread converts of a frame (RawImages::prepare): the read-back buffers as the
+// device left them, top row first (mapped; leased until converted).
 struct StagedPixels {
   uint32_t width = 0, height = 0;
-  bool ids = false, depth = false, bgra = false;
+  const uint8_t* color = nullptr;  ///< RGBA or BGRA (`bgra`)
+  const uint8_t* ids = nullptr;    ///< (recording serial, draw in the recording, primitive, written)
+  const uint8_t* depth = nullptr;  ///< in `depth_format`
+  bool bgra = false;
   VkFormat depth_format = VK_FORMAT_UNDEFINED;
   /// Per recording (serial), its draws' frame indices + 1 by their index in the recording (0: none).
   std::unordered_map<uint32_t, std::vector<uint32_t>> frame_index;
+  std::shared_ptr<Lease> lease;
 };
 
-// Ids (recording serial, draw in the recording, primitive, written) to (frame draw + 1,
-// primitive), depth to floats, both bottom row first as RawImages holds them; BGRA to RGBA.
+// Colour to RGBA, ids to (frame draw + 1, primitive), depth to floats, each bottom row first as
+// RawImages holds them; then the read-back buffers are given back.
 void convertStaged(const StagedPixels& s, RawImages& raw) {
   const size_t width = s.width, height = s.height, pixels = width * height;
+  if (s.color) {
+    raw.rgba.resize(pixels * 4);
+    for (size_t y = 0; y < height; ++y) {
+      uint8_t* out = raw.rgba.data() + (height - 1 - y) * width * 4;
+      std::memcpy(out, s.color + y * width * 4, width * 4);
+      if (s.bgra)
+        for (size_t x = 0; x < 4 * width; x += 4) std::swap(out[x], out[x + 2]);
+    }
+  }
   if (s.ids) {
     raw.ids.resize(pixels * 2);
     uint32_t last_serial = 0;
     const std::vector<uint32_t>* last_table = nullptr;
     for (size_t y = 0; y < height; ++y) {
-      const uint32_t* row = reinterpret_cast<const uint32_t*>(raw.staged[0].data()) + y * width * 4;
+      const uint32_t* row = reinterpret_cast<const uint32_t*>(s.ids) + y * width * 4;
       float* out = raw.ids.data() + (height - 1 - y) * width * 2;
       for (size_t x = 0; x < width; ++x) {
         const uint32_t* px = row + x * 4;
@@ -112,7 +145,7 @@ void convertStaged(const StagedPixels& s, RawImages& raw) {
     const size_t bytes = depthBytes(s.depth_format);
     raw.depth.resize(pixels);
     for (size_t y = 0; y < height; ++y) {
-      const uint8_t* in = raw.staged[1].data() + y * width * bytes;
+      const uint8_t* in = s.depth + y * width * bytes;
       float* out = raw.depth.data() + (height - 1 - y) * width;
       if (s.depth_format == VK_FORMAT_D32_SFLOAT || s.depth_format == VK_FORMAT_D32_SFLOAT_S8_UINT) {
         std::memcpy(out, in, width * 4);
@@ -121,8 +154,7 @@ void convertStaged(const StagedPixels& s, RawImages& raw) {
       for (size_t x = 0; x < width; ++x) out[x] = depthValue(in + x * bytes, s.depth_format);
     }
   }
-  if (s.bgra)
-    for (size_t i = 0; i < raw.rgba.size(); i += 4) std::swap(raw.rgba[i], raw.rgba[i + 2]);
+  if (s.lease) s.lease->giveBack();
 }
 
 // Matrices and instance data that live in buffers, read when their draw is submitted (what the
@@ -260,10 +292,11 @@ void Layer::shutdown() {
     const double n = static_cast<double>(stats_.frames) / 1e3;
     std::fprintf(stderr,
                  "[viper capture] Vulkan: %llu frames; per frame: waiting for the device %.2f ms, draw list and meshes "
-                 "%.2f ms, pixels (colour, ids, depth) %.2f ms, waiting for the writer %.2f ms, writer threads %.2f ms "
-                 "(%d threads, summed)\n",
+                 "%.2f ms, handing the read-back buffers over %.2f ms, waiting for the writer %.2f ms, for read-back "
+                 "buffers still being converted %.2f ms; writer threads %.2f ms (%d threads, summed)\n",
                  static_cast<unsigned long long>(stats_.frames), stats_.wait_s / n, stats_.draws_s / n,
-                 stats_.pixels_s / n, stats_.push_s / n, sink_->busySeconds() / n, sink_->threads());
+                 stats_.pixels_s / n, stats_.push_s / n, stats_.lease_wait_s / n, sink_->busySeconds() / n,
+                 sink_->threads());
   }
 }
 
@@ -353,6 +386,7 @@ void Layer::removeDevice(VkDevice device) {
     devices_.erase(i);
   }
   d->vk.DeviceWaitIdle(device);
+  d->leases->waitFor(VK_NULL_HANDLE);  // the frames' conversions are done with the read-back buffers
   for (auto& [cb, r] : d->recordings) freeRecording(*d, *r);
   for (auto& r : d->retired) freeRecording(*d, *r);
   for (auto& [family, pool] : d->pools) d->vk.DestroyCommandPool(device, pool, nullptr);
@@ -393,7 +427,12 @@ void Layer::releaseReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer buffer,
   // Kept for the next frame's copies: fresh allocations cost more in page faults than the copies
   // themselves (a CPU driver backs device memory with new pages). A few per size at most.
   if (d.readback_pool.count(size) < 8) d.readback_pool.emplace(size, std::make_pair(buffer, memory));
-  else d.vk.DestroyBuffer(d.device, buffer, nullptr), d.vk.FreeMemory(d.device, memory, nullptr), d.readback_maps.erase(memory);
+  else {
+    d.leases->waitFor(memory);
+    d.vk.DestroyBuffer(d.device, buffer, nullptr);
+    d.vk.FreeMemory(d.device, memory, nullptr);
+    d.readback_maps.erase(memory);
+  }
 }
 
 const uint8_t* Layer::readbackBytes(const Device& d, VkDeviceMemory memory) {
@@ -402,8 +441,9 @@ const uint8_t* Layer::readbackBytes(const Device& d, VkDeviceMemory memory) {
 }
 
 bool Layer::createReadbackBuffer(Device& d, VkDeviceSize size, VkBuffer& buffer, VkDeviceMemory& memory) {
-  auto pooled = d.readback_pool.find(size);
-  if (pooled != d.readback_pool.end()) {
+  auto pooled = d.readback_pool.lower_bound(size);
+  while (pooled != d.readback_pool.end() && pooled->first == size && d.leases->isHeld(pooled->second.second)) ++pooled;
+  if (pooled != d.readback_pool.end() && pooled->first == size) {
     buffer = pooled->second.first;
     memory = pooled->second.second;
     d.readback_pool.erase(pooled);
@@ -592,7 +632,7 @@ void Layer::freeRecording(Device& d, Recording& r) {
 // -----------------------------------------------------------------------------------------------
 // Frames.
 
-bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t width, uint32_t height) {
+bool Layer::finishFrame(Device& d, VkDeviceMemory color, bool bgra, uint32_t width, uint32_t height) {
   if (!openSink()) return true;
   const double start_s = monotonicSeconds();
   CaptureFrame frame;
@@ -600,7 +640,6 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
   RawImages raw = sink_->recycledRaw();
   raw.width = static_cast<int>(width);
   raw.height = static_cast<int>(height);
-  const size_t pixels = static_cast<size_t>(width) * height;
 
   // Every recorded draw of the frame, in submission order; (recording, draw + 1) -> frame draw.
   // Per recording (serial), its draws' frame indices + 1 by their index in the recording (0: none).
@@ -706,38 +745,32 @@ bool Layer::finishFrame(Device& d, const uint8_t* presented, bool bgra, uint32_t
   // Colour (bottom row first, as RawImages holds it), the scene pass's depth and ids.
   const double pixels_s = monotonicSeconds();
   stats_.draws_s += pixels_s - start_s;
-  // The program's thread copies the read-back bytes as they are (rows flipped for the colour);
-  // a writer thread converts them (convertStaged): ids to frame draws, depth to floats, BGRA.
-  if (presented) {
-    raw.rgba.resize(pixels * 4);
-    for (uint32_t y = 0; y < height; ++y)
-      std::memcpy(raw.rgba.data() + static_cast<size_t>(height - 1 - y) * width * 4,
-                  presented + static_cast<size_t>(y) * width * 4, width * 4);
-  }
+  // The read-back buffers go to a writer thread as they are, leased until it has converted them
+  // (convertStaged).
+  StagedPixels staged;
+  staged.width = width;
+  staged.height = height;
+  staged.color = readbackBytes(d, color);
+  staged.bgra = bgra;
   if (scene && (scene->width != width || scene->height != height)) {
     reportOnce("the scene's render target is " + std::to_string(scene->width) + "x" + std::to_string(scene->height) +
                ", the window " + std::to_string(width) + "x" + std::to_string(height) + ": no depth or ids written");
     scene = nullptr;
   }
-  StagedPixels staged;
-  staged.width = width;
-  staged.height = height;
-  staged.bgra = presented && bgra;
+  std::vector<VkDeviceMemory> leased;
+  if (staged.color) leased.push_back(color);
   if (scene) {
-    auto stage = [&](VkDeviceMemory memory, size_t bytes, std::vector<uint8_t>& to) {
-      const uint8_t* mapped = readbackBytes(d, memory);
-      if (!mapped) return false;
-      to.resize(bytes);
-      std::memcpy(to.data(), mapped, bytes);
-      return true;
-    };
-    staged.ids = stage(scene->id_memory, pixels * 16, raw.staged[0]);
+    staged.ids = readbackBytes(d, scene->id_memory);
+    staged.depth = readbackBytes(d, scene->depth_memory);
     staged.depth_format = scene->depth_format;
-    staged.depth = stage(scene->depth_memory, pixels * depthBytes(scene->depth_format), raw.staged[1]);
     staged.frame_index = std::move(frame_index);
+    if (staged.ids) leased.push_back(scene->id_memory);
+    if (staged.depth) leased.push_back(scene->depth_memory);
   }
-  if (staged.ids || staged.depth || staged.bgra)
+  if (!leased.empty()) {
+    staged.lease = std::make_shared<Lease>(d.leases, std::move(leased));
     raw.prepare = [staged = std::move(staged)](RawImages& r) { convertStaged(staged, r); };
+  }
   unmapLayerMappings(d);
   frame.number = frames_written_;
   frame.time_s = fixed_fps_ > 0.0 ? static_cast<double>(frame.number) / fixed_fps_ : monotonicSeconds() - start_s_;
@@ -891,6 +924,13 @@ bool joinFrame(Device& d, VkCommandBuffer cb) {
     auto sr = d.recordings.find(secondary);
     if (sr != d.recordings.end()) joined.push_back(sr->second);
   }
+  // Its copies must not overwrite read-back buffers a frame's conversion still reads.
+  const double wait_s = monotonicSeconds();
+  for (const std::shared_ptr<Recording>& j : joined)
+    for (const PassCapture& p : j->passes)
+      for (VkDeviceMemory m : {p.id_memory, p.depth_memory, p.color_memory})
+        if (m) d.leases->waitFor(m);
+  Layer::get().stats().lease_wait_s += monotonicSeconds() - wait_s;
   for (const std::shared_ptr<Recording>& j : joined) applyBufferWrites(d, *j);
   keyUploads(d, *r->second);
   bool scene = false;
@@ -920,13 +960,12 @@ void endSubmittedFrame(Device& d) {
   const double wait_s = monotonicSeconds();
   d.vk.DeviceWaitIdle(d.device);
   layer.stats().wait_s += monotonicSeconds() - wait_s;
-  const uint8_t* color = Layer::readbackBytes(d, scene->color_memory);
-  if (!color) {
+  if (!Layer::readbackBytes(d, scene->color_memory)) {
     layer.reportOnce("frames without colour: the scene pass of a program without a swapchain has no colour "
                      "attachment the layer can copy (8-bit RGBA or BGRA, made while the layer was loaded)");
   }
   const bool bgra = scene->color_format == VK_FORMAT_B8G8R8A8_UNORM || scene->color_format == VK_FORMAT_B8G8R8A8_SRGB;
-  const bool go_on = layer.finishFrame(d, color, bgra, scene->width, scene->height);
+  const bool go_on = layer.finishFrame(d, scene->color_memory, bgra, scene->width, scene->height);
   endFrame(d);
   lock.unlock();
   exitWhenDone(go_on);
@@ -1057,7 +1096,7 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
   const double idle_s = monotonicSeconds();
   d.vk.DeviceWaitIdle(d.device);
   layer.stats().wait_s += monotonicSeconds() - idle_s;
-  const bool go_on = layer.finishFrame(d, Layer::readbackBytes(d, memory), bgra, width, height);
+  const bool go_on = layer.finishFrame(d, memory, bgra, width, height);
   if (buffer) {
     layer.releaseReadbackBuffer(d, static_cast<VkDeviceSize>(width) * height * 4, buffer, memory);
     d.vk.FreeCommandBuffers(d.device, pool, 1, &cb);

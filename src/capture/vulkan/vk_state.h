@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <condition_variable>
 #include <cstdint>
 #include <cstring>
 #include <iterator>
@@ -19,6 +20,7 @@
 #include <mutex>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace viper {
@@ -339,6 +341,37 @@ struct PassCapture {
   VkBuffer color_buffer = VK_NULL_HANDLE;
   VkDeviceMemory color_memory = VK_NULL_HANDLE;
   uint32_t id_draws = 0;
+};
+
+/// Read-back memories whose bytes a writer thread still converts (RawImages::prepare): until they
+/// are released, no submission that copies into them goes to the driver, and the pool neither hands
+/// them out nor frees them. Shared with the frames' conversions (which may outlive a device).
+struct ReadbackLeases {
+  std::mutex mutex;
+  std::condition_variable released;
+  std::unordered_multiset<VkDeviceMemory> held;
+
+  void take(VkDeviceMemory m) {
+    if (!m) return;
+    std::lock_guard<std::mutex> lock(mutex);
+    held.insert(m);
+  }
+  void give(VkDeviceMemory m) {
+    if (!m) return;
+    std::lock_guard<std::mutex> lock(mutex);
+    auto at = held.find(m);
+    if (at != held.end()) held.erase(at);
+    released.notify_all();
+  }
+  bool isHeld(VkDeviceMemory m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    return held.count(m) != 0;
+  }
+  /// Waits until `m` is released (every memory when `m` is null).
+  void waitFor(VkDeviceMemory m) {
+    std::unique_lock<std::mutex> lock(mutex);
+    released.wait(lock, [&] { return m ? held.count(m) == 0 : held.empty(); });
+  }
 };
 
 /// What a command buffer recorded since it was begun.

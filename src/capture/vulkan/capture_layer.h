@@ -134,12 +134,14 @@ class Layer {
 
   // The capture (frame building is in vk_frame.cpp).
   const CaptureProfile& profile() const { return profile_; }
-  /// Called at each frame's end with the lock held, once the device has finished the frame, after
+  /// Called at each frame's end with the lock held, once the device has finished the frame (or,
+  /// with `done`, once the frame's work is submitted: the writer thread waits for the fence), after
   /// its colour was read back into the read-back buffer of memory `color` (top row first, RGBA or
   /// BGRA; null when it could not be). Writes the frame: its read-back buffers (colour, the scene
   /// pass's ids and depth) are leased to the writer thread that converts them. Returns false when
   /// the frame limit says to stop.
-  bool finishFrame(Device& d, VkDeviceMemory color, bool bgra, uint32_t width, uint32_t height);
+  bool finishFrame(Device& d, VkDeviceMemory color, bool bgra, uint32_t width, uint32_t height,
+                   VkFence done = VK_NULL_HANDLE);
   /// VIPER_VULKAN_DEBUG=1: what became of the draw calls the program recorded, by kind, printed
   /// with each frame (for writing a profile for a program the layer was not tried on).
   void countDraw(const char* kind) {

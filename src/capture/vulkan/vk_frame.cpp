@@ -72,16 +72,29 @@ size_t depthBytes(VkFormat format) {
 }
 
 // Read-back memories leased to a frame's conversion, given back when it has run or is dropped.
+// With a fence (a frame whose end the program's thread did not wait for), the device is waited
+// for by the conversion, and the fence goes back to the leases' pool with the memories.
 class Lease {
  public:
-  Lease(std::shared_ptr<ReadbackLeases> leases, std::vector<VkDeviceMemory> memories)
-      : leases_(std::move(leases)), memories_(std::move(memories)) {
+  Lease(std::shared_ptr<ReadbackLeases> leases, std::vector<VkDeviceMemory> memories, const Device& d, VkFence done)
+      : leases_(std::move(leases)), memories_(std::move(memories)), device_(d.device),
+        wait_(d.vk.WaitForFences), done_(done) {
     for (VkDeviceMemory m : memories_) leases_->take(m);
   }
   Lease(const Lease&) = delete;
   Lease& operator=(const Lease&) = delete;
   ~Lease() { giveBack(); }
+  /// Waits until the device has finished the frame (at once without a fence).
+  void waitForDevice() const {
+    if (done_) wait_(device_, 1, &done_, VK_TRUE, UINT64_MAX);
+  }
   void giveBack() {
+    if (done_) {
+      waitForDevice();  // a frame dropped unconverted: its copies may still be landing
+      std::lock_guard<std::mutex> lock(leases_->mutex);
+      leases_->free_fences.push_back(done_);
+      done_ = VK_NULL_HANDLE;
+    }
     for (VkDeviceMemory m : memories_) leases_->give(m);
     memories_.clear();
   }
@@ -89,6 +102,9 @@ class Lease {
  private:
   std::shared_ptr<ReadbackLeases> leases_;
   std::vector<VkDeviceMemory> memories_;
+  VkDevice device_;
+  PFN_vkWaitForFences wait_;
+  VkFence done_;
 };
 
 // What a writer thread converts of a frame (RawImages::prepare): the read-back buffers as the
@@ -108,6 +124,7 @@ struct StagedPixels {
 // Colour to RGBA, ids to (frame draw + 1, primitive), depth to floats, each bottom row first as
 // RawImages holds them; then the read-back buffers are given back.
 void convertStaged(const StagedPixels& s, RawImages& raw) {
+  if (s.lease) s.lease->waitForDevice();
   const size_t width = s.width, height = s.height, pixels = width * height;
   if (s.color) {
     raw.rgba.resize(pixels * 4);
@@ -387,6 +404,8 @@ void Layer::removeDevice(VkDevice device) {
   }
   d->vk.DeviceWaitIdle(device);
   d->leases->waitFor(VK_NULL_HANDLE);  // the frames' conversions are done with the read-back buffers
+  for (VkFence f : d->leases->free_fences) d->vk.DestroyFence(device, f, nullptr);
+  d->leases->free_fences.clear();
   for (auto& [cb, r] : d->recordings) freeRecording(*d, *r);
   for (auto& r : d->retired) freeRecording(*d, *r);
   for (auto& [family, pool] : d->pools) d->vk.DestroyCommandPool(device, pool, nullptr);
@@ -632,8 +651,13 @@ void Layer::freeRecording(Device& d, Recording& r) {
 // -----------------------------------------------------------------------------------------------
 // Frames.
 
-bool Layer::finishFrame(Device& d, VkDeviceMemory color, bool bgra, uint32_t width, uint32_t height) {
-  if (!openSink()) return true;
+bool Layer::finishFrame(Device& d, VkDeviceMemory color, bool bgra, uint32_t width, uint32_t height, VkFence done) {
+  // A frame not written: its fence (if any) is waited for here and goes back to the pool.
+  auto notWritten = [&] {
+    if (done) Lease(d.leases, {}, d, done).giveBack();
+    return true;
+  };
+  if (!openSink()) return notWritten();
   const double start_s = monotonicSeconds();
   CaptureFrame frame;
   // The buffers of a frame written before (fresh 2-8 MB vectors cost more in page faults).
@@ -738,11 +762,10 @@ bool Layer::finishFrame(Device& d, VkDeviceMemory color, bool bgra, uint32_t wid
     if (!scene_started_) {
       meshes_sent_.clear();  // the meshes go with the first frame written
       unmapLayerMappings(d);
-      return true;
+      return notWritten();
     }
   }
 
-  // Colour (bottom row first, as RawImages holds it), the scene pass's depth and ids.
   const double pixels_s = monotonicSeconds();
   stats_.draws_s += pixels_s - start_s;
   // The read-back buffers go to a writer thread as they are, leased until it has converted them
@@ -767,8 +790,8 @@ bool Layer::finishFrame(Device& d, VkDeviceMemory color, bool bgra, uint32_t wid
     if (staged.ids) leased.push_back(scene->id_memory);
     if (staged.depth) leased.push_back(scene->depth_memory);
   }
-  if (!leased.empty()) {
-    staged.lease = std::make_shared<Lease>(d.leases, std::move(leased));
+  if (!leased.empty() || done) {
+    staged.lease = std::make_shared<Lease>(d.leases, std::move(leased), d, done);
     raw.prepare = [staged = std::move(staged)](RawImages& r) { convertStaged(staged, r); };
   }
   unmapLayerMappings(d);
@@ -942,10 +965,31 @@ bool joinFrame(Device& d, VkCommandBuffer cb) {
   return scene;
 }
 
+// A fence of the layer's, unsignalled (from the pool, or made); null when none could be made.
+VkFence layerFence(Device& d) {
+  VkFence fence = VK_NULL_HANDLE;
+  {
+    std::lock_guard<std::mutex> lock(d.leases->mutex);
+    if (!d.leases->free_fences.empty()) {
+      fence = d.leases->free_fences.back();
+      d.leases->free_fences.pop_back();
+    }
+  }
+  if (fence) {
+    if (d.vk.ResetFences(d.device, 1, &fence) == VK_SUCCESS) return fence;
+    d.vk.DestroyFence(d.device, fence, nullptr);
+  }
+  VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  fence = VK_NULL_HANDLE;
+  return d.vk.CreateFence(d.device, &fi, nullptr, &fence) == VK_SUCCESS ? fence : VK_NULL_HANDLE;
+}
+
 // A program without a swapchain (an offscreen renderer) presents nothing: its frame ends with each
-// submission that carries a scene pass. The device is waited for, and the frame's colour is the
-// scene pass's colour attachment (copied at the pass's end).
-void endSubmittedFrame(Device& d) {
+// submission that carries a scene pass, and the frame's colour is the scene pass's colour
+// attachment (copied at the pass's end). On a device whose program uses one queue, a fence
+// submitted after the frame's work is what the frame's conversion waits for (the program goes on
+// at once); with several queues the device is waited for here.
+void endSubmittedFrame(Device& d, VkQueue queue) {
   Layer& layer = Layer::get();
   std::unique_lock<std::mutex> lock(layer.mutex());
   if (layer.presentsSeen()++ < layer.skipFrames()) {
@@ -957,15 +1001,22 @@ void endSubmittedFrame(Device& d) {
     endFrame(d);
     return;
   }
-  const double wait_s = monotonicSeconds();
-  d.vk.DeviceWaitIdle(d.device);
-  layer.stats().wait_s += monotonicSeconds() - wait_s;
+  VkFence done = d.queue_families.size() == 1 ? layerFence(d) : VK_NULL_HANDLE;
+  if (done && d.vk.QueueSubmit(queue, 0, nullptr, done) != VK_SUCCESS) {
+    d.vk.DestroyFence(d.device, done, nullptr);
+    done = VK_NULL_HANDLE;
+  }
+  if (!done) {
+    const double wait_s = monotonicSeconds();
+    d.vk.DeviceWaitIdle(d.device);
+    layer.stats().wait_s += monotonicSeconds() - wait_s;
+  }
   if (!Layer::readbackBytes(d, scene->color_memory)) {
     layer.reportOnce("frames without colour: the scene pass of a program without a swapchain has no colour "
                      "attachment the layer can copy (8-bit RGBA or BGRA, made while the layer was loaded)");
   }
   const bool bgra = scene->color_format == VK_FORMAT_B8G8R8A8_UNORM || scene->color_format == VK_FORMAT_B8G8R8A8_SRGB;
-  const bool go_on = layer.finishFrame(d, scene->color_memory, bgra, scene->width, scene->height);
+  const bool go_on = layer.finishFrame(d, scene->color_memory, bgra, scene->width, scene->height, done);
   endFrame(d);
   lock.unlock();
   exitWhenDone(go_on);
@@ -974,7 +1025,7 @@ void endSubmittedFrame(Device& d) {
 // A submission's command buffers (`each` calls its argument with each) join the frame; on a device
 // without a swapchain the frame ends after the driver took a submission with a scene pass.
 template <typename EachCommandBuffer, typename Forward>
-VkResult submit(Device& d, EachCommandBuffer each, Forward forward) {
+VkResult submit(Device& d, VkQueue queue, EachCommandBuffer each, Forward forward) {
   Layer& layer = Layer::get();
   bool frame_ends = false;
   if (layer.capturing()) {
@@ -984,7 +1035,7 @@ VkResult submit(Device& d, EachCommandBuffer each, Forward forward) {
     frame_ends &= d.swapchains.empty();
   }
   const VkResult r = forward();
-  if (frame_ends && r == VK_SUCCESS) endSubmittedFrame(d);
+  if (frame_ends && r == VK_SUCCESS) endSubmittedFrame(d, queue);
   return r;
 }
 
@@ -993,7 +1044,7 @@ VkResult submit(Device& d, EachCommandBuffer each, Forward forward) {
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const VkSubmitInfo* submits, VkFence fence) {
   Device& d = deviceOf(queue);
   return submit(
-      d,
+      d, queue,
       [&](auto join) {
         for (uint32_t s = 0; s < count; ++s)
           for (uint32_t c = 0; c < submits[s].commandBufferCount; ++c) join(submits[s].pCommandBuffers[c]);
@@ -1004,7 +1055,7 @@ VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const 
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit2(VkQueue queue, uint32_t count, const VkSubmitInfo2* submits, VkFence fence) {
   Device& d = deviceOf(queue);
   return submit(
-      d,
+      d, queue,
       [&](auto join) {
         for (uint32_t s = 0; s < count; ++s)
           for (uint32_t c = 0; c < submits[s].commandBufferInfoCount; ++c) join(submits[s].pCommandBufferInfos[c].commandBuffer);

@@ -350,6 +350,8 @@ struct ReadbackLeases {
   std::mutex mutex;
   std::condition_variable released;
   std::unordered_multiset<VkDeviceMemory> held;
+  /// Fences a frame's conversion waited for, to be reset and used again (the layer's own).
+  std::vector<VkFence> free_fences;
 
   void take(VkDeviceMemory m) {
     if (!m) return;

@@ -16,7 +16,7 @@ install(TARGETS viper_conversions
 if(CATKIN_ENABLE_TESTING)
   # Round trips core -> message -> core for every pair, a whole frame included; no roscore.
   foreach(t test_image_conversions test_frame_conversions test_pose_conversions test_flow_conversions
-            test_object_conversions test_image_msg_pool)
+            test_object_conversions test_image_msg_pool test_ground_truth_conversions)
     catkin_add_gtest(${t} test/ros/conversions/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
     target_link_libraries(${t} viper_conversions gtest_main)
   endforeach()

@@ -43,7 +43,7 @@ if(CATKIN_ENABLE_TESTING)
     capture/test_shader_rewrite
     ground_truth/test_capture_invariants ground_truth/test_resource_census ground_truth/test_boxes ground_truth/test_camera_model
     ground_truth/test_ego_motion ground_truth/test_flow ground_truth/test_flow_from_metres
-    ground_truth/test_instance_pipeline
+    ground_truth/test_instance_pipeline ground_truth/test_ground_truth_pipeline
     ground_truth/test_objects_tracking ground_truth/test_oracle ground_truth/test_semantic_overlay
     evaluation/test_eval_report evaluation/test_metrics_equivalence evaluation/test_metrics_instance_odometry
     evaluation/test_metrics_semantic_flow evaluation/test_metric_iiou)

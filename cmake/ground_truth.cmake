@@ -69,7 +69,6 @@ endif()
 # its nodelet. Core: src/ground_truth/flow.cpp (viper_core).
 add_library(viper_flow_ros
   src/ros/ground_truth/flow_step.cpp
-  src/ros/ground_truth/ground_truth_pipeline.cpp
   src/ros/ground_truth/flow.cpp
   src/ros/ground_truth/flow_nodelet.cpp
 )

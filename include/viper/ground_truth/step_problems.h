@@ -1,6 +1,6 @@
 // What a ground-truth step (the per-frame work of a node, shared with the lockstep `generate`) says
 // about its inputs: which input, how bad, in words. The node logs each with its input's topic,
-// throttled per kind; `generate` reports it with the sequence and frame.
+// throttled per kind (StepLog); `generate` reports it with the sequence and frame.
 #pragma once
 
 #include <string>
@@ -24,8 +24,5 @@ struct StepProblem {
   std::string text;
 };
 using StepProblems = std::vector<StepProblem>;
-
-/// The raw topic name of an input as replay.launch names it ("/capture/draws", ...).
-const char* defaultTopicOf(StepInput input);
 
 }  // namespace viper

@@ -3,8 +3,10 @@
 #include "viper/dataset/file_digests.h"
 #include "viper/dataset/sequence_marker.h"
 #include "viper/ros/bridge/bag_writer.h"
+#include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/conversions/object_conversions.h"
 #include "viper/ros/dataset/export_roles.h"
+#include "viper/ros/ground_truth/step_problems.h"
 
 #include <boost/make_shared.hpp>
 #include <tf2_msgs/TFMessage.h>
@@ -30,6 +32,16 @@ std::vector<fs::path> sequencePaths(const SequenceSettings& s) {
   return out;
 }
 
+// The ground truth of one frame as the nodes of replay.launch publish it, each null where a step
+// dropped the frame or made nothing.
+struct GroundTruthMessages {
+  InstanceImageMessages images;  // semantic, semantic_color, instance_ids, boundaries, instances_viper
+  ObjectArrayPtr objects;
+  BoxesMessages boxes;           // in map and in the optical frame
+  std::optional<OdometryMessages::Output> odometry;
+  FlowMessages flow_forward, flow_backward, flow_wide;  // between the previous frame and this one
+};
+
 // The ground-truth bag of a sequence: the raw topics as the bridge publishes them and the ground
 // truth as the nodes of replay.launch publish it.
 class GroundTruthBag {
@@ -40,13 +52,13 @@ class GroundTruthBag {
   void writeRaw(const FrameMessages& m) { writeRawFrame(bag_, "/capture", m); }
 
   void writeGroundTruth(const GroundTruthMessages& g, const ClassTable& classes) {
-    const InstancesStep::Output& i = g.instances;
+    const InstanceImageMessages& i = g.images;
     if (i.semantic) bag_.write("/ground_truth/semantic", i.semantic);
     if (i.semantic_color) bag_.write("/ground_truth/semantic_color", i.semantic_color);
     if (i.instance_ids) bag_.write("/ground_truth/instance_ids", i.instance_ids);
     if (i.boundaries) bag_.write("/ground_truth/boundaries", i.boundaries);
     if (i.instances_viper) bag_.write("/ground_truth/instances_viper", i.instances_viper);
-    if (i.objects) bag_.write("/ground_truth/objects", i.objects);
+    if (g.objects) bag_.write("/ground_truth/objects", g.objects);
     if (g.boxes.in_map) {
       // The markers carry the boxes' header, as numbered in this bag (whatever the input numbered).
       const Box3DArrayPtr& boxes = g.boxes.in_map;
@@ -66,9 +78,9 @@ class GroundTruthBag {
         bag_.writeAt("/tf_static", g.odometry->body_to_optical.header.stamp, tf_static, /*latched=*/true);
       }
     }
-    flow("/ground_truth/flow/forward", g.flow.forward);
-    flow("/ground_truth/flow/backward", g.flow.backward);
-    flow("/ground_truth/flow/wide", g.flow.wide);
+    flow("/ground_truth/flow/forward", g.flow_forward);
+    flow("/ground_truth/flow/backward", g.flow_backward);
+    flow("/ground_truth/flow/wide", g.flow_wide);
   }
 
   void close() { bag_.close(); }
@@ -150,9 +162,15 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
   if (bag && settings_.layout.writer_threads > 0) bag_writer = std::make_unique<dataset::WriteQueue>(1, 2, "viper-bag");
 
   GroundTruthPipeline pipeline(labels_, classes_, settings_.ground_truth);
+  // The ground truth's messages, made as the nodes make them (ground_truth_conversions.h).
+  OdometrySettings odometry = settings_.odometry;
+  odometry.make_path = false;  // the bag and the layout keep the poses; a path per frame is O(n^2)
+  OdometryMessages odometry_messages(odometry);
+  InstanceImagePools image_pools;
+  FlowMessagePools flow_pools;
+  GroundTruthResult truth;  // kept from frame to frame: its storage
   std::map<ros::Time, uint64_t> frame_of;  // header stamp -> frame number in the sequence
   FrameMessages raw;
-  GroundTruthMessages gt;
   uint64_t read = 0;
   auto problem = [&](const std::string& text) { result.problems.push_back("sequence " + name + ": " + text); };
   StageTimes* times = &result.stages;
@@ -165,8 +183,55 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
     const uint64_t frame = frame_of.size();
     const ros::Time stamp = raw.draws->header.stamp;
     frame_of.emplace(stamp, frame);
-    StepProblems problems;
-    const bool kept = pipeline.process(raw, gt, problems, times);
+    StepProblems problems, flow_input_problems;
+    GroundTruthMessages gt;
+    InstanceImagesInto into;
+    // The frame decoded once, for every step: its draws, and its images' pixels where they are.
+    auto decoded = std::make_shared<GroundTruthInput>();
+    {
+      StageTimer t(times, "decode");
+      const unsigned long number = raw.draws->frame_number;
+      if (raw.mesh_store) {
+        std::vector<std::string> bad;
+        pipeline.addMeshes(fromMeshStoreMsg(*raw.mesh_store, bad, &pipeline.meshes()));
+        for (std::string& p : bad) problems.push_back({StepInput::kMeshStore, StepSeverity::kError, "mesh", ": " + p});
+      }
+      const std::string ids_problem = decodeDrawMsgs(*raw.draws, raw.draw_ids, *decoded);
+      if (!ids_problem.empty()) {
+        problems.push_back({StepInput::kDrawIds, StepSeverity::kError, "frame",
+                            " (frame " + std::to_string(number) + ", frame_id '" + raw.draw_ids->header.frame_id +
+                                "'): " + ids_problem + "; frame dropped"});
+      } else {
+        if (settings_.ground_truth.flow_enabled) {
+          std::string depth_problem, primitives_problem;
+          decodeFlowMsgs(raw.depth, raw.primitive_ids, *decoded, depth_problem, primitives_problem);
+          const std::string at = " (frame " + std::to_string(number) + "): ";
+          if (!depth_problem.empty())
+            flow_input_problems.push_back({StepInput::kDepth, StepSeverity::kError, "depth", at + depth_problem + "; frame dropped"});
+          else if (!primitives_problem.empty())
+            flow_input_problems.push_back({StepInput::kPrimitiveIds, StepSeverity::kError, "primitive_ids",
+                                           at + primitives_problem + "; frame dropped"});
+        }
+        // The instance images are computed into the messages the bag and the layout take.
+        gt.images = image_pools.take(headerOf(*decoded), decoded->frame.width, decoded->frame.height,
+                                     InstanceImagesWanted(), into);
+      }
+    }
+    flow_pools.clear();
+    const bool kept = pipeline.process(decoded, into, flow_pools, truth, problems, times);
+    problems.insert(problems.end(), flow_input_problems.begin(), flow_input_problems.end());
+    {
+      StageTimer t(times, "messages");
+      if (truth.ego) gt.odometry = odometry_messages.convert(*truth.ego, raw.draws->header);
+      if (kept) {
+        gt.objects = boost::make_shared<ObjectArray>(
+            toObjectArrayMsg(truth.instances.objects, pipeline.classes(), headerOf(*decoded)));
+        gt.boxes = toBoxesMsgs(truth.boxes, raw.draws->header, odometry.map_frame, pipeline.classes());
+        if (truth.flow.forward) gt.flow_forward = flow_pools.messages(FlowKind::kForward);
+        if (truth.flow.backward) gt.flow_backward = flow_pools.messages(FlowKind::kBackward);
+        if (truth.flow.wide) gt.flow_wide = flow_pools.messages(FlowKind::kWide);
+      }
+    }
     for (const StepProblem& p : problems) {
       const std::string text = "sequence " + name + ": frame " + std::to_string(frame) + ": " + defaultTopicOf(p.input) + p.text;
       if (p.severity == StepSeverity::kError) result.problems.push_back(text);
@@ -197,16 +262,14 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
         dispatch(exportDispatch("color", raw.color), stamp);
         dispatch(exportDispatch("draws", raw.draws), stamp);
         if (kept) {
-          const InstancesStep::Output& i = gt.instances;
+          const InstanceImageMessages& i = gt.images;
           dispatch(exportDispatch("semantic", i.semantic), stamp);
-          // bb's 2D boxes come from the objects: the instance ids would only be copied and scanned
-          // for boxes nobody reads (inst comes ready-made, above).
-          if (!i.objects) dispatch(exportDispatch("instance_ids", i.instance_ids), stamp);
+          // bb's 2D boxes come from the objects (inst comes ready-made, above).
           dispatch(exportDispatch("instances_viper", i.instances_viper), stamp);
-          dispatch(exportDispatch("objects", i.objects), stamp);
+          dispatch(exportDispatch("objects", gt.objects), stamp);
           if (gt.boxes.in_optical) dispatch(exportDispatch("boxes", gt.boxes.in_optical), stamp);
-          if (gt.flow.forward.flow) dispatch(exportDispatch("flow", gt.flow.forward.flow), gt.flow.forward.flow->header.stamp);
-          if (gt.flow.backward.flow) dispatch(exportDispatch("flowbw", gt.flow.backward.flow), stamp);
+          if (gt.flow_forward.flow) dispatch(exportDispatch("flow", gt.flow_forward.flow), gt.flow_forward.flow->header.stamp);
+          if (gt.flow_backward.flow) dispatch(exportDispatch("flowbw", gt.flow_backward.flow), stamp);
         }
         if (frame >= kFlushWindow)
           for (const std::string& n : exporter->flushUpTo(frame - kFlushWindow)) problem(n);

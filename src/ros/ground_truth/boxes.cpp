@@ -15,7 +15,7 @@ bool Boxes::start() {
   std::string map_frame;
   private_nh_.param<std::string>("map_frame", map_frame, "map");
   const int queue_size = queueSizeParam(private_nh_);
-  step_ = std::make_unique<BoxesStep>(std::move(*classes), map_frame);
+  step_ = std::make_unique<BoxesMessageStep>(std::move(*classes), map_frame);
   boxes_pub_ = nh_.advertise<Box3DArray>("boxes", queue_size);
   boxes_optical_pub_ = nh_.advertise<Box3DArray>("boxes_optical", queue_size);
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("box_markers", queue_size);
@@ -48,7 +48,7 @@ void Boxes::onMeshStore(const MeshStore::ConstPtr& store) {
 
 void Boxes::onFrame(const ObjectArray::ConstPtr& objects, const DrawList::ConstPtr& draws) {
   const CpuMeter::Scope cpu(cpu_, true);
-  BoxesStep::Output out;
+  BoxesMessages out;
   StepProblems problems;
   {
     std::lock_guard<std::mutex> lock(mutex_);

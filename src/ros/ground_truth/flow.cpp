@@ -43,7 +43,7 @@ bool Flow::start() {
     wide_pub_ = it_.advertise("flow/wide", queue_size);
     wide_visible_pub_ = it_.advertise("flow/wide_visible", queue_size);
   }
-  step_ = std::make_unique<FlowStep>(settings);
+  step_ = std::make_unique<FlowMessageStep>(settings);
   correspondences_srv_ = private_nh_.advertiseService("correspondences", &Flow::onCorrespondences, this);
   mesh_store_sub_ = nh_.subscribe("mesh_store", 1, &Flow::onMeshStore, this);
   const image_transport::TransportHints raw("raw");
@@ -105,11 +105,11 @@ void Flow::onDrop(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, c
 void Flow::onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, const ImageConstPtr& draw_ids,
                    const ImageConstPtr& primitive_ids, const ObjectArray::ConstPtr& objects) {
   const CpuMeter::Scope cpu(cpu_, true);
-  FlowStep::Want want;
+  FlowMessageStep::Want want;
   want.forward = forward_pub_.getNumSubscribers() > 0 || forward_visible_pub_.getNumSubscribers() > 0;
   want.backward = backward_pub_.getNumSubscribers() > 0 || backward_visible_pub_.getNumSubscribers() > 0;
   want.wide = wide_pub_.getNumSubscribers() > 0 || wide_visible_pub_.getNumSubscribers() > 0;
-  FlowStep::Output out;
+  FlowMessageStep::Output out;
   StepProblems problems;
   bool kept = false;
   {

@@ -49,7 +49,7 @@ bool Instances::start() {
   overlay_alpha_ = static_cast<float>(alpha);
   const int queue_size = queueSizeParam(private_nh_);
   try {
-    step_ = std::make_unique<InstancesStep>(LabelTable::load(label_path), std::move(*classes), settings);
+    step_ = std::make_unique<InstancesMessageStep>(LabelTable::load(label_path), std::move(*classes), settings);
   } catch (const std::exception& e) {
     ROS_FATAL("%s: ~label_table: %s", me.c_str(), e.what());
     return false;
@@ -115,15 +115,15 @@ void Instances::publishOverlay(const sensor_msgs::Image& color, const sensor_msg
 void Instances::onFrame(const DrawList::ConstPtr& draws, const sensor_msgs::Image::ConstPtr& ids) {
   const CpuMeter::Scope cpu(cpu_, true);
   std::lock_guard<std::mutex> lock(mutex_);
-  InstancesStep::Want want;
+  InstanceImagesWanted want;
   want.semantic = semantic_pub_.getNumSubscribers() > 0;
   want.semantic_color = semantic_color_pub_.getNumSubscribers() > 0;
   want.instance_ids = instance_ids_pub_.getNumSubscribers() > 0;
   want.boundaries = boundaries_pub_.getNumSubscribers() > 0;
   want.instances_viper = viper_pub_.getNumSubscribers() > 0;
-  InstancesStep::Output out;
+  InstancesMessageStep::Output out;
   StepProblems problems;
-  const bool kept = step_->process(*draws, *ids, want, out, problems);
+  const bool kept = step_->process(*draws, ids, want, out, problems);
   log_.log(problems);
   if (!kept) return;
   if (out.semantic) semantic_pub_.publish(out.semantic);

@@ -20,7 +20,7 @@ bool Odometry::start() {
     settings.path_max_poses = 10000;
   }
   try {
-    step_ = std::make_unique<OdometryStep>(settings);
+    step_ = std::make_unique<OdometryMessageStep>(settings);
   } catch (const std::invalid_argument& e) {
     ROS_FATAL("%s: ~%s", me.c_str(), e.what());
     return false;
@@ -38,7 +38,7 @@ bool Odometry::start() {
 
 void Odometry::onDraws(const DrawList::ConstPtr& draws) {
   const CpuMeter::Scope cpu(cpu_, true);
-  OdometryStep::Output out;
+  OdometryMessageStep::Output out;
   StepProblems problems;
   const bool kept = step_->process(*draws, out, problems);
   log_.log(problems);

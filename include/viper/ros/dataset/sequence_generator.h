@@ -1,15 +1,17 @@
 // One sequence of a dataset, generated in lockstep without a ROS master: raw frames (a capture or a
-// raw bag) through every ground-truth step (GroundTruthPipeline, the nodes' own code) into VIPER's
-// release layout and/or a ground-truth bag. Every frame is processed; nothing is dropped for being
+// raw bag), each decoded once, through every ground-truth step (the core GroundTruthPipeline, the
+// nodes' own code) into VIPER's release layout and/or a ground-truth bag (its messages made as the
+// nodes make them, ground_truth_conversions.h). Every frame is processed; nothing is dropped for being
 // slow. The sequence is written into a temporary folder and moved into place with a done-marker
 // (sha256 of every file) only when complete, so a partial sequence is never taken for a finished
 // one. docs/dataset_generation.md.
 #pragma once
 
-#include "viper/ros/bridge/raw_frames.h"
+#include "viper/ground_truth/ground_truth_pipeline.h"
 #include "viper/ground_truth/stage_times.h"
+#include "viper/ros/bridge/raw_frames.h"
+#include "viper/ros/conversions/ground_truth_conversions.h"
 #include "viper/ros/dataset/viper_exporter.h"
-#include "viper/ros/ground_truth/ground_truth_pipeline.h"
 
 #include <filesystem>
 #include <functional>
@@ -31,6 +33,7 @@ struct SequenceSettings {
   SequenceOutputs outputs;
   ViperExportOptions layout;   ///< image format, palette, ... (root, split and seq are set from above)
   GroundTruthSettings ground_truth;
+  OdometrySettings odometry;   ///< the frames of the bag's poses and boxes (map, camera)
   uint64_t max_frames = 0;     ///< 0 = every frame of the input
 };
 

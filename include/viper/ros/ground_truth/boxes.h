@@ -38,7 +38,7 @@ class Boxes {
 
   ros::NodeHandle nh_, private_nh_;
   StepLog log_;
-  std::unique_ptr<BoxesStep> step_;
+  std::unique_ptr<BoxesMessageStep> step_;
   std::mutex mutex_;
 
   message_filters::Subscriber<ObjectArray> objects_sub_;

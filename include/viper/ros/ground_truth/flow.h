@@ -88,7 +88,7 @@ class Flow {
   StepLog log_;
 
   std::mutex mutex_;  // guards the step
-  std::unique_ptr<FlowStep> step_;
+  std::unique_ptr<FlowMessageStep> step_;
   uint64_t frames_ = 0;
   CpuMeter cpu_{"flow", nh_};  // per-frame CPU (cpu_meter.h)
 };

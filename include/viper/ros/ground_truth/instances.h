@@ -46,7 +46,7 @@ class Instances {
   ros::NodeHandle nh_, private_nh_;
   image_transport::ImageTransport it_;
   StepLog log_;
-  std::unique_ptr<InstancesStep> step_;
+  std::unique_ptr<InstancesMessageStep> step_;
   std::mutex mutex_;
 
   message_filters::Subscriber<DrawList> draws_sub_;

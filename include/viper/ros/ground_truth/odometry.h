@@ -30,7 +30,7 @@ class Odometry {
 
   ros::NodeHandle nh_, private_nh_;
   StepLog log_;
-  std::unique_ptr<OdometryStep> step_;
+  std::unique_ptr<OdometryMessageStep> step_;
   bool publish_tf_ = true;
   ros::Subscriber draws_sub_;
   ros::Publisher odom_pub_, path_pub_;

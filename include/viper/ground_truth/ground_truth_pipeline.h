@@ -1,0 +1,66 @@
+// Every ground-truth step in lockstep, on core types: one decoded frame in, all its ground truth out,
+// in the order and with the code the nodes of replay.launch use (odometry; instances; then boxes and
+// flow on its objects). The frame's camera is derived once and its meshes are kept once, for every
+// step. The `generate` command runs it (src/ros/dataset/sequence_generator.cpp) and turns its results
+// into messages only where it writes a bag; a frame is never dropped for being slow.
+#pragma once
+
+#include "viper/ground_truth/boxes_step.h"
+#include "viper/ground_truth/camera_model.h"
+#include "viper/ground_truth/flow_step.h"
+#include "viper/ground_truth/ground_truth_input.h"
+#include "viper/ground_truth/instances_step.h"
+#include "viper/ground_truth/odometry_step.h"
+#include "viper/ground_truth/stage_times.h"
+
+#include <optional>
+
+namespace viper {
+
+/// Settings of every step (the nodes' parameters).
+struct GroundTruthSettings {
+  InstancesSettings instances;
+  FlowSettings flow;
+  bool flow_enabled = true;  ///< replay.launch flow:=
+};
+
+/// The ground truth of one frame.
+struct GroundTruthResult {
+  std::optional<FrameCamera> camera;  ///< chooseFrameCamera of the frame's draws
+  std::optional<EgoFrame> ego;        ///< none where the odometry step dropped the frame
+  /// The instances step's objects, and its images where GroundTruthPipeline::process was not given
+  /// storage for them.
+  InstanceFrame instances;
+  FrameBoxes boxes;
+  FlowStep::Output flow;  ///< which flows the sink's buffers hold
+};
+
+class GroundTruthPipeline {
+ public:
+  GroundTruthPipeline(LabelTable labels, ClassTable classes, const GroundTruthSettings& settings);
+
+  /// Meshes of the mesh store (a capture's new meshes), for every step.
+  void addMeshes(const std::vector<MeshRecord>& meshes) { instances_.addMeshes(meshes); }
+  const MeshRegistry& meshes() const { return instances_.meshes(); }
+
+  /// One frame: the camera of its draws, then every step. The instance images go where `into` says
+  /// (InstanceImagesInto: a message's pixels, say; into `out.instances`' vectors where it says
+  /// nothing), the flows into `flow_sink`'s buffers (unless flow is off). Returns false if the
+  /// instances step dropped the frame (boxes and flow are then not computed; `out.ego` may be
+  /// set). With `times`, each step's CPU and wall time is added to it (stages "odometry" (with the
+  /// camera), "instances", "boxes", "flow").
+  bool process(const GroundTruthInputPtr& frame, const InstanceImagesInto& into, FlowSink& flow_sink,
+               GroundTruthResult& out, StepProblems& problems, StageTimes* times = nullptr);
+
+  const ClassTable& classes() const { return instances_.classes(); }
+  const GroundTruthSettings& settings() const { return settings_; }
+
+ private:
+  GroundTruthSettings settings_;
+  InstancesStep instances_;
+  BoxesStep boxes_;
+  OdometryStep odometry_;
+  FlowStep flow_;
+};
+
+}  // namespace viper

@@ -41,6 +41,7 @@ install(TARGETS viper_ros capture_bridge bag_player
 install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(PROGRAMS scripts/make_test_bag.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(FILES scripts/package_binaries.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})  # make_test_bag.sh sources it
 
 if(CATKIN_ENABLE_TESTING)
   find_package(rostest REQUIRED)

@@ -15,8 +15,9 @@ while [ $# -gt 0 ]; do
   esac
   shift 2
 done
-bin="$here/devel/lib/viper"
-[ -x "$bin/bench_bag_writer" ] || { echo "bench_bag_writer: build first (needs libbenchmark-dev)" >&2; exit 2; }
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir bench_bag_writer "" capture world make_label_table generate capture_to_bag bench_bag_writer bench_bag_reader
 work=$(mktemp -d /tmp/viper_bench_bag_writer.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 "$bin/capture" --output "$work/w.vcap" --profile "$here/config/profiles/world.yaml" --condition day --fps 15 -- \

@@ -6,8 +6,8 @@
 # capture's verdict is read and `capture_check --flow` judges the capture against itself.
 #
 # Usage: scripts/capture_corpus.sh [--program NAME]... [--out DIR (build/corpus)] [--frames N]
-#          [--size WxH (320x240)] [--seconds S] [--bin DIR (devel/lib/viper)] [--retrace]
-#          [--keep-images] [--list]
+#          [--size WxH (320x240)] [--seconds S] [--retrace] [--keep-images] [--list]
+#          [--bin DIR (the sourced workspace's, else devel/lib/viper)]
 #   --program NAME  a program of the corpus (repeatable; default: every one that is installed):
 #                   glmark2 neverball supertux foobillardplus chromium-bsu extremetuxracer glxgears
 #   --frames N      keep at most the first N frames of each trace (default: the program's own)
@@ -27,9 +27,11 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 # shellcheck source=layer_copies.sh
 source "$here/scripts/layer_copies.sh"
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
 all_programs=(glmark2 neverball supertux foobillardplus chromium-bsu extremetuxracer glxgears)
 programs=(); out="$here/build/corpus"; frames=""; seconds=""; size=320x240
-bin="$here/devel/lib/viper"; retrace=0; keep=0; list=0
+bin=""; retrace=0; keep=0; list=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --program) programs+=("$2"); shift 2 ;;
@@ -130,9 +132,7 @@ done
 python=/usr/bin/python3; [ -x "$python" ] || python=python3
 "$python" -c 'import numpy, PIL' 2> /dev/null ||
   { echo "capture_corpus: $python lacks numpy or PIL (packages python3-numpy, python3-pil)" >&2; exit 2; }
-for t in capture capture_check; do
-  [ -x "$bin/$t" ] || { echo "capture_corpus: no $t in $bin: build the package first (scripts/setup.sh)" >&2; exit 2; }
-done
+viper_bin_dir capture_corpus "$bin" capture capture_check
 bin=$(cd "$bin" && pwd)
 # The layer beside capture (a copy made by an earlier run) or in the devel space's lib/.
 layer_lib=$(ls "$bin/libviper_intercept.so" "$bin/../libviper_intercept.so" 2> /dev/null | head -1 || true)

@@ -6,14 +6,14 @@
 #
 # Usage: scripts/capture_minetest.sh [--frames 60] [--width 640] [--height 480] [--seed 42]
 #          [--skip 60] [--out DIR (build/minetest)] [--no-bag] [--no-check]
-#          [--bin DIR (devel/lib/viper)]
+#          [--bin DIR (the sourced workspace's, else devel/lib/viper)]
 # Writes DIR/minetest.vcap and DIR/minetest_raw.bag. Needs `minetest` and `Xvfb` (installed by
 # scripts/setup.sh --test-programs); runs the game in its own Xvfb display. The game's clouds are
 # off (they are drawn without shaders and would hold depth but no ids); --seed is the map seed.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=60; width=640; height=480; seed=42; skip=60
-out="$here/build/minetest"; bag=1; check=1; bin="$here/devel/lib/viper"
+out="$here/build/minetest"; bag=1; check=1; bin=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --frames) frames="$2"; shift 2 ;;
@@ -31,7 +31,10 @@ while [ $# -gt 0 ]; do
 done
 game=/usr/games/minetest
 [ -x "$game" ] || { echo "capture_minetest: $game not found: run 'bash scripts/setup.sh --test-programs'" >&2; exit 2; }
-[ -x "$bin/capture" ] || { echo "capture_minetest: no capture in $bin: run scripts/setup.sh first" >&2; exit 2; }
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir capture_minetest "$bin" capture $([ "$check" -eq 0 ] || echo capture_check) \
+  $([ "$bag" -eq 0 ] || echo capture_to_bag)
 command -v xvfb-run > /dev/null || { echo "capture_minetest: xvfb-run not found (package xvfb)" >&2; exit 2; }
 mkdir -p "$out"
 out=$(cd "$out" && pwd)

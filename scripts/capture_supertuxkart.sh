@@ -18,12 +18,6 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 track=candela_city; frames=60; width=1280; height=720; karts=4; seed=1; skip=0
 out="$here/build/stk"; bag=1; display=""; bin=""; game_args=""; driver=gl
-# The capture of the sourced workspace, as capture_world.sh finds it (a devel space outside the
-# package, such as scripts/sanitize.sh's, included), else the package's own devel space.
-for dir in $(/usr/bin/python3 "$(command -v catkin_find)" --without-underlays --libexec viper 2>/dev/null); do
-  [ -x "$dir/capture" ] && { bin=$dir; break; }
-done
-[ -n "$bin" ] || bin="$here/devel/lib/viper"
 check=1
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -53,7 +47,12 @@ case "$driver" in
 esac
 stk=/usr/games/supertuxkart
 [ -x "$stk" ] || { echo "capture_supertuxkart: $stk not found: run 'bash scripts/setup.sh --test-programs'" >&2; exit 2; }
-[ -x "$bin/capture" ] || { echo "capture_supertuxkart: no capture in $bin: run scripts/setup.sh first" >&2; exit 2; }
+# The executables of --bin DIR, else of the sourced workspace (a devel space outside the package,
+# such as scripts/sanitize.sh's, included), else of the package's own devel space.
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir capture_supertuxkart "$bin" capture $([ "$check" -eq 0 ] || echo capture_check) \
+  $([ "$bag" -eq 0 ] || echo capture_to_bag)
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 capture="$out/$track.vcap"

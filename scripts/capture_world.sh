@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the world under the capture layer, writing a capture stream that capture_bridge can follow
 # live (launch/world_live.launch starts it as a node). Resolves both executables in the sourced
-# workspace, so it works from `roslaunch` and from a shell.
+# workspace, else in this checkout's devel space (scripts/package_binaries.sh), so it works from
+# `roslaunch` and from a shell.
 #
 # Usage: scripts/capture_world.sh OUTPUT.vcap [world options, e.g. --condition rain --frames 300]
 set -euo pipefail
@@ -14,11 +15,9 @@ for a in "$@"; do
   case "$a" in __*:=*) ;; *) args+=("$a") ;; esac
 done
 here=$(cd "$(dirname "$0")/.." && pwd)
-bin=""
-for dir in $(/usr/bin/python3 "$(command -v catkin_find)" --without-underlays --libexec viper 2>/dev/null); do
-  [ -x "$dir/capture" ] && [ -x "$dir/world" ] && { bin=$dir; break; }
-done
-[ -n "$bin" ] || { echo "capture_world: no capture/world executables in the sourced workspace (build first)" >&2; exit 1; }
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir capture_world "" capture world
 mkdir -p "$(dirname "$output")"
 rm -f "$output"
 condition=day

@@ -12,7 +12,9 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 cpus=("$@")
 [ ${#cpus[@]} -gt 0 ] || cpus=(Haswell Nehalem)
 command -v qemu-x86_64 > /dev/null || { echo "check_cpu_determinism: needs qemu-x86_64 (apt-get install qemu-user)" >&2; exit 2; }
-bin="$here/devel/lib/viper"
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir check_cpu_determinism "" generate
 work=$(mktemp -d /tmp/viper_cpu_determinism.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 gen() {  # gen OUT [emulator args...]

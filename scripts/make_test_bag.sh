@@ -4,7 +4,7 @@
 #
 # Usage: scripts/make_test_bag.sh [--frames N (20)] [--output BAG (bags/test_scene_raw.bag)]
 #                                 [--capture FILE.vcap (use this capture instead of capturing)]
-# Needs a built workspace sourced first: source devel/setup.bash
+# Needs a built workspace: the sourced one (source devel/setup.bash), else this checkout's devel space.
 # Runs its own roscore on a free port, so it neither needs nor disturbs a running one.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -19,20 +19,13 @@ while [ $# -gt 0 ]; do
     *) echo "usage: $0 [--frames N] [--output BAG] [--capture FILE.vcap]" >&2; exit 2 ;;
   esac
 done
-command -v catkin_find >/dev/null || { echo "make_test_bag: source <build>/devel/setup.bash first" >&2; exit 2; }
-# The ROS python tools need Debian's python, not whatever python3 comes first on PATH.
-py=/usr/bin/python3
-ros_tool() { local tool=$1; shift; "$py" "$(command -v "$tool")" "$@"; }
-# Executables of the sourced workspace (what `rosrun viper NAME` runs, without rosrun's prompt when
-# several build folders inside the source tree hold one).
-viper_bin() {
-  local dir
-  for dir in $("$py" "$(command -v catkin_find)" --without-underlays --libexec viper 2>/dev/null); do
-    [ -x "$dir/$1" ] && { echo "$dir/$1"; return; }
-  done
-  echo "make_test_bag: no executable '$1' in the sourced workspace (build it first)" >&2
-  return 1
-}
+# Beside this script, in the source tree and where it is installed (lib/viper: cmake/bridge.cmake).
+# shellcheck source=package_binaries.sh
+source "$(dirname "$0")/package_binaries.sh"
+viper_ros_env make_test_bag
+# The package's executables (what `rosrun viper NAME` runs, without rosrun's prompt when several
+# build folders inside the source tree hold one).
+viper_bin_dir make_test_bag "" capture_bridge $([ -n "$capture" ] || echo capture test_scene)
 
 work=$(mktemp -d /tmp/viper_make_test_bag.XXXXXX)
 pids=()
@@ -47,8 +40,8 @@ trap cleanup EXIT
 if [ -z "$capture" ]; then
   capture="$work/test_scene.vcap"
   echo "make_test_bag: capturing $frames frames of the test scene"
-  "$(viper_bin capture)" --output "$capture" --profile "$here/config/profiles/test_scene.yaml" --fps 15 \
-    -- "$(viper_bin test_scene)" --frames "$frames"
+  "$bin/capture" --output "$capture" --profile "$here/config/profiles/test_scene.yaml" --fps 15 \
+    -- "$bin/test_scene" --frames "$frames"
 fi
 
 port=$(( 20000 + RANDOM % 20000 ))
@@ -70,7 +63,7 @@ pids+=($!)
 
 # The bridge starts publishing only once the recorder subscribes to every topic, and exits after
 # the last frame (~exit_when_done), so no frame is published before or after recording.
-"$(viper_bin capture_bridge)" __ns:=capture _file:="$capture" _rate:=0 _wait_for_subscribers:=true \
+"$bin/capture_bridge" __ns:=capture _file:="$capture" _rate:=0 _wait_for_subscribers:=true \
   _queue_size:=100 _exit_when_done:=true 2>&1 | tee "$work/bridge.log"
 published=$(sed -n 's/.*: \([0-9]*\) frames published.*/\1/p' "$work/bridge.log" | tail -1)
 

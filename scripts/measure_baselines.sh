@@ -19,12 +19,11 @@ while [ $# -gt 0 ]; do
   esac
   shift 2 || { echo "measure_baselines: $1 needs a value" >&2; exit 2; }
 done
-[ -x "$here/devel/lib/viper/world" ] || { echo "measure_baselines: build first (scripts/setup.sh)" >&2; exit 2; }
-export PATH="/usr/bin:$PATH" ROS_HOME="${ROS_HOME:-$here/build/ros_home}"
-set +u
-# shellcheck disable=SC1091
-source "$here/devel/setup.bash"
-set -u
+export ROS_HOME="${ROS_HOME:-$here/build/ros_home}"
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_ros_env measure_baselines "$here/devel"
+viper_bin_dir measure_baselines "" capture world  # what capture_world.sh runs
 mkdir -p "$out"
 echo "machine: $(nproc) cores, $(free -g | awk '/Mem/ {print $2}') GiB; world ${width}x${height}, $frames frames at 15 fps, replay rate $rate"
 
@@ -48,5 +47,5 @@ for condition in $conditions; do
   done
   rm -f "$capture"
 done
-/usr/bin/python3 "$here/scripts/baseline_tables.py" --frames "$frames" "$out" | tee "$out/tables.md" || status=1
+"$py" "$here/scripts/baseline_tables.py" --frames "$frames" "$out" | tee "$out/tables.md" || status=1
 exit $status

@@ -6,10 +6,13 @@
 # CPUs less one), and asynchronous read-back with them (the default on a GPU: --readback auto). The interceptor's split comes from VIPER_CAPTURE_STATS
 # (read-back on the render thread, waiting for the writer, writer threads' time summed).
 # Prints the GL renderer and the CPU count first: the ratios depend on both.
-# usage: measure_capture_overhead.sh [BIN_DIR] [RUNS]   (BIN_DIR: devel/lib/viper)
+# usage: measure_capture_overhead.sh [BIN_DIR] [RUNS]
+#   (BIN_DIR: the sourced workspace's executables, else devel/lib/viper; RUNS 3)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-bin=${1:-$here/devel/lib/viper}
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir measure_capture_overhead "${1:-}" capture viper_gl_test_program world
 runs=${2:-3}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

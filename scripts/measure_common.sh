@@ -1,11 +1,13 @@
-# Sourced by scripts/measure_pipeline.sh and measure_evaluate.sh: Debian's python for the ROS tools
-# (ros_tool), the sourced workspace's executables ($bin), a work folder ($work) removed on exit
-# together with every background process listed in $pids.
-# Usage: source "$here/scripts/measure_common.sh" NAME
-command -v catkin_find >/dev/null || { echo "$1: source <build>/devel/setup.bash first" >&2; exit 2; }
-py=/usr/bin/python3
-ros_tool() { local tool=$1; shift; "$py" "$(command -v "$tool")" "$@"; }
-bin=$(dirname "$("$py" "$(command -v catkin_find)" --without-underlays --libexec viper | head -1)/x")
+# Sourced by scripts/measure_pipeline.sh, measure_evaluate.sh, measure_kernels.sh and
+# soak_pipeline.sh: the ROS environment, Debian's python for the ROS tools ($py, ros_tool) and the
+# package's executables ($bin: every EXECUTABLE named, checked), all as scripts/package_binaries.sh
+# finds them (the sourced workspace, else this checkout's devel space); a work folder ($work)
+# removed on exit together with every background process listed in $pids.
+# Usage: source "$here/scripts/measure_common.sh" NAME EXECUTABLE...
+# shellcheck source=package_binaries.sh
+source "$(dirname "${BASH_SOURCE[0]}")/package_binaries.sh"
+viper_ros_env "$1"
+viper_bin_dir "$1" "" "${@:2}"
 
 work=$(mktemp -d "/tmp/viper_$1.XXXXXX")
 pids=()

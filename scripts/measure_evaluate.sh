@@ -13,7 +13,7 @@
 # Usage: scripts/measure_evaluate.sh [--frames N (45)] [--width W (1920)] [--height H (1080)]
 #                                    [--rate R (1.0: the player's factor)] [--queue-size Q (10)]
 #                                    [--source manager|rosbag (manager)]
-# Needs a built workspace sourced first: source devel/setup.bash
+# Needs a built workspace: the sourced one (source devel/setup.bash), else this checkout's devel space.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=45 width=1920 height=1080 rate=1.0 queue=10 source=manager
@@ -29,7 +29,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 case "$source" in manager|rosbag) ;; *) echo "measure_evaluate: --source is manager or rosbag" >&2; exit 2 ;; esac
-source "$here/scripts/measure_common.sh" measure_evaluate
+source "$here/scripts/measure_common.sh" measure_evaluate capture world $([ "$source" = manager ] || echo evaluate)
 port=$(( 20000 + RANDOM % 20000 ))
 export ROS_MASTER_URI="http://localhost:$port" ROS_HOME="$work/ros_home"
 

@@ -3,10 +3,13 @@
 # Usage: scripts/measure_figures.sh [OUT_DIR (build/figures)]
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-bin="$here/devel/lib/viper"
 out="${1:-$here/build/figures}"
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+# (measure_generate.sh and bench_bag_writer.sh, run below, find theirs the same way.)
+viper_bin_dir measure_figures "" capture world viper_gl_test_program bench_capture_stream bench_capture_finish \
+  bench_ground_truth
 mkdir -p "$out"
-[ -x "$bin/capture" ] || { echo "measure_figures: build first (scripts/setup.sh)" >&2; exit 2; }
 echo "machine: $(nproc) cores, $(free -g | awk '/Mem/ {print $2}') GiB, $(. /etc/os-release; echo "$PRETTY_NAME")"
 
 echo "== capture stream: write and read of a 1920x1080 frame vs memcpy of the same bytes"

@@ -24,12 +24,12 @@ while [ $# -gt 0 ]; do
   esac
   shift 2
 done
-generate=${VIPER_GENERATE:-$here/devel/lib/viper/generate}
-[ -x "$generate" ] || { echo "measure_generate: build first (scripts/setup.sh)" >&2; exit 2; }
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_generate measure_generate  # $VIPER_GENERATE, else the package's generate
 work=${keep:-$(mktemp -d /tmp/viper_measure_generate.XXXXXX)}
 mkdir -p "$work"
 [ -n "$keep" ] || trap 'rm -rf "$work"' EXIT
-py=/usr/bin/python3
 
 "$generate" --write-plan small --plan "$work/small.yaml" > /dev/null
 "$py" - "$work/small.yaml" "$work/plan.yaml" "$sequences" "$frames" "$width" "$height" <<'PY'

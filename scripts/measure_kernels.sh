@@ -16,7 +16,7 @@
 #
 # Usage: scripts/measure_kernels.sh CAPTURE.vcap [--bag RAW.bag] [--labels LABELS.yaml (the world's)]
 #                                   [--repetitions N (3)]
-# Needs a built workspace sourced first: source devel/setup.bash
+# Needs a built workspace: the sourced one (source devel/setup.bash), else this checkout's devel space.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 usage="usage: $0 CAPTURE.vcap [--bag RAW.bag] [--labels LABELS.yaml] [--repetitions N]"
@@ -33,7 +33,7 @@ while [ $# -gt 0 ]; do
 done
 [ -f "$capture" ] || { echo "measure_kernels: no capture at $capture" >&2; exit 2; }
 [ -z "$bag" ] || [ -f "$bag" ] || { echo "measure_kernels: no bag at $bag" >&2; exit 2; }
-source "$here/scripts/measure_common.sh" measure_kernels  # $bin, and $work removed on exit
+source "$here/scripts/measure_common.sh" measure_kernels bench_ground_truth ${bag:+bench_bag_reader}  # $bin, $work
 out="$work/bench.txt"
 
 # The CPU ms of each median line, "NAME_median  REAL ms  CPU ms  ITERATIONS ..." (of the one line

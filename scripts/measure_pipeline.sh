@@ -24,7 +24,7 @@
 #                                    [--perf FILE (perf record --call-graph dwarf of the manager while it plays)]
 #                                    [--kernels (then each node's kernels alone on the same capture or bag,
 #                                     scripts/measure_kernels.sh, and the manager's CPU over their sum)]
-# Needs a built workspace sourced first: source devel/setup.bash
+# Needs a built workspace: the sourced one (source devel/setup.bash), else this checkout's devel space.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=45 width=1920 height=1080 flow=true queue=30 source=bag rate=1.0 throughput=false in_flight=8 sweep="" compression=lz4 perf_out="" codec=lz4 threads=4 kernels=false
@@ -70,7 +70,10 @@ if [ -n "$sweep" ]; then  # one run per rate, each on a capture of its own; the 
   [ "$best" != none ]
   exit
 fi
-source "$here/scripts/measure_common.sh" measure_pipeline
+executables=(capture world)
+[ "$source" = capture ] || executables+=(capture_to_bag)
+[ "$kernels" = false ] || executables+=(bench_ground_truth $([ "$source" = capture ] || echo bench_bag_reader))
+source "$here/scripts/measure_common.sh" measure_pipeline "${executables[@]}"
 
 echo "measure_pipeline: capturing $frames frames of the world at ${width}x${height}"
 "$bin/capture" --output "$work/world.vcap" --codec "$codec" --profile "$here/config/profiles/world.yaml" --fps 15 \

@@ -23,13 +23,11 @@ while [ $# -gt 0 ]; do
   esac
   shift 2
 done
-bin="$here/devel/lib/viper"
-[ -x "$bin/world" ] && [ -x "$bin/make_label_table" ] || { echo "measure_segmentation: build first (scripts/setup.sh)" >&2; exit 2; }
-export PATH="/usr/bin:$PATH" ROS_HOME="${ROS_HOME:-$here/build/ros_home}"
-set +u
-# shellcheck disable=SC1091
-source "$here/devel/setup.bash"
-set -u
+export ROS_HOME="${ROS_HOME:-$here/build/ros_home}"
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_ros_env measure_segmentation "$here/devel"
+viper_bin_dir measure_segmentation "" capture world make_label_table
 mkdir -p "$out"
 # The test region of generate's small preset (city seed 1, 20 x 6 intersections; train is 0,0,5,5).
 region=14,0,19,5
@@ -62,5 +60,5 @@ for condition in $conditions; do
   done
   rm -f "$capture" "$oracle"
 done
-/usr/bin/python3 "$here/scripts/segmentation_tables.py" --frames "$frames" --models "$models" "$out" | tee "$out/tables.md" || status=1
+"$py" "$here/scripts/segmentation_tables.py" --frames "$frames" --models "$models" "$out" | tee "$out/tables.md" || status=1
 exit $status

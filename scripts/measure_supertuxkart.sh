@@ -25,10 +25,12 @@ case "$pipeline" in
   deferred) lights=--enable-dynamic-lights ;;
   *) echo "measure_supertuxkart: --pipeline must be forward or deferred" >&2; exit 2 ;;
 esac
-bin="$here/devel/lib/viper"
-for tool in /usr/games/supertuxkart apitrace glretrace xvfb-run "$bin/capture"; do
+for tool in /usr/games/supertuxkart apitrace glretrace xvfb-run; do
   command -v "$tool" > /dev/null || { echo "measure_supertuxkart: $tool missing (scripts/setup.sh --test-programs)" >&2; exit 2; }
 done
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir measure_supertuxkart "" capture
 mkdir -p "$out"
 
 fps_of() { sed -n 's/.*average of \([0-9.]*\) fps.*/\1/p' "$1"; }

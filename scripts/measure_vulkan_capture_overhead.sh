@@ -7,12 +7,14 @@
 # Host-visible buffers: on a discrete GPU the layer reads meshes only from host-visible memory.
 # Prints the Vulkan device and the CPU first: the ratio depends on both.
 # usage: measure_vulkan_capture_overhead.sh [--windowed] [BIN_DIR] [RUNS] [WIDTHxHEIGHT] [FRAMES]
-#   (BIN_DIR: devel/lib/viper; RUNS 3; 1920x1080; 120 frames)
+#   (BIN_DIR: the sourced workspace's executables, else devel/lib/viper; RUNS 3; 1920x1080; 120 frames)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 mode=--headless
 if [ "${1:-}" = "--windowed" ]; then mode=""; shift; fi
-bin=${1:-$here/devel/lib/viper}
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir measure_vulkan_capture_overhead "${1:-}" capture vk_test_scene
 runs=${2:-3}
 size=${3:-1920x1080}
 frames=${4:-120}

@@ -18,7 +18,7 @@
 #                 build/piglit_compare. Captures are written to DIR/captures and deleted per process.
 #   --jobs N      piglit's concurrency (default: the number of CPUs)
 #   --timeout S   piglit's per-test time limit, the same in both runs (default 300)
-#   --bin DIR     where `capture` is (default devel/lib/viper)
+#   --bin DIR     where `capture` is (default: the sourced workspace's, else devel/lib/viper)
 # Prints one line per differing result and a summary line; exits 0 when nothing differs, 1 when
 # something does, 2 when the runs could not be made.
 #
@@ -33,6 +33,8 @@ set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 # shellcheck source=layer_copies.sh
 source "$here/scripts/layer_copies.sh"
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
 
 # Areas the layer is known to touch, kept to a few minutes on a 2-core machine (both runs):
 # the default framebuffer (front/back reads, draw buffer modes, swap behaviour, the default
@@ -93,7 +95,7 @@ full_exclude=(
   '^spec@!opengl 1\.2@tex3d-maxsize$'
 )
 
-slice=ci; out="$here/build/piglit_compare"; bin="$here/devel/lib/viper"
+slice=ci; out="$here/build/piglit_compare"; bin=""
 jobs=$(nproc); timeout=300
 user_include=(); user_exclude=()
 while [ $# -gt 0 ]; do
@@ -121,7 +123,7 @@ exclude+=("${user_exclude[@]}")
 command -v piglit > /dev/null || { echo "piglit_compare: piglit not found: run 'bash scripts/setup.sh --test-programs'" >&2; exit 2; }
 command -v Xvfb > /dev/null || { echo "piglit_compare: Xvfb not found (package xvfb)" >&2; exit 2; }
 command -v wflinfo > /dev/null || { echo "piglit_compare: wflinfo not found (package waffle-utils; without it piglit skips every shader test)" >&2; exit 2; }
-[ -x "$bin/capture" ] || { echo "piglit_compare: no capture in $bin: build the package first (scripts/setup.sh)" >&2; exit 2; }
+viper_bin_dir piglit_compare "$bin" capture
 # The layer run uses a copy of `capture` and the layer taken now, so that a rebuild while it runs
 # does not mix two versions of the layer in one run (LD_LIBRARY_PATH finds the copy's
 # libviper_*.so, which the layer and capture need, before their build's RUNPATH).
@@ -131,7 +133,7 @@ for candidate in "$bin/libviper_intercept.so" "$bin/../libviper_intercept.so"; d
   [ -f "$candidate" ] && { layer_lib="$candidate"; break; }
 done
 [ -n "$layer_lib" ] || { echo "piglit_compare: no libviper_intercept.so beside $bin/capture" >&2; exit 2; }
-piglit_root=$(/usr/bin/python3 -c 'import os,sys; p=os.path.realpath("/usr/bin/piglit"); print(os.path.dirname(p))' 2> /dev/null)
+piglit_root=$("$py" -c 'import os,sys; p=os.path.realpath("/usr/bin/piglit"); print(os.path.dirname(p))' 2> /dev/null)
 for candidate in "$piglit_root" /usr/lib/x86_64-linux-gnu/piglit /usr/lib/piglit; do
   [ -d "$candidate/bin" ] && [ -d "$candidate/tests" ] && { piglit_root="$candidate"; break; }
 done
@@ -152,7 +154,7 @@ layer_id="$(sha1sum "$layer_lib" | cut -c1-12), libviper_capture_core.so $(sha1s
 # behind the wrapper.
 ln -s "$piglit_root/tests" "$out/wrap/tests"
 ln -s "$piglit_root/generated_tests" "$out/wrap/generated_tests"
-/usr/bin/python3 -c 'import os, sys
+"$py" -c 'import os, sys
 for name in os.listdir(sys.argv[1]):
     os.symlink(sys.argv[2], os.path.join(sys.argv[3], name))' "$piglit_root/bin" "$here/scripts/piglit_capture_wrapper.sh" "$out/wrap/bin"
 
@@ -204,7 +206,7 @@ run_piglit layer PIGLIT_BUILD_DIR="$out/wrap" VIPER_PIGLIT_CAPTURE="$out/bin/cap
   VIPER_PIGLIT_REAL_BIN="$piglit_root/bin" VIPER_PIGLIT_CAPTURE_DIR="$out/captures" || exit 2
 rm -f "$out"/captures/*.vcap  # any left by a process killed with the wrapper (a time limit)
 
-/usr/bin/python3 - "$out" <<'PY'
+"$py" - "$out" <<'PY'
 import bz2, json, os, sys
 
 out = sys.argv[1]

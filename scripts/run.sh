@@ -19,18 +19,17 @@ while [ $# -gt 0 ]; do
     *) echo "run.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
-bin="$here/devel/lib/viper"
-[ -x "$bin/capture" ] || { echo "run.sh: nothing built in $here/build: run scripts/setup.sh first" >&2; exit 2; }
-# shellcheck disable=SC1091
-set +u  # ROS env hooks read unset variables
-source "$here/devel/setup.bash"
-set -u
-mkdir -p "$out"
 case "$program" in
   world) program_args=(--condition "$condition") ;;
   test_scene) program_args=() ;;
   *) echo "run.sh: --program must be world or test_scene, not '$program'" >&2; exit 2 ;;
 esac
+# This checkout's build, whatever workspace the shell has sourced.
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_ros_env run.sh "$here/devel"
+viper_bin_dir run.sh "" capture "$program" generate capture_sheet capture_info capture_bridge
+mkdir -p "$out"
 capture="$out/$program.vcap"; oracle="$out/$program.oracle"; bag="$out/${program}_raw.bag"
 case "$program" in
   world) labels="$here/config/labels/world_labels.yaml" ;;
@@ -55,7 +54,7 @@ echo "== contact sheet of frames 0, $mid, $last (color, semantic, instances, dep
 
 echo "== summary"
 "$bin/capture_info" "$capture"
-/usr/bin/python3 "$(command -v rosbag)" info "$bag"
+ros_tool rosbag info "$bag"
 echo "ground truth: $out/dataset (VIPER's layout under train/, the ground-truth bag train/bag/001.bag,"
 echo "              the marker train/001.done); contact sheet: $sheet"
 echo "look at it:   source $here/devel/setup.bash && roslaunch viper view_bag.launch bag:=$out/dataset/train/bag/001.bag"

@@ -79,11 +79,11 @@ fi
 
 # Everything the tests start by package and name (rosrun, roslaunch, rostest) comes from this tree.
 export ROS_HOME="$root/ros_home" ROS_LOG_DIR="$root/ros_home/log"
-export PATH="/usr/bin:$PATH"  # Debian's python3, which has the ROS modules (as in scripts/test.sh)
-set +u  # ROS env hooks read unset variables
-# shellcheck disable=SC1091
-source "$devel/setup.bash"
-set -u
+# That tree's devel space, Debian's python3 first on PATH (scripts/package_binaries.sh, as in
+# scripts/test.sh); the tree's executables are $devel/lib/viper.
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_ros_env sanitize "$devel"
 report='ERROR: (Address|Leak|Thread)Sanitizer|runtime error:|WARNING: ThreadSanitizer'
 cd "$here" || exit 1
 
@@ -180,7 +180,7 @@ for target in $(make -C "$build" help | sed -n 's/^\.\.\. \(run_tests_viper_rost
   if [ -z "$why" ] && [ -z "$xml" ]; then why="no result file"; fi
   # rostest's own result and the test nodes' (rosunit-*.xml): a rostest stopped from outside
   # writes a passing summary of its own while its test node's result records the failure.
-  if [ -z "$why" ] && ! /usr/bin/python3 - "$xml" "$results"/rosunit-*.xml <<'PY'
+  if [ -z "$why" ] && ! "$py" - "$xml" "$results"/rosunit-*.xml <<'PY'
 import os, sys, xml.etree.ElementTree as ET
 bad = False
 for path in sys.argv[1:]:

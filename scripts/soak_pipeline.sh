@@ -25,7 +25,7 @@ while [ $# -gt 0 ]; do
   shift 2
 done
 case "$source" in bag|follow) ;; *) echo "soak_pipeline: --source is bag or follow" >&2; exit 2 ;; esac
-source "$here/scripts/measure_common.sh" soak_pipeline
+source "$here/scripts/measure_common.sh" soak_pipeline capture world $([ "$source" = follow ] || echo capture_to_bag)
 [ -n "$keep" ] && { mkdir -p "$keep"; trap 'cleanup_keep' EXIT; }
 cleanup_keep() {
   local pid

@@ -18,13 +18,10 @@ else
   (cd "$build" && cmake . > /dev/null) || { echo "cmake failed"; echo "0 passed, 1 failed"; exit 1; }
 fi
 export ROS_HOME="$build/ros_home" ROS_LOG_DIR="$build/ros_home/log"
-# ROS's Python tools (rostest, roslaunch-check) start with `env python3`: Debian's, which has the
-# ROS modules, must come before any other python3 on PATH.
-export PATH="/usr/bin:$PATH"
-# shellcheck disable=SC1091
-set +u  # ROS env hooks read unset variables
-source "$here/devel/setup.bash"
-set -u
+# This checkout's devel space, Debian's python3 first on PATH (scripts/package_binaries.sh).
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_ros_env test.sh "$here/devel"
 cd "$build"
 make -j"$(nproc)" all tests || { echo "build failed"; echo "0 passed, 1 failed"; exit 1; }
 rm -rf "$build/test_results"
@@ -36,7 +33,7 @@ free_space "before the tests"
 make -j1 run_tests 2>&1 | tee "$build/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|FAILURE|ERROR:|rostest" || true
 free_space "after the tests"
 
-/usr/bin/python3 - "$build/test_results" > "$build/test_counts.txt" <<'PY'
+"$py" - "$build/test_results" > "$build/test_counts.txt" <<'PY'
 import sys, glob, xml.etree.ElementTree as ET
 passed = failed = 0
 for path in sorted(glob.glob(sys.argv[1] + "/**/*.xml", recursive=True)):

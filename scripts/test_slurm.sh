@@ -11,8 +11,9 @@
 # Usage: scripts/test_slurm.sh   (exit 0: every check passed)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
-bin="$here/devel/lib/viper"
-[ -x "$bin/generate" ] || { echo "test_slurm: build first (scripts/setup.sh)" >&2; exit 2; }
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir test_slurm "" generate
 for t in munged slurmctld slurmd sbatch squeue sinfo scancel; do
   command -v "$t" > /dev/null || { echo "test_slurm: $t is missing: scripts/setup.sh --slurm" >&2; exit 2; }
 done

@@ -17,13 +17,15 @@ while [ $# -gt 0 ]; do
   esac
   shift 2
 done
-generate=$here/devel/lib/viper/generate
-[ -x "$generate" ] || { echo "train_segmentation_models: build first (scripts/setup.sh)" >&2; exit 2; }
-/usr/bin/python3 -c "import torch" 2> /dev/null || { echo "train_segmentation_models: no python3-torch (scripts/setup.sh --training)" >&2; exit 2; }
+# shellcheck source=package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_bin_dir train_segmentation_models "" generate
+generate=$bin/generate
+"$py" -c "import torch" 2> /dev/null || { echo "train_segmentation_models: no python3-torch (scripts/setup.sh --training)" >&2; exit 2; }
 mkdir -p "$work" "$models"
 
 "$generate" --write-plan small --plan "$work/small.yaml" > /dev/null
-/usr/bin/python3 "$here/scripts/segmentation_plan.py" "$work/small.yaml" "$work/plan.yaml"
+"$py" "$here/scripts/segmentation_plan.py" "$work/small.yaml" "$work/plan.yaml"
 start=$(date +%s)
 # Finished sequences are skipped: a second run reuses the frames.
 nice -n 15 "$generate" --plan "$work/plan.yaml" --out "$work/data" --outputs layout --img-format png --no-flow \
@@ -32,7 +34,7 @@ echo "train_segmentation_models: frames generated in $(( $(date +%s) - start )) 
 
 for set in all day_sunset; do
   name=segmentation_$set
-  nice -n 15 /usr/bin/python3 "$here/scripts/train_segmentation.py" --root "$work/data" --plan "$work/plan.yaml" \
+  nice -n 15 "$py" "$here/scripts/train_segmentation.py" --root "$work/data" --plan "$work/plan.yaml" \
     --set "$set" --steps "$steps" --seed "$seed" --out "$models/$name.onnx" --log "$models/$name.log" \
     > /dev/null || { echo "train_segmentation_models: training $name failed (log: $models/$name.log)" >&2; exit 1; }
   tail -3 "$models/$name.log"

@@ -27,9 +27,13 @@ plan=$(realpath "$1") root=$(realpath -m "$2")
 shift 2
 [ -f "$plan" ] || { echo "submit.sh: no plan $plan (generate --write-plan viper --plan $plan)" >&2; exit 2; }
 command -v sbatch > /dev/null || { echo "submit.sh: sbatch not found (is this a Slurm login node?)" >&2; exit 2; }
-export VIPER_GENERATE=${VIPER_GENERATE:-$here/devel/lib/viper/generate}
-[ -x "$VIPER_GENERATE" ] || { echo "submit.sh: $VIPER_GENERATE is not built (scripts/setup.sh)" >&2; exit 2; }
-sequences=$(/usr/bin/python3 -c 'import sys, yaml; print(len(yaml.safe_load(open(sys.argv[1]))["sequences"]))' "$plan") ||
+# The jobs run the generate found here (sbatch passes the environment on; the job scripts run from
+# slurmd's copy of them, where no file beside them can be sourced).
+# shellcheck source=../package_binaries.sh
+source "$here/scripts/package_binaries.sh"
+viper_generate submit.sh  # $VIPER_GENERATE, else the package's generate
+export VIPER_GENERATE=$generate
+sequences=$("$py" -c 'import sys, yaml; print(len(yaml.safe_load(open(sys.argv[1]))["sequences"]))' "$plan") ||
   { echo "submit.sh: $plan is not a dataset plan" >&2; exit 2; }
 tasks=${tasks:-$sequences}
 [ "$tasks" -ge 1 ] && [ "$throttle" -ge 1 ] || { echo "submit.sh: --tasks and --throttle must be at least 1" >&2; exit 2; }

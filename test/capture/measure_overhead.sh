@@ -4,7 +4,11 @@
 #   CAPTURE_OPTIONS: extra options of `capture` (e.g. "--readback async --writer-threads 4")
 #   PROGRAM_OPTIONS: extra options of the test program (e.g. "--frame-ms 16.7": a program held to 60 fps)
 set -euo pipefail
-dir=${1:?directory holding capture and viper_gl_test_program}
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+# shellcheck source=../../scripts/package_binaries.sh
+source "$repo/scripts/package_binaries.sh"
+viper_bin_dir measure_overhead "${1:?directory holding capture and viper_gl_test_program}" capture viper_gl_test_program
+dir=$bin
 size=${2:-1920x1080}
 frames=${3:-30}
 load=${4:-300}
@@ -14,7 +18,7 @@ read -r -a program_options <<< "${7:-}"
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 prog=("$dir/viper_gl_test_program" --mode direct --size "$size" --frames "$frames" --load "$load" "${program_options[@]}")
-profile="$(cd "$(dirname "$0")/../.." && pwd)/config/profiles/viper_scene.yaml"
+profile="$repo/config/profiles/viper_scene.yaml"
 plain=() captured=()
 for ((i = 0; i < runs; ++i)); do
   plain+=("$("${prog[@]}" | sed -n 's/frame_ms=//p')")

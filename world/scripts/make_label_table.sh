@@ -5,11 +5,15 @@
 #
 # usage: make_label_table.sh DEVEL_LIB_VIPER_DIR INTERCEPT_SO [OUT.yaml] [extra world options]
 set -euo pipefail
-bin_dir=${1:?directory with world and make_label_table (devel/lib/viper)}
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+# shellcheck source=../../scripts/package_binaries.sh
+source "$repo/scripts/package_binaries.sh"
+viper_bin_dir make_label_table.sh "${1:?directory with world and make_label_table (devel/lib/viper)}" \
+  capture world make_label_table
+bin_dir=$bin
 intercept=${2:?path of libviper_intercept.so}
 out=${3:-config/labels/world_labels.yaml}
 shift $(( $# >= 3 ? 3 : $# ))
-repo=$(cd "$(dirname "$0")/../.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # Meshes are the same in every condition except the particles (class 0): day covers the rest.

@@ -10,6 +10,10 @@ endif()
 set(VIPER_VULKAN_LAYER_SOURCES
   src/capture/vulkan/spirv_module.cpp
   src/capture/vulkan/vk_hooks.cpp
+  src/capture/vulkan/vk_resources.cpp
+  src/capture/vulkan/vk_passes.cpp
+  src/capture/vulkan/vk_pipelines.cpp
+  src/capture/vulkan/vk_commands.cpp
   src/capture/vulkan/vk_frame.cpp
   src/capture/layer/frame_sink.cpp
   src/capture/layer/capture_settings.cpp

@@ -11,6 +11,9 @@ file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/data
 list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(dataset_statistics|statistics_[a-z]+)\\.cpp$")
 # The submission files use Eigen and viper_core (poses in KITTI axes): a library of their own, below.
 list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(viper_submission|submission_poses)\\.cpp$")
+# The layout writer takes the ground truth's core types (boxes, cameras, objects): a library of its
+# own, below.
+list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(viper_layout_writer|viper_layout_geometry)\\.cpp$")
 add_library(viper_dataset ${VIPER_DATASET_SOURCES})
 target_include_directories(viper_dataset PUBLIC ${PROJECT_SOURCE_DIR}/include)
 # The float16 loops vectorise only at -O3, and only when GCC 12 may execute the float operations
@@ -58,6 +61,18 @@ install(TARGETS viper_dataset_statistics dataset_statistics
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+# viper_layout_writer: ground truth (core types) into VIPER's release layout, and the layout's
+# geometry (camera and box rows against poses and boxes); ROS-free. generate writes through it, and
+# so do export_viper and the viper_exporter node, through ViperExporter's conversion of messages.
+add_library(viper_layout_writer src/dataset/viper_layout_writer.cpp src/dataset/viper_layout_geometry.cpp)
+target_include_directories(viper_layout_writer PUBLIC ${PROJECT_SOURCE_DIR}/include)
+target_link_libraries(viper_layout_writer PUBLIC viper_dataset viper_ground_truth)
+set_target_properties(viper_layout_writer PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+install(TARGETS viper_layout_writer
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
 # viper_submission: VIPER's submission files (ROS-free; the poses in KITTI axes take the optical frame
 # from viper_core), and the viper_submission command that writes them from a bag
@@ -124,6 +139,10 @@ endif()
 # export_viper commands, their tests and benchmark. The ROS-free readers and writers (images, camera
 # and box CSV, sequences) are part of viper_dataset (cmake/dataset.cmake globs src/dataset).
 
+# test/dataset/test_viper_layout_writer.cpp: the layout writer on core types.
+if(TARGET test_viper_layout_writer)
+  target_link_libraries(test_viper_layout_writer viper_layout_writer)
+endif()
 # test/dataset/test_viper_images.cpp checks what OpenCV sees in our files.
 if(TARGET test_viper_images)
   target_include_directories(test_viper_images SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
@@ -158,7 +177,8 @@ find_package(class_loader REQUIRED)
 target_include_directories(viper_layout_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(viper_layout_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
   ${class_loader_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS})
-target_link_libraries(viper_layout_ros PUBLIC viper_flow_ros viper_ground_truth_ros viper_ros viper_core viper_dataset ${catkin_LIBRARIES})
+target_link_libraries(viper_layout_ros PUBLIC viper_flow_ros viper_ground_truth_ros viper_ros viper_core viper_dataset
+  viper_layout_writer ${catkin_LIBRARIES})
 add_dependencies(viper_layout_ros viper_generate_messages_cpp)
 set_target_properties(viper_layout_ros PROPERTIES
   LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})

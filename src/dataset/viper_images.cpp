@@ -60,6 +60,14 @@ void checkImage(const Image8& image, uint32_t channels, const char* what) {
                                 " bytes");
 }
 
+void checkView(const ImageView8& image, uint32_t channels, const char* what) {
+  if (image.width == 0 || image.height == 0 || image.channels != channels || image.data == nullptr)
+    throw std::invalid_argument(std::string(what) + ": expected " + std::to_string(channels) + " channel(s) of " +
+                                std::to_string(image.width) + "x" + std::to_string(image.height) + " pixels, got " +
+                                std::to_string(image.channels) + " channel(s)" +
+                                (image.data == nullptr ? " and no pixels" : ""));
+}
+
 // libpng reports errors through a callback that must not return; it long-jumps back to the
 // setjmp in the caller. Everything the caller touches after setjmp lives in this context (in
 // memory, not in registers), so its value is defined after the jump.
@@ -171,7 +179,7 @@ Image8 decodePng(const std::string& path, const std::vector<uint8_t>& bytes, Png
   return std::move(ctx.image);
 }
 
-void encodePng(const std::string& path, const Image8& image, detail::PngColor color, const ClassPalette* palette,
+void encodePng(const std::string& path, const ImageView8& image, detail::PngColor color, const ClassPalette* palette,
                const ImageWriteOptions& options) {
   if (options.png_compression_level < 0 || options.png_compression_level > 9)
     throw std::invalid_argument("PNG compression level must be 0..9, got " +
@@ -182,7 +190,7 @@ void encodePng(const std::string& path, const Image8& image, detail::PngColor co
     std::copy_n(palette->begin(), std::min<size_t>(256, palette->size()), full.begin());
   }
   const int level = options.png_compression_level;
-  detail::writeFileAtomically(path, detail::pngBytes(image.data.data(), image.width, image.height, color, full,
+  detail::writeFileAtomically(path, detail::pngBytes(image.data, image.width, image.height, color, full,
                                                      level),
                               "PNG", options.digests);
 }
@@ -222,9 +230,9 @@ Image8 decodeJpeg(const std::string& path, const std::vector<uint8_t>& bytes) {
   return out;
 }
 
-void encodeJpeg(const std::string& path, const Image8& rgb, int quality, FileDigests* digests) {
+void encodeJpeg(const std::string& path, const ImageView8& rgb, int quality, FileDigests* digests) {
   if (quality < 0 || quality > 100) throw std::invalid_argument("JPEG quality must be 0..100");
-  cv::Mat src(static_cast<int>(rgb.height), static_cast<int>(rgb.width), CV_8UC3, const_cast<uint8_t*>(rgb.data.data()));
+  cv::Mat src(static_cast<int>(rgb.height), static_cast<int>(rgb.width), CV_8UC3, const_cast<uint8_t*>(rgb.data));
   cv::Mat bgr;
   cv::cvtColor(src, bgr, cv::COLOR_RGB2BGR);
   std::vector<uint8_t> bytes;
@@ -244,6 +252,11 @@ Image8 readViperColorImage(const std::string& path) {
 
 void writeViperColorImage(const std::string& path, const Image8& rgb, const ImageWriteOptions& options) {
   checkImage(rgb, 3, "writeViperColorImage");
+  writeViperColorImage(path, ImageView8(rgb), options);
+}
+
+void writeViperColorImage(const std::string& path, const ImageView8& rgb, const ImageWriteOptions& options) {
+  checkView(rgb, 3, "writeViperColorImage");
   if (isJpegPath(path)) encodeJpeg(path, rgb, options.jpeg_quality, options.digests);
   else encodePng(path, rgb, detail::PngColor::kRgb, nullptr, options);
 }
@@ -258,6 +271,12 @@ Image8 readViperClassImage(const std::string& path) {
 void writeViperClassImage(const std::string& path, const Image8& class_ids, const ClassPalette& palette,
                           const ImageWriteOptions& options) {
   checkImage(class_ids, 1, "writeViperClassImage");
+  writeViperClassImage(path, ImageView8(class_ids), palette, options);
+}
+
+void writeViperClassImage(const std::string& path, const ImageView8& class_ids, const ClassPalette& palette,
+                          const ImageWriteOptions& options) {
+  checkView(class_ids, 1, "writeViperClassImage");
   if (palette.empty()) encodePng(path, class_ids, detail::PngColor::kGray, nullptr, options);
   else encodePng(path, class_ids, detail::PngColor::kPalette, &palette, options);
 }
@@ -271,6 +290,11 @@ Image8 readViperInstanceImage(const std::string& path) {
 
 void writeViperInstanceImage(const std::string& path, const Image8& instances, const ImageWriteOptions& options) {
   checkImage(instances, 3, "writeViperInstanceImage");
+  writeViperInstanceImage(path, ImageView8(instances), options);
+}
+
+void writeViperInstanceImage(const std::string& path, const ImageView8& instances, const ImageWriteOptions& options) {
+  checkView(instances, 3, "writeViperInstanceImage");
   encodePng(path, instances, detail::PngColor::kRgb, nullptr, options);
 }
 

@@ -229,6 +229,7 @@ bool FlowStep::process(const GroundTruthInputPtr& input, const std::optional<Fra
     const size_t n = window_.size();
     if (n >= 2) {
       const HeldFrame& prev = *window_[n - 2];
+      out.forward_from = prev.input->stamp;
       if (want.forward && want.backward) {
         bothWays(prev, *cur, meshes, sink, problems);
         out.forward = out.backward = true;
@@ -248,6 +249,7 @@ bool FlowStep::process(const GroundTruthInputPtr& input, const std::optional<Fra
       const HeldFrame& a = *window_[n - 1 - k];
       flowBetween(a, *cur, meshes, sink.take(FlowKind::kWide, *a.input), problems);
       out.wide = true;
+      out.wide_from = a.input->stamp;
     }
   } catch (const std::exception& e) {
     problems.push_back({StepInput::kDraws, StepSeverity::kError, "flow",

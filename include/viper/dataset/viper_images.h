@@ -24,6 +24,23 @@ struct Image8 {
   size_t pixels() const { return static_cast<size_t>(width) * height; }
 };
 
+/// An 8-bit image's pixels wherever they are (an Image8's, a message's): `channels` bytes per
+/// pixel, rows from the top, no padding.
+struct ImageView8 {
+  const uint8_t* data = nullptr;
+  uint32_t width = 0;
+  uint32_t height = 0;
+  uint32_t channels = 0;
+
+  ImageView8() = default;
+  ImageView8(const uint8_t* data, uint32_t width, uint32_t height, uint32_t channels)
+      : data(data), width(width), height(height), channels(channels) {}
+  /// The pixels of `image` (which must outlive the view).
+  ImageView8(const Image8& image)  // NOLINT: an image is a view of itself
+      : data(image.data.data()), width(image.width), height(image.height), channels(image.channels) {}
+  size_t pixels() const { return static_cast<size_t>(width) * height; }
+};
+
 /// How image files are written.
 struct ImageWriteOptions {
   /// Deflate level of PNG files, 0 (stored) .. 9: 1 is ISA-L's igzip (fastest), 2..9 libdeflate's
@@ -52,6 +69,9 @@ Image8 readViperColorImage(const std::string& path);
 /// non-zero), std::runtime_error naming `path` if it cannot be written.
 void writeViperColorImage(const std::string& path, const Image8& rgb,
                           const ImageWriteOptions& options = ImageWriteOptions());
+/// The same from pixels wherever they are (`rgb.data` not null, 3 channels, both sizes non-zero).
+void writeViperColorImage(const std::string& path, const ImageView8& rgb,
+                          const ImageWriteOptions& options = ImageWriteOptions());
 
 /// Reads a class id image (`cls`): a PNG with one 8-bit (or 1/2/4-bit) channel, either palette
 /// (the palette indices are the class ids; the palette colors are ignored) or grayscale (the gray
@@ -66,6 +86,9 @@ Image8 readViperClassImage(const std::string& path);
 /// ids back. Same temporary-file rule and throws as writeViperColorImage.
 void writeViperClassImage(const std::string& path, const Image8& class_ids, const ClassPalette& palette,
                           const ImageWriteOptions& options = ImageWriteOptions());
+/// The same from pixels wherever they are (1 channel).
+void writeViperClassImage(const std::string& path, const ImageView8& class_ids, const ClassPalette& palette,
+                          const ImageWriteOptions& options = ImageWriteOptions());
 
 /// Reads an instance image (`inst`): an 8-bit RGB PNG (RGBA: alpha dropped). Returns 3 channels.
 /// Throws std::runtime_error starting with `path` for a missing, truncated or corrupt file, or a
@@ -75,6 +98,9 @@ Image8 readViperInstanceImage(const std::string& path);
 /// Writes an instance image (3 channels, R = class id, 256 * G + B = instance id) as an 8-bit RGB
 /// PNG. Same temporary-file rule and throws as writeViperColorImage.
 void writeViperInstanceImage(const std::string& path, const Image8& instances,
+                             const ImageWriteOptions& options = ImageWriteOptions());
+/// The same from pixels wherever they are (3 channels).
+void writeViperInstanceImage(const std::string& path, const ImageView8& instances,
                              const ImageWriteOptions& options = ImageWriteOptions());
 
 /// Instance ids of an instance image: 256 * G + B per pixel (0 = no instance). Throws

@@ -56,9 +56,11 @@ class FlowStep {
   struct Want {
     bool forward = true, backward = true, wide = true;
   };
-  /// Which flows were computed into the sink's buffers (each from the frame FlowKind names).
+  /// Which flows were computed into the sink's buffers, and the stamps of the frames they start
+  /// from (the backward flow's is the frame's own).
   struct Output {
     bool forward = false, backward = false, wide = false;
+    FrameStamp forward_from, wide_from;
   };
   /// Whether a frame of `stamp` comes after the newest held one; if not, says so in `problems`
   /// (the frame is then dropped; the window stays as it was).

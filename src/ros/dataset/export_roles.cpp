@@ -34,10 +34,10 @@ const ExportRole& exportRole(const std::vector<ExportRole>& roles, const std::st
 }
 
 ExportDispatch exportDispatch(const std::string& r, const sensor_msgs::ImageConstPtr& m) {
-  if (r == "color") return [m](ViperExporter& e, uint64_t f) { return e.addColor(f, *m); };
+  if (r == "color") return [m](ViperExporter& e, uint64_t f) { return e.addColor(f, m); };
   if (r == "semantic") return [m](ViperExporter& e, uint64_t f) { return e.addSemantic(f, m); };
   if (r == "instance_ids") return [m](ViperExporter& e, uint64_t f) { return e.addInstanceIds(f, m); };
-  if (r == "instances_viper") return [m](ViperExporter& e, uint64_t f) { return e.addInstancesViper(f, *m); };
+  if (r == "instances_viper") return [m](ViperExporter& e, uint64_t f) { return e.addInstancesViper(f, m); };
   if (r == "flow") return [m](ViperExporter& e, uint64_t f) { return e.addFlow(f, m, false); };
   return [m](ViperExporter& e, uint64_t f) { return e.addFlow(f, m, true); };
 }

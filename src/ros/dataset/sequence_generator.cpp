@@ -5,7 +5,6 @@
 #include "viper/ros/bridge/bag_writer.h"
 #include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/conversions/object_conversions.h"
-#include "viper/ros/dataset/export_roles.h"
 #include "viper/ros/ground_truth/step_problems.h"
 
 #include <boost/make_shared.hpp>
@@ -253,23 +252,35 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
       }
       if (exporter) {
         StageTimer t(times, "layout");
-        auto dispatch = [&](const ExportDispatch& d, const ros::Time& at) {
-          const auto f = frame_of.find(at);
-          if (f == frame_of.end()) return;
-          const std::string bad = d(*exporter, f->second);
-          if (!bad.empty()) problem("frame " + std::to_string(f->second) + ": " + bad);
+        // The frame's parts by the frame number of their stamp (its first frame's, if it came again).
+        const uint64_t at = frame_of.find(stamp)->second;
+        auto note = [&](uint64_t f, const std::string& bad) {
+          if (!bad.empty()) problem("frame " + std::to_string(f) + ": " + bad);
         };
-        dispatch(exportDispatch("color", raw.color), stamp);
-        dispatch(exportDispatch("draws", raw.draws), stamp);
+        // The camera image as the raw frame brings it (a message, read where it is); the ground
+        // truth as the pipeline made it, its images in the messages the bag takes too.
+        note(at, exporter->addColor(at, raw.color));
+        ViperLayoutWriter& layout_writer = exporter->writer();
+        note(at, layout_writer.addCamera(at, truth.camera));
         if (kept) {
+          auto image = [](const sensor_msgs::ImagePtr& m, uint32_t channels) {
+            return dataset::ImageView8(m->data.data(), m->width, m->height, channels);
+          };
+          auto flow = [&](uint64_t f, const FlowMessages& m, bool backward) {
+            note(f, layout_writer.addFlow(f, reinterpret_cast<const float*>(m.flow->data.data()), m.flow->width,
+                                          m.flow->height, messageOwner(m.flow), backward));
+          };
           const InstanceImageMessages& i = gt.images;
-          dispatch(exportDispatch("semantic", i.semantic), stamp);
+          note(at, layout_writer.addSemantic(at, image(i.semantic, 1), messageOwner(i.semantic)));
           // bb's 2D boxes come from the objects (inst comes ready-made, above).
-          dispatch(exportDispatch("instances_viper", i.instances_viper), stamp);
-          dispatch(exportDispatch("objects", gt.objects), stamp);
-          if (gt.boxes.in_optical) dispatch(exportDispatch("boxes", gt.boxes.in_optical), stamp);
-          if (gt.flow_forward.flow) dispatch(exportDispatch("flow", gt.flow_forward.flow), gt.flow_forward.flow->header.stamp);
-          if (gt.flow_backward.flow) dispatch(exportDispatch("flowbw", gt.flow_backward.flow), stamp);
+          note(at, layout_writer.addInstancesViper(at, image(i.instances_viper, 3), messageOwner(i.instances_viper)));
+          note(at, layout_writer.addObjects(at, objectBoxes2d(truth.instances.objects)));
+          if (truth.boxes.has_optical) note(at, layout_writer.addBoxesOptical(at, viperBoxes(truth.boxes)));
+          if (truth.flow.forward) {
+            const auto from = frame_of.find(toRosTime(truth.flow.forward_from));
+            if (from != frame_of.end()) flow(from->second, gt.flow_forward, false);
+          }
+          if (truth.flow.backward) flow(at, gt.flow_backward, true);
         }
         if (frame >= kFlushWindow)
           for (const std::string& n : exporter->flushUpTo(frame - kFlushWindow)) problem(n);

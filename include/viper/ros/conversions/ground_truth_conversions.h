@@ -24,6 +24,7 @@
 #include <viper/Box3DArray.h>
 #include <viper/DrawList.h>
 
+#include <memory>
 #include <string>
 
 namespace viper {
@@ -31,6 +32,13 @@ namespace viper {
 /// ros::Time <-> the steps' FrameStamp (the same seconds and nanoseconds).
 inline FrameStamp toFrameStamp(const ros::Time& t) { return FrameStamp{t.sec, t.nsec}; }
 inline ros::Time toRosTime(const FrameStamp& s) { return ros::Time(s.sec, s.nsec); }
+
+/// Whoever holds a shared message: a std::shared_ptr keeping it (and its pixels) alive, for core
+/// types that keep pixels where they are (GroundTruthInput::owner, PixelOwner).
+template <typename M>
+std::shared_ptr<const void> messageOwner(const boost::shared_ptr<M>& msg) {
+  return std::shared_ptr<const void>(msg.get(), [msg](const void*) {});
+}
 
 /// What a GroundTruthInput decoded from messages holds on to (its `owner`): the messages its pixels
 /// are in, and the header of its images (the draw id image's: the header of every image made of it).

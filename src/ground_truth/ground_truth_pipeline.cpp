@@ -13,6 +13,8 @@ bool GroundTruthPipeline::process(const GroundTruthInputPtr& input, const Instan
   const CaptureFrame& frame = input->frame;
   out.camera.reset();
   out.ego.reset();
+  out.instances.objects.clear();  // its images' storage stays, for the next frame
+  out.instances.problems.clear();
   out.boxes = FrameBoxes();
   out.flow = FlowStep::Output();
   {

@@ -28,8 +28,8 @@ struct GroundTruthSettings {
 struct GroundTruthResult {
   std::optional<FrameCamera> camera;  ///< chooseFrameCamera of the frame's draws
   std::optional<EgoFrame> ego;        ///< none where the odometry step dropped the frame
-  /// The instances step's objects, and its images where GroundTruthPipeline::process was not given
-  /// storage for them.
+  /// The instances step's objects (none where it dropped the frame), and its images where
+  /// GroundTruthPipeline::process was not given storage for them.
   InstanceFrame instances;
   FrameBoxes boxes;
   FlowStep::Output flow;  ///< which flows the sink's buffers hold

@@ -347,7 +347,10 @@ TEST(VkSceneOptions, ClearErrorsAndExitCodes) {
 // the capture-overhead measurement at 60 frames/s relies on); --benchmark counts the sleep.
 TEST(VkSceneOptions, FrameMsHoldsEveryFrame) {
   const std::string bin = VIPER_VK_TEST_SCENE_BIN;
-  const fs::path log = fs::path(test::tempDir("viper_vk_frame_ms_")) / "run.log";
+  // The binary's one temporary folder (test::tempDir), which the fixture above removes when done.
+  const fs::path dir = fs::path(test::tempDir("viper_vk_scene_")) / "frame_ms";
+  fs::create_directories(dir);
+  const fs::path log = dir / "run.log";
   const auto start = std::chrono::steady_clock::now();
   ASSERT_EQ(test::run(bin + " --headless --frames 5 --width 64 --height 64 --benchmark --frame-ms 60 >" + log.string() +
                       " 2>&1"),

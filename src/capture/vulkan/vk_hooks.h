@@ -1,10 +1,10 @@
 // What the Vulkan layer's hook files share: the hooks themselves (declared from Vulkan's own
 // function-pointer types: a definition with another signature leaves the hook undefined, and the
-// layer does not link), the list GetDeviceProcAddr answers from, and small helpers. The hooks are in vk_hooks.cpp (instance and
-// device, the dispatch), vk_resources.cpp (memory, buffers, images, swapchains), vk_passes.cpp
-// (render passes, framebuffers, the id attachment and the copies at a pass's end),
-// vk_pipelines.cpp (shaders, layouts, descriptors, pipelines), vk_commands.cpp (command buffers:
-// binds, draws, copies) and vk_frame.cpp (submission and presentation).
+// layer does not link), the list GetDeviceProcAddr answers from, and small helpers. The hooks are
+// in vk_hooks.cpp (instance and device, the dispatch), vk_resources.cpp (memory, buffers, images,
+// swapchains), vk_passes.cpp (render passes, framebuffers, the id attachment and the copies at a
+// pass's end), vk_pipelines.cpp (shaders, layouts, descriptors, pipelines), vk_commands.cpp
+// (command buffers: binds, draws, copies) and vk_frame.cpp (submission and presentation).
 #pragma once
 
 #include "capture_layer.h"

@@ -44,16 +44,24 @@ const char* const kFragment120 =
     "uniform float viper_draw_id;\n"
     "void main() { gl_FragData[7] = vec4(viper_draw_id, 0.0, 0.0, 1.0); }\n";
 
+// Whether a shader compiled or a program linked (`status` of `object`, read with `get`); if not,
+// `log` gets its info log (read with `info_log`).
+bool built(GLuint object, GLenum status, PFNGLGETSHADERIVPROC get, PFNGLGETSHADERINFOLOGPROC info_log,
+           std::string& log) {
+  GLint ok = 0;
+  get(object, status, &ok);
+  if (ok) return true;
+  char text[512] = {0};
+  info_log(object, sizeof(text), nullptr, text);
+  log = text;
+  return false;
+}
+
 GLuint compile(const RealGl& g, GLenum type, const char* source, std::string& log) {
   const GLuint shader = g.CreateShader(type);
   g.ShaderSource(shader, 1, &source, nullptr);
   g.CompileShader(shader);
-  GLint ok = 0;
-  g.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char text[512] = {0};
-    g.GetShaderInfoLog(shader, sizeof(text), nullptr, text);
-    log = text;
+  if (!built(shader, GL_COMPILE_STATUS, g.GetShaderiv, g.GetShaderInfoLog, log)) {
     g.DeleteShader(shader);
     return 0;
   }
@@ -243,14 +251,9 @@ GLuint Interceptor::idProgram() {
     g.AttachShader(program, fs);
     if (glsl150) g.BindFragDataLocation(program, kIdOutputLocation, kIdOutputName);
     g.LinkProgram(program);
-    GLint linked = 0;
-    g.GetProgramiv(program, GL_LINK_STATUS, &linked);
-    if (!linked) {
-      char text[512] = {0};
-      g.GetProgramInfoLog(program, sizeof(text), nullptr, text);
-      log = text;
-      program = 0;  // (left to the context: deleting needs glDeleteProgram, a name it never sees)
-    }
+    // (A program that does not link is left to the context: deleting needs glDeleteProgram, a
+    // name it never sees.)
+    if (!built(program, GL_LINK_STATUS, g.GetProgramiv, g.GetProgramInfoLog, log)) program = 0;
   }
   if (vs) g.DeleteShader(vs);
   if (fs) g.DeleteShader(fs);

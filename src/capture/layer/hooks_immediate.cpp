@@ -11,8 +11,10 @@ using viper::capture::Interceptor;
 namespace {
 
 // A vertex between glBegin and glEnd (glVertex2 has z 0, glVertex2 and 3 have w 1).
-inline void vertex(float x, float y, float z, float w) {
-  if (Interceptor* i = Interceptor::active()) i->immediateVertex(x, y, z, w);
+template <typename T>
+void vertex(T x, T y, T z = 0, T w = 1) {
+  if (Interceptor* i = Interceptor::active())
+    i->immediateVertex(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), static_cast<float>(w));
 }
 
 }  // namespace
@@ -42,102 +44,35 @@ VIPER_EXPORT void glCallLists(GLsizei n, GLenum type, const void* lists) {
   gl().CallLists(n, type, lists);
 }
 
-VIPER_EXPORT void glVertex2s(GLshort x, GLshort y) {
-  gl().Vertex2s(x, y);
-  vertex(static_cast<float>(x), static_cast<float>(y), 0.0f, 1.0f);
-}
-VIPER_EXPORT void glVertex2sv(const GLshort* v) {
-  gl().Vertex2sv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), 0.0f, 1.0f);
-}
-VIPER_EXPORT void glVertex2i(GLint x, GLint y) {
-  gl().Vertex2i(x, y);
-  vertex(static_cast<float>(x), static_cast<float>(y), 0.0f, 1.0f);
-}
-VIPER_EXPORT void glVertex2iv(const GLint* v) {
-  gl().Vertex2iv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), 0.0f, 1.0f);
-}
-VIPER_EXPORT void glVertex2f(GLfloat x, GLfloat y) {
-  gl().Vertex2f(x, y);
-  vertex(static_cast<float>(x), static_cast<float>(y), 0.0f, 1.0f);
-}
-VIPER_EXPORT void glVertex2fv(const GLfloat* v) {
-  gl().Vertex2fv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), 0.0f, 1.0f);
-}
-VIPER_EXPORT void glVertex2d(GLdouble x, GLdouble y) {
-  gl().Vertex2d(x, y);
-  vertex(static_cast<float>(x), static_cast<float>(y), 0.0f, 1.0f);
-}
-VIPER_EXPORT void glVertex2dv(const GLdouble* v) {
-  gl().Vertex2dv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), 0.0f, 1.0f);
-}
-VIPER_EXPORT void glVertex3s(GLshort x, GLshort y, GLshort z) {
-  gl().Vertex3s(x, y, z);
-  vertex(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), 1.0f);
-}
-VIPER_EXPORT void glVertex3sv(const GLshort* v) {
-  gl().Vertex3sv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), 1.0f);
-}
-VIPER_EXPORT void glVertex3i(GLint x, GLint y, GLint z) {
-  gl().Vertex3i(x, y, z);
-  vertex(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), 1.0f);
-}
-VIPER_EXPORT void glVertex3iv(const GLint* v) {
-  gl().Vertex3iv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), 1.0f);
-}
-VIPER_EXPORT void glVertex3f(GLfloat x, GLfloat y, GLfloat z) {
-  gl().Vertex3f(x, y, z);
-  vertex(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), 1.0f);
-}
-VIPER_EXPORT void glVertex3fv(const GLfloat* v) {
-  gl().Vertex3fv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), 1.0f);
-}
-VIPER_EXPORT void glVertex3d(GLdouble x, GLdouble y, GLdouble z) {
-  gl().Vertex3d(x, y, z);
-  vertex(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), 1.0f);
-}
-VIPER_EXPORT void glVertex3dv(const GLdouble* v) {
-  gl().Vertex3dv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), 1.0f);
-}
-VIPER_EXPORT void glVertex4s(GLshort x, GLshort y, GLshort z, GLshort w) {
-  gl().Vertex4s(x, y, z, w);
-  vertex(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), static_cast<float>(w));
-}
-VIPER_EXPORT void glVertex4sv(const GLshort* v) {
-  gl().Vertex4sv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), static_cast<float>(v[3]));
-}
-VIPER_EXPORT void glVertex4i(GLint x, GLint y, GLint z, GLint w) {
-  gl().Vertex4i(x, y, z, w);
-  vertex(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), static_cast<float>(w));
-}
-VIPER_EXPORT void glVertex4iv(const GLint* v) {
-  gl().Vertex4iv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), static_cast<float>(v[3]));
-}
-VIPER_EXPORT void glVertex4f(GLfloat x, GLfloat y, GLfloat z, GLfloat w) {
-  gl().Vertex4f(x, y, z, w);
-  vertex(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), static_cast<float>(w));
-}
-VIPER_EXPORT void glVertex4fv(const GLfloat* v) {
-  gl().Vertex4fv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), static_cast<float>(v[3]));
-}
-VIPER_EXPORT void glVertex4d(GLdouble x, GLdouble y, GLdouble z, GLdouble w) {
-  gl().Vertex4d(x, y, z, w);
-  vertex(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), static_cast<float>(w));
-}
-VIPER_EXPORT void glVertex4dv(const GLdouble* v) {
-  gl().Vertex4dv(v);
-  vertex(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]), static_cast<float>(v[3]));
-}
+// glVertex{2,3,4}{s,i,f,d}[v]: X(suffix, type) for each of glVertex's parameter types.
+#define VIPER_VERTEX_TYPES(X) X(s, GLshort) X(i, GLint) X(f, GLfloat) X(d, GLdouble)
+#define VIPER_VERTEX_HOOKS(s, T)                                                                \
+  VIPER_EXPORT void glVertex2##s(T x, T y) {                                                    \
+    gl().Vertex2##s(x, y);                                                                      \
+    vertex(x, y);                                                                               \
+  }                                                                                             \
+  VIPER_EXPORT void glVertex2##s##v(const T* v) {                                               \
+    gl().Vertex2##s##v(v);                                                                      \
+    vertex(v[0], v[1]);                                                                         \
+  }                                                                                             \
+  VIPER_EXPORT void glVertex3##s(T x, T y, T z) {                                               \
+    gl().Vertex3##s(x, y, z);                                                                   \
+    vertex(x, y, z);                                                                            \
+  }                                                                                             \
+  VIPER_EXPORT void glVertex3##s##v(const T* v) {                                               \
+    gl().Vertex3##s##v(v);                                                                      \
+    vertex(v[0], v[1], v[2]);                                                                   \
+  }                                                                                             \
+  VIPER_EXPORT void glVertex4##s(T x, T y, T z, T w) {                                          \
+    gl().Vertex4##s(x, y, z, w);                                                                \
+    vertex(x, y, z, w);                                                                         \
+  }                                                                                             \
+  VIPER_EXPORT void glVertex4##s##v(const T* v) {                                               \
+    gl().Vertex4##s##v(v);                                                                      \
+    vertex(v[0], v[1], v[2], v[3]);                                                             \
+  }
+VIPER_VERTEX_TYPES(VIPER_VERTEX_HOOKS)
+#undef VIPER_VERTEX_HOOKS
 
 namespace viper {
 namespace capture {
@@ -146,33 +81,12 @@ VIPER_NO_SANITIZE void* wrapperForImmediate(const char* name) {
 #define VIPER_ENTRY(f) VIPER_HOOK_ENTRY(f)
   static const HookEntry kEntries[] = {
       VIPER_ENTRY(glBegin),      VIPER_ENTRY(glCallList),   VIPER_ENTRY(glCallLists),
-      VIPER_ENTRY(glEnd),
-      VIPER_ENTRY(glNewList),
-      VIPER_ENTRY(glEndList),
-      VIPER_ENTRY(glVertex2s),
-      VIPER_ENTRY(glVertex2sv),
-      VIPER_ENTRY(glVertex2i),
-      VIPER_ENTRY(glVertex2iv),
-      VIPER_ENTRY(glVertex2f),
-      VIPER_ENTRY(glVertex2fv),
-      VIPER_ENTRY(glVertex2d),
-      VIPER_ENTRY(glVertex2dv),
-      VIPER_ENTRY(glVertex3s),
-      VIPER_ENTRY(glVertex3sv),
-      VIPER_ENTRY(glVertex3i),
-      VIPER_ENTRY(glVertex3iv),
-      VIPER_ENTRY(glVertex3f),
-      VIPER_ENTRY(glVertex3fv),
-      VIPER_ENTRY(glVertex3d),
-      VIPER_ENTRY(glVertex3dv),
-      VIPER_ENTRY(glVertex4s),
-      VIPER_ENTRY(glVertex4sv),
-      VIPER_ENTRY(glVertex4i),
-      VIPER_ENTRY(glVertex4iv),
-      VIPER_ENTRY(glVertex4f),
-      VIPER_ENTRY(glVertex4fv),
-      VIPER_ENTRY(glVertex4d),
-      VIPER_ENTRY(glVertex4dv),
+      VIPER_ENTRY(glEnd),        VIPER_ENTRY(glNewList),    VIPER_ENTRY(glEndList),
+#define VIPER_VERTEX_ENTRIES(s, T)                                                           \
+  VIPER_ENTRY(glVertex2##s), VIPER_ENTRY(glVertex2##s##v), VIPER_ENTRY(glVertex3##s),        \
+      VIPER_ENTRY(glVertex3##s##v), VIPER_ENTRY(glVertex4##s), VIPER_ENTRY(glVertex4##s##v),
+      VIPER_VERTEX_TYPES(VIPER_VERTEX_ENTRIES)
+#undef VIPER_VERTEX_ENTRIES
   };
 #undef VIPER_ENTRY
   return findHook(kEntries, name);

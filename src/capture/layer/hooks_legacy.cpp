@@ -37,22 +37,6 @@ VIPER_EXPORT void glLoadIdentity(void) {
   gl().LoadIdentity();
   if (ModelViewTracker* t = tracker()) t->load(GlMatrix::Identity());
 }
-VIPER_EXPORT void glLoadMatrixf(const GLfloat* m) {
-  gl().LoadMatrixf(m);
-  if (ModelViewTracker* t = tracker()) t->load(matrixOf(m));
-}
-VIPER_EXPORT void glLoadMatrixd(const GLdouble* m) {
-  gl().LoadMatrixd(m);
-  if (ModelViewTracker* t = tracker()) t->load(matrixOf(m));
-}
-VIPER_EXPORT void glMultMatrixf(const GLfloat* m) {
-  gl().MultMatrixf(m);
-  if (ModelViewTracker* t = tracker()) t->multiply(matrixOf(m));
-}
-VIPER_EXPORT void glMultMatrixd(const GLdouble* m) {
-  gl().MultMatrixd(m);
-  if (ModelViewTracker* t = tracker()) t->multiply(matrixOf(m));
-}
 VIPER_EXPORT void glPushMatrix(void) {
   gl().PushMatrix();
   if (ModelViewTracker* t = tracker()) t->push();
@@ -61,30 +45,32 @@ VIPER_EXPORT void glPopMatrix(void) {
   gl().PopMatrix();
   if (ModelViewTracker* t = tracker()) t->pop();
 }
-VIPER_EXPORT void glTranslatef(GLfloat x, GLfloat y, GLfloat z) {
-  gl().Translatef(x, y, z);
-  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::translation(x, y, z));
-}
-VIPER_EXPORT void glTranslated(GLdouble x, GLdouble y, GLdouble z) {
-  gl().Translated(x, y, z);
-  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::translation(x, y, z));
-}
-VIPER_EXPORT void glScalef(GLfloat x, GLfloat y, GLfloat z) {
-  gl().Scalef(x, y, z);
-  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::scaling(x, y, z));
-}
-VIPER_EXPORT void glScaled(GLdouble x, GLdouble y, GLdouble z) {
-  gl().Scaled(x, y, z);
-  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::scaling(x, y, z));
-}
-VIPER_EXPORT void glRotatef(GLfloat angle, GLfloat x, GLfloat y, GLfloat z) {
-  gl().Rotatef(angle, x, y, z);
-  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::rotation(angle, x, y, z));
-}
-VIPER_EXPORT void glRotated(GLdouble angle, GLdouble x, GLdouble y, GLdouble z) {
-  gl().Rotated(angle, x, y, z);
-  if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::rotation(angle, x, y, z));
-}
+
+// The entry points with a float and a double form (suffix f and d).
+#define VIPER_MATRIX_HOOKS(s, T)                                                                  \
+  VIPER_EXPORT void glLoadMatrix##s(const T* m) {                                                \
+    gl().LoadMatrix##s(m);                                                                        \
+    if (ModelViewTracker* t = tracker()) t->load(matrixOf(m));                                    \
+  }                                                                                               \
+  VIPER_EXPORT void glMultMatrix##s(const T* m) {                                                \
+    gl().MultMatrix##s(m);                                                                        \
+    if (ModelViewTracker* t = tracker()) t->multiply(matrixOf(m));                                \
+  }                                                                                               \
+  VIPER_EXPORT void glTranslate##s(T x, T y, T z) {                                              \
+    gl().Translate##s(x, y, z);                                                                   \
+    if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::translation(x, y, z));     \
+  }                                                                                               \
+  VIPER_EXPORT void glScale##s(T x, T y, T z) {                                                  \
+    gl().Scale##s(x, y, z);                                                                       \
+    if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::scaling(x, y, z));         \
+  }                                                                                               \
+  VIPER_EXPORT void glRotate##s(T angle, T x, T y, T z) {                                        \
+    gl().Rotate##s(angle, x, y, z);                                                               \
+    if (ModelViewTracker* t = tracker()) t->multiply(ModelViewTracker::rotation(angle, x, y, z)); \
+  }
+VIPER_MATRIX_HOOKS(f, GLfloat)
+VIPER_MATRIX_HOOKS(d, GLdouble)
+#undef VIPER_MATRIX_HOOKS
 
 VIPER_EXPORT void glAccum(GLenum op, GLfloat value) {
   if (Interceptor* i = Interceptor::active()) return i->accum(op, value);

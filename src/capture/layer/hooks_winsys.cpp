@@ -57,6 +57,24 @@ void glxDrawableSize(Display* dpy, GLXDrawable drawable, int& w, int& h) {
   w = static_cast<int>(gw), h = static_cast<int>(gh);
 }
 
+// glXMakeCurrent and glXMakeContextCurrent (`make_current` calls the real one): the interceptor is
+// told before the current context changes, and after it has with the size of `draw`.
+template <typename MakeCurrent>
+int makeGlxCurrent(Display* dpy, GLXDrawable draw, GLXContext ctx, MakeCurrent make_current) {
+  static auto current = reinterpret_cast<GLXContext (*)()>(realGlxFunction("glXGetCurrentContext"));
+  if (Interceptor* i = Interceptor::active())
+    if (!current || current() != ctx) i->beforeMakeCurrent();
+  const int ok = make_current();
+  if (Interceptor* i = Interceptor::active()) {
+    if (ok) {
+      int w = 0, h = 0;
+      glxDrawableSize(dpy, draw, w, h);
+      i->onMakeCurrent(ctx, w, h);
+    }
+  }
+  return ok;
+}
+
 // Plain loops instead of strrchr and strstr on the dlsym path: a sanitizer runtime intercepts
 // those, and its interceptors cannot run while it is still looking up what they forward to.
 VIPER_NO_SANITIZE const char* baseName(const char* path) {
@@ -202,35 +220,13 @@ VIPER_EXPORT __eglMustCastToProperFunctionPointerType eglGetProcAddress(const ch
 
 VIPER_EXPORT int glXMakeCurrent(Display* dpy, GLXDrawable drawable, GLXContext ctx) {
   static auto fn = reinterpret_cast<int (*)(Display*, GLXDrawable, GLXContext)>(realGlxFunction("glXMakeCurrent"));
-  static auto current = reinterpret_cast<GLXContext (*)()>(realGlxFunction("glXGetCurrentContext"));
-  if (Interceptor* i = Interceptor::active())
-    if (!current || current() != ctx) i->beforeMakeCurrent();
-  const int ok = fn(dpy, drawable, ctx);
-  if (Interceptor* i = Interceptor::active()) {
-    if (ok) {
-      int w = 0, h = 0;
-      glxDrawableSize(dpy, drawable, w, h);
-      i->onMakeCurrent(ctx, w, h);
-    }
-  }
-  return ok;
+  return makeGlxCurrent(dpy, drawable, ctx, [&] { return fn(dpy, drawable, ctx); });
 }
 
 VIPER_EXPORT int glXMakeContextCurrent(Display* dpy, GLXDrawable draw, GLXDrawable read, GLXContext ctx) {
   static auto fn = reinterpret_cast<int (*)(Display*, GLXDrawable, GLXDrawable, GLXContext)>(
       realGlxFunction("glXMakeContextCurrent"));
-  static auto current = reinterpret_cast<GLXContext (*)()>(realGlxFunction("glXGetCurrentContext"));
-  if (Interceptor* i = Interceptor::active())
-    if (!current || current() != ctx) i->beforeMakeCurrent();
-  const int ok = fn(dpy, draw, read, ctx);
-  if (Interceptor* i = Interceptor::active()) {
-    if (ok) {
-      int w = 0, h = 0;
-      glxDrawableSize(dpy, draw, w, h);
-      i->onMakeCurrent(ctx, w, h);
-    }
-  }
-  return ok;
+  return makeGlxCurrent(dpy, draw, ctx, [&] { return fn(dpy, draw, read, ctx); });
 }
 
 VIPER_EXPORT void glXDestroyContext(Display* dpy, GLXContext ctx) {

@@ -1,37 +1,34 @@
 #include "conditions.h"
 
 #include <cmath>
+#include <iterator>
 
 namespace viper {
 namespace world {
 
-bool parseCondition(const std::string& text, Condition& out) {
-  if (text == "day") out = Condition::kDay;
-  else if (text == "sunset") out = Condition::kSunset;
-  else if (text == "rain") out = Condition::kRain;
-  else if (text == "snow") out = Condition::kSnow;
-  else if (text == "night") out = Condition::kNight;
-  else return false;
-  return true;
-}
-
-const char* conditionName(Condition c) {
-  switch (c) {
-    case Condition::kDay: return "day";
-    case Condition::kSunset: return "sunset";
-    case Condition::kRain: return "rain";
-    case Condition::kSnow: return "snow";
-    case Condition::kNight: return "night";
-  }
-  return "day";
-}
-
 namespace {
+// By Condition's value.
+const char* const kConditionNames[] = {"day", "sunset", "rain", "snow", "night"};
+
 Vec3 sunFrom(float azimuth, float elevation) {
   return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
           std::sin(elevation)};
 }
 }  // namespace
+
+bool parseCondition(const std::string& text, Condition& out) {
+  for (size_t c = 0; c < std::size(kConditionNames); ++c)
+    if (text == kConditionNames[c]) {
+      out = static_cast<Condition>(c);
+      return true;
+    }
+  return false;
+}
+
+const char* conditionName(Condition c) {
+  const auto index = static_cast<size_t>(c);
+  return index < std::size(kConditionNames) ? kConditionNames[index] : "day";
+}
 
 ConditionParams conditionParams(Condition c, float heading_yaw) {
   ConditionParams p;

@@ -14,6 +14,19 @@ namespace {
 constexpr uint32_t kParticleCount = 5000;
 const Vec3 kParticleBox{40.0f, 40.0f, 16.0f};
 
+// Uploads `data` to `buffer` and points `count` vertex attributes from `first` on at it, `size`
+// floats each, interleaved in that order (one attribute: tightly packed).
+void uploadAttributes(GLuint buffer, const std::vector<float>& data, GLuint first, GLint size, int count) {
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glBufferData(GL_ARRAY_BUFFER, data.size() * sizeof(float), data.data(), GL_STATIC_DRAW);
+  const GLsizei stride = count > 1 ? GLsizei(count * size * sizeof(float)) : 0;
+  for (int a = 0; a < count; ++a) {
+    glVertexAttribPointer(first + a, size, GL_FLOAT, GL_FALSE, stride,
+                          reinterpret_cast<void*>(a * size * sizeof(float)));
+    glEnableVertexAttribArray(first + a);
+  }
+}
+
 GlMatrix toGl(const Mat4& m) {
   GlMatrix g;
   for (int i = 0; i < 16; ++i) g.data()[i] = m.m[i];
@@ -89,35 +102,20 @@ void Renderer::init(const MeshLibrary& meshes, int width, int height) {
     GLuint buffers[4];
     glGenBuffers(4, buffers);
     // Positions alone in their own buffer (what aPos reads), other attributes in others.
-    glBindBuffer(GL_ARRAY_BUFFER, buffers[0]);
-    glBufferData(GL_ARRAY_BUFFER, d.positions.size() * sizeof(float), d.positions.data(), GL_STATIC_DRAW);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    glEnableVertexAttribArray(0);
+    uploadAttributes(buffers[0], d.positions, 0, 3, 1);
     std::vector<float> attrs;
     attrs.reserve(d.vertexCount() * 6);
     for (size_t v = 0; v < d.vertexCount(); ++v)
       attrs.insert(attrs.end(), {d.normals[3 * v], d.normals[3 * v + 1], d.normals[3 * v + 2],
                                  d.colors[3 * v], d.colors[3 * v + 1], d.colors[3 * v + 2]});
-    glBindBuffer(GL_ARRAY_BUFFER, buffers[1]);
-    glBufferData(GL_ARRAY_BUFFER, attrs.size() * sizeof(float), attrs.data(), GL_STATIC_DRAW);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
-    glVertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
-                          reinterpret_cast<void*>(3 * sizeof(float)));
-    glEnableVertexAttribArray(1);
-    glEnableVertexAttribArray(2);
+    uploadAttributes(buffers[1], attrs, 1, 3, 2);
     if (d.skinned()) {
       std::vector<float> skin;
       for (size_t v = 0; v < d.vertexCount(); ++v) {
         skin.insert(skin.end(), d.bone_ids.begin() + 4 * v, d.bone_ids.begin() + 4 * v + 4);
         skin.insert(skin.end(), d.bone_weights.begin() + 4 * v, d.bone_weights.begin() + 4 * v + 4);
       }
-      glBindBuffer(GL_ARRAY_BUFFER, buffers[2]);
-      glBufferData(GL_ARRAY_BUFFER, skin.size() * sizeof(float), skin.data(), GL_STATIC_DRAW);
-      glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 8 * sizeof(float), nullptr);
-      glVertexAttribPointer(4, 4, GL_FLOAT, GL_FALSE, 8 * sizeof(float),
-                            reinterpret_cast<void*>(4 * sizeof(float)));
-      glEnableVertexAttribArray(3);
-      glEnableVertexAttribArray(4);
+      uploadAttributes(buffers[2], skin, 3, 4, 2);
     }
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[3]);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, d.indices.size() * sizeof(uint32_t), d.indices.data(),

@@ -40,6 +40,12 @@ void forwardSignal(int sig) {
   if (g_child > 0) kill(g_child, sig);
 }
 
+// What a check of an option says when `value` is not `what` (naming `env`, the environment variable
+// that may have given it).
+std::string mustBe(const std::string& what, const std::string& value, const std::string& env) {
+  return "must be " + what + ", not '" + value + "'" + (env.empty() ? "" : " (the option or " + env + ")");
+}
+
 // A check of a value passed on to the layer as written: a whole number (base 10), or with `real`
 // any number, from `min` (above it with `above_min`) to `max`; `what` says so when it is not (and
 // `env`, the environment variable that may have given it).
@@ -51,8 +57,18 @@ CLI::Validator numberCheck(bool real, double min, bool above_min, double max, co
         const double n =
             real ? std::strtod(value.c_str(), &end) : static_cast<double>(std::strtoll(value.c_str(), &end, 10));
         const bool ok = !value.empty() && !*end && (above_min ? n > min : n >= min) && n <= max;
-        if (ok) return "";
-        return "must be " + what + ", not '" + value + "'" + (env.empty() ? "" : " (the option or " + env + ")");
+        return ok ? "" : mustBe(what, value, env);
+      },
+      "");
+}
+
+// A check of a value that must be one of `choices`; `what` names them when it is not (and `env`, the
+// environment variable that may have given it).
+CLI::Validator choiceCheck(const std::vector<std::string>& choices, const std::string& what, const std::string& env) {
+  return CLI::Validator(
+      [=](std::string& value) -> std::string {
+        const bool ok = std::find(choices.begin(), choices.end(), value) != choices.end();
+        return ok ? "" : mustBe(what, value, env);
       },
       "");
 }
@@ -263,14 +279,7 @@ int main(int argc, char** argv) {
                  "half the size, for captures kept long")
       ->type_name("zstd|lz4")
       ->envname("VIPER_CAPTURE_CODEC")
-      ->check(CLI::Validator(
-          [](std::string& value) -> std::string {
-            viper::CaptureCodec parsed;
-            return viper::parseCaptureCodec(value, parsed)
-                       ? ""
-                       : "must be zstd or lz4, not '" + value + "' (the option or $VIPER_CAPTURE_CODEC)";
-          },
-          ""));
+      ->check(choiceCheck({"zstd", "lz4"}, "zstd or lz4", "$VIPER_CAPTURE_CODEC"));
   app.add_option("--zstd-level", zstd_level,
                  "with zstd, its level, -131072 to 22 (default 1: the world at 1920x1080 takes 1.5 MB a frame, "
                  "19 ms of the writer thread; -7: 2.4 MB, 16 ms; 3: 1.4 MB, 25 ms)")
@@ -289,13 +298,7 @@ int main(int argc, char** argv) {
                  "on software renderers (llvmpipe). The stream is the same either way")
       ->type_name("auto|sync|async")
       ->envname("VIPER_CAPTURE_READBACK")
-      ->check(CLI::Validator(
-          [](std::string& value) -> std::string {
-            const bool known = value == "auto" || value == "sync" || value == "async";
-            return known ? ""
-                         : "must be auto, sync or async, not '" + value + "' (the option or $VIPER_CAPTURE_READBACK)";
-          },
-          ""));
+      ->check(choiceCheck({"auto", "sync", "async"}, "auto, sync or async", "$VIPER_CAPTURE_READBACK"));
   app.add_option("--require-ids", require_ids,
                  "F from 0 to 1; the capture passes when at least one frame was written and at least F of its "
                  "scene pixels (depth below 1 or a draw id, over all frames) have a draw id")

@@ -238,13 +238,8 @@ int main(int argc, char** argv) {
       "Exit status: 0 every check that ran met its goal; 1 the capture is damaged (figures up to the damage);\n"
       "2 usage or open error; 3 a check missed its goal; 4 no check could run.");
   if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
-  std::unique_ptr<viper::CaptureReader> reader;
-  try {
-    reader = std::make_unique<viper::CaptureReader>(path);
-  } catch (const std::exception& e) {
-    std::cerr << "capture_check: " << e.what() << "\n";
-    return 2;
-  }
+  const auto reader = viper_tools::openOrReport<viper::CaptureReader>(app, path);
+  if (!reader) return 2;
   viper::MeshRegistry meshes;
   viper::ReprojectionCheck all;
   viper::CaptureCoverage coverage;

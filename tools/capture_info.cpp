@@ -71,13 +71,8 @@ int main(int argc, char** argv) {
   app.footer("Exit status: 0 intact; 1 damaged (the summary up to the damage, then where it is); 2 usage or open\n"
              "error.");
   if (const auto status = viper_tools::parseCommandLine(app, argc, argv)) return *status;
-  std::unique_ptr<viper::CaptureReader> reader;
-  try {
-    reader = std::make_unique<viper::CaptureReader>(path);
-  } catch (const std::exception& e) {
-    std::cerr << "capture_info: " << e.what() << "\n";
-    return 2;
-  }
+  const auto reader = viper_tools::openOrReport<viper::CaptureReader>(app, path);
+  if (!reader) return 2;
   Summary summary;
   viper::CaptureFrame frame;
   try {

@@ -70,13 +70,8 @@ int main(int argc, char** argv) {
 
   // The bridge's conversion and stamps for a file replay (CaptureRawFrames), written as its
   // publishers would (writeRawFrame).
-  std::unique_ptr<viper::CaptureRawFrames> frames;
-  try {
-    frames = std::make_unique<viper::CaptureRawFrames>(o.capture, o.start_time, o.frame_id);
-  } catch (const std::exception& e) {
-    std::cerr << "capture_to_bag: " << e.what() << "\n";
-    return 2;
-  }
+  const auto frames = viper_tools::openOrReport<viper::CaptureRawFrames>(app, o.capture, o.start_time, o.frame_id);
+  if (!frames) return 2;
   std::unique_ptr<viper::BagWriter> out;
   try {
     out = std::make_unique<viper::BagWriter>(o.output, o.compression, "/capture_to_bag");

@@ -17,6 +17,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace viper_tools {
 
@@ -28,6 +29,18 @@ constexpr int kUsageError = 2;
 inline int usageError(const CLI::App& app, const std::string& problem) {
   std::cerr << app.get_name() << ": " << problem << "\n" << app.help();
   return kUsageError;
+}
+
+/// A T built from `args` (a reader of the file the command line names); nullptr after "TOOL: what
+/// went wrong" on stderr when its constructor throws (the tools then exit 2).
+template <typename T, typename... Args>
+std::unique_ptr<T> openOrReport(const CLI::App& app, Args&&... args) {
+  try {
+    return std::make_unique<T>(std::forward<Args>(args)...);
+  } catch (const std::exception& e) {
+    std::cerr << app.get_name() << ": " << e.what() << "\n";
+    return nullptr;
+  }
 }
 
 /// CLI11's help with each option's description wrapped at 70 columns (its own line breaks kept).

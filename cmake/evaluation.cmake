@@ -51,7 +51,7 @@ if(CATKIN_ENABLE_TESTING)
 
   # rostests: the committed raw bag through replay.launch, a fake perception made by the tester
   # (ground truth republished, or corrupted in known ways), scored by evaluate (node and nodelet).
-  viper_add_tester(evaluate_tester test/ros/evaluate_tester.cpp viper_core)
+  viper_add_tester(evaluate_tester test/ros/evaluate_tester.cpp viper_conversions)
   viper_add_tester(evaluate_bad_input_tester test/ros/evaluate_bad_input_tester.cpp)
   foreach(tester evaluate_tester evaluate_bad_input_tester)
     target_include_directories(${tester} SYSTEM PRIVATE ${std_srvs_INCLUDE_DIRS} ${opencv_apps_INCLUDE_DIRS})
@@ -123,7 +123,7 @@ install(DIRECTORY models DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
   # The committed raw bag through replay.launch + baselines.launch, fed and scored by baselines_tester.
-  viper_add_tester(baselines_tester test/ros/baselines_tester.cpp viper_core)
+  viper_add_tester(baselines_tester test/ros/baselines_tester.cpp viper_conversions)
   add_rostest(test/ros/baselines.test
     DEPENDENCIES baselines_tester viper_baselines_ros viper_flow_ros viper_ground_truth_ros)
   roslaunch_add_file_check(launch/baselines.launch)

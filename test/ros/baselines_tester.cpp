@@ -14,6 +14,8 @@
 // max_rotation_deg (final rotation error, 5).
 #include "bag_publishers.h"
 
+#include "viper/ros/conversions/pose_conversions.h"
+
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -36,16 +38,6 @@ namespace {
 const std::string kImage = "/capture/color/image_raw", kGtFlow = "/ground_truth/flow/forward",
                   kGtVis = "/ground_truth/flow/forward_visible", kFlow = "/baselines/flow",
                   kGtOdom = "/ground_truth/odom", kVo = "/baselines/odom";
-
-Eigen::Isometry3d fromOdom(const nav_msgs::Odometry& m) {
-  const auto& p = m.pose.pose;
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)
-                   .normalized()
-                   .toRotationMatrix();
-  t.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  return t;
-}
 
 class Baselines : public ::testing::Test {
  protected:
@@ -233,7 +225,8 @@ TEST_F(Baselines, ScoredAgainstGroundTruth) {
     const auto g = odom_[kGtOdom].find(frames[i]);
     const auto v = odom_[kVo].find(frames[i]);
     ASSERT_TRUE(g != odom_[kGtOdom].end() && v != odom_[kVo].end()) << "frame " << i << ": odometry missing";
-    const Eigen::Isometry3d pg = fromOdom(*g->second), pv = fromOdom(*v->second);
+    const Eigen::Isometry3d pg = viper::fromPoseMsg(g->second->pose.pose);
+    const Eigen::Isometry3d pv = viper::fromPoseMsg(v->second->pose.pose);
     if (i > 0) path += (pg.translation() - last_gt.translation()).norm();
     if (i > 0) vo_path += (pv.translation() - last_vo.translation()).norm();
     const double err = (pv.translation() - pg.translation()).norm();

@@ -19,6 +19,7 @@
 
 #include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/ego_motion.h"
+#include "viper/ros/conversions/pose_conversions.h"
 
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -61,16 +62,6 @@ struct Expected {
   std::set<int> instance_classes;  // scored classes with a ground-truth instance of >= 100 px
   std::vector<Eigen::Isometry3d> gt_poses;
 };
-
-Eigen::Isometry3d poseOf(const nav_msgs::Odometry& m) {
-  const auto& p = m.pose.pose;
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)
-                   .normalized()
-                   .toRotationMatrix();
-  t.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  return t;
-}
 
 class EvaluateTest : public ::testing::Test {
  protected:
@@ -241,7 +232,7 @@ class EvaluateTest : public ::testing::Test {
   // the optical frame.
   void predictOdom(const nav_msgs::Odometry::ConstPtr& gt) {
     nav_msgs::Odometry est = *gt;
-    const Eigen::Isometry3d pose = poseOf(*gt);
+    const Eigen::Isometry3d pose = viper::fromPoseMsg(gt->pose.pose);
     expected_[condition_of_.at(gt->header.stamp)].gt_poses.push_back(pose);
     if (corrupted_) {
       if (!first_pose_) first_pose_ = pose;

@@ -12,6 +12,7 @@
 #include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/ego_motion.h"
 #include "viper/ros/conversions/frame_conversions.h"
+#include "viper/ros/conversions/pose_conversions.h"
 
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -86,16 +87,6 @@ std::optional<Eigen::Vector2d> sampleSameSurface(const float* uv, const uint8_t*
   Eigen::Vector2d out(0, 0);
   for (int i = 0; i < 4; ++i) out += wt[i] * Eigen::Vector2d(uv[2 * p[i]], uv[2 * p[i] + 1]);
   return out;
-}
-
-Eigen::Isometry3d fromOdom(const nav_msgs::Odometry& m) {
-  const auto& p = m.pose.pose;
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)
-                   .normalized()
-                   .toRotationMatrix();
-  t.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
-  return t;
 }
 
 class FlowReplay : public ::testing::Test {
@@ -433,8 +424,8 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
     const ros::Time tb = r == &backwards_far ? frames_[n - 5] : frames_[n - 1];
     ASSERT_TRUE(r->pose_valid);
     ASSERT_TRUE(odom_.count(ta) && odom_.count(tb)) << "no odometry for the frames";
-    const Eigen::Isometry3d map_a = fromOdom(*odom_[ta]) * viper::bodyFromOptical();
-    const Eigen::Isometry3d map_b = fromOdom(*odom_[tb]) * viper::bodyFromOptical();
+    const Eigen::Isometry3d map_a = viper::fromPoseMsg(odom_[ta]->pose.pose) * viper::bodyFromOptical();
+    const Eigen::Isometry3d map_b = viper::fromPoseMsg(odom_[tb]->pose.pose) * viper::bodyFromOptical();
     const Eigen::Isometry3d expected = map_a.inverse() * map_b;
     const auto& t = r->b_in_a;
     const Eigen::Vector3d got_t(t.translation.x, t.translation.y, t.translation.z);

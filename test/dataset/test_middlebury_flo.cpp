@@ -15,10 +15,7 @@
 namespace {
 
 using namespace viper::dataset;
-using viper_dataset_test::expectErrorNaming;
-using viper_dataset_test::readBytes;
-using viper_dataset_test::TempDir;
-using viper_dataset_test::writeBytes;
+using namespace viper_dataset_test;
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 

@@ -17,10 +17,7 @@
 namespace {
 
 using namespace viper::dataset;
-using viper_dataset_test::expectErrorNaming;
-using viper_dataset_test::readBytes;
-using viper_dataset_test::TempDir;
-using viper_dataset_test::writeBytes;
+using namespace viper_dataset_test;
 
 Image8 makeImage(uint32_t w, uint32_t h, uint32_t channels, uint32_t seed) {
   Image8 im;

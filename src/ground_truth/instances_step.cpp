@@ -1,6 +1,6 @@
 #include "viper/ground_truth/instances_step.h"
+#include "viper/ground_truth/stamp_order.h"
 
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -22,12 +22,7 @@ InstancesStep::InstancesStep(LabelTable labels, ClassTable classes, const Instan
 }
 
 bool InstancesStep::inOrder(const FrameStamp& stamp, uint64_t number, StepProblems& problems) const {
-  if (last_stamp_.isZero() || last_stamp_ < stamp) return true;
-  char text[160];
-  std::snprintf(text, sizeof text, ": frame %lu stamp %.6f is not after the previous %.6f; frame dropped",
-                static_cast<unsigned long>(number), stamp.seconds(), last_stamp_.seconds());
-  problems.push_back({StepInput::kDrawIds, StepSeverity::kError, "stamp_order", text});
-  return false;
+  return stampAfterLast(last_stamp_, stamp, number, StepInput::kDrawIds, problems);
 }
 
 bool InstancesStep::process(const CaptureFrame& frame, const FrameStamp& stamp, const uint32_t* draw_ids,

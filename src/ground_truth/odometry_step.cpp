@@ -1,18 +1,13 @@
 #include "viper/ground_truth/odometry_step.h"
+#include "viper/ground_truth/stamp_order.h"
 
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 
 namespace viper {
 
 bool OdometryStep::inOrder(const FrameStamp& stamp, uint64_t number, StepProblems& problems) const {
-  if (last_stamp_.isZero() || last_stamp_ < stamp) return true;
-  char text[160];
-  std::snprintf(text, sizeof text, ": frame %lu stamp %.6f is not after the previous %.6f; frame dropped",
-                static_cast<unsigned long>(number), stamp.seconds(), last_stamp_.seconds());
-  problems.push_back({StepInput::kDraws, StepSeverity::kError, "stamp_order", text});
-  return false;
+  return stampAfterLast(last_stamp_, stamp, number, StepInput::kDraws, problems);
 }
 
 bool OdometryStep::process(const std::optional<FrameCamera>& camera, const FrameStamp& stamp, uint64_t number,

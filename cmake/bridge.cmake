@@ -1,18 +1,19 @@
 # Stage 2, the bridge: captures into raw topics and bags (capture_bridge, bag_player, capture_to_bag).
 
-# viper_ros: the capture bridge and the bag player (nodes + nodelets).
+# viper_ros: the capture bridge and the bag player (nodes + nodelets), their pacing (src/ros/pacing:
+# replay stamps and back-pressure) and the measurement nodelets and CPU meter (src/ros/measurement).
 # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
 find_package(pluginlib REQUIRED)
 find_package(class_loader REQUIRED)
 add_library(viper_ros
-  src/ros/bridge/replay_timing.cpp
-  src/ros/bridge/pace_gate.cpp
-  src/ros/bridge/cpu_meter.cpp
+  src/ros/pacing/replay_timing.cpp
+  src/ros/pacing/pace_gate.cpp
+  src/ros/measurement/cpu_meter.cpp
   src/ros/bridge/capture_bridge_options.cpp
   src/ros/bridge/capture_bridge.cpp
   src/ros/bridge/capture_bridge_nodelet.cpp
-  src/ros/bridge/frame_counter_nodelet.cpp
-  src/ros/bridge/output_counter_nodelet.cpp
+  src/ros/measurement/frame_counter_nodelet.cpp
+  src/ros/measurement/output_counter_nodelet.cpp
   src/ros/bridge/bag_player.cpp
   src/ros/bridge/bag_player_nodelet.cpp
   src/ros/bridge/raw_frames.cpp

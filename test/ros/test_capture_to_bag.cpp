@@ -5,7 +5,7 @@
 // prints the usage and exits 2. capture_to_bag.test compares the bag with the running bridge.
 #include "viper/capture/capture_stream.h"
 #include "viper/ros/conversions/frame_conversions.h"
-#include "viper/ros/bridge/replay_timing.h"
+#include "viper/ros/pacing/replay_timing.h"
 
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>

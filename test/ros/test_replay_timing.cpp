@@ -1,5 +1,5 @@
 // Replay stamps and pacing: positive, increasing, continued across loops.
-#include "viper/ros/bridge/replay_timing.h"
+#include "viper/ros/pacing/replay_timing.h"
 
 #include <gtest/gtest.h>
 

@@ -6,9 +6,9 @@
 #pragma once
 
 #include "viper/dataset/bag_file_reader.h"
-#include "viper/ros/bridge/cpu_meter.h"
-#include "viper/ros/bridge/pace_gate.h"
 #include "viper/ros/conversions/image_msg_pool.h"
+#include "viper/ros/measurement/cpu_meter.h"
+#include "viper/ros/pacing/pace_gate.h"
 
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/ros.h>

@@ -4,9 +4,9 @@
 
 #include "viper/capture/capture_frame.h"
 #include "viper/ros/conversions/frame_conversions.h"
-#include "viper/ros/bridge/cpu_meter.h"
-#include "viper/ros/bridge/pace_gate.h"
-#include "viper/ros/bridge/replay_timing.h"
+#include "viper/ros/measurement/cpu_meter.h"
+#include "viper/ros/pacing/pace_gate.h"
+#include "viper/ros/pacing/replay_timing.h"
 
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>

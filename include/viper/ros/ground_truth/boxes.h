@@ -4,7 +4,7 @@
 
 #include "viper/ground_truth/boxes.h"
 #include "viper/ground_truth/class_table.h"
-#include "viper/ros/bridge/cpu_meter.h"
+#include "viper/ros/measurement/cpu_meter.h"
 #include "viper/ros/ground_truth/boxes_step.h"
 #include "viper/ros/ground_truth/step_log.h"
 

@@ -4,7 +4,7 @@
 
 #include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/instance_pipeline.h"
-#include "viper/ros/bridge/cpu_meter.h"
+#include "viper/ros/measurement/cpu_meter.h"
 #include "viper/ros/ground_truth/instances_step.h"
 #include "viper/ros/ground_truth/step_log.h"
 

@@ -3,7 +3,7 @@
 // docs/ground_truth_nodes.md.
 #pragma once
 
-#include "viper/ros/bridge/cpu_meter.h"
+#include "viper/ros/measurement/cpu_meter.h"
 #include "viper/ros/ground_truth/odometry_step.h"
 #include "viper/ros/ground_truth/step_log.h"
 

@@ -1,4 +1,4 @@
-#include "viper/ros/bridge/replay_timing.h"
+#include "viper/ros/pacing/replay_timing.h"
 
 namespace viper {
 

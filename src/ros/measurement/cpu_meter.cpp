@@ -1,4 +1,4 @@
-#include "viper/ros/bridge/cpu_meter.h"
+#include "viper/ros/measurement/cpu_meter.h"
 
 #include <time.h>
 

@@ -1,4 +1,4 @@
-#include "viper/ros/bridge/pace_gate.h"
+#include "viper/ros/pacing/pace_gate.h"
 
 #include <chrono>
 

@@ -17,7 +17,6 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <thread>
 
 namespace {
 
@@ -44,8 +43,7 @@ int run(const SceneOptions& o) {
       viper::gl_common::writePpm(dumpPath(o.dump_dir, n), o.width, o.height, renderer.readColor());
     if (o.benchmark) gl.Finish();  // time the rendering, not just the command submission
     context.swapBuffers();
-    if (o.frame_ms > 0.0) std::this_thread::sleep_until(start + std::chrono::duration<double, std::milli>(o.frame_ms));
-    total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    endFrame(o, start, total_ms);
     if (oracle) writeOracleFrame(*oracle, n, state, world);
   }
   if (o.benchmark) std::cout << benchmarkLine(o, total_ms);

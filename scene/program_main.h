@@ -3,10 +3,12 @@
 
 #include "options.h"
 
+#include <chrono>
 #include <exception>
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace viper {
@@ -43,6 +45,13 @@ inline std::string benchmarkLine(const SceneOptions& o, double total_ms) {
   line << "benchmark: frames=" << o.frames << " size=" << o.width << "x" << o.height
        << " mean_frame_ms=" << total_ms / o.frames << "\n";
   return line.str();
+}
+
+/// A frame's end: waits until --frame-ms after `start` when it is set, then adds the time since
+/// `start` to `total_ms` (what benchmarkLine averages).
+inline void endFrame(const SceneOptions& o, std::chrono::steady_clock::time_point start, double& total_ms) {
+  if (o.frame_ms > 0.0) std::this_thread::sleep_until(start + std::chrono::duration<double, std::milli>(o.frame_ms));
+  total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace scene

@@ -17,7 +17,6 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <thread>
 
 namespace {
 
@@ -62,9 +61,7 @@ int run(const VkSceneOptions& options) {
     const FrameState state = world.frame(static_cast<double>(n) / o.fps);
     const auto start = std::chrono::steady_clock::now();
     renderer.drawAndPresent(state, o.dump_dir.empty() ? nullptr : &rgb, o.benchmark);
-    if (o.frame_ms > 0.0)
-      std::this_thread::sleep_until(start + std::chrono::duration<double, std::milli>(o.frame_ms));
-    total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    endFrame(o, start, total_ms);
     if (!o.dump_dir.empty()) viper::gl_common::writePpm(dumpPath(o.dump_dir, n), o.width, o.height, rgb);
     if (oracle) writeOracleFrame(*oracle, n, state, world);
   }

@@ -283,6 +283,15 @@ uint32_t Context::memoryType(uint32_t type_bits, VkMemoryPropertyFlags propertie
   throw std::runtime_error("the Vulkan device has no memory type with properties 0x" + std::to_string(properties));
 }
 
+VkDeviceMemory Context::allocate(const VkMemoryRequirements& needs, VkMemoryPropertyFlags properties) const {
+  VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  info.allocationSize = needs.size;
+  info.memoryTypeIndex = memoryType(needs.memoryTypeBits, properties);
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  check(vkAllocateMemory(device_, &info, nullptr, &memory), "vkAllocateMemory");
+  return memory;
+}
+
 Buffer Context::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, VkMemoryPropertyFlags properties) const {
   Buffer b;
   b.size = size;
@@ -293,11 +302,8 @@ Buffer Context::createBuffer(VkDeviceSize size, VkBufferUsageFlags usage, VkMemo
   check(vkCreateBuffer(device_, &info, nullptr, &b.buffer), "vkCreateBuffer");
   VkMemoryRequirements needs;
   vkGetBufferMemoryRequirements(device_, b.buffer, &needs);
-  VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  allocate.allocationSize = needs.size;
-  allocate.memoryTypeIndex = memoryType(needs.memoryTypeBits, properties);
   try {
-    check(vkAllocateMemory(device_, &allocate, nullptr, &b.memory), "vkAllocateMemory");
+    b.memory = allocate(needs, properties);
     check(vkBindBufferMemory(device_, b.buffer, b.memory, 0), "vkBindBufferMemory");
     if (properties & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
       check(vkMapMemory(device_, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped), "vkMapMemory");
@@ -332,11 +338,8 @@ Image Context::createImage(uint32_t width, uint32_t height, VkFormat format, VkI
   check(vkCreateImage(device_, &info, nullptr, &image.image), "vkCreateImage");
   VkMemoryRequirements needs;
   vkGetImageMemoryRequirements(device_, image.image, &needs);
-  VkMemoryAllocateInfo allocate{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  allocate.allocationSize = needs.size;
   try {
-    allocate.memoryTypeIndex = memoryType(needs.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    check(vkAllocateMemory(device_, &allocate, nullptr, &image.memory), "vkAllocateMemory");
+    image.memory = allocate(needs, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     check(vkBindImageMemory(device_, image.image, image.memory, 0), "vkBindImageMemory");
     image.view = createImageView(device_, image.image, format, aspect);
   } catch (...) {

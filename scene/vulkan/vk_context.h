@@ -92,6 +92,8 @@ class Context {
   void createInstance();
   void pickDevice(bool dynamic_rendering, bool vulkan13);
   uint32_t memoryType(uint32_t type_bits, VkMemoryPropertyFlags properties) const;
+  /// Memory for `needs` with `properties` (throws std::runtime_error).
+  VkDeviceMemory allocate(const VkMemoryRequirements& needs, VkMemoryPropertyFlags properties) const;
 
   bool headless_ = false;
   xcb_connection_t* connection_ = nullptr;

@@ -3,8 +3,11 @@
 // chunks that overlap in time, and on the committed test bag: every message comes back with its
 // topic, time, connection header and bytes, in rosbag's order. And the errors: a bag without its
 // index names `rosbag reindex`; a damaged chunk names its byte offset after every message before it
-// came back; damaged bags never crash the reader.
+// came back; damaged bags never crash the reader. Then viper::BagReader, the typed reader over it
+// (generate's and the tools'), against rosbag::View with a TopicQuery and MessageInstance::instantiate.
 #include "viper/dataset/bag_file_reader.h"
+#include "viper/ros/bridge/bag_reader.h"
+#include "viper/ros/bridge/bag_writer.h"
 
 #include "../common/process_util.h"
 
@@ -22,6 +25,7 @@
 #include <fstream>
 #include <optional>
 #include <random>
+#include <set>
 #include <tuple>
 #include <vector>
 
@@ -104,9 +108,8 @@ std::vector<Read> readWithReader(const std::string& path, std::string* error = n
 // per-connection iterators; BagFileReader keeps file order. kExact where the two agree on a bag.
 enum class Ties { kExact, kAsMultiset };
 
-void expectSameMessages(const std::string& path, Ties ties) {
-  SCOPED_TRACE(path);
-  const std::vector<Read> expected = readWithRosbag(path), got = readWithReader(path);
+void expectSameReads(const std::string& path, const std::vector<Read>& got, const std::vector<Read>& expected,
+                     Ties ties) {
   ASSERT_EQ(got.size(), expected.size());
   ASSERT_GT(got.size(), 0u);
   size_t differently_ordered = 0;
@@ -131,6 +134,11 @@ void expectSameMessages(const std::string& path, Ties ties) {
   for (const Read& r : expected) EXPECT_TRUE(ofConnection(got, r) == ofConnection(expected, r)) << r.topic;
   std::cout << path << ": " << got.size() << " messages, " << differently_ordered
             << " at a place where rosbag orders equal times otherwise\n";
+}
+
+void expectSameMessages(const std::string& path, Ties ties) {
+  SCOPED_TRACE(path);
+  expectSameReads(path, readWithReader(path), readWithRosbag(path), ties);
 }
 
 std::string text(size_t n, std::mt19937& random) {
@@ -416,6 +424,23 @@ void writeTextBag(const std::string& path, rosbag::compression::CompressionType 
   }
 }
 
+// A copy of `intact` at `damaged` with 16 bytes of its third chunk's data inverted (chunks compressed
+// with `compression`); returns the chunk's offset (npos: the bag has no third chunk).
+size_t damageThirdChunk(const std::string& intact, const std::string& compression, const std::string& damaged) {
+  std::string bytes = readFile(intact);
+  // rosbag writes a chunk's header fields by name: compression first, after the record's and the
+  // field's lengths.
+  size_t field = 0;
+  for (int k = 0; k < 3 && field != std::string::npos; ++k) field = bytes.find("compression=" + compression, field + 1);
+  if (field == std::string::npos) return field;
+  const size_t chunk = field - 8;
+  uint32_t header_size;
+  std::memcpy(&header_size, bytes.data() + chunk, 4);
+  for (size_t i = chunk + 8 + header_size + 40; i < chunk + 8 + header_size + 56; ++i) bytes[i] = static_cast<char>(~bytes[i]);
+  writeFile(damaged, bytes);
+  return chunk;
+}
+
 // A chunk's data with 16 bytes inverted (the third chunk of a bag of one topic, times rising): the
 // error names the chunk's offset, after the messages of the chunks before it, as many as rosbag gives.
 TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
@@ -425,17 +450,8 @@ TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
     SCOPED_TRACE(name);
     const std::string intact = dir + "/intact_" + name + ".bag", damaged = dir + "/damaged_" + name + ".bag";
     writeTextBag(intact, compression);
-    std::string bytes = readFile(intact);
-    // rosbag writes a chunk's header fields by name: compression first, after the record's and the
-    // field's lengths.
-    size_t field = 0;
-    for (int k = 0; k < 3; ++k) field = bytes.find(std::string("compression=") + name, field + 1);
-    ASSERT_NE(field, std::string::npos);
-    const size_t chunk = field - 8;
-    uint32_t header_size;
-    std::memcpy(&header_size, bytes.data() + chunk, 4);
-    for (size_t i = chunk + 8 + header_size + 40; i < chunk + 8 + header_size + 56; ++i) bytes[i] = static_cast<char>(~bytes[i]);
-    writeFile(damaged, bytes);
+    const size_t chunk = damageThirdChunk(intact, name, damaged);
+    ASSERT_NE(chunk, std::string::npos);
 
     std::string error, rosbag_error;
     const std::vector<Read> got = readWithReader(damaged, &error);
@@ -547,6 +563,190 @@ TEST(BagFileReader, EmptyBagsAndOtherFiles) {
       EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
     }
   }
+}
+
+// viper::BagReader, the typed reader over BagFileReader (the tools' and generate's), against
+// rosbag::View with a TopicQuery: the same messages of the topics asked for (time, topic,
+// connection header, bytes), the same size and connections, instantiate<M>() as rosbag's; errors
+// as BagReadError naming the file.
+
+// 16 frames by viper::BagWriter: an image and a text at each frame's stamp, a latched text.
+void writeWithBagWriter(const std::string& path, const std::string& compression) {
+  viper::BagWriter bag(path, compression, "/writer");
+  std::mt19937 random(7);
+  for (uint32_t f = 0; f < 16; ++f) {
+    const ros::Time t = ros::Time(30, 0) + ros::Duration(0.05 * f);
+    auto image = boost::make_shared<sensor_msgs::Image>(shapedImage(t, 64, 32, "rgb8", 3));
+    for (uint8_t& b : image->data) b = static_cast<uint8_t>(f % 2 ? random() : f);
+    bag.write("/camera/image", image);
+    auto info = boost::make_shared<std_msgs::String>();
+    info->data = text(200, random);
+    bag.writeAt("/camera/info", t, info);
+    if (f % 4 == 0) bag.writeAt("/latched", t, info, /*latched=*/true);
+  }
+  bag.close();
+}
+
+using Topics = std::optional<std::set<std::string>>;
+
+std::vector<Read> readWithBagReader(const std::string& path, const Topics& topics) {
+  std::vector<Read> out;
+  const auto reader = topics ? std::make_unique<viper::BagReader>(path, *topics) : std::make_unique<viper::BagReader>(path);
+  viper::BagReadMessage m;
+  while (reader->next(m)) {
+    out.push_back({m.topic(), m.time().sec, m.time().nsec, m.connection().fields, {m.data(), m.data() + m.size()}});
+    EXPECT_EQ(m.datatype(), m.connection().field("type"));
+    EXPECT_EQ(m.md5sum(), m.connection().field("md5sum"));
+    EXPECT_EQ(m.messageDefinition(), m.connection().field("message_definition"));
+  }
+  return out;
+}
+
+std::vector<uint32_t> ids(const std::vector<const rosbag::ConnectionInfo*>& connections) {
+  std::vector<uint32_t> out;
+  for (const auto* c : connections) out.push_back(c->id);
+  return out;
+}
+std::vector<uint32_t> ids(const std::vector<const viper::dataset::BagConnection*>& connections) {
+  std::vector<uint32_t> out;
+  for (const auto* c : connections) out.push_back(c->id);
+  return out;
+}
+
+void expectReadsAsRosbagView(const std::string& path, const Topics& topics) {
+  SCOPED_TRACE(path + (topics ? " topics " + std::to_string(topics->size()) : " every topic"));
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  std::unique_ptr<rosbag::View> view = topics ? std::make_unique<rosbag::View>(
+                                                    bag, rosbag::TopicQuery(std::vector<std::string>(topics->begin(), topics->end())))
+                                              : std::make_unique<rosbag::View>(bag);
+  std::vector<Read> expected;
+  for (const rosbag::MessageInstance& m : *view) {
+    Read r{m.getTopic(), m.getTime().sec, m.getTime().nsec, *m.getConnectionHeader(), std::vector<uint8_t>(m.size())};
+    ros::serialization::OStream s(r.bytes.data(), static_cast<uint32_t>(r.bytes.size()));
+    m.write(s);
+    expected.push_back(std::move(r));
+  }
+  const std::vector<Read> got = readWithBagReader(path, topics);
+  const auto reader = topics ? std::make_unique<viper::BagReader>(path, *topics) : std::make_unique<viper::BagReader>(path);
+  EXPECT_EQ(reader->size(), view->size());
+  EXPECT_EQ(ids(reader->connections()), ids(view->getConnections()));
+  EXPECT_EQ(ids(reader->bagConnections()), ids(rosbag::View(bag).getConnections()));
+  if (expected.empty()) EXPECT_TRUE(got.empty());
+  else expectSameReads(path, got, expected, Ties::kAsMultiset);
+}
+
+TEST(BagReader, ReadsTheTopicsAskedForAsRosbagViewDoes) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  writeWithRosbag(dir + "/rosbag.bag", rosbag::compression::LZ4);
+  writeWithBagWriter(dir + "/bag_writer.bag", "lz4");
+  writeWithBagWriter(dir + "/bag_writer_bz2.bag", "bz2");
+  for (const std::string& path : {dir + "/rosbag.bag", dir + "/bag_writer.bag", dir + "/bag_writer_bz2.bag"})
+    for (const Topics& topics : {Topics(), Topics({"/camera/image"}), Topics({"/camera/info", "/late", "/latched"}),
+                                 Topics({"/nothing"}), Topics(std::set<std::string>())})
+      expectReadsAsRosbagView(path, topics);
+  const std::string raw = VIPER_SOURCE_DIR "/bags/test_scene_raw.bag";
+  for (const Topics& topics : {Topics({"/capture/draws"}), Topics({"/capture/draws", "/capture/mesh_store"})})
+    expectReadsAsRosbagView(raw, topics);
+}
+
+// The typed message as rosbag's MessageInstance::instantiate gives it: equal, or null in both
+// where the md5sum is another type's.
+template <typename M>
+void expectInstantiatedAsRosbag(const std::string& path, const std::string& topic) {
+  SCOPED_TRACE(path + " " + topic);
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  rosbag::View view(bag, rosbag::TopicQuery(topic));
+  viper::BagReader reader(path, {topic});
+  viper::BagReadMessage m;
+  size_t typed = 0;
+  for (const rosbag::MessageInstance& expected : view) {
+    ASSERT_TRUE(reader.next(m));
+    const boost::shared_ptr<M> theirs = expected.instantiate<M>(), mine = m.instantiate<M>();
+    ASSERT_EQ(mine == nullptr, theirs == nullptr);
+    if (mine == nullptr) continue;
+    EXPECT_TRUE(*mine == *theirs);
+    ++typed;
+  }
+  EXPECT_FALSE(reader.next(m));
+  std::cout << path << " " << topic << ": " << typed << " of " << view.size() << " as " << ros::message_traits::datatype<M>() << "\n";
+}
+
+TEST(BagReader, InstantiatesAsRosbagDoes) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  writeWithRosbag(dir + "/rosbag.bag", rosbag::compression::BZ2);
+  writeWithBagWriter(dir + "/bag_writer.bag", "none");
+  for (const std::string& path : {dir + "/rosbag.bag", dir + "/bag_writer.bag"}) {
+    expectInstantiatedAsRosbag<sensor_msgs::Image>(path, "/camera/image");
+    expectInstantiatedAsRosbag<std_msgs::String>(path, "/camera/image");
+    expectInstantiatedAsRosbag<std_msgs::String>(path, "/latched");
+    expectInstantiatedAsRosbag<sensor_msgs::Image>(path, "/latched");
+  }
+}
+
+// A connection of md5sum "*" takes any type; bytes too few for the type throw ros::Exception, as
+// rosbag's instantiate throws.
+TEST(BagReader, AnyTypeAndTooFewBytes) {
+  const std::string path = tempDir("viper_bag_reader_") + "/odd.bag";
+  {
+    viper::dataset::BagFileWriter bag(path);
+    auto any = writerFields<std_msgs::String>();
+    any["md5sum"] = "*";
+    const uint32_t wildcard = bag.addConnection("/any", any);
+    const uint32_t short_image = bag.addConnection("/short", writerFields<sensor_msgs::Image>());
+    std_msgs::String s;
+    s.data = "some text";
+    put(bag, wildcard, ros::Time(1, 0), s);
+    put(bag, short_image, ros::Time(2, 0), s);
+    bag.close();
+  }
+  viper::BagReader reader(path);
+  viper::BagReadMessage m;
+  ASSERT_TRUE(reader.next(m));
+  ASSERT_NE(m.instantiate<std_msgs::String>(), nullptr);
+  EXPECT_EQ(m.instantiate<std_msgs::String>()->data, "some text");
+  ASSERT_TRUE(reader.next(m));
+  EXPECT_THROW(m.instantiate<sensor_msgs::Image>(), ros::Exception);
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  for (const rosbag::MessageInstance& r : rosbag::View(bag, rosbag::TopicQuery("/short")))
+    EXPECT_THROW(r.instantiate<sensor_msgs::Image>(), ros::Exception);
+  EXPECT_FALSE(reader.next(m));
+}
+
+// A missing file, a text file, a damaged chunk (after the messages before it): BagReadError, its
+// what() naming the file, its problem() what is wrong without the file's name.
+TEST(BagReader, ErrorsNameTheFile) {
+  const std::string dir = tempDir("viper_bag_reader_");
+  writeFile(dir + "/text.bag", "not a bag\n");
+  for (const std::string& path : {dir + "/missing.bag", dir + "/text.bag"}) {
+    try {
+      viper::BagReader bag(path);
+      ADD_FAILURE() << path << ": no error";
+    } catch (const viper::BagReadError& e) {
+      EXPECT_EQ(std::string(e.what()), path + ": " + e.problem());
+      EXPECT_FALSE(e.problem().empty());
+      std::cout << e.what() << "\n";
+    }
+  }
+  writeTextBag(dir + "/intact.bag", rosbag::compression::LZ4);
+  const size_t chunk = damageThirdChunk(dir + "/intact.bag", "lz4", dir + "/damaged.bag");
+  ASSERT_NE(chunk, std::string::npos);
+  const std::vector<Read> all = readWithRosbag(dir + "/intact.bag");
+  viper::BagReader reader(dir + "/damaged.bag", {"/text"});
+  viper::BagReadMessage m;
+  size_t read = 0;
+  try {
+    while (reader.next(m)) {
+      ASSERT_LT(read, all.size());
+      EXPECT_EQ(std::vector<uint8_t>(m.data(), m.data() + m.size()), all[read].bytes) << "message " << read;
+      ++read;
+    }
+    ADD_FAILURE() << "no error";
+  } catch (const viper::BagReadError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(dir + "/damaged.bag: damaged chunk at byte " + std::to_string(chunk), 0), 0u)
+        << e.what();
+    EXPECT_EQ(e.problem().rfind("damaged chunk at byte ", 0), 0u) << e.problem();
+  }
+  EXPECT_GT(read, 0u);
 }
 
 }  // namespace

@@ -51,6 +51,17 @@ void forget(Handle handle, Maps&... maps) {
   (maps.erase(handle), ...);
 }
 
+// A driver call's result `r`; if it succeeded, `record` then notes under the lock what the call
+// made or changed.
+template <typename Record>
+VkResult recordOnSuccess(VkResult r, Record record) {
+  if (r == VK_SUCCESS) {
+    Lock lock(L().mutex());
+    record();
+  }
+  return r;
+}
+
 /// The device-level hooks, by their Vulkan name less `vk` (GetDeviceProcAddr answers with these).
 #define VIPER_VK_HOOKS(X)                                                                                      \
   X(GetDeviceQueue) X(GetDeviceQueue2) X(AllocateMemory) X(FreeMemory) X(MapMemory) X(UnmapMemory)             \

@@ -109,12 +109,8 @@ VkResult createRenderPassEdited(VkDevice device, const typename P::Info* info, c
                                 VkRenderPass* out, Create create) {
   Device& d = dev(device);
   EditedRenderPass<P> edited(d, info);
-  const VkResult r = create(device, &edited.copy, alloc, out);
-  if (r == VK_SUCCESS) {
-    Lock lock(L().mutex());
-    d.render_passes[*out] = std::move(edited.rp);
-  }
-  return r;
+  return recordOnSuccess(create(device, &edited.copy, alloc, out),
+                         [&] { d.render_passes[*out] = std::move(edited.rp); });
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL CreateRenderPass(VkDevice device, const VkRenderPassCreateInfo* info,

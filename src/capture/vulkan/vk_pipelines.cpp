@@ -74,12 +74,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreatePipelineLayout(VkDevice device, const VkPip
       layout.id_set = d.id_buffer.set_index;
     }
   }
-  const VkResult r = d.vk.CreatePipelineLayout(device, &copy, alloc, out);
-  if (r == VK_SUCCESS) {
-    Lock lock(L().mutex());
-    d.layouts[*out] = layout;
-  }
-  return r;
+  return recordOnSuccess(d.vk.CreatePipelineLayout(device, &copy, alloc, out), [&] { d.layouts[*out] = layout; });
 }
 
 VKAPI_ATTR void VKAPI_CALL DestroyPipelineLayout(VkDevice device, VkPipelineLayout layout,
@@ -93,14 +88,11 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateDescriptorSetLayout(VkDevice device, const 
                                                          const VkAllocationCallbacks* alloc,
                                                          VkDescriptorSetLayout* out) {
   Device& d = dev(device);
-  const VkResult r = d.vk.CreateDescriptorSetLayout(device, info, alloc, out);
-  if (r == VK_SUCCESS) {
-    Lock lock(L().mutex());
+  return recordOnSuccess(d.vk.CreateDescriptorSetLayout(device, info, alloc, out), [&] {
     DescriptorSetLayoutInfo& l = d.set_layouts[*out];
     for (uint32_t b = 0; b < info->bindingCount; ++b)
       l.bindings[info->pBindings[b].binding] = {info->pBindings[b].descriptorType, info->pBindings[b].descriptorCount};
-  }
-  return r;
+  });
 }
 
 VKAPI_ATTR void VKAPI_CALL DestroyDescriptorSetLayout(VkDevice device, VkDescriptorSetLayout layout,
@@ -113,12 +105,9 @@ VKAPI_ATTR void VKAPI_CALL DestroyDescriptorSetLayout(VkDevice device, VkDescrip
 VKAPI_ATTR VkResult VKAPI_CALL AllocateDescriptorSets(VkDevice device, const VkDescriptorSetAllocateInfo* info,
                                                       VkDescriptorSet* out) {
   Device& d = dev(device);
-  const VkResult r = d.vk.AllocateDescriptorSets(device, info, out);
-  if (r == VK_SUCCESS) {
-    Lock lock(L().mutex());
+  return recordOnSuccess(d.vk.AllocateDescriptorSets(device, info, out), [&] {
     for (uint32_t i = 0; i < info->descriptorSetCount; ++i) d.sets[out[i]] = DescriptorSetInfo{info->pSetLayouts[i], {}};
-  }
-  return r;
+  });
 }
 
 VKAPI_ATTR void VKAPI_CALL UpdateDescriptorSets(VkDevice device, uint32_t write_count, const VkWriteDescriptorSet* writes,

@@ -12,9 +12,7 @@ namespace vulkan {
 VKAPI_ATTR VkResult VKAPI_CALL AllocateMemory(VkDevice device, const VkMemoryAllocateInfo* info,
                                               const VkAllocationCallbacks* alloc, VkDeviceMemory* out) {
   Device& d = dev(device);
-  const VkResult r = d.vk.AllocateMemory(device, info, alloc, out);
-  if (r == VK_SUCCESS) {
-    Lock lock(L().mutex());
+  return recordOnSuccess(d.vk.AllocateMemory(device, info, alloc, out), [&] {
     MemoryInfo m;
     m.size = info->allocationSize;
     m.type = info->memoryTypeIndex;
@@ -22,8 +20,7 @@ VKAPI_ATTR VkResult VKAPI_CALL AllocateMemory(VkDevice device, const VkMemoryAll
     m.host_visible = flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT;
     m.coherent = flags & VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     d.memories[*out] = m;
-  }
-  return r;
+  });
 }
 
 VKAPI_ATTR void VKAPI_CALL FreeMemory(VkDevice device, VkDeviceMemory memory, const VkAllocationCallbacks* alloc) {
@@ -55,12 +52,7 @@ VKAPI_ATTR void VKAPI_CALL UnmapMemory(VkDevice device, VkDeviceMemory memory) {
 VKAPI_ATTR VkResult VKAPI_CALL CreateBuffer(VkDevice device, const VkBufferCreateInfo* info,
                                             const VkAllocationCallbacks* alloc, VkBuffer* out) {
   Device& d = dev(device);
-  const VkResult r = d.vk.CreateBuffer(device, info, alloc, out);
-  if (r == VK_SUCCESS) {
-    Lock lock(L().mutex());
-    d.buffers[*out].size = info->size;
-  }
-  return r;
+  return recordOnSuccess(d.vk.CreateBuffer(device, info, alloc, out), [&] { d.buffers[*out].size = info->size; });
 }
 
 VKAPI_ATTR void VKAPI_CALL DestroyBuffer(VkDevice device, VkBuffer buffer, const VkAllocationCallbacks* alloc) {
@@ -72,26 +64,20 @@ VKAPI_ATTR void VKAPI_CALL DestroyBuffer(VkDevice device, VkBuffer buffer, const
 VKAPI_ATTR VkResult VKAPI_CALL BindBufferMemory(VkDevice device, VkBuffer buffer, VkDeviceMemory memory,
                                                 VkDeviceSize offset) {
   Device& d = dev(device);
-  const VkResult r = d.vk.BindBufferMemory(device, buffer, memory, offset);
-  if (r == VK_SUCCESS) {
-    Lock lock(L().mutex());
+  return recordOnSuccess(d.vk.BindBufferMemory(device, buffer, memory, offset), [&] {
     d.buffers[buffer].memory = memory;
     d.buffers[buffer].memory_offset = offset;
-  }
-  return r;
+  });
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL BindBufferMemory2(VkDevice device, uint32_t count, const VkBindBufferMemoryInfo* infos) {
   Device& d = dev(device);
-  const VkResult r = d.vk.BindBufferMemory2(device, count, infos);
-  if (r == VK_SUCCESS) {
-    Lock lock(L().mutex());
+  return recordOnSuccess(d.vk.BindBufferMemory2(device, count, infos), [&] {
     for (uint32_t i = 0; i < count; ++i) {
       d.buffers[infos[i].buffer].memory = infos[i].memory;
       d.buffers[infos[i].buffer].memory_offset = infos[i].memoryOffset;
     }
-  }
-  return r;
+  });
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL CreateImage(VkDevice device, const VkImageCreateInfo* info,
@@ -129,12 +115,8 @@ VKAPI_ATTR void VKAPI_CALL DestroyImage(VkDevice device, VkImage image, const Vk
 VKAPI_ATTR VkResult VKAPI_CALL CreateImageView(VkDevice device, const VkImageViewCreateInfo* info,
                                                const VkAllocationCallbacks* alloc, VkImageView* out) {
   Device& d = dev(device);
-  const VkResult r = d.vk.CreateImageView(device, info, alloc, out);
-  if (r == VK_SUCCESS) {
-    Lock lock(L().mutex());
-    d.views[*out] = ImageViewInfo{info->image, info->format};
-  }
-  return r;
+  return recordOnSuccess(d.vk.CreateImageView(device, info, alloc, out),
+                         [&] { d.views[*out] = ImageViewInfo{info->image, info->format}; });
 }
 
 VKAPI_ATTR void VKAPI_CALL DestroyImageView(VkDevice device, VkImageView view, const VkAllocationCallbacks* alloc) {

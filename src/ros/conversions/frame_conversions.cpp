@@ -14,16 +14,34 @@ namespace viper {
 
 namespace {
 
+// A matrix between a GlMatrix and a message's float32[16], either way (column-major both).
 template <typename Array>
-void matrixToArray(const GlMatrix& m, Array& out) {
+void copyMatrix(const GlMatrix& m, Array& out) {
   std::copy(m.data(), m.data() + 16, out.begin());
 }
-
 template <typename Array>
-GlMatrix arrayToMatrix(const Array& a) {
-  GlMatrix m;
+void copyMatrix(const Array& a, GlMatrix& m) {
   std::copy(a.begin(), a.end(), m.data());
-  return m;
+}
+
+// The fields a DrawRecord and a Draw message share, from one to the other (either way): one list
+// for both conversions, so that a field cannot be added to one and not the other.
+template <typename From, typename To>
+void copyDrawFields(const From& from, To& to) {
+  to.index = from.index;
+  to.mesh_key = from.mesh_key;
+  to.vertex_buffer_key = from.vertex_buffer_key;
+  to.index_buffer_key = from.index_buffer_key;
+  to.program_key = from.program_key;
+  to.texture_keys = from.texture_keys;
+  to.matrix_flags = from.matrix_flags;
+  copyMatrix(from.world, to.world);
+  copyMatrix(from.view, to.view);
+  copyMatrix(from.projection, to.projection);
+  to.primitive_mode = from.primitive_mode;
+  to.primitive_count = from.primitive_count;
+  to.visible_pixels = from.visible_pixels;
+  to.deformed_clip_xyzw = from.deformed_clip_xyzw;
 }
 
 void checkSize(const CaptureFrame& frame, size_t have, size_t per_pixel, const char* what) {
@@ -39,20 +57,7 @@ void checkSize(const CaptureFrame& frame, size_t have, size_t per_pixel, const c
 
 Draw toDrawMsg(const DrawRecord& draw) {
   Draw msg;
-  msg.index = draw.index;
-  msg.mesh_key = draw.mesh_key;
-  msg.vertex_buffer_key = draw.vertex_buffer_key;
-  msg.index_buffer_key = draw.index_buffer_key;
-  msg.program_key = draw.program_key;
-  msg.texture_keys = draw.texture_keys;
-  msg.matrix_flags = draw.matrix_flags;
-  matrixToArray(draw.world, msg.world);
-  matrixToArray(draw.view, msg.view);
-  matrixToArray(draw.projection, msg.projection);
-  msg.primitive_mode = draw.primitive_mode;
-  msg.primitive_count = draw.primitive_count;
-  msg.visible_pixels = draw.visible_pixels;
-  msg.deformed_clip_xyzw = draw.deformed_clip_xyzw;
+  copyDrawFields(draw, msg);
   return msg;
 }
 
@@ -63,21 +68,8 @@ DrawRecord fromDrawMsg(const Draw& msg) {
 }
 
 void fromDrawMsg(const Draw& msg, DrawRecord& draw) {
-  draw.index = msg.index;
-  draw.mesh_key = msg.mesh_key;
-  draw.vertex_buffer_key = msg.vertex_buffer_key;
-  draw.index_buffer_key = msg.index_buffer_key;
-  draw.program_key = msg.program_key;
-  draw.texture_keys = msg.texture_keys;
-  draw.matrix_flags = msg.matrix_flags;
-  draw.world = arrayToMatrix(msg.world);
-  draw.view = arrayToMatrix(msg.view);
-  draw.projection = arrayToMatrix(msg.projection);
-  draw.primitive_mode = msg.primitive_mode;
-  draw.primitive_count = msg.primitive_count;
-  draw.visible_pixels = msg.visible_pixels;
+  copyDrawFields(msg, draw);
   draw.gaps = 0;  // not in the message
-  draw.deformed_clip_xyzw = msg.deformed_clip_xyzw;
 }
 
 DrawList toDrawListMsg(const CaptureFrame& frame, const std_msgs::Header& header) {

@@ -28,6 +28,17 @@ const char* const kTfStatic = "/tf_static";
 // /tf_static is latched whatever the bag says: tf2 listeners that start later get it only so.
 bool latched(const dataset::BagConnection& c) { return c.field("latching") == "1" || c.topic == kTfStatic; }
 
+// Whether `bag` is a file; a ROS_FATAL that says how to give it where it is not (at start, and
+// before each pass: a bag removed meanwhile).
+bool bagFileIsThere(const std::string& bag) {
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(bag, ec)) return true;
+  ROS_FATAL("bag_player: no such file '%s' (a relative path is taken from the node's working directory, '%s': "
+            "roslaunch starts nodes in $ROS_HOME; give an absolute path)",
+            bag.c_str(), std::filesystem::current_path(ec).c_str());
+  return false;
+}
+
 }  // namespace
 
 std::string readBagPlayerOptions(const ros::NodeHandle& pnh, BagPlayerOptions& o) {
@@ -56,13 +67,7 @@ bool BagPlayer::start(bool is_node) {
     ROS_FATAL("bag_player %s: %s", pnh_.getNamespace().c_str(), problem.c_str());
     return false;
   }
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(options_.bag, ec)) {
-    ROS_FATAL("bag_player: no such file '%s' (a relative path is taken from the node's working directory, '%s': "
-              "roslaunch starts nodes in $ROS_HOME; give an absolute path)",
-              options_.bag.c_str(), std::filesystem::current_path(ec).c_str());
-    return false;
-  }
+  if (!bagFileIsThere(options_.bag)) return false;
   std::vector<dataset::BagConnection> connections;
   try {
     connections = dataset::BagFileReader(options_.bag).connections();
@@ -286,13 +291,7 @@ double BagPlayer::Span::step() const {
 }
 
 bool BagPlayer::playPass(const ros::Duration& shift, Progress& p, PassSpan& span) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(options_.bag, ec)) {
-    ROS_FATAL("bag_player: no such file '%s' (a relative path is taken from the node's working directory, '%s': "
-              "roslaunch starts nodes in $ROS_HOME; give an absolute path)",
-              options_.bag.c_str(), std::filesystem::current_path(ec).c_str());
-    return false;
-  }
+  if (!bagFileIsThere(options_.bag)) return false;
   try {
     dataset::BagFileReader bag(options_.bag);
     bag.setBulkSink(&image_sink_);

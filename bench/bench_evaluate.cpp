@@ -3,6 +3,8 @@
 // instance AP with 30 predictions covering ~32 % of the frame, as box masks and as full-frame masks.
 // Synthetic, deterministic frames; shapes only.
 // Run: rosrun viper bench_evaluate --benchmark_repetitions=5
+#include "memcpy_floor.h"
+
 #include "viper/evaluation/evaluation.h"
 
 #include <benchmark/benchmark.h>
@@ -31,15 +33,7 @@ struct Lcg {
   float unit() { return static_cast<float>(next(1u << 20)) / (1u << 20); }
 };
 
-void copyBytes(benchmark::State& state, size_t bytes) {
-  std::vector<char> src(bytes, 1), dst(bytes);
-  for (auto _ : state) {
-    std::memcpy(dst.data(), src.data(), bytes);
-    benchmark::DoNotOptimize(dst.data());
-    benchmark::ClobberMemory();
-  }
-  state.SetBytesProcessed(state.iterations() * bytes);
-}
+using bench::copyBytes;
 
 // Background classes in bands (sky, buildings, road) with void patches.
 std::vector<uint8_t> backgroundClasses() {

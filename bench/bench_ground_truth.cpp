@@ -3,6 +3,7 @@
 // output): synthetic frames, and (with VIPER_BENCH_CAPTURE and VIPER_BENCH_LABELS set, see
 // scripts/measure_figures.sh) a real world capture.
 // Run: rosrun viper bench_ground_truth
+#include "memcpy_floor.h"
 #include "synthetic_frames.h"
 
 #include "viper/ground_truth/camera_model.h"
@@ -29,15 +30,7 @@ namespace {
 constexpr uint32_t kW = 1920, kH = 1080;
 constexpr int kObjects = 200, kParts = 3;
 
-void copyBytes(benchmark::State& state, size_t bytes) {
-  std::vector<char> src(bytes, 1), dst(bytes);
-  for (auto _ : state) {
-    std::memcpy(dst.data(), src.data(), bytes);
-    benchmark::DoNotOptimize(dst.data());
-    benchmark::ClobberMemory();
-  }
-  state.SetBytesProcessed(state.iterations() * bytes);
-}
+using bench::copyBytes;
 
 // instances: reads draw ids (4 B/px), writes semantic (1), instance ids (4), boundaries (1) and
 // reads the instance ids back for boundaries (4 x 4-neighbours, mostly cached).

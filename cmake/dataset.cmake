@@ -167,8 +167,8 @@ add_library(viper_layout_ros
   src/ros/dataset/player.cpp
   src/ros/dataset/player_nodelet.cpp
   src/ros/dataset/export_roles.cpp
-  src/ros/dataset/live_exporter.cpp
-  src/ros/dataset/live_exporter_nodelet.cpp
+  src/ros/dataset/viper_exporter_node.cpp
+  src/ros/dataset/viper_exporter_nodelet.cpp
   src/ros/dataset/sequence_generator.cpp
 )
 # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.

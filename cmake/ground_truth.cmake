@@ -6,9 +6,9 @@ add_library(viper_ground_truth_ros
   src/ros/ground_truth/instances_step.cpp
   src/ros/ground_truth/boxes_step.cpp
   src/ros/ground_truth/odometry_step.cpp
-  src/ros/ground_truth/instances.cpp
-  src/ros/ground_truth/boxes.cpp
-  src/ros/ground_truth/odometry.cpp
+  src/ros/ground_truth/instances_node.cpp
+  src/ros/ground_truth/boxes_node.cpp
+  src/ros/ground_truth/odometry_node.cpp
   src/ros/ground_truth/ground_truth_nodelets.cpp
 )
 target_include_directories(viper_ground_truth_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
@@ -69,7 +69,7 @@ endif()
 # its nodelet. Core: src/ground_truth/flow.cpp (viper_core).
 add_library(viper_flow_ros
   src/ros/ground_truth/flow_step.cpp
-  src/ros/ground_truth/flow.cpp
+  src/ros/ground_truth/flow_node.cpp
   src/ros/ground_truth/flow_nodelet.cpp
 )
 target_include_directories(viper_flow_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)

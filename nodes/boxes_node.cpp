@@ -1,5 +1,5 @@
 // boxes node (see docs/ground_truth_nodes.md).
-#include "viper/ros/ground_truth/boxes.h"
+#include "viper/ros/ground_truth/boxes_node.h"
 #include "viper/ros/node_shell.h"
 
 int main(int argc, char** argv) { return viper::runNode<viper::Boxes>(argc, argv, "boxes"); }

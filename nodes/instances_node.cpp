@@ -1,5 +1,5 @@
 // instances node (see docs/ground_truth_nodes.md).
-#include "viper/ros/ground_truth/instances.h"
+#include "viper/ros/ground_truth/instances_node.h"
 #include "viper/ros/node_shell.h"
 
 int main(int argc, char** argv) { return viper::runNode<viper::Instances>(argc, argv, "instances"); }

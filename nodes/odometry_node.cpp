@@ -1,5 +1,5 @@
 // odometry node (see docs/ground_truth_nodes.md).
-#include "viper/ros/ground_truth/odometry.h"
+#include "viper/ros/ground_truth/odometry_node.h"
 #include "viper/ros/node_shell.h"
 
 int main(int argc, char** argv) { return viper::runNode<viper::Odometry>(argc, argv, "odometry"); }

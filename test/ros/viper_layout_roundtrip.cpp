@@ -12,7 +12,7 @@
 #include "viper/dataset/float16.h"
 #include "viper/ros/conversions/object_conversions.h"
 #include "viper/ros/conversions/pose_conversions.h"
-#include "viper/ros/dataset/live_exporter.h"
+#include "viper/ros/dataset/viper_exporter_node.h"
 #include "viper/ros/dataset/player.h"
 
 #include <gtest/gtest.h>
@@ -108,7 +108,7 @@ TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
   // The live exporter (viper_exporter's class, in this process) writes the same topics as they come.
   ros::NodeHandle live_pnh("~live_exporter");
   live_pnh.setParam("root", (work / "live").string());
-  viper::LiveExporter live(nh, live_pnh);
+  viper::ViperExporterNode live(nh, live_pnh);
   ASSERT_TRUE(live.start());
   rosbag::Bag raw(bag_path, rosbag::bagmode::Read);
   rosbag::View view(raw);

@@ -3,7 +3,7 @@
 
 #include "viper/ros/conversions/object_conversions.h"
 #include "viper/ros/conversions/pose_conversions.h"
-#include "viper/ros/ground_truth/instances.h"
+#include "viper/ros/ground_truth/instances_node.h"
 #include "viper/ros/pacing/replay_timing.h"
 
 #include <ros/package.h>

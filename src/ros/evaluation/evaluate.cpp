@@ -3,7 +3,7 @@
 
 #include "viper/evaluation/eval_report.h"
 #include "viper/evaluation/plots.h"
-#include "viper/ros/ground_truth/instances.h"
+#include "viper/ros/ground_truth/instances_node.h"
 
 #include <std_msgs/String.h>
 

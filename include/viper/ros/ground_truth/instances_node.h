@@ -4,9 +4,9 @@
 
 #include "viper/ground_truth/class_table.h"
 #include "viper/ground_truth/instance_pipeline.h"
-#include "viper/ros/measurement/cpu_meter.h"
 #include "viper/ros/ground_truth/instances_step.h"
 #include "viper/ros/ground_truth/step_log.h"
+#include "viper/ros/measurement/cpu_meter.h"
 
 #include <image_transport/image_transport.h>
 #include <message_filters/subscriber.h>

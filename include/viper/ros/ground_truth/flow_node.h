@@ -6,9 +6,9 @@
 #include "viper/ground_truth/boxes.h"
 #include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/flow.h"
-#include "viper/ros/measurement/cpu_meter.h"
 #include "viper/ros/ground_truth/flow_step.h"
 #include "viper/ros/ground_truth/step_log.h"
+#include "viper/ros/measurement/cpu_meter.h"
 
 #include <Eigen/Geometry>
 #include <image_transport/image_transport.h>

@@ -1,4 +1,4 @@
-#include "viper/ros/ground_truth/instances.h"
+#include "viper/ros/ground_truth/instances_node.h"
 #include "viper/ros/node_params.h"
 
 #include <ros/package.h>

@@ -1,8 +1,8 @@
-#include "viper/ros/ground_truth/boxes.h"
+#include "viper/ros/ground_truth/boxes_node.h"
 #include "viper/ros/node_params.h"
 
 #include "viper/ros/conversions/object_conversions.h"
-#include "viper/ros/ground_truth/instances.h"  // loadClassTableParam
+#include "viper/ros/ground_truth/instances_node.h"  // loadClassTableParam
 
 namespace viper {
 

@@ -4,9 +4,9 @@
 
 #include "viper/ground_truth/boxes.h"
 #include "viper/ground_truth/class_table.h"
-#include "viper/ros/measurement/cpu_meter.h"
 #include "viper/ros/ground_truth/boxes_step.h"
 #include "viper/ros/ground_truth/step_log.h"
+#include "viper/ros/measurement/cpu_meter.h"
 
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/exact_time.h>

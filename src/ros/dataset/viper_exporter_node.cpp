@@ -1,4 +1,4 @@
-#include "viper/ros/dataset/live_exporter.h"
+#include "viper/ros/dataset/viper_exporter_node.h"
 
 #include <ros/package.h>
 
@@ -16,15 +16,15 @@ constexpr uint64_t kFlushWindow = 30;
 
 }  // namespace
 
-LiveExporter::LiveExporter(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
+ViperExporterNode::ViperExporterNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
     : nh_(nh), private_nh_(private_nh), from_parameters_(true) {}
 
-LiveExporter::LiveExporter(const ros::NodeHandle& nh, const LiveExportConfig& config)
+ViperExporterNode::ViperExporterNode(const ros::NodeHandle& nh, const LiveExportConfig& config)
     : nh_(nh), private_nh_("~"), from_parameters_(false), config_(config), own_process_(true) {}
 
-LiveExporter::~LiveExporter() { finish(); }
+ViperExporterNode::~ViperExporterNode() { finish(); }
 
-bool LiveExporter::readParameters() {
+bool ViperExporterNode::readParameters() {
   const std::string me = private_nh_.getNamespace();
   ViperExportOptions& e = config_.exporter;
   if (!private_nh_.getParam("root", e.root) || e.root.empty()) {
@@ -91,17 +91,17 @@ bool LiveExporter::readParameters() {
   return true;
 }
 
-bool LiveExporter::start(bool is_node) {
+bool ViperExporterNode::start(bool is_node) {
   own_process_ = is_node;
   return start();
 }
 
-int LiveExporter::exitCode() const {
+int ViperExporterNode::exitCode() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return failed_ ? 2 : 0;
 }
 
-bool LiveExporter::start() {
+bool ViperExporterNode::start() {
   if (from_parameters_ && !readParameters()) return false;
   const std::string me = private_nh_.getNamespace();
   if (config_.camera == "auto") config_.camera = "draws";
@@ -136,21 +136,21 @@ bool LiveExporter::start() {
     else if (r.datatype == "nav_msgs/Odometry") subscribe<nav_msgs::Odometry>(r);
     else if (r.datatype == "sensor_msgs/CameraInfo") subscribe<sensor_msgs::CameraInfo>(r);
   }
-  finish_srv_ = private_nh_.advertiseService("finish", &LiveExporter::onFinish, this);
+  finish_srv_ = private_nh_.advertiseService("finish", &ViperExporterNode::onFinish, this);
   ROS_INFO("%s: writing %s/%s sequence %s; frames numbered by %s", me.c_str(), e.root.c_str(), e.split.c_str(),
            e.seq.c_str(), reference_.c_str());
   return true;
 }
 
 template <typename M>
-void LiveExporter::subscribe(const ExportRole& r) {
+void ViperExporterNode::subscribe(const ExportRole& r) {
   const std::string topic = nh_.resolveName(r.topic), name = r.name;
   subs_.push_back(nh_.subscribe<M>(r.topic, 100, [this, topic, name](const boost::shared_ptr<const M>& m) {
     onMessage(topic, m->header.stamp, exportDispatch(name, m));
   }));
 }
 
-void LiveExporter::onMessage(const std::string& topic, const ros::Time& stamp, const ExportDispatch& dispatch) {
+void ViperExporterNode::onMessage(const std::string& topic, const ros::Time& stamp, const ExportDispatch& dispatch) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (failed_ || finished_) return;
   ++received_;
@@ -192,7 +192,7 @@ void LiveExporter::onMessage(const std::string& topic, const ros::Time& stamp, c
   if (newest_ >= config_.first_frame + kFlushWindow) flush(newest_ - kFlushWindow);
 }
 
-void LiveExporter::run(const std::string& topic, const ros::Time& stamp, uint64_t frame,
+void ViperExporterNode::run(const std::string& topic, const ros::Time& stamp, uint64_t frame,
                        const ExportDispatch& dispatch) {
   try {
     const std::string problem = dispatch(*exporter_, frame);
@@ -204,14 +204,14 @@ void LiveExporter::run(const std::string& topic, const ros::Time& stamp, uint64_
   }
 }
 
-void LiveExporter::fail(const std::string& why) {
+void ViperExporterNode::fail(const std::string& why) {
   ROS_FATAL("viper_exporter: %s; the export stops%s", why.c_str(),
             own_process_ ? " and the process ends (exit code 2)" : "");
   failed_ = true;
   if (own_process_) ros::requestShutdown();
 }
 
-void LiveExporter::flush(uint64_t frame) {
+void ViperExporterNode::flush(uint64_t frame) {
   try {
     for (const std::string& n : exporter_->flushUpTo(frame)) ROS_WARN_THROTTLE(5, "viper_exporter: %s", n.c_str());
   } catch (const std::exception& e) {
@@ -219,7 +219,7 @@ void LiveExporter::flush(uint64_t frame) {
   }
 }
 
-int LiveExporter::finish() {
+int ViperExporterNode::finish() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (finished_ || !exporter_) return exit_code_;
   finished_ = true;
@@ -240,24 +240,24 @@ int LiveExporter::finish() {
   return exit_code_;
 }
 
-uint64_t LiveExporter::framesNumbered() const {
+uint64_t ViperExporterNode::framesNumbered() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return frame_of_.size();
 }
 
-bool LiveExporter::inputsConnected() const {
+bool ViperExporterNode::inputsConnected() const {
   std::lock_guard<std::mutex> lock(mutex_);
   for (const ros::Subscriber& s : subs_)
     if (s.getNumPublishers() == 0) return false;
   return !subs_.empty();
 }
 
-uint64_t LiveExporter::messagesReceived() const {
+uint64_t ViperExporterNode::messagesReceived() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return received_;
 }
 
-std::string LiveExporter::summary() const {
+std::string ViperExporterNode::summary() const {
   std::lock_guard<std::mutex> lock(mutex_);
   std::ostringstream out;
   if (!exporter_) return "not started";
@@ -268,7 +268,7 @@ std::string LiveExporter::summary() const {
   return out.str();
 }
 
-bool LiveExporter::onFinish(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+bool ViperExporterNode::onFinish(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
   const int code = finish();
   res.success = code != 2;
   res.message = summary();

@@ -1,4 +1,4 @@
-#include "viper/ros/ground_truth/flow.h"
+#include "viper/ros/ground_truth/flow_node.h"
 #include "viper/ros/node_params.h"
 
 #include <algorithm>

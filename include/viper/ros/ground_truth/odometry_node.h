@@ -3,9 +3,9 @@
 // docs/ground_truth_nodes.md.
 #pragma once
 
-#include "viper/ros/measurement/cpu_meter.h"
 #include "viper/ros/ground_truth/odometry_step.h"
 #include "viper/ros/ground_truth/step_log.h"
+#include "viper/ros/measurement/cpu_meter.h"
 
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>

@@ -29,15 +29,15 @@ struct LiveExportConfig {
 /// Frame n is the n-th header stamp of the reference topic (plus first_frame); messages of a stamp
 /// the reference has not brought yet wait for it (up to 64 stamps). A frame is completed once the
 /// reference is 30 frames ahead of it, or at finish().
-class LiveExporter {
+class ViperExporterNode {
  public:
   /// The node and nodelet: settings from private parameters (docs/viper_layout.md#viper_exporter),
   /// topics relative to `nh` (remappable).
-  LiveExporter(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh);
+  ViperExporterNode(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh);
   /// export_viper --live: settings from its command line, topics as given.
-  LiveExporter(const ros::NodeHandle& nh, const LiveExportConfig& config);
+  ViperExporterNode(const ros::NodeHandle& nh, const LiveExportConfig& config);
   /// finish() if it has not run.
-  ~LiveExporter();
+  ~ViperExporterNode();
 
   /// Reads and checks the settings (the node's parameters), creates the exporter, subscribes and
   /// offers ~finish. False after a ROS_FATAL naming what to fix.

@@ -1,4 +1,4 @@
-#include "viper/ros/ground_truth/odometry.h"
+#include "viper/ros/ground_truth/odometry_node.h"
 #include "viper/ros/node_params.h"
 
 

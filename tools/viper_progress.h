@@ -1,5 +1,7 @@
-// A progress bar on stderr for the dataset commands (viper_to_bag, export_viper): one line redrawn
-// with '\r' on a terminal, a line per tenth otherwise (logs stay readable).
+// A progress bar on stderr for the dataset commands (viper_to_bag, export_viper, generate): one line
+// redrawn with '\r' on a terminal, a line per tenth otherwise (logs stay readable). A total of 0 is
+// unknown (a capture is read to its end): then the count and the rate, with no bar and no ETA, and
+// off a terminal a line at 1-9, 10, 20, ..., 100, 200, ... .
 #pragma once
 
 #include <unistd.h>
@@ -17,6 +19,7 @@ class ProgressBar {
         start_(std::chrono::steady_clock::now()) {}
 
   void update(size_t done) {
+    if (total_ == 0) return updateUnknownTotal(done);
     const size_t every = total_ >= 10 ? total_ / 10 : 1;
     if (!tty_ && done % every != 0 && done != total_) return;
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -39,6 +42,17 @@ class ProgressBar {
   }
 
  private:
+  void updateUnknownTotal(size_t done) {
+    size_t every = 1;
+    while (every <= done / 10) every *= 10;
+    if (!tty_ && done % every != 0) return;
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    std::fprintf(stderr, "%s%s %zu %s (total unknown)  %.1f %s/s%s", tty_ ? "\r" : "", name_.c_str(), done,
+                 unit_.c_str(), s > 0 ? done / s : 0.0, unit_.c_str(), tty_ ? "\033[K" : "\n");
+    std::fflush(stderr);
+    shown_ = true;
+  }
+
   std::string name_, unit_;
   size_t total_;
   bool tty_;

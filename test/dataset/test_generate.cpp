@@ -88,6 +88,14 @@ TEST(Generate, CaptureAndItsRawBagGiveTheSameSequence) {
   EXPECT_NE(ra.output.find("train/001: 20 frames (0 dropped"), std::string::npos) << ra.output;
   EXPECT_NE(ra.output.find("layout writers"), std::string::npos) << "the stage table names the writer threads: " << ra.output;
   EXPECT_EQ(rb.output.find("layout writers"), std::string::npos) << rb.output;
+  // The progress: a bag knows its frames; a capture is read to its end, so its total is unknown
+  // (not a full bar of "1/0 frames"): lines at 1-9, 10 and 20 frames.
+  EXPECT_NE(rb.output.find("20/20 frames"), std::string::npos) << rb.output;
+  EXPECT_EQ(ra.output.find("/0 frames"), std::string::npos) << ra.output;
+  for (const char* line : {"generate train/001 1 frames (total unknown)", "generate train/001 9 frames (total unknown)",
+                           "generate train/001 20 frames (total unknown)"})
+    EXPECT_NE(ra.output.find(line), std::string::npos) << line << " in: " << ra.output;
+  EXPECT_EQ(ra.output.find("11 frames (total unknown)"), std::string::npos) << ra.output;
   const auto fa = files(a), fb = files(b);
   for (const char* f : {"train/img/001/001_00000.png", "train/cls/001/001_00019.png", "train/inst/001/001_00007.png",
                         "train/flow/001/001_00000.npz", "train/flowbw/001/001_00019.npz", "train/bb/001/001_00003.csv",

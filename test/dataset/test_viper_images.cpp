@@ -3,6 +3,7 @@
 // color type we accept or refuse, and damaged files.
 #include "viper/dataset/viper_images.h"
 
+#include "../common/rgb_image.h"
 #include "dataset_test_util.h"
 
 #include <boost/crc.hpp>
@@ -30,16 +31,11 @@ Image8 makeImage(uint32_t w, uint32_t h, uint32_t channels, uint32_t seed) {
 
 // A smooth picture (JPEG's kind of input): gradients plus a square.
 Image8 smoothImage(uint32_t w, uint32_t h) {
-  Image8 im;
-  im.width = w, im.height = h, im.channels = 3;
-  im.data.resize(im.pixels() * 3);
-  for (uint32_t y = 0; y < h; ++y)
-    for (uint32_t x = 0; x < w; ++x) {
-      uint8_t* p = &im.data[3 * (y * w + x)];
-      const bool square = x > w / 4 && x < w / 2 && y > h / 4 && y < h / 2;
-      p[0] = static_cast<uint8_t>(255 * x / w), p[1] = static_cast<uint8_t>(255 * y / h), p[2] = square ? 200 : 40;
-    }
-  return im;
+  return viper::test::rgbImage(w, h, [&](uint32_t x, uint32_t y) {
+    const bool square = x > w / 4 && x < w / 2 && y > h / 4 && y < h / 2;
+    return std::array<uint8_t, 3>{static_cast<uint8_t>(255 * x / w), static_cast<uint8_t>(255 * y / h),
+                                  static_cast<uint8_t>(square ? 200 : 40)};
+  });
 }
 
 ClassPalette viperPalette() {

@@ -11,11 +11,14 @@
 //   a stray img/001/README.txt; 002 cls 1 is text.
 #pragma once
 
+#include "../common/rgb_image.h"
+
 #include "viper/dataset/flow_image.h"
 #include "viper/dataset/viper_boxes.h"
 #include "viper/dataset/viper_camera.h"
 #include "viper/dataset/viper_images.h"
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -33,15 +36,10 @@ constexpr double kStepM = 0.5, kYawRad = 0.02;
 constexpr int kCarClass = 24, kCarId = 7;
 
 inline Image8 colorImage(int seq, uint64_t frame) {
-  Image8 im;
-  im.width = kWidth, im.height = kHeight, im.channels = 3;
-  im.data.resize(im.pixels() * 3);
-  for (uint32_t y = 0; y < kHeight; ++y)
-    for (uint32_t x = 0; x < kWidth; ++x) {
-      uint8_t* p = &im.data[3 * (y * kWidth + x)];
-      p[0] = static_cast<uint8_t>(4 * x), p[1] = static_cast<uint8_t>(5 * y), p[2] = static_cast<uint8_t>(30 * frame + 60 * seq);
-    }
-  return im;
+  return viper::test::rgbImage(kWidth, kHeight, [&](uint32_t x, uint32_t y) {
+    return std::array<uint8_t, 3>{static_cast<uint8_t>(4 * x), static_cast<uint8_t>(5 * y),
+                                  static_cast<uint8_t>(30 * frame + 60 * seq)};
+  });
 }
 
 inline Image8 classImage(int seq, uint64_t frame, uint32_t width = kWidth) {
@@ -56,17 +54,11 @@ inline Image8 classImage(int seq, uint64_t frame, uint32_t width = kWidth) {
 /// R = a class different from classImage's (so the semantic fallback to inst's R is visible),
 /// instance 256 * G + B = 300 + x / 16 on the left half, 0 elsewhere.
 inline Image8 instanceImage(uint64_t frame) {
-  Image8 im;
-  im.width = kWidth, im.height = kHeight, im.channels = 3;
-  im.data.resize(im.pixels() * 3);
-  for (uint32_t y = 0; y < kHeight; ++y)
-    for (uint32_t x = 0; x < kWidth; ++x) {
-      uint8_t* p = &im.data[3 * (y * kWidth + x)];
-      const int id = x < kWidth / 2 ? 300 + static_cast<int>(x / 16 + frame) : 0;
-      p[0] = static_cast<uint8_t>(x < kWidth / 2 ? kCarClass : 3), p[1] = static_cast<uint8_t>(id / 256),
-      p[2] = static_cast<uint8_t>(id % 256);
-    }
-  return im;
+  return viper::test::rgbImage(kWidth, kHeight, [&](uint32_t x, uint32_t) {
+    const int id = x < kWidth / 2 ? 300 + static_cast<int>(x / 16 + frame) : 0;
+    return std::array<uint8_t, 3>{static_cast<uint8_t>(x < kWidth / 2 ? kCarClass : 3), static_cast<uint8_t>(id / 256),
+                                  static_cast<uint8_t>(id % 256)};
+  });
 }
 
 /// Values on a 1/4 px grid below 64 px: exact in float16.

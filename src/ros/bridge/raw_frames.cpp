@@ -1,6 +1,7 @@
 #include "viper/ros/bridge/raw_frames.h"
 
 #include <functional>
+#include <set>
 #include <sstream>
 
 namespace viper {
@@ -60,18 +61,17 @@ bool CaptureRawFrames::next(FrameMessages& out) {
 }
 
 BagRawFrames::BagRawFrames(const std::string& path, const std::string& ns) : path_(path), ns_(ns) {
+  const std::set<std::string> topics = {ns + "/draws", ns + "/draw_ids", ns + "/depth/image_raw",
+                                        ns + "/primitive_ids", ns + "/color/image_raw", ns + "/color/camera_info",
+                                        ns + "/mesh_store"};
   try {
-    bag_.open(path, rosbag::bagmode::Read);
-  } catch (const std::exception& e) {
-    throw std::runtime_error("cannot open bag '" + path + "': " + e.what());
+    bag_ = std::make_unique<BagReader>(path, topics);
+  } catch (const BagReadError& e) {
+    throw std::runtime_error("cannot open bag '" + path + "': " + e.problem());
   }
-  const std::vector<std::string> topics = {ns + "/draws", ns + "/draw_ids", ns + "/depth/image_raw",
-                                           ns + "/primitive_ids", ns + "/color/image_raw", ns + "/color/camera_info",
-                                           ns + "/mesh_store"};
-  frame_count_ = rosbag::View(bag_, rosbag::TopicQuery(ns + "/draws")).size();
+  for (const dataset::BagConnection* c : bag_->connections())
+    if (c->topic == ns + "/draws") frame_count_ += c->messages;
   if (frame_count_ == 0) throw std::runtime_error("bag '" + path + "' has no " + ns + "/draws: not a raw bag");
-  view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics));
-  it_ = view_->begin();
 }
 
 bool BagRawFrames::complete(const FrameMessages& m) const {
@@ -92,9 +92,9 @@ bool BagRawFrames::takeOldest(FrameMessages& out) {
 
 bool BagRawFrames::next(FrameMessages& out) {
   try {
-    while (it_ != view_->end()) {
-      const rosbag::MessageInstance& m = *it_;
-      const std::string topic = m.getTopic().substr(ns_.size());
+    while (bag_ && bag_->next(m_)) {
+      const BagReadMessage& m = m_;
+      const std::string topic = m.topic().substr(ns_.size());
       // The message, typed, and where it goes in its stamp's frame.
       std::function<void(FrameMessages&)> put;
       std::optional<ros::Time> stamp;
@@ -111,12 +111,10 @@ bool BagRawFrames::next(FrameMessages& out) {
       else if (topic == "/primitive_ids") typed(m.instantiate<sensor_msgs::Image>(), &FrameMessages::primitive_ids);
       else typed(m.instantiate<sensor_msgs::Image>(), &FrameMessages::color);
       if (!stamp) {
-        problems_.push_back("bag '" + path_ + "': " + m.getTopic() + " carries " + m.getDataType() + "; message skipped");
-        ++it_;
+        problems_.push_back("bag '" + path_ + "': " + m.topic() + " carries " + m.datatype() + "; message skipped");
         continue;
       }
       put(pending_[*stamp]);
-      ++it_;
       // A recorded bag interleaves the messages of neighbouring frames, and a frame's mesh store may
       // come after its images: the oldest frame goes once two later frames are whole (or, if it is
       // not whole itself, once eight are).
@@ -127,10 +125,12 @@ bool BagRawFrames::next(FrameMessages& out) {
         if (takeOldest(out)) return true;
       }
     }
-  } catch (const std::exception& e) {
+  } catch (const BagReadError& e) {
+    problems_.push_back("bag '" + path_ + "' cannot be read further: " + e.problem());
+  } catch (const std::exception& e) {  // a message that does not deserialise
     problems_.push_back("bag '" + path_ + "' cannot be read further: " + e.what());
-    it_ = view_->end();
   }
+  bag_.reset();
   while (!pending_.empty()) {
     if (takeOldest(out)) return true;
   }

@@ -4,12 +4,10 @@
 #pragma once
 
 #include "viper/capture/capture_stream.h"
+#include "viper/ros/bridge/bag_reader.h"
 #include "viper/ros/bridge/bag_writer.h"
-#include "viper/ros/bridge/replay_timing.h"
+#include "viper/ros/pacing/replay_timing.h"
 #include "viper/ros/conversions/frame_conversions.h"
-
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
 
 #include <map>
 #include <memory>
@@ -84,9 +82,8 @@ class BagRawFrames : public RawFrames {
   bool takeOldest(FrameMessages& out);
 
   std::string path_, ns_;
-  rosbag::Bag bag_;
-  std::unique_ptr<rosbag::View> view_;
-  rosbag::View::iterator it_;
+  std::unique_ptr<BagReader> bag_;  // null once read to its end (or its damage)
+  BagReadMessage m_;
   std::map<ros::Time, FrameMessages> pending_;
   uint64_t frame_count_ = 0;
 };

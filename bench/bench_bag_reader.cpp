@@ -11,7 +11,7 @@
 // (scripts/bench_bag_writer.sh makes one) or a raw bag (capture_to_bag, as scripts/measure_pipeline.sh).
 #include "viper/dataset/bag_file_reader.h"
 
-#include "../src/dataset/xxh32_streams.h"
+#include "../src/dataset/bag/xxh32_streams.h"
 
 #include <benchmark/benchmark.h>
 #include <rosbag/bag.h>

@@ -5,22 +5,28 @@
 # that layout from a bag.
 # (Their libraries are found in cmake/core_dependencies.cmake.)
 
-file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/dataset/*.cpp)
-# The statistics need the class table (viper_ground_truth) and the line plots (viper_plots): a library
-# of their own, below.
-list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(dataset_statistics|statistics_[a-z]+)\\.cpp$")
+# src/dataset by role (docs/design.md): bag/ (ROS bag files without ROS), formats/ (npy, .flo,
+# float16, PNG, JPEG, zip and their deflate, atomic writes), layout/ (VIPER's release layout and its
+# submission files), generation/ (dataset plans, sequence locks and markers, manifests, digests,
+# the write queue), statistics/ (a library of its own: it needs the class table of
+# viper_ground_truth and the line plots of viper_plots).
+file(GLOB VIPER_DATASET_SOURCES CONFIGURE_DEPENDS
+  ${PROJECT_SOURCE_DIR}/src/dataset/bag/*.cpp
+  ${PROJECT_SOURCE_DIR}/src/dataset/formats/*.cpp
+  ${PROJECT_SOURCE_DIR}/src/dataset/generation/*.cpp
+  ${PROJECT_SOURCE_DIR}/src/dataset/layout/*.cpp)
 # The submission files use Eigen and viper_core (poses in KITTI axes): a library of their own, below.
-list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(viper_submission|submission_poses)\\.cpp$")
+list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/layout/(viper_submission|submission_poses)\\.cpp$")
 # The layout writer takes the ground truth's core types (boxes, cameras, objects): a library of its
 # own, below.
-list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/(viper_layout_writer|viper_layout_geometry)\\.cpp$")
+list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/layout/(viper_layout_writer|viper_layout_geometry)\\.cpp$")
 add_library(viper_dataset ${VIPER_DATASET_SOURCES})
 target_include_directories(viper_dataset PUBLIC ${PROJECT_SOURCE_DIR}/include)
 # The float16 loops vectorise only at -O3, and only when GCC 12 may execute the float operations
 # of every branch (no floating-point exceptions are ever enabled here).
 target_compile_options(viper_dataset PRIVATE -O3 -fno-trapping-math)
 # PNG read through libpng (palette indices of class images must not be expanded to colors) and
-# written with ISA-L and libdeflate (src/dataset/deflate_writers.h); JPEG through OpenCV.
+# written with ISA-L and libdeflate (src/dataset/formats/deflate_writers.h); JPEG through OpenCV.
 target_include_directories(viper_dataset SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
 find_package(Threads REQUIRED)  # WriteQueue's workers
 target_link_libraries(viper_dataset PUBLIC Threads::Threads)
@@ -45,8 +51,8 @@ install(TARGETS export_flow RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION
 
 # viper_dataset_statistics: a finished dataset's statistics, their CSV, PNG and Markdown report (ROS-free),
 # and the dataset_statistics command (generate --merge writes them too).
-add_library(viper_dataset_statistics src/dataset/dataset_statistics.cpp src/dataset/statistics_report.cpp
-  src/dataset/statistics_plots.cpp)
+add_library(viper_dataset_statistics src/dataset/statistics/dataset_statistics.cpp
+  src/dataset/statistics/statistics_report.cpp src/dataset/statistics/statistics_plots.cpp)
 target_include_directories(viper_dataset_statistics PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_link_libraries(viper_dataset_statistics PUBLIC viper_dataset viper_ground_truth PRIVATE viper_plots)
 set_target_properties(viper_dataset_statistics PROPERTIES
@@ -65,7 +71,7 @@ install(TARGETS viper_dataset_statistics dataset_statistics
 # viper_layout_writer: ground truth (core types) into VIPER's release layout, and the layout's
 # geometry (camera and box rows against poses and boxes); ROS-free. generate writes through it, and
 # so do export_viper and the viper_exporter node, through ViperExporter's conversion of messages.
-add_library(viper_layout_writer src/dataset/viper_layout_writer.cpp src/dataset/viper_layout_geometry.cpp)
+add_library(viper_layout_writer src/dataset/layout/viper_layout_writer.cpp src/dataset/layout/viper_layout_geometry.cpp)
 target_include_directories(viper_layout_writer PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_link_libraries(viper_layout_writer PUBLIC viper_dataset viper_ground_truth)
 set_target_properties(viper_layout_writer PROPERTIES
@@ -77,7 +83,7 @@ install(TARGETS viper_layout_writer
 # viper_submission: VIPER's submission files (ROS-free; the poses in KITTI axes take the optical frame
 # from viper_core), and the viper_submission command that writes them from a bag
 # of predictions (docs/evaluate.md, "Submission files").
-add_library(viper_submission src/dataset/viper_submission.cpp src/dataset/submission_poses.cpp)
+add_library(viper_submission src/dataset/layout/viper_submission.cpp src/dataset/layout/submission_poses.cpp)
 target_include_directories(viper_submission PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_link_libraries(viper_submission PUBLIC viper_dataset viper_core)
 set_target_properties(viper_submission PROPERTIES

@@ -1,7 +1,7 @@
 // XXH32 of several streams side by side (bag_player's LZ4 content checksums) against libxxhash's
 // XXH32 of each stream whole: streams of every length around the 16-byte stripe, cut into pieces
 // anywhere (a piece boundary inside a stripe, empty pieces), one to six streams at once.
-#include "../../src/dataset/xxh32_streams.h"
+#include "../../src/dataset/bag/xxh32_streams.h"
 
 #include <xxhash.h>
 

@@ -2,7 +2,7 @@
 
 #include "viper/dataset/middlebury_flo.h"
 
-#include "deflate_writers.h"
+#include "../formats/deflate_writers.h"
 
 #include <algorithm>
 #include <cmath>

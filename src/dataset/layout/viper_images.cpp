@@ -1,7 +1,7 @@
 #include "viper/dataset/viper_images.h"
 
-#include "deflate_writers.h"
-#include "jpeg_size.h"
+#include "../formats/deflate_writers.h"
+#include "../formats/jpeg_size.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>

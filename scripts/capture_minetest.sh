@@ -30,11 +30,9 @@ while [ $# -gt 0 ]; do
   esac
 done
 game=/usr/games/minetest
-[ -x "$game" ] || { echo "capture_minetest: $game not found: run 'bash scripts/setup.sh --test-programs'" >&2; exit 2; }
-# shellcheck source=package_binaries.sh
-source "$here/scripts/package_binaries.sh"
-viper_bin_dir capture_minetest "$bin" capture $([ "$check" -eq 0 ] || echo capture_check) \
-  $([ "$bag" -eq 0 ] || echo capture_to_bag)
+# shellcheck source=game_capture.sh
+source "$here/scripts/game_capture.sh"
+game_capture_setup capture_minetest "$game" "$bin" "$check" "$bag"
 command -v xvfb-run > /dev/null || { echo "capture_minetest: xvfb-run not found (package xvfb)" >&2; exit 2; }
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
@@ -55,14 +53,7 @@ HOME="$work/home" xvfb-run -a -s "-screen 0 $((width + 64))x$((height + 64))x24"
   --output "$capture" --profile "$here/config/profiles/minetest.yaml" --condition day --frames "$frames" \
   --skip-frames "$skip" -- "$game" --go --world "$work/world" --name viper --password viper \
   --config "$work/minetest.conf" --random-input > "$out/minetest.game.log" 2>&1 || status=$?
-grep '\[viper capture\]' "$out/minetest.game.log" || true
-[ "$status" -eq 0 ] || { echo "capture_minetest: the game exited with $status (log: $out/minetest.game.log)" >&2; exit 1; }
+game_capture_result capture_minetest "$status" "$out/minetest.game.log"
 
-if [ "$check" -eq 1 ]; then
-  echo "== checking ids, matrices, meshes and flow against the capture itself"
-  "$bin/capture_check" "$capture" --flow
-fi
-if [ "$bag" -eq 1 ]; then
-  echo "== raw bag -> $out/minetest_raw.bag"
-  "$bin/capture_to_bag" "$capture" --output "$out/minetest_raw.bag"
-fi
+game_capture_outputs "$capture" "$check" "$bag" "$out/minetest_raw.bag" \
+  "ids, matrices, meshes and flow against the capture itself" --flow

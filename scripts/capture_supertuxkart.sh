@@ -46,13 +46,11 @@ case "$driver" in
   *) echo "capture_supertuxkart: --render-driver must be gl or vulkan, not '$driver'" >&2; exit 2 ;;
 esac
 stk=/usr/games/supertuxkart
-[ -x "$stk" ] || { echo "capture_supertuxkart: $stk not found: run 'bash scripts/setup.sh --test-programs'" >&2; exit 2; }
 # The executables of --bin DIR, else of the sourced workspace (a devel space outside the package,
 # such as scripts/sanitize.sh's, included), else of the package's own devel space.
-# shellcheck source=package_binaries.sh
-source "$here/scripts/package_binaries.sh"
-viper_bin_dir capture_supertuxkart "$bin" capture $([ "$check" -eq 0 ] || echo capture_check) \
-  $([ "$bag" -eq 0 ] || echo capture_to_bag)
+# shellcheck source=game_capture.sh
+source "$here/scripts/game_capture.sh"
+game_capture_setup capture_supertuxkart "$stk" "$bin" "$check" "$bag"
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 capture="$out/$track.vcap"
@@ -93,14 +91,7 @@ HOME="$game_home" DISPLAY="$display" ALSOFT_DRIVERS="${ALSOFT_DRIVERS:-null}" "$
   "$stk" $driver_args --track="$track" --numkarts="$karts" --seed="$seed" --profile-time="$race_s" \
   ${STK_PIPELINE:---disable-dynamic-lights} --anisotropic=0 --windowed --screensize="${width}x${height}" $game_args \
   > "$out/$track.game.log" 2>&1 || status=$?
-grep '\[viper capture\]' "$out/$track.game.log" || true
-[ "$status" -eq 0 ] || { echo "capture_supertuxkart: the game exited with $status (log: $out/$track.game.log)" >&2; exit 1; }
+game_capture_result capture_supertuxkart "$status" "$out/$track.game.log"
 
-if [ "$check" -eq 1 ]; then
-  echo "== checking ids, matrices and meshes against the capture's own depth"
-  "$bin/capture_check" "$capture"
-fi
-if [ "$bag" -eq 1 ]; then
-  echo "== raw bag -> $out/${track}_raw.bag"
-  "$bin/capture_to_bag" "$capture" --output "$out/${track}_raw.bag"
-fi
+game_capture_outputs "$capture" "$check" "$bag" "$out/${track}_raw.bag" \
+  "ids, matrices and meshes against the capture's own depth"

@@ -9,8 +9,7 @@ if(benchmark_FOUND)
     target_link_libraries(${name} benchmark::benchmark viper_core)
     # bench_evaluate and bench_ground_truth read the package's class table.
     target_compile_definitions(${name} PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-    set_target_properties(${name} PROPERTIES
-      RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+    viper_bin_output(${name})
   endforeach()
   # The capture writer's frame finishing lives in the capture layer, not in viper_core.
   target_sources(bench_capture_finish PRIVATE ${PROJECT_SOURCE_DIR}/src/capture/layer/finish_frame.cpp)

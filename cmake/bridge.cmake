@@ -5,7 +5,7 @@
 # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
 find_package(pluginlib REQUIRED)
 find_package(class_loader REQUIRED)
-add_library(viper_ros
+viper_ros_library(viper_ros SOURCES
   src/ros/pacing/replay_timing.cpp
   src/ros/pacing/pace_gate.cpp
   src/ros/measurement/cpu_meter.cpp
@@ -17,28 +17,12 @@ add_library(viper_ros
   src/ros/bridge/bag_player.cpp
   src/ros/bridge/bag_player_nodelet.cpp
   src/ros/bridge/raw_frames.cpp
-)
-target_include_directories(viper_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
-# viper_dataset (cmake/dataset.cmake) for its bag file writer (BagWriter, raw bags).
-target_link_libraries(viper_ros PUBLIC viper_conversions viper_core viper_dataset ${catkin_LIBRARIES})
-add_dependencies(viper_ros viper_generate_messages_cpp)
-set_target_properties(viper_ros PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+  SYSTEM_INCLUDES ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS}
+  # viper_dataset (cmake/dataset.cmake) for its bag file writer (BagWriter, raw bags).
+  LINK viper_conversions viper_core viper_dataset ${catkin_LIBRARIES})
 
-add_executable(capture_bridge nodes/capture_bridge_node.cpp)
-target_link_libraries(capture_bridge viper_ros)
-set_target_properties(capture_bridge PROPERTIES
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-
-add_executable(bag_player nodes/bag_player_node.cpp)
-target_link_libraries(bag_player viper_ros)
-set_target_properties(bag_player PROPERTIES
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-
-install(TARGETS viper_ros capture_bridge bag_player
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_executable(capture_bridge nodes/capture_bridge_node.cpp LINK viper_ros)
+viper_executable(bag_player nodes/bag_player_node.cpp LINK viper_ros)
 install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(PROGRAMS scripts/make_test_bag.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
@@ -108,8 +92,7 @@ find_package(class_loader REQUIRED)
 add_executable(capture_to_bag tools/capture_to_bag.cpp)
 target_include_directories(capture_to_bag SYSTEM PRIVATE ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
 target_link_libraries(capture_to_bag viper_ros)
-set_target_properties(capture_to_bag PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS capture_to_bag RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_program(capture_to_bag)
 
 if(CATKIN_ENABLE_TESTING)
   # The command on make_test_capture's captures (above): topics, stamps and content against

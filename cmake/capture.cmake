@@ -27,23 +27,19 @@ set(VIPER_INTERCEPT_SOURCES
 add_library(viper_intercept SHARED ${VIPER_INTERCEPT_SOURCES})
 # Only the hooked GL/EGL/GLX entry points and dlsym are exported; GL and EGL are not linked
 # (the real functions are looked up at run time, past the interceptor's own symbols).
-set_target_properties(viper_intercept PROPERTIES
-  CXX_VISIBILITY_PRESET hidden
-  VISIBILITY_INLINES_HIDDEN ON
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+set_target_properties(viper_intercept PROPERTIES CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
+viper_lib_output(viper_intercept)
 # Of the package, only the capture stage is loaded into the program (test_stage_dependencies).
 target_link_libraries(viper_intercept PRIVATE viper_capture_core Threads::Threads ${CMAKE_DL_LIBS})
 
 add_executable(viper_capture tools/capture.cpp)
-set_target_properties(viper_capture PROPERTIES
-  OUTPUT_NAME capture
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+set_target_properties(viper_capture PROPERTIES OUTPUT_NAME capture)
 target_compile_definitions(viper_capture PRIVATE VIPER_INTERCEPT_BUILD_PATH="$<TARGET_FILE:viper_intercept>")
 target_link_libraries(viper_capture PRIVATE viper_ground_truth)  # the verdict (capture_verdict.h)
 add_dependencies(viper_capture viper_intercept)
 
-install(TARGETS viper_intercept LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS viper_capture RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_install(viper_intercept)
+viper_program(viper_capture)
 install(DIRECTORY config/profiles DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/config)
 
 if(CATKIN_ENABLE_TESTING)
@@ -215,24 +211,17 @@ if(CATKIN_ENABLE_TESTING)
 endif()
 
 # Command-line tools of the package (run with rosrun viper NAME).
-add_executable(capture_info tools/capture_info.cpp)
-target_link_libraries(capture_info viper_core)
-set_target_properties(capture_info PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS capture_info RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_executable(capture_info tools/capture_info.cpp LINK viper_core)
 
 # capture_check: ids, matrices and meshes of a capture checked against its own depth (viper::checkReprojection).
-add_executable(capture_check tools/capture_check.cpp)
-target_link_libraries(capture_check viper_core)
-set_target_properties(capture_check PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS capture_check RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_executable(capture_check tools/capture_check.cpp LINK viper_core)
 
 # capture_sheet: a contact sheet of a capture's frames (color, ids, depth, flow, reprojection).
 add_executable(capture_sheet tools/capture_sheet.cpp)
 target_include_directories(capture_sheet SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
 target_link_libraries(capture_sheet viper_core ${OpenCV_LIBS})
 target_compile_definitions(capture_sheet PRIVATE VIPER_CLASS_TABLE="${PROJECT_SOURCE_DIR}/config/viper_classes.csv")
-set_target_properties(capture_sheet PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS capture_sheet RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_program(capture_sheet)
 
 # label_resources: the labelling page of a capture (tools/label_page/ is copied beside the data).
 add_executable(label_resources tools/label_resources.cpp)
@@ -241,13 +230,9 @@ target_link_libraries(label_resources viper_core ${OpenCV_LIBS})
 target_compile_definitions(label_resources PRIVATE
   VIPER_LABEL_PAGE_DIR="${PROJECT_SOURCE_DIR}/tools/label_page"
   VIPER_CLASS_TABLE="${PROJECT_SOURCE_DIR}/config/viper_classes.csv")
-set_target_properties(label_resources PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS label_resources RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_program(label_resources)
 
-add_executable(make_label_table tools/make_label_table.cpp)
-target_link_libraries(make_label_table viper_core)
-set_target_properties(make_label_table PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS make_label_table RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_executable(make_label_table tools/make_label_table.cpp LINK viper_core)
 
 if(CATKIN_ENABLE_TESTING)
   # The labelling page in headless Chromium, driven by Playwright (test/label_page; needs chromium,

@@ -22,10 +22,8 @@ set(VIPER_VULKAN_LAYER_SOURCES
 add_library(viper_vulkan_layer SHARED ${VIPER_VULKAN_LAYER_SOURCES})
 # Only the loader's entry points are exported; the Vulkan loader is not linked (the layer is
 # called through the dispatch chain the loader gives it).
-set_target_properties(viper_vulkan_layer PROPERTIES
-  CXX_VISIBILITY_PRESET hidden
-  VISIBILITY_INLINES_HIDDEN ON
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+set_target_properties(viper_vulkan_layer PROPERTIES CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
+viper_lib_output(viper_vulkan_layer)
 target_include_directories(viper_vulkan_layer PRIVATE ${Vulkan_INCLUDE_DIRS})
 # Vulkan structures are written `{VK_STRUCTURE_TYPE_...}`, the rest zeroed, as Vulkan code is.
 target_compile_options(viper_vulkan_layer PRIVATE -Wno-missing-field-initializers)
@@ -55,7 +53,7 @@ file(GENERATE OUTPUT ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/
   }
 }
 ")
-install(TARGETS viper_vulkan_layer LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+viper_install(viper_vulkan_layer)
 
 if(CATKIN_ENABLE_TESTING)
   # The SPIR-V reading and rewriting, on modules glslang compiles, checked by SPIRV-Tools' validator.

@@ -2,16 +2,7 @@
 # meshes, images, poses, flow, objects, boxes) and the one image check; every ROS library links it.
 # The dataset types it converts (Image8, FlowImage) are plain structs: no link to viper_dataset.
 file(GLOB VIPER_CONVERSIONS_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/ros/conversions/*.cpp)
-add_library(viper_conversions ${VIPER_CONVERSIONS_SOURCES})
-target_include_directories(viper_conversions PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_conversions SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
-target_link_libraries(viper_conversions PUBLIC viper_core ${catkin_LIBRARIES})
-add_dependencies(viper_conversions viper_generate_messages_cpp)
-set_target_properties(viper_conversions PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS viper_conversions
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+viper_ros_library(viper_conversions SOURCES ${VIPER_CONVERSIONS_SOURCES} LINK viper_core ${catkin_LIBRARIES})
 
 if(CATKIN_ENABLE_TESTING)
   # Round trips core -> message -> core for every pair, a whole frame included; no roscore.

@@ -10,9 +10,7 @@ function(viper_core_library name)
   target_include_directories(${name} SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR})
   # The per-pixel kernels rely on loop vectorisation, which GCC 12 does fully only at -O3.
   target_compile_options(${name} PRIVATE -O3)
-  install(TARGETS ${name}
-    ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-    LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+  viper_install(${name})
 endfunction()
 
 file(GLOB VIPER_CAPTURE_CORE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/capture/*.cpp)

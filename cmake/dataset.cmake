@@ -31,11 +31,8 @@ target_include_directories(viper_dataset SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
 find_package(Threads REQUIRED)  # WriteQueue's workers
 target_link_libraries(viper_dataset PUBLIC Threads::Threads)
 target_link_libraries(viper_dataset PRIVATE PkgConfig::LIBLZ4 PkgConfig::XXHASH BZip2::BZip2 PkgConfig::LIBZIP PkgConfig::LIBDEFLATE viper_isal PkgConfig::LIBPNG PkgConfig::LIBJPEG PkgConfig::LIBCRYPTO PkgConfig::YAMLCPP opencv_core opencv_imgproc opencv_imgcodecs)
-set_target_properties(viper_dataset PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS viper_dataset
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+viper_lib_output(viper_dataset)
+viper_install(viper_dataset)
 
 # export_flow: 32FC2 flow messages of a bag -> VIPER layout (.npz) and/or .flo files.
 # rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
@@ -45,60 +42,37 @@ add_executable(export_flow tools/export_flow.cpp)
 target_include_directories(export_flow SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
   ${class_loader_INCLUDE_DIRS})
 target_link_libraries(export_flow viper_dataset viper_conversions ${catkin_LIBRARIES})
-set_target_properties(export_flow PROPERTIES
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS export_flow RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_program(export_flow)
 
 # viper_dataset_statistics: a finished dataset's statistics, their CSV, PNG and Markdown report (ROS-free),
 # and the dataset_statistics command (generate --merge writes them too).
-add_library(viper_dataset_statistics src/dataset/statistics/dataset_statistics.cpp
-  src/dataset/statistics/statistics_report.cpp src/dataset/statistics/statistics_plots.cpp)
-target_include_directories(viper_dataset_statistics PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_link_libraries(viper_dataset_statistics PUBLIC viper_dataset viper_ground_truth PRIVATE viper_plots)
-set_target_properties(viper_dataset_statistics PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+viper_library(viper_dataset_statistics SOURCES src/dataset/statistics/dataset_statistics.cpp
+  src/dataset/statistics/statistics_report.cpp src/dataset/statistics/statistics_plots.cpp
+  LINK PUBLIC viper_dataset viper_ground_truth PRIVATE viper_plots)
 add_executable(dataset_statistics tools/dataset_statistics.cpp)
 target_include_directories(dataset_statistics SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
 target_link_libraries(dataset_statistics viper_dataset_statistics ${catkin_LIBRARIES})
 target_compile_definitions(dataset_statistics PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-set_target_properties(dataset_statistics PROPERTIES
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS viper_dataset_statistics dataset_statistics
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_program(dataset_statistics)
 
 # viper_layout_writer: ground truth (core types) into VIPER's release layout, and the layout's
 # geometry (camera and box rows against poses and boxes); ROS-free. generate writes through it, and
 # so do export_viper and the viper_exporter node, through ViperExporter's conversion of messages.
-add_library(viper_layout_writer src/dataset/layout/viper_layout_writer.cpp src/dataset/layout/viper_layout_geometry.cpp)
-target_include_directories(viper_layout_writer PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_link_libraries(viper_layout_writer PUBLIC viper_dataset viper_ground_truth)
-set_target_properties(viper_layout_writer PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
-install(TARGETS viper_layout_writer
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+viper_library(viper_layout_writer SOURCES src/dataset/layout/viper_layout_writer.cpp
+  src/dataset/layout/viper_layout_geometry.cpp LINK PUBLIC viper_dataset viper_ground_truth)
 
 # viper_submission: VIPER's submission files (ROS-free; the poses in KITTI axes take the optical frame
 # from viper_core), and the viper_submission command that writes them from a bag
 # of predictions (docs/evaluate.md, "Submission files").
-add_library(viper_submission src/dataset/layout/viper_submission.cpp src/dataset/layout/submission_poses.cpp)
-target_include_directories(viper_submission PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_link_libraries(viper_submission PUBLIC viper_dataset viper_core)
-set_target_properties(viper_submission PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+viper_library(viper_submission SOURCES src/dataset/layout/viper_submission.cpp
+  src/dataset/layout/submission_poses.cpp LINK PUBLIC viper_dataset viper_core)
 add_executable(viper_submission_tool tools/viper_submission.cpp)
-set_target_properties(viper_submission_tool PROPERTIES OUTPUT_NAME viper_submission
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+set_target_properties(viper_submission_tool PROPERTIES OUTPUT_NAME viper_submission)
+viper_program(viper_submission_tool)
 target_include_directories(viper_submission_tool SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
   ${class_loader_INCLUDE_DIRS})
 target_link_libraries(viper_submission_tool viper_submission viper_evaluate_ros viper_conversions ${catkin_LIBRARIES})
 add_dependencies(viper_submission_tool viper_generate_messages_cpp)
-install(TARGETS viper_submission viper_submission_tool
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 if(TARGET bench_flow_files)
   target_link_libraries(bench_flow_files viper_dataset)
@@ -166,7 +140,10 @@ foreach(t test_dataset_statistics test_generate_statistics)
 endforeach()
 
 # viper_layout_ros: layout <-> messages, the exporter, the player and the live exporter (nodes + nodelets).
-add_library(viper_layout_ros
+# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
+find_package(pluginlib REQUIRED)
+find_package(class_loader REQUIRED)
+viper_ros_library(viper_layout_ros SOURCES
   src/ros/dataset/viper_layout_conversions.cpp
   src/ros/dataset/viper_exporter.cpp
   src/ros/dataset/viper_bag_conversion.cpp
@@ -176,32 +153,15 @@ add_library(viper_layout_ros
   src/ros/dataset/viper_exporter_node.cpp
   src/ros/dataset/viper_exporter_nodelet.cpp
   src/ros/dataset/sequence_generator.cpp
-)
-# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
-find_package(pluginlib REQUIRED)
-find_package(class_loader REQUIRED)
-target_include_directories(viper_layout_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_layout_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-  ${class_loader_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS})
-target_link_libraries(viper_layout_ros PUBLIC viper_flow_ros viper_ground_truth_ros viper_ros viper_core viper_dataset
-  viper_layout_writer ${catkin_LIBRARIES})
-add_dependencies(viper_layout_ros viper_generate_messages_cpp)
-set_target_properties(viper_layout_ros PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+  SYSTEM_INCLUDES ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
+  LINK viper_flow_ros viper_ground_truth_ros viper_ros viper_core viper_dataset viper_layout_writer
+    ${catkin_LIBRARIES})
 
-add_executable(player nodes/player_node.cpp)
-add_executable(viper_exporter nodes/viper_exporter_node.cpp)
-add_executable(viper_to_bag tools/viper_to_bag.cpp)
-add_executable(export_viper tools/export_viper.cpp)
-add_executable(generate tools/generate.cpp)
-foreach(t player viper_exporter viper_to_bag export_viper generate)
-  target_link_libraries(${t} viper_layout_ros)
-  set_target_properties(${t} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-endforeach()
-install(TARGETS viper_layout_ros player viper_exporter viper_to_bag export_viper generate
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_executable(player nodes/player_node.cpp LINK viper_layout_ros)
+viper_executable(viper_exporter nodes/viper_exporter_node.cpp LINK viper_layout_ros)
+viper_executable(viper_to_bag tools/viper_to_bag.cpp LINK viper_layout_ros)
+viper_executable(export_viper tools/export_viper.cpp LINK viper_layout_ros)
+viper_executable(generate tools/generate.cpp LINK viper_layout_ros)
 target_include_directories(viper_to_bag PRIVATE ${PROJECT_SOURCE_DIR}/tools)
 target_include_directories(export_viper PRIVATE ${PROJECT_SOURCE_DIR}/tools)
 target_include_directories(generate PRIVATE ${PROJECT_SOURCE_DIR}/tools)

@@ -7,40 +7,19 @@ find_package(opencv_apps REQUIRED)  # opencv_apps/FlowArrayStamped (Debian: libo
 
 # viper_plots: line plots drawn as images (OpenCV), shared by the report and the dataset statistics;
 # viper_report: the report's PNG figures. Both kept out of the core.
-add_library(viper_plots src/report/plot_image.cpp)
-target_include_directories(viper_plots PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_plots SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_plots PUBLIC opencv_core opencv_imgproc opencv_imgcodecs)
-set_target_properties(viper_plots PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
-add_library(viper_report src/evaluation/plots.cpp)
-target_include_directories(viper_report PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_report SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_report PUBLIC viper_evaluation viper_plots)
-set_target_properties(viper_report PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+viper_library(viper_plots SOURCES src/report/plot_image.cpp SYSTEM_INCLUDES ${OpenCV_INCLUDE_DIRS}
+  LINK PUBLIC opencv_core opencv_imgproc opencv_imgcodecs)
+viper_library(viper_report SOURCES src/evaluation/plots.cpp SYSTEM_INCLUDES ${OpenCV_INCLUDE_DIRS}
+  LINK PUBLIC viper_evaluation viper_plots)
 
-add_library(viper_evaluate_ros
+viper_ros_library(viper_evaluate_ros SOURCES
   src/ros/evaluation/evaluate_inputs.cpp
   src/ros/evaluation/evaluate.cpp
   src/ros/evaluation/evaluate_joins.cpp
   src/ros/evaluation/evaluate_nodelet.cpp
-)
-target_include_directories(viper_evaluate_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_evaluate_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
-  ${opencv_apps_INCLUDE_DIRS})
-target_link_libraries(viper_evaluate_ros PUBLIC viper_report viper_ground_truth_ros viper_core ${catkin_LIBRARIES})
-add_dependencies(viper_evaluate_ros viper_generate_messages_cpp)
-set_target_properties(viper_evaluate_ros PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
-
-add_executable(evaluate nodes/evaluate_node.cpp)
-target_link_libraries(evaluate viper_evaluate_ros)
-set_target_properties(evaluate PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS viper_plots viper_report viper_evaluate_ros evaluate
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+  SYSTEM_INCLUDES ${std_srvs_INCLUDE_DIRS} ${opencv_apps_INCLUDE_DIRS}
+  LINK viper_report viper_ground_truth_ros viper_core ${catkin_LIBRARIES})
+viper_executable(evaluate nodes/evaluate_node.cpp LINK viper_evaluate_ros)
 
 if(CATKIN_ENABLE_TESTING)
   # Plain gtests: the figures, and the node's input checks.
@@ -67,7 +46,7 @@ if(CATKIN_ENABLE_TESTING)
   # on them into reference.csv, test_cityscapes_parity scores them here and compares.
   add_executable(write_parity_cases test/evaluation/write_parity_cases.cpp)
   target_link_libraries(write_parity_cases viper_dataset)
-  set_target_properties(write_parity_cases PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  viper_bin_output(write_parity_cases)
   catkin_add_gtest(test_cityscapes_parity test/evaluation/test_cityscapes_parity.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   target_link_libraries(test_cityscapes_parity viper_dataset viper_core gtest_main)
 endif()
@@ -82,42 +61,27 @@ foreach(module opencv_video opencv_calib3d opencv_dnn)
 endforeach()
 
 # viper_segmentation: the segmentation baseline's network (OpenCV DNN) and its instances, no ROS.
-add_library(viper_segmentation src/baselines/segmentation_model.cpp)
-target_include_directories(viper_segmentation PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_segmentation SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_segmentation PUBLIC viper_core opencv_core opencv_imgproc opencv_dnn)
-set_target_properties(viper_segmentation PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+viper_library(viper_segmentation SOURCES src/baselines/segmentation_model.cpp SYSTEM_INCLUDES ${OpenCV_INCLUDE_DIRS}
+  LINK PUBLIC viper_core opencv_core opencv_imgproc opencv_dnn)
 
-add_library(viper_baselines_ros
+viper_ros_library(viper_baselines_ros SOURCES
   src/ros/baselines/image_input.cpp
   src/ros/baselines/flow_baseline.cpp
   src/ros/baselines/vo_baseline.cpp
   src/ros/baselines/segmentation_baseline.cpp
   src/ros/baselines/baselines_nodelets.cpp
-)
-target_include_directories(viper_baselines_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_baselines_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(viper_baselines_ros PUBLIC viper_segmentation viper_conversions viper_core ${catkin_LIBRARIES}
-  opencv_core opencv_imgproc opencv_video opencv_calib3d)
-add_dependencies(viper_baselines_ros viper_generate_messages_cpp)
-set_target_properties(viper_baselines_ros PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+  SYSTEM_INCLUDES ${OpenCV_INCLUDE_DIRS}
+  LINK viper_segmentation viper_conversions viper_core ${catkin_LIBRARIES}
+    opencv_core opencv_imgproc opencv_video opencv_calib3d)
 
 foreach(node flow_baseline vo_baseline segmentation_baseline)
-  add_executable(${node} nodes/${node}_node.cpp)
-  target_link_libraries(${node} viper_baselines_ros)
-  set_target_properties(${node} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
+  viper_executable(${node} nodes/${node}_node.cpp LINK viper_baselines_ros)
 endforeach()
 if(CATKIN_ENABLE_TESTING)
   # The baselines' camera input through cv_bridge: every encoding they take, bad messages refused.
   catkin_add_gtest(test_image_input test/ros/test_image_input.cpp)
   target_link_libraries(test_image_input viper_baselines_ros gtest_main)
 endif()
-install(TARGETS viper_segmentation viper_baselines_ros flow_baseline vo_baseline segmentation_baseline
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # The segmentation baseline's trained networks and their training logs (scripts/train_segmentation.py).
 install(DIRECTORY models DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 

@@ -1,7 +1,7 @@
 # Stage 3, ground truth: the nodes (instances, boxes, odometry, flow) and the checks of their cores
 # against the oracles of our own programs.
 # viper_ground_truth_ros: the ground-truth nodes (instances, boxes, odometry) and their nodelets.
-add_library(viper_ground_truth_ros
+viper_ros_library(viper_ground_truth_ros SOURCES
   src/ros/ground_truth/step_log.cpp
   src/ros/ground_truth/instances_step.cpp
   src/ros/ground_truth/boxes_step.cpp
@@ -10,23 +10,11 @@ add_library(viper_ground_truth_ros
   src/ros/ground_truth/boxes_node.cpp
   src/ros/ground_truth/odometry_node.cpp
   src/ros/ground_truth/ground_truth_nodelets.cpp
-)
-target_include_directories(viper_ground_truth_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_ground_truth_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
-target_link_libraries(viper_ground_truth_ros PUBLIC viper_ros viper_core ${catkin_LIBRARIES})
-add_dependencies(viper_ground_truth_ros viper_generate_messages_cpp)
-set_target_properties(viper_ground_truth_ros PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
+  LINK viper_ros viper_core ${catkin_LIBRARIES})
 
 foreach(node instances boxes odometry)
-  add_executable(${node} nodes/${node}_node.cpp)
-  target_link_libraries(${node} viper_ground_truth_ros)
-  set_target_properties(${node} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-  install(TARGETS ${node} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+  viper_executable(${node} nodes/${node}_node.cpp LINK viper_ground_truth_ros)
 endforeach()
-install(TARGETS viper_ground_truth_ros
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
   # Real captures and oracles, made at build time, for the oracle checks: the test scene, and 90
@@ -67,25 +55,12 @@ endif()
 
 # viper_flow_ros: the flow node (dense optical flow, occlusion masks, correspondences service) and
 # its nodelet. Core: src/ground_truth/flow.cpp (viper_core).
-add_library(viper_flow_ros
+viper_ros_library(viper_flow_ros SOURCES
   src/ros/ground_truth/flow_step.cpp
   src/ros/ground_truth/flow_node.cpp
   src/ros/ground_truth/flow_nodelet.cpp
-)
-target_include_directories(viper_flow_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_include_directories(viper_flow_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
-target_link_libraries(viper_flow_ros PUBLIC viper_ground_truth_ros viper_ros viper_core ${catkin_LIBRARIES})
-add_dependencies(viper_flow_ros viper_generate_messages_cpp)
-set_target_properties(viper_flow_ros PROPERTIES
-  LIBRARY_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_LIB_DESTINATION})
-
-add_executable(flow nodes/flow_node.cpp)
-target_link_libraries(flow viper_flow_ros)
-set_target_properties(flow PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS viper_flow_ros flow
-  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
-  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+  LINK viper_ground_truth_ros viper_ros viper_core ${catkin_LIBRARIES})
+viper_executable(flow nodes/flow_node.cpp LINK viper_flow_ros)
 
 if(CATKIN_ENABLE_TESTING)
   # The committed raw bag through replay.launch (instances + flow nodelets), fed and checked by

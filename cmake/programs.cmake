@@ -34,9 +34,7 @@ add_executable(test_scene
   scene/renderer.cpp
 )
 target_link_libraries(test_scene viper_test_scene_world viper_gl_common viper_core PkgConfig::EGL PkgConfig::GL)
-set_target_properties(test_scene PROPERTIES
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS test_scene RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_program(test_scene)
 
 if(CATKIN_ENABLE_TESTING)
   # Runs the real binary: structure of its oracle, determinism, both GL loaders, exit codes.
@@ -98,9 +96,7 @@ target_include_directories(vk_test_scene PRIVATE ${VIPER_VK_SHADER_DIR})
 # Vulkan structs are written `VkXxxCreateInfo info{VK_STRUCTURE_TYPE_...};`: the rest zero on purpose.
 target_compile_options(vk_test_scene PRIVATE -Wno-missing-field-initializers)
 target_link_libraries(vk_test_scene viper_test_scene_world Vulkan::Vulkan PkgConfig::XCB)
-set_target_properties(vk_test_scene PROPERTIES
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS vk_test_scene RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_program(vk_test_scene)
 
 if(CATKIN_ENABLE_TESTING)
   # Runs vk_test_scene under a private Xvfb in every mode, with the Khronos validation layer, against
@@ -124,9 +120,7 @@ if(VIPER_WORLD_X11_FOUND)
   target_link_libraries(world PkgConfig::VIPER_WORLD_X11)
   target_compile_definitions(world PRIVATE VIPER_WORLD_WITH_X11=1)
 endif()
-set_target_properties(world PROPERTIES
-  RUNTIME_OUTPUT_DIRECTORY ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION})
-install(TARGETS world RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+viper_program(world)
 install(FILES config/profiles/world.yaml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/config/profiles)
 
 if(CATKIN_ENABLE_TESTING)

@@ -1,7 +1,8 @@
 // viper_to_bag: converts a folder in VIPER's release layout into a bag with the player's topics and
-// stamps (rosbag C++ API), with a progress bar on stderr. Bad files are reported (naming the file)
-// and left out; the rest is converted. Exit code: 0 = everything converted, 1 = problems reported,
-// the rest converted, 2 = usage error, missing root/split/sequence, or the bag cannot be written.
+// stamps (the package's BagWriter), with a progress bar on stderr. Bad files are reported (naming
+// the file) and left out; the rest is converted. Exit code: 0 = everything converted, 1 = problems
+// reported, the rest converted, 2 = usage error, missing root/split/sequence, or the bag cannot be
+// written.
 // docs/viper_layout.md has the details.
 #include "command_line.h"
 #include "viper/ground_truth/class_table.h"

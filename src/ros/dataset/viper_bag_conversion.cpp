@@ -1,9 +1,11 @@
 #include "viper/ros/dataset/viper_bag_conversion.h"
 
-#include "viper/ros/bridge/replay_timing.h"
+#include "viper/ros/bridge/bag_writer.h"
+#include "viper/ros/pacing/replay_timing.h"
 
-#include <rosbag/bag.h>
 #include <tf2_msgs/TFMessage.h>
+
+#include <boost/make_shared.hpp>
 
 #include <algorithm>
 #include <deque>
@@ -21,33 +23,34 @@ struct Sequence {
   std::vector<uint64_t> frames;
 };
 
-// rosbag's writer, counting what it writes (the counts go into ViperToBagStats).
-class CountingRosbagWriter {
+// The bag's writer, with the connection headers rosbag::Bag::write stored here before (type, md5sum
+// and message_definition; a latched topic's with latching and callerid too), counting what it
+// writes (the counts go into ViperToBagStats).
+class CountingBagWriter {
  public:
-  CountingRosbagWriter(rosbag::Bag& bag, ViperToBagStats& stats) : bag_(bag), stats_(stats) {}
+  CountingBagWriter(BagWriter& bag, ViperToBagStats& stats) : bag_(bag), stats_(stats) {}
   template <typename M>
   void write(const std::string& topic, const ros::Time& t, const boost::shared_ptr<M>& m) {
     if (!m) return;
-    bag_.write(topic, t, m);
-    ++stats_.messages;
-    stats_.message_bytes += ros::serialization::serializationLength(*m);
+    put(topic, t, *m, BagWriter::typeFields(*m));
   }
   template <typename M>
   void writeLatched(const std::string& topic, const ros::Time& t, const M& m) {
-    auto header = boost::make_shared<std::map<std::string, std::string>>();
-    // A connection header of our own must carry what rosbag would otherwise write itself.
-    (*header)["type"] = ros::message_traits::datatype(m);
-    (*header)["md5sum"] = ros::message_traits::md5sum(m);
-    (*header)["message_definition"] = ros::message_traits::definition(m);
-    (*header)["latching"] = "1";
-    (*header)["callerid"] = "/viper_to_bag";
-    bag_.write(topic, t, m, header);
-    ++stats_.messages;
-    stats_.message_bytes += ros::serialization::serializationLength(m);
+    std::map<std::string, std::string> header = BagWriter::typeFields(m);
+    header["latching"] = "1";
+    header["callerid"] = "/viper_to_bag";
+    put(topic, t, m, header);
   }
 
  private:
-  rosbag::Bag& bag_;
+  template <typename M>
+  void put(const std::string& topic, const ros::Time& t, const M& m, const std::map<std::string, std::string>& header) {
+    const uint64_t bytes = bag_.bytes();
+    bag_.writeWithHeader(topic, t, m, header);
+    ++stats_.messages;
+    stats_.message_bytes += bag_.bytes() - bytes;
+  }
+  BagWriter& bag_;
   ViperToBagStats& stats_;
 };
 
@@ -101,21 +104,15 @@ ViperToBagStats convertViperToBag(const ViperToBagOptions& options, const std::s
   }
   if (total == 0) throw std::runtime_error(options.root + "/" + split + ": nothing to convert");
 
-  rosbag::Bag bag;
-  try {
-    bag.open(bag_path, rosbag::bagmode::Write);
-  } catch (const rosbag::BagException& e) {
-    throw std::runtime_error(bag_path + ": cannot write bag: " + e.what());
-  }
-  if (options.compression == "lz4") bag.setCompression(rosbag::compression::LZ4);
-  else if (options.compression == "bz2") bag.setCompression(rosbag::compression::BZ2);
-  else if (options.compression != "none")
+  if (options.compression != "none" && options.compression != "lz4" && options.compression != "bz2")
     throw std::invalid_argument("compression must be none, lz4 or bz2, got '" + options.compression + "'");
+  // Throws std::runtime_error "BAG: cannot write bag: ..." (also while writing, and on close).
+  BagWriter bag(bag_path, options.compression, "/viper_to_bag");
 
   ViperMessageBuilder builder(options.frames, options.classes);
   ViperTopicSelection want;
   want.semantic_color = options.semantic_color && options.classes != nullptr;
-  CountingRosbagWriter out(bag, stats);
+  CountingBagWriter out(bag, stats);
   ReplayTiming timing(0.0, options.start_time);
   double base_s = 0.0, last_s = 0.0;
   auto topic = [](const char* t) { return std::string("/") + t; };
@@ -152,31 +149,27 @@ ViperToBagStats convertViperToBag(const ViperToBagOptions& options, const std::s
       const ros::Time stamp(timing.stampOf(last_s));
       ViperFrameMessages m = builder.build(frame, stamp, want);
       for (const std::string& p : m.problems) report("sequence " + seq.files.seq + ", " + p);
-      try {
-        if (m.map_to_body) {
-          if (i == 0) {
-            tf2_msgs::TFMessage tf_static;
-            tf_static.transforms.push_back(builder.bodyToOptical(stamp));
-            out.writeLatched("/tf_static", stamp, tf_static);
-          }
-          auto tf = boost::make_shared<tf2_msgs::TFMessage>();
-          tf->transforms.push_back(*m.map_to_body);
-          out.write("/tf", stamp, tf);
+      if (m.map_to_body) {
+        if (i == 0) {
+          tf2_msgs::TFMessage tf_static;
+          tf_static.transforms.push_back(builder.bodyToOptical(stamp));
+          out.writeLatched("/tf_static", stamp, tf_static);
         }
-        out.write(topic(viper_topics::kColor), stamp, m.color);
-        out.write(topic(viper_topics::kCameraInfo), stamp, m.camera_info);
-        out.write(topic(viper_topics::kSemantic), stamp, m.semantic);
-        out.write(topic(viper_topics::kSemanticColor), stamp, m.semantic_color);
-        out.write(topic(viper_topics::kInstanceIds), stamp, m.instance_ids);
-        out.write(topic(viper_topics::kInstancesViper), stamp, m.instances_viper);
-        out.write(topic(viper_topics::kFlowForward), stamp, m.flow_forward);
-        out.write(topic(viper_topics::kFlowBackward), stamp, m.flow_backward);
-        out.write(topic(viper_topics::kOdom), stamp, m.odom);
-        out.write(topic(viper_topics::kBoxes), stamp, m.boxes);
-        out.write(topic(viper_topics::kBoxesOptical), stamp, m.boxes_optical);
-      } catch (const rosbag::BagException& e) {
-        throw std::runtime_error(bag_path + ": cannot write bag: " + e.what());
+        auto tf = boost::make_shared<tf2_msgs::TFMessage>();
+        tf->transforms.push_back(*m.map_to_body);
+        out.write("/tf", stamp, tf);
       }
+      out.write(topic(viper_topics::kColor), stamp, m.color);
+      out.write(topic(viper_topics::kCameraInfo), stamp, m.camera_info);
+      out.write(topic(viper_topics::kSemantic), stamp, m.semantic);
+      out.write(topic(viper_topics::kSemanticColor), stamp, m.semantic_color);
+      out.write(topic(viper_topics::kInstanceIds), stamp, m.instance_ids);
+      out.write(topic(viper_topics::kInstancesViper), stamp, m.instances_viper);
+      out.write(topic(viper_topics::kFlowForward), stamp, m.flow_forward);
+      out.write(topic(viper_topics::kFlowBackward), stamp, m.flow_backward);
+      out.write(topic(viper_topics::kOdom), stamp, m.odom);
+      out.write(topic(viper_topics::kBoxes), stamp, m.boxes);
+      out.write(topic(viper_topics::kBoxesOptical), stamp, m.boxes_optical);
       ++stats.frames;
       if (progress) progress(stats.frames, total);
     }

@@ -2,7 +2,8 @@
 // the publisher's connection header (latched where the publisher latches), header.seq numbered per
 // topic as a publisher numbers its messages, each message at its header stamp; an image's pixels
 // start an LZ4 block (bag_player decompresses them straight into its message). Used by
-// capture_to_bag (raw bags) and generate (ground-truth bags). The file is written by
+// capture_to_bag (raw bags), generate (ground-truth bags) and viper_to_bag (which gives connection
+// headers as rosbag::Bag::write stores them: writeWithHeader). The file is written by
 // dataset::BagFileWriter (each message serialised once, straight into its chunk; chunks that do
 // not compress stored as they are); rosbag reads it as its own.
 #pragma once
@@ -45,23 +46,27 @@ class BagWriter {
   /// the bag if it cannot be written.
   template <typename M>
   void writeAt(const std::string& topic, const ros::Time& time, const boost::shared_ptr<M>& msg, bool latched = false) {
-    auto known = connections_.find(topic);
-    if (known == connections_.end()) {
-      const std::map<std::string, std::string> fields = {
-          {"callerid", callerid_},
-          {"latching", latched ? "1" : "0"},
-          {"md5sum", ros::message_traits::md5sum(*msg)},
-          {"message_definition", ros::message_traits::definition(*msg)},
-          {"topic", topic},
-          {"type", ros::message_traits::datatype(*msg)}};
-      known = connections_.emplace(topic, bag_.addConnection(topic, fields)).first;
-    }
-    const uint32_t size = ros::serialization::serializationLength(*msg);
-    uint8_t* out = bag_.beginMessage(known->second, time.sec, time.nsec, size, bulkOffset(*msg, size));
-    ros::serialization::OStream stream(out, size);
-    ros::serialization::serialize(stream, *msg);
-    ++messages_;
-    bytes_ += size;
+    put(topic, time, *msg, [&] {
+      std::map<std::string, std::string> fields = typeFields(*msg);
+      fields["callerid"] = callerid_;
+      fields["latching"] = latched ? "1" : "0";
+      fields["topic"] = topic;
+      return fields;
+    });
+  }
+  /// The same on a connection whose header is `fields` where `topic` has none yet (as
+  /// rosbag::Bag::write with a connection header stores it; without one it stores typeFields()).
+  template <typename M>
+  void writeWithHeader(const std::string& topic, const ros::Time& time, const M& msg,
+                       const std::map<std::string, std::string>& fields) {
+    put(topic, time, msg, [&] { return fields; });
+  }
+  /// A connection header of type, md5sum and message_definition.
+  template <typename M>
+  static std::map<std::string, std::string> typeFields(const M& msg) {
+    return {{"md5sum", ros::message_traits::md5sum(msg)},
+            {"message_definition", ros::message_traits::definition(msg)},
+            {"type", ros::message_traits::datatype(msg)}};
   }
 
   /// Throws std::runtime_error naming the bag if what is left cannot be written.
@@ -70,6 +75,17 @@ class BagWriter {
   uint64_t bytes() const { return bytes_; }
 
  private:
+  template <typename M, typename Fields>
+  void put(const std::string& topic, const ros::Time& time, const M& msg, const Fields& fields) {
+    auto known = connections_.find(topic);
+    if (known == connections_.end()) known = connections_.emplace(topic, bag_.addConnection(topic, fields())).first;
+    const uint32_t size = ros::serialization::serializationLength(msg);
+    uint8_t* out = bag_.beginMessage(known->second, time.sec, time.nsec, size, bulkOffset(msg, size));
+    ros::serialization::OStream stream(out, size);
+    ros::serialization::serialize(stream, msg);
+    ++messages_;
+    bytes_ += size;
+  }
   // Where a message's bulk starts (its last bytes, an image's pixels), for the bag's LZ4 blocks.
   template <typename M>
   static uint32_t bulkOffset(const M&, uint32_t) {

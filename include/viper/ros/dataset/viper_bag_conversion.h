@@ -1,6 +1,6 @@
 // Batch conversion of VIPER's release layout into a bag: the player's messages, topics and stamps,
-// written with the rosbag C++ API as fast as the files can be read. The viper_to_bag command and
-// bench_viper_layout use it. docs/viper_layout.md.
+// written with the package's BagWriter as fast as the files can be read. The viper_to_bag command
+// and bench_viper_layout use it. docs/viper_layout.md.
 #pragma once
 
 #include "viper/ground_truth/class_table.h"

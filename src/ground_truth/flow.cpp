@@ -123,6 +123,17 @@ void checkSameSize(uint32_t a_width, uint32_t a_height, uint32_t b_width, uint32
                                 std::to_string(b_height) + ")");
 }
 
+// The depth in b (clip w times depth_scale) of the near plane of `projection` (clip z = -w, where
+// eye z = -(p23 + p33) / (p22 + p32)), at least 0: the camera plane where a projection defines no
+// near plane in front of the camera (a reversed one, say).
+float nearPlaneDepth(const GlMatrix& projection, double depth_scale) {
+  const double p22 = projection(2, 2), p23 = projection(2, 3), p32 = projection(3, 2), p33 = projection(3, 3);
+  if (p22 + p32 == 0.0) return 0.0f;
+  const double eye_z = -(p23 + p33) / (p22 + p32);
+  const double near = (p32 * eye_z + p33) * depth_scale;
+  return std::isfinite(near) && near > 0.0 ? static_cast<float>(near) : 0.0f;
+}
+
 }  // namespace
 
 FlowFramePixels flowFramePixels(const CaptureFrame& frame) {
@@ -172,6 +183,7 @@ void computeFlow(const FlowFramePixels& a, const FlowFramePixels& b, const std::
     m.kind = DrawMapping::kMissing;
     if (db.projection(3, 2) == 0.0f) continue;
     m.depth_scale_b = -1.0 / db.projection(3, 2);
+    m.near_b = nearPlaneDepth(db.projection, m.depth_scale_b);
     if (!da.deformed_clip_xyzw.empty() || !db.deformed_clip_xyzw.empty()) {
       const MeshRecord* mesh = meshes.find(da.mesh_key);
       const size_t verts = mesh ? mesh->positions_xyz.size() / 3 : 0;
@@ -229,7 +241,8 @@ void computeFlow(const FlowFramePixels& a, const FlowFramePixels& b, const std::
     kernel.scalarPixels(y, ndc_y, x, kernel.width, counts);
   }
   FlowStats stats;
-  stats.rigid = counts.rigid, stats.non_rigid = counts.non_rigid, stats.no_surface = counts.no_surface;
+  stats.rigid = counts.rigid - counts.behind_rigid, stats.non_rigid = counts.non_rigid;
+  stats.no_surface = counts.no_surface, stats.behind_b = counts.behind_rigid + counts.behind_non_rigid;
   stats.no_association = counts.no_assoc, stats.missing_geometry = counts.missing;
   for (size_t id = 1; id < maps.size(); ++id)
     if (maps[id].with_depth > 0) stats.no_depth += maps[id].without_depth;

@@ -41,7 +41,7 @@ struct Avx2Target {
 // (kMetres: each form times the metres). Lanes without a surface get garbage.
 template <bool kMetres>
 VIPER_AVX2_INLINE void rigid8(const DrawMapping& m, const Avx2Target& t, __m256 xf, __m256 yf, __m256 g, __m256& u,
-                              __m256& v, __m256i& q, __m256& limit) {
+                              __m256& v, __m256i& q, __m256& limit, __m256& front) {
   const RowForms& f = m.at_row;
   const __m256 quadratic =
       _mm256_fmadd_ps(_mm256_fmadd_ps(_mm256_set1_ps(f.u2), xf, _mm256_set1_ps(f.u1)), xf, _mm256_set1_ps(f.u0));
@@ -64,8 +64,9 @@ VIPER_AVX2_INLINE void rigid8(const DrawMapping& m, const Avx2Target& t, __m256 
   u = _mm256_mul_ps(u_cw, inv_cw);
   v = _mm256_mul_ps(v_cw, inv_cw);
   const __m256 xb = _mm256_add_ps(u, xf), yb = _mm256_add_ps(v, yf);
+  front = _mm256_cmp_ps(depth, _mm256_set1_ps(m.near_b), _CMP_GT_OQ);
   const __m256 inside = _mm256_and_ps(
-      _mm256_and_ps(_mm256_cmp_ps(depth, zero, _CMP_GT_OQ), _mm256_cmp_ps(xb, minus_half, _CMP_GE_OQ)),
+      _mm256_and_ps(front, _mm256_cmp_ps(xb, minus_half, _CMP_GE_OQ)),
       _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(yb, minus_half, _CMP_GE_OQ), _mm256_cmp_ps(xb, t.x_end, _CMP_LT_OQ)),
                     _mm256_cmp_ps(yb, t.y_end, _CMP_LT_OQ)));
   // Clamped (NaN becomes 0) so that every lane may be looked up, inside or not.
@@ -98,6 +99,11 @@ VIPER_AVX2_INLINE void storeFlow8(__m256 u, __m256 v, __m256 surface, float* uv)
     _mm256_storeu_ps(uv, _mm256_permute2f128_ps(lo, hi, 0x20));
     _mm256_storeu_ps(uv + 8, _mm256_permute2f128_ps(lo, hi, 0x31));
   }
+}
+
+// How many lanes have a surface whose point is not in front of b's near plane (no flow).
+VIPER_AVX2_INLINE int behindLanes(__m256 surface, __m256 front) {
+  return __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(_mm256_andnot_ps(front, surface))));
 }
 
 // Which of 8 depths are a surface: window depth in [0, 1), or metres positive and finite (kMetres).
@@ -161,7 +167,7 @@ VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts&
     // 14.5 -> 12.6 ms at best of 25 runs, 18.3 -> 16.9 ms in the median.
     if (x + 16 <= end && m.kind == DrawMapping::kRigid && allOf16(r.ids + x, want)) {
       m.toRow(y, ndc_y);
-      int with = 0, pixels = 0;
+      int with = 0, pixels = 0, behind = 0;
       do {
         const __m256 d0 = _mm256_loadu_ps(r.depth + x), d1 = _mm256_loadu_ps(r.depth + x + 8);
         const __m256 surface0 = surfaceOf<kMetres>(d0), surface1 = surfaceOf<kMetres>(d1);
@@ -169,16 +175,17 @@ VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts&
                 __builtin_popcount(static_cast<unsigned>(_mm256_movemask_ps(surface1)));
         pixels += 16;
         const __m256 xf1 = _mm256_add_ps(xf, _mm256_set1_ps(8.0f));
-        __m256 u0, v0, limit0, u1, v1, limit1;
+        __m256 u0, v0, limit0, front0, u1, v1, limit1, front1;
         __m256i q0, q1;
-        rigid8<kMetres>(m, t, xf, yf, kMetres ? d0 : _mm256_sub_ps(one, d0), u0, v0, q0, limit0);
-        rigid8<kMetres>(m, t, xf1, yf, kMetres ? d1 : _mm256_sub_ps(one, d1), u1, v1, q1, limit1);
-        storeBlock(r, x, u0, v0, q0, limit0, surface0);
-        storeBlock(r, x + 8, u1, v1, q1, limit1, surface1);
+        rigid8<kMetres>(m, t, xf, yf, kMetres ? d0 : _mm256_sub_ps(one, d0), u0, v0, q0, limit0, front0);
+        rigid8<kMetres>(m, t, xf1, yf, kMetres ? d1 : _mm256_sub_ps(one, d1), u1, v1, q1, limit1, front1);
+        behind += behindLanes(surface0, front0) + behindLanes(surface1, front1);
+        storeBlock(r, x, u0, v0, q0, limit0, _mm256_and_ps(surface0, front0));
+        storeBlock(r, x + 8, u1, v1, q1, limit1, _mm256_and_ps(surface1, front1));
         x += 16, xf = _mm256_add_ps(xf, _mm256_set1_ps(16.0f));
       } while (x + 16 <= end && allOf16(r.ids + x, want));
       m.with_depth += with, m.without_depth += pixels - with;  // as countLanes for a rigid draw
-      blocks.rigid += with, blocks.no_surface += pixels - with;
+      blocks.rigid += with, blocks.no_surface += pixels - with, blocks.behind_rigid += behind;
       continue;
     }
     const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(r.ids + x));
@@ -188,14 +195,16 @@ VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts&
     const __m256 g = kMetres ? d : _mm256_sub_ps(one, d);
     const unsigned first_bits =
         static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(id, want))));
-    __m256 u, v, limit;
+    __m256 u, v, limit, front;
     __m256i q;
     if (first_bits == 0xff && m.kind == DrawMapping::kRigid) {
       FlowKernel::countLanes(m, first_bits, surface_bits, x, r.pending, n_pending, blocks);
       m.toRow(y, ndc_y);
-      rigid8<kMetres>(m, t, xf, yf, g, u, v, q, limit);
+      rigid8<kMetres>(m, t, xf, yf, g, u, v, q, limit, front);
+      blocks.behind_rigid += behindLanes(surface, front);
     } else {
       u = v = limit = nan;
+      front = _mm256_castsi256_ps(_mm256_set1_epi32(-1));  // lanes of other draws: as they are
       q = _mm256_setzero_si256();
       for (unsigned remaining = 0xff; remaining;) {
         const uint32_t draw = r.ids[x + __builtin_ctz(remaining)];
@@ -206,16 +215,18 @@ VIPER_AVX2 int avx2Row(const FlowKernel& k, int y, double ndc_y, int x0, Counts&
         FlowKernel::countLanes(dm, bits, surface_bits, x, r.pending, n_pending, blocks);
         if (dm.kind != DrawMapping::kRigid) continue;
         dm.toRow(y, ndc_y);
-        __m256 du, dv, dlimit;
+        __m256 du, dv, dlimit, dfront;
         __m256i dq;
-        rigid8<kMetres>(dm, t, xf, yf, g, du, dv, dq, dlimit);
+        rigid8<kMetres>(dm, t, xf, yf, g, du, dv, dq, dlimit, dfront);
+        blocks.behind_rigid += behindLanes(_mm256_and_ps(surface, lanes), dfront);
+        front = _mm256_blendv_ps(front, dfront, lanes);
         u = _mm256_blendv_ps(u, du, lanes);
         v = _mm256_blendv_ps(v, dv, lanes);
         limit = _mm256_blendv_ps(limit, dlimit, lanes);
         q = _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(q), _mm256_castsi256_ps(dq), lanes));
       }
     }
-    storeBlock(r, x, u, v, q, limit, surface);
+    storeBlock(r, x, u, v, q, limit, _mm256_and_ps(surface, front));
     x += 8, xf = _mm256_add_ps(xf, _mm256_set1_ps(8.0f));
   }
   for (int x = x0; x < end; x += 8) {

@@ -42,7 +42,7 @@ struct Avx512Target {
 // least depth of b there that does not hide the point (NaN where the point is outside b).
 template <bool kMetres>
 VIPER_AVX512_INLINE void rigid16(const DrawMapping& m, const Avx512Target& t, __m512 xf, __m512 yf, __m512 g,
-                                 __m512& u, __m512& v, __m512i& q, __m512& limit) {
+                                 __m512& u, __m512& v, __m512i& q, __m512& limit, __mmask16& front) {
   const RowForms& f = m.at_row;
   const __m512 quadratic =
       _mm512_fmadd_ps(_mm512_fmadd_ps(_mm512_set1_ps(f.u2), xf, _mm512_set1_ps(f.u1)), xf, _mm512_set1_ps(f.u0));
@@ -65,7 +65,8 @@ VIPER_AVX512_INLINE void rigid16(const DrawMapping& m, const Avx512Target& t, __
   u = _mm512_mul_ps(u_cw, inv_cw);
   v = _mm512_mul_ps(v_cw, inv_cw);
   const __m512 xb = _mm512_add_ps(u, xf), yb = _mm512_add_ps(v, yf);
-  const __mmask16 inside = _mm512_cmp_ps_mask(depth, zero, _CMP_GT_OQ) & _mm512_cmp_ps_mask(xb, minus_half, _CMP_GE_OQ) &
+  front = _mm512_cmp_ps_mask(depth, _mm512_set1_ps(m.near_b), _CMP_GT_OQ);
+  const __mmask16 inside = front & _mm512_cmp_ps_mask(xb, minus_half, _CMP_GE_OQ) &
                            _mm512_cmp_ps_mask(yb, minus_half, _CMP_GE_OQ) & _mm512_cmp_ps_mask(xb, t.x_end, _CMP_LT_OQ) &
                            _mm512_cmp_ps_mask(yb, t.y_end, _CMP_LT_OQ);
   // Clamped (NaN becomes 0: max returns its second operand) so that every lane may be looked up.
@@ -125,12 +126,15 @@ VIPER_AVX512 int avx512Row(const FlowKernel& k, int y, double ndc_y, int x0, Cou
     const unsigned first_bits = _mm512_cmpeq_epi32_mask(id, _mm512_set1_epi32(static_cast<int>(first)));
     __m512 u, v, limit;
     __m512i q;
+    __mmask16 front;
     if (first_bits == 0xffff && m.kind == DrawMapping::kRigid) {
       FlowKernel::countLanes(m, first_bits, surface_bits, x, r.pending, n_pending, blocks);
       m.toRow(y, ndc_y);
-      rigid16<kMetres>(m, t, xf, yf, g, u, v, q, limit);
+      rigid16<kMetres>(m, t, xf, yf, g, u, v, q, limit, front);
+      blocks.behind_rigid += __builtin_popcount(surface_bits & ~static_cast<unsigned>(front) & 0xffffu);
     } else {
       u = v = limit = nan;
+      front = 0xffff;  // lanes of other draws: as they are
       q = _mm512_setzero_si512();
       for (unsigned remaining = 0xffff; remaining;) {
         const uint32_t draw = r.ids[x + __builtin_ctz(remaining)];
@@ -143,14 +147,17 @@ VIPER_AVX512 int avx512Row(const FlowKernel& k, int y, double ndc_y, int x0, Cou
         dm.toRow(y, ndc_y);
         __m512 du, dv, dlimit;
         __m512i dq;
-        rigid16<kMetres>(dm, t, xf, yf, g, du, dv, dq, dlimit);
+        __mmask16 dfront;
+        rigid16<kMetres>(dm, t, xf, yf, g, du, dv, dq, dlimit, dfront);
+        blocks.behind_rigid += __builtin_popcount(surface_bits & bits & ~static_cast<unsigned>(dfront) & 0xffffu);
+        front = static_cast<__mmask16>((front & ~bits) | (dfront & bits));
         u = _mm512_mask_blend_ps(lanes, u, du);
         v = _mm512_mask_blend_ps(lanes, v, dv);
         limit = _mm512_mask_blend_ps(lanes, limit, dlimit);
         q = _mm512_mask_blend_epi32(lanes, q, dq);
       }
     }
-    storeFlow16(u, v, surface, r.uv + 2 * x);
+    storeFlow16(u, v, surface & front, r.uv + 2 * x);
     _mm512_storeu_si512(r.q + x, q);
     _mm512_storeu_ps(r.limit + x, _mm512_mask_blend_ps(surface, nan, limit));
   }

@@ -59,6 +59,9 @@ struct DrawMapping {
   const std::vector<float>* clip_a = nullptr;
   const std::vector<float>* clip_b = nullptr;
   double depth_scale_b = 1.0;  // clip w -> metres along b's optical axis
+  // b's near plane (clip z = -w) as a depth in b, at least 0: a point at or before it has no flow
+  // (b's camera cannot image it; its projection runs off to infinity at the camera plane).
+  float near_b = 0.0f;
   // Non-rigid: the last triangle looked up (nonRigidClip), for the pixels after it in the row that
   // lie in it too: the rows of adj(M) and b's vertices, or none (the triangle maps nothing).
   struct Triangle {
@@ -139,7 +142,9 @@ __attribute__((always_inline)) inline std::optional<Eigen::Vector4d> nonRigidCli
 }
 
 struct Counts {
-  size_t rigid = 0, non_rigid = 0, no_surface = 0, no_assoc = 0, missing = 0;
+  // rigid includes behind_rigid: the rigid pixels with a surface whose point is not in front of
+  // b's near plane (no flow); non_rigid excludes behind_non_rigid.
+  size_t rigid = 0, non_rigid = 0, no_surface = 0, no_assoc = 0, missing = 0, behind_rigid = 0, behind_non_rigid = 0;
 };
 
 const float kInfinity = std::numeric_limits<float>::infinity();
@@ -197,8 +202,11 @@ struct FlowKernel {
     return {ids + row, depth_a + row, uv + 2 * row, visible + row, row_q, row_pending, row_limit, maps, n_draws};
   }
 
-  // Writes pixel p = (x, y) of a rigid draw, which must be at row y; returns whether it has a surface.
-  bool rigidPixel(DrawMapping& m, int x, int y, size_t p) const {
+  // What rigidFrom made of a pixel.
+  enum RigidResult { kNoSurface, kFlow, kBehind };
+
+  // Writes pixel p = (x, y) of a rigid draw, which must be at row y.
+  RigidResult rigidPixel(DrawMapping& m, int x, int y, size_t p) const {
     const float d = depth_a[p];
     const bool surface = hasSurface(d, metres);
     ++(surface ? m.with_depth : m.without_depth);
@@ -208,7 +216,7 @@ struct FlowKernel {
   // The same from g: e = 1 - window depth with forms in e, or metres with forms in 1 / metres
   // (kMetres).
   template <bool kMetres>
-  bool rigidFrom(const DrawMapping& m, int x, int y, size_t p, float g, bool surface) const {
+  RigidResult rigidFrom(const DrawMapping& m, int x, int y, size_t p, float g, bool surface) const {
     const RowForms& f = m.at_row;
     const float xf = static_cast<float>(x);
     float u_cw, v_cw, cw, co;
@@ -225,22 +233,29 @@ struct FlowKernel {
     const float inv_cw = co * r, depth = cw * (cw * r);
     const float u = u_cw * inv_cw, v = v_cw * inv_cw;
     const float xb = u + xf, yb = v + static_cast<float>(y);
+    const bool front = depth > m.near_b, flow = surface && front;
     bool seen = false;
-    if (depth > 0.0f && xb >= -0.5f && yb >= -0.5f && xb < width - 0.5f && yb < height - 0.5f) {
+    if (front && xb >= -0.5f && yb >= -0.5f && xb < width - 0.5f && yb < height - 0.5f) {
       const size_t q = static_cast<size_t>(yb + 0.5f) * width + static_cast<size_t>(xb + 0.5f);
       // NaN in b's depth (no surface) counts as visible: nothing is in front of the point.
       seen = !(depth_b[q] < depth * occ_rel - occ_abs);
     }
-    uv[2 * p] = surface ? u : kNaN;
-    uv[2 * p + 1] = surface ? v : kNaN;
-    visible[p] = surface && seen ? 255 : 0;
-    return surface;
+    uv[2 * p] = flow ? u : kNaN;
+    uv[2 * p + 1] = flow ? v : kNaN;
+    visible[p] = flow && seen ? 255 : 0;
+    return flow ? kFlow : surface ? kBehind : kNoSurface;
+  }
+
+  // Counts a rigid pixel as rigidFrom left it (see Counts).
+  static void countRigid(RigidResult r, Counts& n) {
+    ++(r == kNoSurface ? n.no_surface : n.rigid);
+    n.behind_rigid += r == kBehind;
   }
 
   // Whether a point at (xb, yb) in b's pixel coordinates and `depth` metres in front of b's camera
-  // is inside b and not behind b's depth there.
+  // (beyond its near plane) is inside b and not behind b's depth there.
   uint8_t visibleAt(double xb, double yb, double depth) const {
-    if (!(depth > 0.0 && xb >= -0.5 && yb >= -0.5 && xb < width - 0.5 && yb < height - 0.5)) return 0;
+    if (!(xb >= -0.5 && yb >= -0.5 && xb < width - 0.5 && yb < height - 0.5)) return 0;
     const size_t q = static_cast<size_t>(yb + 0.5) * width + static_cast<size_t>(xb + 0.5);
     return !(depth_b[q] < depth * occ_rel - occ_abs) ? 255 : 0;
   }
@@ -263,7 +278,7 @@ struct FlowKernel {
       const bool surface = d < 1.0f;
       ++(surface ? m.with_depth : m.without_depth);
       m.toRow(y, ndc_y);
-      ++(rigidFrom<false>(m, x, y, p, 1.0f - d, surface) ? n.rigid : n.no_surface);
+      countRigid(rigidFrom<false>(m, x, y, p, 1.0f - d, surface), n);
       return;
     }
     const bool surface = hasSurface(depth_a[p], metres);
@@ -275,6 +290,11 @@ struct FlowKernel {
       ++(m.kind == DrawMapping::kNone ? n.no_assoc : n.missing);
       undefined(p);
     } else if (auto clip_b = nonRigidClip(m, primitives[p], 2.0 * (x + 0.5) / width - 1.0, ndc_y)) {
+      if (!(clip_b->w() * m.depth_scale_b > m.near_b)) {
+        ++n.behind_non_rigid;
+        undefined(p);
+        return;
+      }
       const double inv_w = 1.0 / clip_b->w();
       const double xb = (clip_b->x() * inv_w + 1.0) * 0.5 * width - 0.5;
       const double yb = (1.0 - clip_b->y() * inv_w) * 0.5 * height - 0.5;
@@ -295,10 +315,7 @@ struct FlowKernel {
       DrawMapping& m = mappingOf(ids[row + x]);
       if (m.kind == DrawMapping::kRigid) {
         m.toRow(y, ndc_y);
-        if (rigidPixel(m, x, y, row + x))
-          ++n.rigid;
-        else
-          ++n.no_surface;
+        countRigid(rigidPixel(m, x, y, row + x), n);
       } else {
         otherPixel(m, x, y, ndc_y, n);
       }
@@ -347,6 +364,8 @@ struct FlowKernel {
     n.no_surface += blocks.no_surface + others.no_surface;
     n.no_assoc += blocks.no_assoc;
     n.missing += blocks.missing + others.missing;
+    n.behind_rigid += blocks.behind_rigid + others.behind_rigid;
+    n.behind_non_rigid += others.behind_non_rigid;
   }
 
 #ifdef VIPER_X86

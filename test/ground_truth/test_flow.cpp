@@ -100,6 +100,70 @@ TEST(Flow, EveryInstructionPathGivesTheSameFlow) {
   EXPECT_EQ(avx512_stats.no_surface, avx2_stats.no_surface);
 }
 
+// Camera b stands in the square, looking as a looks: the half of the square behind b's near plane
+// has no flow in any path (its projection runs off to infinity at the camera plane), and is counted
+// as such; the half in front keeps its analytic flow.
+TEST(Flow, PointsNotInFrontOfTheOtherCamerasNearPlaneHaveNoFlow) {
+  RigidCase c(29);
+  const Eigen::Vector3d eye(0, 0, 1), ahead = eye + (Eigen::Vector3d(0, 0, 0.5) - Eigen::Vector3d(-6, -1, 2));
+  c.view_b = glLookAt(eye, ahead);
+  c.world_b = c.world_a;
+  c.b.draws[0].view = c.view_b, c.b.draws[0].world = c.world_b;
+  const double near = 0.1;  // RigidCase's projection
+  const std::vector<float> depth_b(c.w * kH, std::numeric_limits<float>::quiet_NaN());
+  size_t behind = 0, in_front = 0;
+  std::vector<bool> expect_flow(c.w * kH, false);
+  for (int y = 0; y < int(kH); ++y)
+    for (int x = 0; x < int(c.w); ++x)
+      if (auto hit = c.cast(c.view_a, c.world_a, x, y)) {
+        const double depth = -(c.view_b.cast<double>() * hit->homogeneous()).z();
+        if (std::abs(depth - near) < 1e-3) continue;  // too close to call in float
+        (depth > near ? in_front : behind)++;
+        expect_flow[y * c.w + x] = depth > near;
+      }
+  ASSERT_GT(behind, 100u);
+  ASSERT_GT(in_front, 100u);
+  std::vector<FlowInstructions> paths = {FlowInstructions::kScalar};
+  if (flowInstructionsUsed(FlowInstructions::kAvx2) == FlowInstructions::kAvx2) paths.push_back(FlowInstructions::kAvx2);
+  if (flowInstructionsUsed(FlowInstructions::kAvx512) == FlowInstructions::kAvx512)
+    paths.push_back(FlowInstructions::kAvx512);
+  for (FlowInstructions path : paths) {
+    SCOPED_TRACE(static_cast<int>(path));
+    FlowOptions options;
+    options.instructions = path;
+    FlowStats stats;
+    const FlowField f = computeFlow(c.a, c.b, {0}, depth_b, MeshRegistry(), options, &stats);
+    size_t wrong = 0, worst_far = 0;
+    double worst = 0;
+    for (int y = 0; y < int(kH); ++y)
+      for (int x = 0; x < int(c.w); ++x) {
+        const size_t p = y * c.w + x;
+        auto hit = c.cast(c.view_a, c.world_a, x, y);
+        if (!hit) continue;
+        const double depth = -(c.view_b.cast<double>() * hit->homogeneous()).z();
+        if (std::abs(depth - near) < 1e-3) continue;
+        wrong += std::isnan(f.uv[2 * p]) == expect_flow[p];
+        if (expect_flow[p]) {
+          EXPECT_FALSE(std::isnan(f.uv[2 * p + 1]));
+        } else {
+          EXPECT_TRUE(std::isnan(f.uv[2 * p + 1]));
+          EXPECT_EQ(f.visible[p], 0);
+        }
+        if (!expect_flow[p] || depth < 1.0) continue;  // near the plane a float's rounding is many pixels
+        const Eigen::Vector2d target = projectPixel(c.proj, c.view_b, *hit, c.w);
+        const double error = (Eigen::Vector2d(f.uv[2 * p], f.uv[2 * p + 1]) - (target - Eigen::Vector2d(x, y))).norm();
+        worst = std::max(worst, error);
+        ++worst_far;
+      }
+    EXPECT_EQ(wrong, 0u) << "pixels whose flow is defined where the point is behind b's near plane, or the reverse";
+    EXPECT_GT(worst_far, 20u);
+    EXPECT_LT(worst, 1e-2) << "worst endpoint error (px) at 1 m or more in front of b";
+    EXPECT_GE(stats.behind_b, behind);
+    EXPECT_LE(stats.behind_b, behind + (c.a.draw_ids.size() - behind - in_front));
+    EXPECT_EQ(stats.rigid + stats.behind_b + stats.no_surface, c.a.draw_ids.size());
+  }
+}
+
 TEST(Flow, ForwardThenBackwardReturnsToThePixel) {
   RigidCase c;
   std::vector<float> depth_a(kW * kH, std::numeric_limits<float>::quiet_NaN());

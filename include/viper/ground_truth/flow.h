@@ -24,7 +24,7 @@ std::vector<int32_t> associateDraws(const CaptureFrame& a, const std::vector<int
 struct FlowField {
   uint32_t width = 0, height = 0;
   /// Interleaved (u, v) in pixels (u right, v down); NaN where undefined (no surface, no
-  /// association, missing geometry).
+  /// association, missing geometry, the point not in front of b's near plane).
   std::vector<float> uv;
   /// 255 where the corresponding point is visible in frame b (inside it and not behind b's depth),
   /// 0 where it is occluded, out of view or undefined.
@@ -37,6 +37,10 @@ struct FlowStats {
   size_t no_surface = 0;             ///< no draw, or no depth
   size_t no_association = 0;         ///< the draw has no counterpart in frame b
   size_t missing_geometry = 0;       ///< deformed draw without positions / mesh, or singular matrices
+  /// Pixels whose surface point is not in front of b's near plane (b's camera passed it, or is
+  /// about to): b's camera cannot image the point, and its projection runs off to infinity at the
+  /// camera plane (a SuperTuxKart kart passing a wall gave flows of 65,520 px and more).
+  size_t behind_b = 0;
   /// Pixels of a draw without depth (not in [0, 1) as window depth; not positive and finite as
   /// metres, or no projection to read them with) where the same draw has depth elsewhere: a draw
   /// with none at all is a background (a sky), not an error. Also counted in no_surface.

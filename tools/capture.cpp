@@ -105,6 +105,12 @@ std::string findVulkanLayerFolder() {
   return "";
 }
 
+// $name set to `value` for the layer, or unset where `value` is empty (the layer's default then).
+void setOrUnsetEnv(const char* name, const std::string& value) {
+  if (!value.empty()) setenv(name, value.c_str(), 1);
+  else unsetenv(name);
+}
+
 std::string absolute(const std::string& path) {
   if (path.empty() || path[0] == '/') return path;
   char cwd[PATH_MAX];
@@ -356,24 +362,16 @@ int main(int argc, char** argv) {
   unsetenv("VIPER_CAPTURE_CLAIMED_BY");
   setenv("VIPER_CAPTURE_OUTPUT", absolute(output).c_str(), 1);
   setenv("VIPER_CAPTURE_PROGRAM", argv[i], 1);
-  if (!profile.empty()) setenv("VIPER_CAPTURE_PROFILE", absolute(profile).c_str(), 1);
-  else unsetenv("VIPER_CAPTURE_PROFILE");
+  setOrUnsetEnv("VIPER_CAPTURE_PROFILE", absolute(profile));
   setenv("VIPER_CAPTURE_CONDITION", condition.c_str(), 1);
-  if (!frames.empty()) setenv("VIPER_CAPTURE_FRAMES", frames.c_str(), 1);
-  else unsetenv("VIPER_CAPTURE_FRAMES");
-  if (!fps.empty()) setenv("VIPER_CAPTURE_FPS", fps.c_str(), 1);
-  else unsetenv("VIPER_CAPTURE_FPS");
-  if (!skip.empty()) setenv("VIPER_CAPTURE_SKIP", skip.c_str(), 1);
-  else unsetenv("VIPER_CAPTURE_SKIP");
+  setOrUnsetEnv("VIPER_CAPTURE_FRAMES", frames);
+  setOrUnsetEnv("VIPER_CAPTURE_FPS", fps);
+  setOrUnsetEnv("VIPER_CAPTURE_SKIP", skip);
   setenv("VIPER_CAPTURE_START_ON_SCENE", start_on_scene ? "1" : "0", 1);
-  if (!codec.empty()) setenv("VIPER_CAPTURE_CODEC", codec.c_str(), 1);
-  else unsetenv("VIPER_CAPTURE_CODEC");
-  if (!zstd_level.empty()) setenv("VIPER_CAPTURE_ZSTD_LEVEL", zstd_level.c_str(), 1);
-  else unsetenv("VIPER_CAPTURE_ZSTD_LEVEL");
-  if (!writer_threads.empty()) setenv("VIPER_CAPTURE_WRITER_THREADS", writer_threads.c_str(), 1);
-  else unsetenv("VIPER_CAPTURE_WRITER_THREADS");
-  if (!readback.empty()) setenv("VIPER_CAPTURE_READBACK", readback.c_str(), 1);
-  else unsetenv("VIPER_CAPTURE_READBACK");
+  setOrUnsetEnv("VIPER_CAPTURE_CODEC", codec);
+  setOrUnsetEnv("VIPER_CAPTURE_ZSTD_LEVEL", zstd_level);
+  setOrUnsetEnv("VIPER_CAPTURE_WRITER_THREADS", writer_threads);
+  setOrUnsetEnv("VIPER_CAPTURE_READBACK", readback);
 
   // The layer's report of a capture that failed while the program ran (read without blocking:
   // the program's own children may keep the write end open).

@@ -44,6 +44,14 @@ void copyDrawFields(const From& from, To& to) {
   to.deformed_clip_xyzw = from.deformed_clip_xyzw;
 }
 
+// The same for a MeshRecord and a Mesh message.
+template <typename From, typename To>
+void copyMeshFields(const From& from, To& to) {
+  to.key = from.key;
+  to.positions_xyz = from.positions_xyz;
+  to.indices = from.indices;
+}
+
 void checkSize(const CaptureFrame& frame, size_t have, size_t per_pixel, const char* what) {
   if (have != frame.pixelCount() * per_pixel) {
     std::ostringstream msg;
@@ -93,17 +101,13 @@ void fromDrawListMsg(const DrawList& msg, CaptureFrame& frame) {
 
 Mesh toMeshMsg(const MeshRecord& mesh) {
   Mesh msg;
-  msg.key = mesh.key;
-  msg.positions_xyz = mesh.positions_xyz;
-  msg.indices = mesh.indices;
+  copyMeshFields(mesh, msg);
   return msg;
 }
 
 MeshRecord fromMeshMsg(const Mesh& msg) {
   MeshRecord mesh;
-  mesh.key = msg.key;
-  mesh.positions_xyz = msg.positions_xyz;
-  mesh.indices = msg.indices;
+  copyMeshFields(msg, mesh);
   return mesh;
 }
 

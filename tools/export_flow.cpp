@@ -9,10 +9,9 @@
 #include "viper/dataset/middlebury_flo.h"
 #include "viper/dataset/viper_flow.h"
 #include "viper/dataset/viper_layout.h"
+#include "viper/ros/bridge/bag_reader.h"
 #include "viper/ros/conversions/flow_conversions.h"
 
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 
@@ -24,6 +23,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -53,30 +53,27 @@ std::string stampText(const ros::Time& t) {
 
 // The header stamps of the messages of `topic`, in bag order, each mapped to its index. The
 // header is read from the serialized bytes, so any message type that starts with one will do.
-bool frameStamps(const rosbag::Bag& bag, const std::string& topic, std::map<ros::Time, uint64_t>& frames,
+bool frameStamps(const std::string& path, const std::string& topic, std::map<ros::Time, uint64_t>& frames,
                  std::string& error) {
-  rosbag::View view(bag, rosbag::TopicQuery(topic));
+  viper::BagReader view(path, {topic});
   if (view.size() == 0) {
     error = "has no messages on " + topic;
     return false;
   }
-  for (const auto* c : view.getConnections()) {
-    std::istringstream def(c->msg_def);
+  for (const auto* c : view.connections()) {
+    std::istringstream def(c->field("message_definition"));
     std::string line;
     while (std::getline(def, line) && (line.empty() || line[0] == '#')) {
     }
     if (line.rfind("Header header", 0) != 0 && line.rfind("std_msgs/Header header", 0) != 0) {
-      error = "carries " + c->datatype + " on " + topic + ", which has no header stamp";
+      error = "carries " + c->field("type") + " on " + topic + ", which has no header stamp";
       return false;
     }
   }
-  std::vector<uint8_t> buffer;
   uint64_t index = 0;
-  for (const rosbag::MessageInstance& m : view) {
-    buffer.resize(m.size());
-    ros::serialization::OStream out(buffer.data(), static_cast<uint32_t>(buffer.size()));
-    m.write(out);
-    ros::serialization::IStream in(buffer.data(), static_cast<uint32_t>(buffer.size()));
+  viper::BagReadMessage m;
+  while (view.next(m)) {
+    ros::serialization::IStream in(const_cast<uint8_t*>(m.data()), m.size());
     uint32_t seq = 0;
     ros::Time stamp;
     ros::serialization::deserialize(in, seq);
@@ -108,25 +105,25 @@ class Progress {
 };
 
 int run(const Options& o) {
-  rosbag::Bag bag;
+  std::unique_ptr<viper::BagReader> bag;
   try {
-    bag.open(o.bag, rosbag::bagmode::Read);
-  } catch (const rosbag::BagException& e) {
-    std::cerr << "export_flow: cannot open bag " << o.bag << ": " << e.what() << "\n";
+    bag = std::make_unique<viper::BagReader>(o.bag, std::set<std::string>{o.topic});
+  } catch (const viper::BagReadError& e) {
+    std::cerr << "export_flow: cannot open bag " << o.bag << ": " << e.problem() << "\n";
     return 2;
   }
-  rosbag::View view(bag, rosbag::TopicQuery(o.topic));
+  viper::BagReader& view = *bag;
   if (view.size() == 0) {
     std::set<std::string> topics;
-    for (const auto* c : rosbag::View(bag).getConnections()) topics.insert(c->topic + " (" + c->datatype + ")");
+    for (const auto* c : view.bagConnections()) topics.insert(c->topic + " (" + c->field("type") + ")");
     std::cerr << "export_flow: " << o.bag << " has no messages on " << o.topic << "; its topics:";
     for (const auto& t : topics) std::cerr << "\n  " << t;
     std::cerr << "\n";
     return 2;
   }
-  for (const auto* c : view.getConnections())
-    if (c->datatype != "sensor_msgs/Image") {
-      std::cerr << "export_flow: " << o.topic << " in " << o.bag << " carries " << c->datatype
+  for (const auto* c : view.connections())
+    if (c->field("type") != "sensor_msgs/Image") {
+      std::cerr << "export_flow: " << o.topic << " in " << o.bag << " carries " << c->field("type")
                 << ", expected sensor_msgs/Image (32FC2)\n";
       return 2;
     }
@@ -134,7 +131,7 @@ int run(const Options& o) {
   std::map<ros::Time, uint64_t> frames;
   if (!o.frames_from.empty()) {
     std::string error;
-    if (!frameStamps(bag, o.frames_from, frames, error)) {
+    if (!frameStamps(o.bag, o.frames_from, frames, error)) {
       std::cerr << "export_flow: " << o.bag << " " << error << " (--frames-from)\n";
       return 2;
     }
@@ -157,12 +154,13 @@ int run(const Options& o) {
   Progress progress(view.size());
   size_t index = 0, written = 0, skipped = 0;
   FlowImage flow;
-  for (const rosbag::MessageInstance& m : view) {
+  viper::BagReadMessage m;
+  while (view.next(m)) {
     const uint64_t message = index++;
     uint64_t frame = o.first_frame + message;
     bool frame_known = frames.empty();
     std::string problem;
-    ros::Time stamp = m.getTime();
+    ros::Time stamp = m.time();
     try {
       const sensor_msgs::Image::ConstPtr image = m.instantiate<sensor_msgs::Image>();
       if (image == nullptr) problem = "not a sensor_msgs/Image";
@@ -251,7 +249,10 @@ int main(int argc, char** argv) {
   }
   try {
     return run(o);
-  } catch (const std::exception& e) {  // a damaged bag: rosbag throws while iterating
+  } catch (const viper::BagReadError& e) {  // a damaged bag (what() names it)
+    std::cerr << "\nexport_flow: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
     std::cerr << "\nexport_flow: " << o.bag << ": " << e.what() << "\n";
     return 2;
   }

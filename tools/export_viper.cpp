@@ -1,4 +1,4 @@
-// export_viper: writes ground truth into VIPER's release layout, from a bag (rosbag C++ API) or from
+// export_viper: writes ground truth into VIPER's release layout, from a bag (viper::BagReader) or from
 // live topics (--live, a ROS node): img, cls, inst, flow, flowbw, bb and the camera file. Frame
 // numbers follow the header stamps of a reference topic (the camera image by default). Bad messages
 // are reported (topic, stamp, what is wrong) and skipped; the rest is exported. Exit code: 0 =
@@ -8,14 +8,12 @@
 #include "viper/ground_truth/class_table.h"
 #include "viper/dataset/viper_layout.h"
 #include "viper/ros/dataset/export_roles.h"
-#include "viper/ros/dataset/live_exporter.h"
 #include "viper/ros/dataset/viper_exporter.h"
+#include "viper/ros/dataset/viper_exporter_node.h"
 #include "viper_progress.h"
 
 #include <ros/package.h>
 #include <ros/ros.h>
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -61,15 +59,14 @@ std::string setTopics(const std::vector<std::string>& role_topics, Options& o) {
 const ExportRole& role(const Options& o, const std::string& name) { return viper::exportRole(o.roles, name); }
 
 int exportBag(Options& o) {
-  rosbag::Bag bag;
+  std::map<std::string, std::string> types;  // topic -> datatype
   try {
-    bag.open(o.bag, rosbag::bagmode::Read);
-  } catch (const rosbag::BagException& e) {
-    std::cerr << "export_viper: cannot open bag " << o.bag << ": " << e.what() << "\n";
+    const viper::BagReader bag(o.bag);
+    for (const auto* c : bag.bagConnections()) types[c->topic] = c->field("type");
+  } catch (const viper::BagReadError& e) {
+    std::cerr << "export_viper: cannot open bag " << o.bag << ": " << e.problem() << "\n";
     return 2;
   }
-  std::map<std::string, std::string> types;  // topic -> datatype
-  for (const auto* c : rosbag::View(bag).getConnections()) types[c->topic] = c->datatype;
   std::map<std::string, std::string> role_of;  // topic -> role
   for (ExportRole& r : o.roles) {
     if (r.topic.empty() || !types.count(r.topic)) continue;
@@ -109,8 +106,9 @@ int exportBag(Options& o) {
   }
   std::set<ros::Time> stamps;
   {
-    rosbag::View ref(bag, rosbag::TopicQuery(reference));
-    for (const rosbag::MessageInstance& m : ref) {
+    viper::BagReader ref(o.bag, {reference});
+    viper::BagReadMessage m;
+    while (ref.next(m)) {
       ros::Time stamp;
       ExportDispatch ignored;
       const std::string datatype = types[reference];
@@ -131,9 +129,9 @@ int exportBag(Options& o) {
     std::cerr << "export_viper: " << e.what() << "\n";
     return 2;
   }
-  std::vector<std::string> topics;
-  for (const auto& [t, r] : role_of) topics.push_back(t);
-  rosbag::View view(bag, rosbag::TopicQuery(topics));
+  std::set<std::string> topics;
+  for (const auto& [t, r] : role_of) topics.insert(t);
+  viper::BagReader view(o.bag, topics);
   viper_tools::ProgressBar bar("export_viper", view.size(), "messages");
   size_t done = 0, notes = 0;
   auto note = [&](const std::string& text) {
@@ -142,14 +140,15 @@ int exportBag(Options& o) {
     ++notes;
   };
   try {
-    for (const rosbag::MessageInstance& m : view) {
+    viper::BagReadMessage m;
+    while (view.next(m)) {
       ++done;
-      const std::string& r = role_of[m.getTopic()];
-      ros::Time stamp = m.getTime();
+      const std::string& r = role_of[m.topic()];
+      ros::Time stamp = m.time();
       ExportDispatch dispatch;
       std::string problem;
       try {
-        if (!viper::exportDispatchFromBag(r, m.getDataType(), m, stamp, dispatch)) problem = "cannot be read as " + m.getDataType();
+        if (!viper::exportDispatchFromBag(r, m.datatype(), m, stamp, dispatch)) problem = "cannot be read as " + m.datatype();
       } catch (const std::exception& e) {
         problem = std::string("cannot be read: ") + e.what();
       }
@@ -158,7 +157,7 @@ int exportBag(Options& o) {
         problem = "its stamp is not among the " + std::to_string(frame_of.size()) + " stamps of " + reference;
       if (problem.empty()) problem = dispatch(*exporter, frame->second);
       if (!problem.empty())
-        note("skipping " + m.getTopic() + " at stamp " + stampText(stamp) +
+        note("skipping " + m.topic() + " at stamp " + stampText(stamp) +
              (frame != frame_of.end() ? " (frame " + std::to_string(frame->second) + ")" : "") + ": " + problem);
       bar.update(done);
     }
@@ -260,6 +259,9 @@ int main(int argc, char** argv) {
   if (!o.live) {
     try {
       return exportBag(o);
+    } catch (const viper::BagReadError& e) {  // a damaged bag (what() names it)
+      std::cerr << "\nexport_viper: " << e.what() << "\n";
+      return 2;
     } catch (const std::exception& e) {
       std::cerr << "\nexport_viper: " << o.bag << ": " << e.what() << "\n";
       return 2;
@@ -272,7 +274,7 @@ int main(int argc, char** argv) {
   config.frames_from = o.frames_from;
   config.camera = o.camera;
   config.first_frame = o.first_frame;
-  viper::LiveExporter live(ros::NodeHandle(), config);
+  viper::ViperExporterNode live(ros::NodeHandle(), config);
   if (!live.start()) return 2;
   ros::spin();
   const int code = live.finish();

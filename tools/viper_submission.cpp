@@ -7,11 +7,10 @@
 // some skipped, the rest written, 2 = usage, bag or write error. docs/evaluate.md has the details.
 #include "command_line.h"
 #include "viper/dataset/viper_submission.h"
+#include "viper/ros/bridge/bag_reader.h"
 #include "viper/ros/conversions/flow_conversions.h"
 #include "viper/ros/evaluation/evaluate_inputs.h"
 
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <viper/DrawList.h>
 
@@ -19,6 +18,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 
@@ -92,25 +92,27 @@ struct Frames {
   uint32_t width = 0, height = 0;
 };
 
-bool openBag(rosbag::Bag& bag, const std::string& path, const char* what) {
+// The bag at `path` for `topics` (null: an error, said).
+std::unique_ptr<viper::BagReader> openBag(const std::string& path, const std::set<std::string>& topics,
+                                          const char* what) {
   try {
-    bag.open(path, rosbag::bagmode::Read);
-    return true;
-  } catch (const rosbag::BagException& e) {
-    std::cerr << "viper_submission: cannot open " << what << " " << path << ": " << e.what() << "\n";
-    return false;
+    return std::make_unique<viper::BagReader>(path, topics);
+  } catch (const viper::BagReadError& e) {
+    std::cerr << "viper_submission: cannot open " << what << " " << path << ": " << e.problem() << "\n";
+    return nullptr;
   }
 }
 
 bool readFrames(const Options& o, Frames& f) {
-  rosbag::Bag bag;
-  if (!openBag(bag, o.frames, "the ground-truth bag")) return false;
-  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(o.draws)))
+  std::unique_ptr<viper::BagReader> bag = openBag(o.frames, {o.draws}, "the ground-truth bag");
+  if (!bag) return false;
+  viper::BagReadMessage m;
+  while (bag->next(m))
     if (const auto d = m.instantiate<viper::DrawList>()) {
       f.by_stamp.emplace(d->header.stamp, d->frame_number);
       f.numbers.insert(d->frame_number);
     }
-  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(o.camera_info)))
+  for (viper::BagReader info(o.frames, {o.camera_info}); info.next(m);)
     if (const auto c = m.instantiate<sensor_msgs::CameraInfo>()) {
       f.width = c->width, f.height = c->height;
       break;
@@ -129,8 +131,8 @@ class Writer {
   Writer(const Options& o, const Frames& f) : o_(o), frames_(f) {}
 
   // Writes one message of the predictions' bag; "" or what is wrong with it.
-  std::string write(const rosbag::MessageInstance& m, ros::Time& stamp) {
-    const std::string& topic = m.getTopic();
+  std::string write(const viper::BagReadMessage& m, ros::Time& stamp) {
+    const std::string& topic = m.topic();
     if (topic == o_.semantic) {
       const auto msg = m.instantiate<sensor_msgs::Image>();
       if (!msg) return "not a sensor_msgs/Image (mono8)";
@@ -247,9 +249,10 @@ class Writer {
 int run(const Options& o) {
   Frames frames;
   if (!readFrames(o, frames)) return 2;
-  rosbag::Bag bag;
-  if (!openBag(bag, o.bag, "the predictions' bag")) return 2;
-  rosbag::View view(bag, rosbag::TopicQuery({o.semantic, o.instances, o.flow, o.odom}));
+  std::unique_ptr<viper::BagReader> bag =
+      openBag(o.bag, {o.semantic, o.instances, o.flow, o.odom}, "the predictions' bag");
+  if (!bag) return 2;
+  viper::BagReader& view = *bag;
   if (view.size() == 0) {
     std::cerr << "viper_submission: " << o.bag << " has no messages on " << o.semantic << ", " << o.instances << ", "
               << o.flow << " or " << o.odom << "\n";
@@ -257,23 +260,24 @@ int run(const Options& o) {
   }
   Writer writer(o, frames);
   std::map<std::string, size_t> written, skipped;
-  for (const rosbag::MessageInstance& m : view) {
-    ros::Time stamp = m.getTime();
+  viper::BagReadMessage m;
+  while (view.next(m)) {
+    ros::Time stamp = m.time();
     std::string problem;
     try {
       problem = writer.write(m, stamp);
-    } catch (const ros::Exception& e) {  // rosbag: a message that does not deserialize
+    } catch (const ros::Exception& e) {  // a message that does not deserialize
       problem = std::string("cannot be read: ") + e.what();
     } catch (const std::exception& e) {
-      std::cerr << "viper_submission: " << m.getTopic() << " at stamp " << stamp << ": " << e.what() << "\n";
+      std::cerr << "viper_submission: " << m.topic() << " at stamp " << stamp << ": " << e.what() << "\n";
       return 2;
     }
     if (problem.empty()) {
-      ++written[m.getTopic()];
+      ++written[m.topic()];
       continue;
     }
-    ++skipped[m.getTopic()];
-    std::cerr << "viper_submission: skipping " << m.getTopic() << " at stamp " << stamp << ": " << problem
+    ++skipped[m.topic()];
+    std::cerr << "viper_submission: skipping " << m.topic() << " at stamp " << stamp << ": " << problem
               << "\n";
   }
   try {
@@ -309,7 +313,7 @@ int main(int argc, char** argv) {
     return viper_tools::usageError(app, error);
   try {
     return run(o);
-  } catch (const std::exception& e) {  // a damaged bag: rosbag throws while iterating
+  } catch (const std::exception& e) {  // a damaged bag (BagReadError names it)
     std::cerr << "viper_submission: " << e.what() << "\n";
   }
   return 2;

@@ -57,7 +57,7 @@ ExportDispatch exportDispatch(const std::string&, const sensor_msgs::CameraInfo:
   return [m](ViperExporter& e, uint64_t f) { return e.addCameraInfo(f, *m); };
 }
 
-bool exportDispatchFromBag(const std::string& r, const std::string& datatype, const rosbag::MessageInstance& mi,
+bool exportDispatchFromBag(const std::string& r, const std::string& datatype, const BagReadMessage& mi,
                            ros::Time& stamp, ExportDispatch& dispatch) {
   auto take = [&](auto typed) {
     if (!typed) return false;

@@ -1,10 +1,11 @@
 // Reads a bag's messages as rosbag::View does and hands them out typed, BagWriter's counterpart:
-// the messages of the topics asked for (all: none asked for), by time, each with its connection
+// the messages of the topics asked for (or of every topic), by time, each with its connection
 // (topic, type, md5sum, message definition, callerid), its time in the bag and its bytes;
 // instantiate<M>() deserialises one as rosbag's MessageInstance::instantiate does (null where the
 // connection's md5sum is not M's). The file is read by dataset::BagFileReader (faster than
 // rosbag, LZ4 checksums verified). It reads every chunk, also where only a few topics are asked
-// for (rosbag then skips chunks without them; the bags here mix every topic in each chunk).
+// for (rosbag then skips chunks without them; the bags here mix every topic in each chunk): a
+// damaged chunk ends the reading even where it holds none of them.
 // Messages of equal time come in file order; rosbag orders those of different connections as its
 // sort of per-connection iterators leaves them.
 #pragma once

@@ -3,10 +3,10 @@
 // Shared by the export_viper command (bags) and the viper_exporter node (live topics).
 #pragma once
 
+#include "viper/ros/bridge/bag_reader.h"
 #include "viper/ros/dataset/viper_exporter.h"
 
 #include <ros/time.h>
-#include <rosbag/message_instance.h>
 
 #include <functional>
 #include <string>
@@ -39,8 +39,9 @@ ExportDispatch exportDispatch(const std::string& role, const nav_msgs::Odometry:
 ExportDispatch exportDispatch(const std::string& role, const sensor_msgs::CameraInfo::ConstPtr& m);
 
 /// A bag message of `datatype` for role `role`: its header stamp and its dispatch. False if the
-/// type is not one of the roles' types; throws what rosbag throws for a message it cannot read.
-bool exportDispatchFromBag(const std::string& role, const std::string& datatype, const rosbag::MessageInstance& m,
+/// type is not one of the roles' types (or not the message's: another md5sum); throws ros::Exception
+/// for a message it cannot read.
+bool exportDispatchFromBag(const std::string& role, const std::string& datatype, const BagReadMessage& m,
                            ros::Time& stamp, ExportDispatch& dispatch);
 
 /// A stamp as seconds.nanoseconds (every digit: stamps in messages are compared exactly).

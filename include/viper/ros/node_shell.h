@@ -2,9 +2,11 @@
 // a nodelet (ShellNodelet), so a whole pipeline can run zero-copy in one nodelet manager.
 // A node class T is built from (node handle, private node handle) and started with start() or
 // start(bool is_node) (false when it is a nodelet); stop(), where it has one, is called at the end.
+// A nodelet library defines and exports each of its nodelets with VIPER_SHELL_NODELET.
 #pragma once
 
 #include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 
 #include <memory>
@@ -66,3 +68,11 @@ class ShellNodelet : public nodelet::Nodelet {
 };
 
 }  // namespace viper
+
+/// Defines viper::NAME, the ShellNodelet around the node class viper::T, and exports it to pluginlib
+/// (nodelet_plugins.xml names it as type viper::NAME). Used at file scope, outside any namespace.
+#define VIPER_SHELL_NODELET(NAME, T)      \
+  namespace viper {                       \
+  class NAME : public ShellNodelet<T> {}; \
+  }                                       \
+  PLUGINLIB_EXPORT_CLASS(viper::NAME, nodelet::Nodelet)

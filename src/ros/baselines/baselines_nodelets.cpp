@@ -5,16 +5,6 @@
 
 #include "viper/ros/node_shell.h"
 
-#include <pluginlib/class_list_macros.hpp>
-
-namespace viper {
-
-class FlowBaselineNodelet : public ShellNodelet<FlowBaseline> {};
-class VoBaselineNodelet : public ShellNodelet<VoBaseline> {};
-class SegmentationBaselineNodelet : public ShellNodelet<SegmentationBaseline> {};
-
-}  // namespace viper
-
-PLUGINLIB_EXPORT_CLASS(viper::FlowBaselineNodelet, nodelet::Nodelet)
-PLUGINLIB_EXPORT_CLASS(viper::VoBaselineNodelet, nodelet::Nodelet)
-PLUGINLIB_EXPORT_CLASS(viper::SegmentationBaselineNodelet, nodelet::Nodelet)
+VIPER_SHELL_NODELET(FlowBaselineNodelet, FlowBaseline)
+VIPER_SHELL_NODELET(VoBaselineNodelet, VoBaseline)
+VIPER_SHELL_NODELET(SegmentationBaselineNodelet, SegmentationBaseline)

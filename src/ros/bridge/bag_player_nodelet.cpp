@@ -2,10 +2,4 @@
 #include "viper/ros/bridge/bag_player.h"
 #include "viper/ros/node_shell.h"
 
-#include <pluginlib/class_list_macros.hpp>
-
-namespace viper {
-class BagPlayerNodelet : public ShellNodelet<BagPlayer> {};
-}  // namespace viper
-
-PLUGINLIB_EXPORT_CLASS(viper::BagPlayerNodelet, nodelet::Nodelet)
+VIPER_SHELL_NODELET(BagPlayerNodelet, BagPlayer)

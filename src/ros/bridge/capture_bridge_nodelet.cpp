@@ -2,10 +2,4 @@
 #include "viper/ros/bridge/capture_bridge.h"
 #include "viper/ros/node_shell.h"
 
-#include <pluginlib/class_list_macros.hpp>
-
-namespace viper {
-class CaptureBridgeNodelet : public ShellNodelet<CaptureBridge> {};
-}  // namespace viper
-
-PLUGINLIB_EXPORT_CLASS(viper::CaptureBridgeNodelet, nodelet::Nodelet)
+VIPER_SHELL_NODELET(CaptureBridgeNodelet, CaptureBridge)

@@ -3,10 +3,4 @@
 #include "viper/ros/dataset/viper_exporter_node.h"
 #include "viper/ros/node_shell.h"
 
-#include <pluginlib/class_list_macros.hpp>
-
-namespace viper {
-class ViperExporterNodelet : public ShellNodelet<ViperExporterNode> {};
-}  // namespace viper
-
-PLUGINLIB_EXPORT_CLASS(viper::ViperExporterNodelet, nodelet::Nodelet)
+VIPER_SHELL_NODELET(ViperExporterNodelet, ViperExporterNode)

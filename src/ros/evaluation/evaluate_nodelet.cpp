@@ -2,10 +2,4 @@
 #include "viper/ros/evaluation/evaluate.h"
 #include "viper/ros/node_shell.h"
 
-#include <pluginlib/class_list_macros.hpp>
-
-namespace viper {
-class EvaluateNodelet : public ShellNodelet<Evaluate> {};
-}  // namespace viper
-
-PLUGINLIB_EXPORT_CLASS(viper::EvaluateNodelet, nodelet::Nodelet)
+VIPER_SHELL_NODELET(EvaluateNodelet, Evaluate)

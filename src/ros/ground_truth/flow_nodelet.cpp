@@ -2,10 +2,4 @@
 #include "viper/ros/ground_truth/flow_node.h"
 #include "viper/ros/node_shell.h"
 
-#include <pluginlib/class_list_macros.hpp>
-
-namespace viper {
-class FlowNodelet : public ShellNodelet<Flow> {};
-}  // namespace viper
-
-PLUGINLIB_EXPORT_CLASS(viper::FlowNodelet, nodelet::Nodelet)
+VIPER_SHELL_NODELET(FlowNodelet, Flow)

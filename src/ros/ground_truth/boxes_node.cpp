@@ -1,4 +1,5 @@
 #include "viper/ros/ground_truth/boxes_node.h"
+#include "viper/ros/ground_truth/mesh_store_input.h"
 #include "viper/ros/node_params.h"
 
 #include "viper/ros/conversions/object_conversions.h"
@@ -36,15 +37,7 @@ std::string Boxes::topicOf(StepInput input) const {
   }
 }
 
-void Boxes::onMeshStore(const MeshStore::ConstPtr& store) {
-  const CpuMeter::Scope cpu(cpu_, false);
-  StepProblems problems;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    step_->addMeshes(*store, problems);
-  }
-  log_.log(problems);
-}
+void Boxes::onMeshStore(const MeshStore::ConstPtr& store) { addMeshStore(*store, step_, mutex_, cpu_, log_); }
 
 void Boxes::onFrame(const ObjectArray::ConstPtr& objects, const DrawList::ConstPtr& draws) {
   const CpuMeter::Scope cpu(cpu_, true);

@@ -1,4 +1,5 @@
 #include "viper/ros/ground_truth/flow_node.h"
+#include "viper/ros/ground_truth/mesh_store_input.h"
 #include "viper/ros/node_params.h"
 
 #include <algorithm>
@@ -59,15 +60,7 @@ bool Flow::start() {
   return true;
 }
 
-void Flow::onMeshStore(const MeshStore::ConstPtr& store) {
-  const CpuMeter::Scope cpu(cpu_, false);
-  StepProblems problems;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    step_->addMeshes(*store, problems);
-  }
-  log_.log(problems);
-}
+void Flow::onMeshStore(const MeshStore::ConstPtr& store) { addMeshStore(*store, step_, mutex_, cpu_, log_); }
 
 std::string Flow::topicOf(StepInput input) const {
   switch (input) {

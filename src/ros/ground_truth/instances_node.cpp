@@ -1,4 +1,5 @@
 #include "viper/ros/ground_truth/instances_node.h"
+#include "viper/ros/ground_truth/mesh_store_input.h"
 #include "viper/ros/node_params.h"
 
 #include <ros/package.h>
@@ -81,15 +82,7 @@ std::string Instances::topicOf(StepInput input) const {
   }
 }
 
-void Instances::onMeshStore(const MeshStore::ConstPtr& store) {
-  const CpuMeter::Scope cpu(cpu_, false);
-  StepProblems problems;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    step_->addMeshes(*store, problems);
-  }
-  log_.log(problems);
-}
+void Instances::onMeshStore(const MeshStore::ConstPtr& store) { addMeshStore(*store, step_, mutex_, cpu_, log_); }
 
 void Instances::onColor(const sensor_msgs::Image::ConstPtr& color) {
   const CpuMeter::Scope cpu(cpu_, false);

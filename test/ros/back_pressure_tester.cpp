@@ -7,6 +7,7 @@
 //
 // Private parameters: bag or capture (the source played; its frames are counted from it), paced
 // (true), max_in_flight (2), work_s (0.05), timeout_s (60).
+#include "tester_main.h"
 #include "viper/capture/capture_stream.h"
 
 #include <gtest/gtest.h>
@@ -99,7 +100,5 @@ TEST(BackPressure, EveryFrameArrivesWhenPacedAndSomeAreLostWhenNot) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "back_pressure_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "back_pressure_tester");
 }

@@ -8,6 +8,8 @@
 // stays latched.
 //
 // Private parameters: bag (path, required), passes (2; the tf test: 3), timeout_s (90).
+#include "tester_main.h"
+
 #include <console_bridge/console.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -40,13 +42,7 @@ Bytes withoutStamp(viper::DrawList m) {
   return out;
 }
 
-bool waitFor(const std::function<bool()>& done, const ros::WallTime& deadline) {
-  while (!done()) {
-    if (ros::WallTime::now() > deadline || !ros::ok()) return false;
-    ros::WallDuration(0.01).sleep();
-  }
-  return true;
-}
+using viper::test::waitFor;
 
 TEST(BagPlayerLoop, PassesRepeatTheBagWithStampsThatKeepIncreasing) {
   ros::NodeHandle nh, pnh("~");
@@ -245,7 +241,5 @@ TEST(BagPlayerLoop, TfStampsFollowTheClockOnEveryPass) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "bag_player_loop_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "bag_player_loop_tester");
 }

@@ -12,6 +12,7 @@
 // scored pixels / zero-flow EPE, 3.0), min_gradient (gray step of a "textured" pixel, 20; printed
 // only), max_drift (end and max translation error / ground-truth path length, 0.75),
 // max_rotation_deg (final rotation error, 5).
+#include "tester_main.h"
 #include "bag_publishers.h"
 
 #include "viper/ros/conversions/pose_conversions.h"
@@ -248,7 +249,5 @@ TEST_F(Baselines, ScoredAgainstGroundTruth) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "baselines_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "baselines_tester");
 }

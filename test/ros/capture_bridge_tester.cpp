@@ -8,6 +8,7 @@
 // and checks that ~bridge_node is still alive afterwards), follow (false; true: the capture is still
 // being written, read it to its end marker), subscribe_after_s (0: subscribe only after this many
 // seconds, like a node that starts late).
+#include "tester_main.h"
 #include "viper/capture/capture_stream.h"
 #include "viper/capture/content_key.h"
 #include "viper/ros/conversions/frame_conversions.h"
@@ -332,7 +333,5 @@ TEST_F(BridgeTester, EveryFrameOnEveryTopicWithOneStamp) {
 }  // namespace viper
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "capture_bridge_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "capture_bridge_tester");
 }

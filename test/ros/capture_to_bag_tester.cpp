@@ -6,6 +6,8 @@
 // so every mesh store received must be the bag's one with the same stamp, and the last ones equal.
 //
 // Private parameters: bag (path, required), namespace (/capture), timeout_s (90).
+#include "tester_main.h"
+
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
@@ -41,13 +43,7 @@ ros::Time stampOf(const Bytes& b) {
   return t;
 }
 
-bool waitFor(const std::function<bool()>& done, const ros::WallTime& deadline) {
-  while (!done()) {
-    if (ros::WallTime::now() > deadline || !ros::ok()) return false;
-    ros::WallDuration(0.01).sleep();
-  }
-  return true;
-}
+using viper::test::waitFor;
 
 TEST(CaptureToBag, BagHoldsWhatTheBridgePublishes) {
   ros::NodeHandle nh, pnh("~");
@@ -179,7 +175,5 @@ TEST(BagPlayer, NamesTheDamageAndKeepsWhatCameBefore) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "capture_to_bag_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "capture_to_bag_tester");
 }

@@ -6,6 +6,7 @@
 // connected, a line logged, a score published, a node gone), each with timeout_s as the cap of a hang:
 // a loaded machine only makes it slower.
 // Private parameters: report_dir (of /evaluate), tf_report_dir (of /evaluate_tf), timeout_s (60).
+#include "tester_main.h"
 #include "../common/process_util.h"
 
 #include <geometry_msgs/TransformStamped.h>
@@ -283,7 +284,5 @@ TEST_F(EvaluateBadInput, BadFramesAreReportedAndSkippedGoodOnesScored) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "evaluate_bad_input_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "evaluate_bad_input_tester");
 }

@@ -13,6 +13,7 @@
 // ~report_dir), evaluate (evaluate's node name, "/evaluate"), draws_subscribers (processes that
 // read /capture/draws: 2 with evaluate as a node, 1 as a nodelet of replay.launch's manager),
 // timeout_s (180).
+#include "tester_main.h"
 #include "../common/process_util.h"
 #include "bag_publishers.h"
 #include "evaluate_expect.h"
@@ -482,7 +483,5 @@ TEST_F(EvaluateTest, ScoresMatchWhatThePredictionsDeserve) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "evaluate_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "evaluate_tester");
 }

@@ -6,6 +6,7 @@
 // agrees with two composed single steps; the correspondences service answers with the topics' flow
 // and the relative pose that the odometry node's poses give.
 // Private parameters: bag (path, required), wide_baseline (k of the flow node, 2), timeout_s (120).
+#include "tester_main.h"
 #include "bag_publishers.h"
 
 #include "viper/ground_truth/camera_model.h"
@@ -445,7 +446,5 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "flow_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "flow_tester");
 }

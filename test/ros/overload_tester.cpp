@@ -7,6 +7,8 @@
 //      frame, and the manager must not grow without bound;
 //   3. lockstep again: every frame comes out of every node (it recovered; no deadlock).
 // Private parameters: bag (path, required), overload_passes (3), timeout_s (90).
+#include "tester_main.h"
+
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -232,7 +234,5 @@ TEST_F(OverloadTest, LosesFramesVisiblyNeverSpansAGapAndRecovers) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "overload_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "overload_tester");
 }

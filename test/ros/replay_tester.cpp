@@ -3,6 +3,7 @@
 // The tester publishes the bag itself (rosbag API) so it can start once every node is connected and
 // send a frame only after the previous one came out: conditions, not sleeps.
 // Private parameters: bag (path, required), timeout_s (60).
+#include "tester_main.h"
 #include "bag_publishers.h"
 
 #include <gtest/gtest.h>
@@ -135,7 +136,5 @@ TEST_F(ReplayTest, EveryFrameComesOutOfEveryNodeWithItsStamp) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "replay_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "replay_tester");
 }

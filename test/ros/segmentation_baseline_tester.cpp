@@ -4,6 +4,7 @@
 // the same pixels in rgb8 and bgr8; per good image an instance array of the same stamp whose masks
 // are exactly the connected regions (8-connected, >= ~min_instance_px) of the instance classes of
 // that semantic image; bad images dropped without output, with an error on /rosout naming the topic.
+#include "tester_main.h"
 #include "viper/dataset/viper_sequence.h"
 #include "viper/ground_truth/class_table.h"
 
@@ -191,7 +192,5 @@ TEST_F(SegmentationBaselineTest, SegmentsGoodImagesDropsBadOnes) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ::testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "segmentation_baseline_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "segmentation_baseline_tester");
 }

@@ -4,6 +4,8 @@
 // gets a semantic image whose drawn pixels all have a class, the followed kart keeps one instance
 // id, its box is a car, and forward flow covers the scene.
 // Private parameters: frames (frames the game captures), timeout_s (240).
+#include "tester_main.h"
+
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
@@ -101,9 +103,5 @@ TEST(SuperTuxKartLive, EveryNodeLabelsAndTracksTheGame) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "supertuxkart_tester");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "supertuxkart_tester", 2);
 }

@@ -2,6 +2,7 @@
 // ENOSPC): the viper_exporter node and export_viper --live each get four color frames, the third of
 // which does not fit. Each must name the file in a FATAL message, end its process with exit code 2
 // (not wait for Ctrl-C), keep the two frames before it whole and leave no half-written file.
+#include "tester_main.h"
 #include "viper/dataset/viper_images.h"
 
 #include "../common/process_util.h"
@@ -112,9 +113,5 @@ TEST(ViperExporterFullDisk, ExportViperLiveEndsWithExitCode2) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "viper_exporter_full_disk_tester");
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "viper_exporter_full_disk_tester", 1);
 }

@@ -12,6 +12,7 @@
 //    topics: images identical, flow identical to float16, poses, boxes and intrinsics equal within
 //    float precision; viper_to_bag of the layout gives the player's messages.
 // Private parameters: timeout_s (120); the round trip's are in viper_layout_roundtrip.cpp.
+#include "tester_main.h"
 #include "bag_publishers.h"
 #include "viper_layout_tester_support.h"
 #include "../common/process_util.h"
@@ -21,7 +22,7 @@
 #include "viper/dataset/float16.h"
 #include "viper/ros/conversions/object_conversions.h"
 #include "viper/ros/conversions/pose_conversions.h"
-#include "viper/ros/dataset/live_exporter.h"
+#include "viper/ros/dataset/viper_exporter_node.h"
 #include "viper/ros/dataset/player.h"
 
 #include <gtest/gtest.h>
@@ -63,19 +64,26 @@ Eigen::Isometry3d expectedMapFromBody(uint64_t frame) {
   return t;
 }
 
-TEST(ViperLayoutPlayer, PlaysGoodFramesAndNamesEveryDamagedFile) {
-  ros::NodeHandle nh, pnh("~");
-  const double timeout_s = pnh.param("timeout_s", 120.0);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
+// Each test: two spinner threads, a deadline timeout_s from its start, and the player's /rosout
+// lines from the time it connects, so that no problem it logs once it has subscribers is missed.
+class ViperLayoutPlayer : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    spinner_.start();
+    ASSERT_TRUE(waitFor([&] { return rosout_.publishers() >= 2; }, deadline_))
+        << "the player never connected to /rosout";
+  }
 
-  // /rosout first, so no problem the player logs once it has subscribers is missed.
-  Rosout rosout(nh);
-  ASSERT_TRUE(waitFor([&] { return rosout.publishers() >= 2; }, deadline)) << "the player never connected to /rosout";
+  ros::NodeHandle nh_, pnh_{"~"};
+  ros::AsyncSpinner spinner_{2};
+  const ros::WallTime deadline_ = ros::WallTime::now() + ros::WallDuration(pnh_.param("timeout_s", 120.0));
+  Rosout rosout_{nh_};
+};
+
+TEST_F(ViperLayoutPlayer, PlaysGoodFramesAndNamesEveryDamagedFile) {
   Received got;
-  got.subscribe(nh, "/");
-  ASSERT_TRUE(waitFor([&] { return rosout.has("player: done"); }, deadline)) << "the player did not finish";
+  got.subscribe(nh_, "/");
+  ASSERT_TRUE(waitFor([&] { return rosout_.has("player: done"); }, deadline_)) << "the player did not finish";
   const size_t kColor = 11, kSemantic = 11, kInstances = 7, kFlow = 6;
   // "done" follows the last publish; wait for every topic's last message.
   waitFor([&] {
@@ -83,7 +91,7 @@ TEST(ViperLayoutPlayer, PlaysGoodFramesAndNamesEveryDamagedFile) {
                         {"/ground_truth/instance_ids", kInstances}, {"/ground_truth/instances_viper", kInstances},
                         {"/ground_truth/flow/forward", kFlow}, {"/ground_truth/flow/backward", kFlow},
                         {"odom", 11}, {"camera_info", 11}, {"boxes_optical", 8}, {"boxes", 7}});
-  }, deadline);
+  }, deadline_);
   std::lock_guard<std::mutex> lock(got.mutex_);
 
   // Every damaged file is named, each once, and nothing else is an error.
@@ -98,7 +106,7 @@ TEST(ViperLayoutPlayer, PlaysGoodFramesAndNamesEveryDamagedFile) {
       {"camera/001.csv", "no row for frames 6"},
       {"flowbw/001/001_00001.npz", "Not a zip archive"},
       {"cls/002/002_00001.png", "not a PNG"}};
-  const auto lines = rosout.lines();
+  const auto lines = rosout_.lines();
   for (const auto& [file, what] : problems) {
     size_t n = 0;
     for (const auto& l : lines)
@@ -106,8 +114,8 @@ TEST(ViperLayoutPlayer, PlaysGoodFramesAndNamesEveryDamagedFile) {
            l.msg.find(what) != std::string::npos;
     EXPECT_EQ(n, 1u) << "one error naming " << file << " (" << what << ")";
   }
-  EXPECT_EQ(rosout.errors(), problems.size());
-  EXPECT_TRUE(rosout.has("player: done: 12 frames published, 10 problems reported"));
+  EXPECT_EQ(rosout_.errors(), problems.size());
+  EXPECT_TRUE(rosout_.has("player: done: 12 frames published, 10 problems reported"));
 
   // What was published: every frame that has data, with its stamp.
   auto& images = got.images;
@@ -209,24 +217,17 @@ TEST(ViperLayoutPlayer, PlaysGoodFramesAndNamesEveryDamagedFile) {
   }
 }
 
-TEST(ViperLayoutPlayer, LoopsWithIncreasingStampsAndClock) {
-  ros::NodeHandle nh, pnh("~");
-  const double timeout_s = pnh.param("timeout_s", 120.0);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
-  Rosout rosout(nh);
-  ASSERT_TRUE(waitFor([&] { return rosout.publishers() >= 2; }, deadline));
+TEST_F(ViperLayoutPlayer, LoopsWithIncreasingStampsAndClock) {
   std::mutex mutex;
   std::vector<double> clock;
-  ros::Subscriber clock_sub = nh.subscribe<rosgraph_msgs::Clock>("/clock", 1000, [&](const rosgraph_msgs::ClockConstPtr& m) {
+  ros::Subscriber clock_sub = nh_.subscribe<rosgraph_msgs::Clock>("/clock", 1000, [&](const rosgraph_msgs::ClockConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
     clock.push_back(m->clock.toSec());
   });
   Received got;
-  got.subscribe(nh, "/");
+  got.subscribe(nh_, "/");
   const size_t per_pass = 11;
-  ASSERT_TRUE(waitFor([&] { return got.count("/capture/color/image_raw") >= 3 * per_pass; }, deadline))
+  ASSERT_TRUE(waitFor([&] { return got.count("/capture/color/image_raw") >= 3 * per_pass; }, deadline_))
       << "three passes of the color topic";
   std::lock_guard<std::mutex> lock(got.mutex_);
   const auto& color = got.images["/capture/color/image_raw"];
@@ -245,13 +246,11 @@ TEST(ViperLayoutPlayer, LoopsWithIncreasingStampsAndClock) {
     ASSERT_GE(clock.size(), 2 * per_pass);
     for (size_t i = 1; i < clock.size(); ++i) ASSERT_GT(clock[i], clock[i - 1]) << "/clock " << i;
   }
-  EXPECT_EQ(rosout.errors(), 10u) << "problems are logged on the first pass only";
+  EXPECT_EQ(rosout_.errors(), 10u) << "problems are logged on the first pass only";
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "viper_layout_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "viper_layout_tester");
 }

@@ -2,6 +2,8 @@
 // /rosout lines, waiting on a condition, running a command, comparing two folders.
 #pragma once
 
+#include "tester_main.h"
+
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -94,14 +96,7 @@ class Received {
   ros::Subscriber infos_sub_, odom_sub_, boxes_sub_, optical_sub_;
 };
 
-// Waits until `done()` or the deadline; true if done.
-bool waitFor(const std::function<bool()>& done, const ros::WallTime& deadline) {
-  while (!done()) {
-    if (ros::WallTime::now() > deadline || !ros::ok()) return false;
-    ros::WallDuration(0.01).sleep();
-  }
-  return true;
-}
+using viper::test::waitFor;
 
 // The player's /rosout lines.
 class Rosout {

@@ -73,6 +73,7 @@ void ReprojectionCheck::add(const ReprojectionCheck& o) {
   id_pixels += o.id_pixels;
   placed_pixels += o.placed_pixels;
   checked_pixels += o.checked_pixels;
+  far_plane_pixels += o.far_plane_pixels;
   distance_px.insert(distance_px.end(), o.distance_px.begin(), o.distance_px.end());
   depth_relative.insert(depth_relative.end(), o.depth_relative.begin(), o.depth_relative.end());
 }
@@ -157,6 +158,10 @@ ReprojectionCheck checkReprojection(const CaptureFrame& frame, const MeshRegistr
       if (!(pos && neg)) distance = 0.0;
       c.distance_px.push_back(static_cast<float>(distance));
       if (distance_image) (*distance_image)[px] = static_cast<float>(distance);
+      if (!(z < 1.0f)) {
+        ++c.far_plane_pixels;
+        continue;
+      }
       // The point of the triangle the pixel centre's ray meets, by its barycentrics in clip space
       // (exact, also for triangles that cross the camera plane): sum b_i (x_i - u w_i) = 0,
       // sum b_i (y_i - v w_i) = 0, sum b_i = 1; its window depth is sum b_i z_i / sum b_i w_i.

@@ -2,6 +2,7 @@
 // classes, instance ids and their stability, and the camera pose. Built twice (cmake/ground_truth.cmake):
 // on the test scene and on the world, each captured at build time under the capture layer.
 #include "viper/ground_truth/camera_model.h"
+#include "viper/ground_truth/capture_invariants.h"
 #include "viper/capture/capture_stream.h"
 #include "viper/ground_truth/ego_motion.h"
 #include "viper/ground_truth/instance_pipeline.h"
@@ -42,6 +43,31 @@ TEST(AgainstOracle, CaptureHasEveryDrawOfTheOracle) {
   const Sequence& s = Sequence::get();
   ASSERT_GE(s.frames.size(), 20u);
   for (const auto& f : s.frames) ASSERT_EQ(f.draws.size(), s.truth(f).draws.size()) << "frame " << f.number;
+}
+
+// capture_check's reprojection on the real capture (docs/capture_layer.md): every pixel's depth is its
+// triangle's, except at the far plane, where the world's sky dome is drawn (gl_Position = p.xyww):
+// those pixels have no depth (NaN as published), are counted apart, and are the pixels of draws
+// that have no depth anywhere (backgrounds), not of scene geometry.
+TEST(AgainstOracle, DepthIsTheTrianglesExceptAtTheFarPlaneWhereOnlyABackgroundIs) {
+  const Sequence& s = Sequence::get();
+  MeshRegistry meshes;
+  ReprojectionCheck all;
+  for (const auto& f : s.frames) {
+    meshes.add(f.new_meshes);
+    const ReprojectionCheck c = checkReprojection(f, meshes);
+    std::vector<uint8_t> with_depth(f.draws.size() + 1, 0);
+    for (size_t px = 0; px < f.pixelCount(); ++px)
+      if (f.depth_window[px] < 1.0f) with_depth[f.draw_ids[px]] = 1;
+    size_t far_of_geometry = 0;
+    for (size_t px = 0; px < f.pixelCount(); ++px)
+      far_of_geometry += f.draw_ids[px] != 0 && !(f.depth_window[px] < 1.0f) && with_depth[f.draw_ids[px]];
+    EXPECT_EQ(far_of_geometry, 0u) << "frame " << f.number << ": pixels at the far plane of a draw with depth elsewhere";
+    all.add(c);
+  }
+  ASSERT_GT(all.depth_relative.size(), all.checked_pixels / 2);
+  EXPECT_EQ(all.depth_relative.size() + all.far_plane_pixels, all.checked_pixels);
+  EXPECT_LT(quantile(all.depth_relative, 0.99), 1e-3f) << all.far_plane_pixels << " px at the far plane";
 }
 
 TEST(AgainstOracle, SemanticAndInstanceImagesAgreeWithTheTrueObjects) {

@@ -105,6 +105,23 @@ TEST(CaptureInvariants, AWrongPrimitiveOrDepthShows) {
   EXPECT_GT(viper::quantile(c.depth_relative, 0.5), 0.1f);
 }
 
+// A quad drawn on the far plane, as a sky dome is (gl_Position = p.xyww): its pixels lie on their
+// triangles, but their window depth is 1 (no surface, NaN as published), not the mesh's: they are
+// counted and left out of the depth comparison rather than failing it.
+TEST(CaptureInvariants, PixelsAtTheFarPlaneAreCountedNotDepthChecked) {
+  QuadScene s;
+  size_t quad = 0;
+  for (size_t px = 0; px < s.frame.pixelCount(); ++px)
+    if (s.frame.draw_ids[px] != 0 && px % 3 == 0) s.frame.depth_window[px] = 1.0f, ++quad;
+  const viper::ReprojectionCheck c = viper::checkReprojection(s.frame, s.meshes);
+  ASSERT_GT(quad, 100u);
+  EXPECT_EQ(c.far_plane_pixels, quad);
+  EXPECT_EQ(c.depth_relative.size() + quad, c.checked_pixels);
+  EXPECT_EQ(c.distance_px.size(), c.checked_pixels) << "their place is still checked";
+  EXPECT_LT(viper::quantile(c.distance_px, 1.0), 1e-3f);
+  EXPECT_LT(viper::quantile(c.depth_relative, 1.0), 1e-5f);
+}
+
 TEST(CaptureInvariants, UnplacedDrawsAreCountedNotChecked) {
   QuadScene s;
   s.frame.draws[0].matrix_flags = viper::kHasView | viper::kHasProjection;  // no world matrix

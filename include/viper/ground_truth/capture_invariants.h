@@ -25,8 +25,13 @@ struct ReprojectionCheck {
   uint64_t checked_pixels = 0;   ///< placed pixels whose triangle is at least partly in front of the camera
   /// Per checked pixel: distance in pixels from the pixel's centre to its projected triangle (0 inside).
   std::vector<float> distance_px;
-  /// Per checked pixel: |predicted - captured| / captured distance along the view axis.
+  /// Per checked pixel with a captured depth: |predicted - captured| / captured distance along the
+  /// view axis.
   std::vector<float> depth_relative;
+  /// Checked pixels whose captured window depth is 1 (the far plane: no surface, published as NaN),
+  /// left out of depth_relative: a sky drawn on the far plane (gl_Position = p.xyww) is not at its
+  /// mesh's depth, and has no depth to compare.
+  uint64_t far_plane_pixels = 0;
 
   void add(const ReprojectionCheck& other);
 };

@@ -2,6 +2,8 @@
 // names what it should.
 #pragma once
 
+#include "../common/temp_dir.h"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -18,23 +20,9 @@
 
 namespace viper_dataset_test {
 
-/// A fresh folder under the system's temporary folder, removed with everything in it.
-class TempDir {
- public:
-  TempDir() {
-    std::string templ = (std::filesystem::temp_directory_path() / "viper_dataset_XXXXXX").string();
-    if (mkdtemp(templ.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = templ;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
+/// A fresh folder viper_dataset_XXXXXX under the system's temporary folder, removed with everything in it.
+struct TempDir : viper::test::TempDir {
+  TempDir() : viper::test::TempDir("viper_dataset_") {}
 };
 
 /// Runs `command` in a shell, stdin from /dev/null; returns its exit code (-1 if it did not exit),

@@ -3,6 +3,8 @@
 // order, each written at its header stamp, the mesh store latched; a truncated capture keeps its
 // intact frames, is named with the byte offset of the damage and ends with exit status 1; bad usage
 // prints the usage and exits 2. capture_to_bag.test compares the bag with the running bridge.
+#include "../common/temp_dir.h"
+
 #include "viper/capture/capture_stream.h"
 #include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/pacing/replay_timing.h"
@@ -37,13 +39,6 @@ std::string slurp(const fs::path& p) {
 
 class CaptureToBagTest : public testing::Test {
  protected:
-  void SetUp() override {
-    std::string t = (fs::temp_directory_path() / "viper_capture_to_bag_XXXXXX").string();
-    ASSERT_NE(mkdtemp(t.data()), nullptr);
-    work_ = t;
-  }
-  void TearDown() override { fs::remove_all(work_); }
-
   Result run(const std::string& args) {
     const fs::path out = work_ / "stdout.txt", err = work_ / "stderr.txt";
     const std::string command = std::string(VIPER_CAPTURE_TO_BAG) + " " + args + " > " + out.string() + " 2> " + err.string();
@@ -55,7 +50,7 @@ class CaptureToBagTest : public testing::Test {
     return r;
   }
 
-  fs::path work_;
+  viper::test::TempDir work_{"viper_capture_to_bag_"};
 };
 
 template <typename M>
@@ -139,7 +134,7 @@ void expectBagHolds(const std::string& bag_path, const std::vector<Expected>& ex
 }
 
 TEST_F(CaptureToBagTest, WritesTheBridgesMessagesForEveryFrame) {
-  const std::string bag = (work_ / "ok.bag").string();
+  const std::string bag = work_ / "ok.bag";
   const Result r = run(std::string(VIPER_TEST_CAPTURE_OK) + " --output " + bag);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("wrote 8 frames"), std::string::npos) << r.out;
@@ -147,7 +142,7 @@ TEST_F(CaptureToBagTest, WritesTheBridgesMessagesForEveryFrame) {
 }
 
 TEST_F(CaptureToBagTest, FramesLimitsTheFramesAndCompressionIsChosen) {
-  const std::string bag = (work_ / "three.bag").string();
+  const std::string bag = work_ / "three.bag";
   const Result r = run(std::string(VIPER_TEST_CAPTURE_OK) + " --frames 3 --compression bz2 --output " + bag);
   ASSERT_EQ(r.status, 0) << r.err;
   expectBagHolds(bag, bridgeMessages(VIPER_TEST_CAPTURE_OK, 3, "/capture"));
@@ -173,7 +168,7 @@ TEST_F(CaptureToBagTest, TruncatedCaptureKeepsTheIntactFramesAndNamesFileFrameAn
     }
   }
   ASSERT_GE(intact, 1u);
-  const std::string bag = (work_ / "truncated.bag").string();
+  const std::string bag = work_ / "truncated.bag";
   const Result r = run(std::string(VIPER_TEST_CAPTURE_TRUNCATED) + " --output " + bag);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find(VIPER_TEST_CAPTURE_TRUNCATED), std::string::npos) << r.err;
@@ -192,7 +187,7 @@ TEST_F(CaptureToBagTest, BadUsagePrintsUsage) {
     EXPECT_EQ(r.status, 2) << "'" << args << "'";
     EXPECT_NE(r.err.find("usage: capture_to_bag"), std::string::npos) << "'" << args << "': " << r.err;
   }
-  const Result missing = run((work_ / "missing.vcap").string() + " --output " + (work_ / "m.bag").string());
+  const Result missing = run((work_ / "missing.vcap") + " --output " + (work_ / "m.bag"));
   EXPECT_EQ(missing.status, 2);
   EXPECT_NE(missing.err.find("missing.vcap"), std::string::npos) << missing.err;
 }

@@ -2,6 +2,8 @@
 // reported and skipped while the rest is exported (exit 1), a clean bag exports completely (exit
 // 0), camera rows come from odometry + camera_info without a draw list, and a topic of the wrong
 // type, a missing bag or bad options are errors (exit 2).
+#include "../common/temp_dir.h"
+
 #include "viper/dataset/viper_images.h"
 #include "viper/dataset/viper_layout.h"
 #include "viper/dataset/viper_sequence.h"
@@ -46,20 +48,14 @@ CommandResult exportViper(const std::string& args, int limit_kib = 0) {
 
 class ExportViper : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::string t = (fs::temp_directory_path() / "viper_export_XXXXXX").string();
-    ASSERT_NE(mkdtemp(t.data()), nullptr);
-    dir_ = t;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return dir_ / name; }
   std_msgs::Header header(int frame) const {
     std_msgs::Header h;
     h.stamp = ros::Time(100 + frame / 15.0);
     h.frame_id = "camera_optical";
     return h;
   }
-  fs::path dir_;
+  viper::test::TempDir dir_{"viper_export_"};
 };
 
 TEST_F(ExportViper, BadMessagesAreSkippedAndTheRestExported) {

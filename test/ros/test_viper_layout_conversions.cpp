@@ -2,6 +2,8 @@
 // roscore: camera poses and projections both ways, boxes both ways, image messages of every layout
 // (padding, byte order, bgr8), the messages of one frame, and the exporter's pairing and camera
 // sources.
+#include "../common/temp_dir.h"
+
 #include "viper/dataset/viper_layout.h"
 #include "viper/dataset/viper_sequence.h"
 #include "viper/ros/conversions/frame_conversions.h"
@@ -32,20 +34,6 @@ dataset::RowMajor4 someView(double yaw, const Eigen::Vector3d& p) {
                                .toRotationMatrix();
   return toRowMajor(Eigen::Matrix4d(world_from_gl.inverse().matrix()));
 }
-
-class TempDir {
- public:
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "viper_conv_XXXXXX").string();
-    if (mkdtemp(t.data()) == nullptr) throw std::runtime_error("mkdtemp");
-    path_ = t;
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
-};
 
 TEST(ViperLayoutConversions, BodyPoseAgreesWithTheOdometryNodesConvention) {
   const dataset::RowMajor4 view = someView(0.3, {1, 2, 3});
@@ -191,9 +179,9 @@ TEST(ViperLayoutConversions, FrameMessagesUseTheFirstRowAsMapAndFallBackToInstCl
 }
 
 TEST(ViperExporter, PairsPartsAndReportsWhatIsMissing) {
-  TempDir dir;
+  const test::TempDir dir("viper_conv_");
   ViperExportOptions o;
-  o.root = dir.str();
+  o.root = dir.path().string();
   o.camera = CameraSource::kOdometry;
   o.relative_poses = false;
   ViperExporter e(o);
@@ -267,9 +255,9 @@ TEST(ViperExporter, PairsPartsAndReportsWhatIsMissing) {
 }
 
 TEST(ViperExporter, WritesRelativePosesFromDraws) {
-  TempDir dir;
+  const test::TempDir dir("viper_conv_");
   ViperExportOptions o;
-  o.root = dir.str();
+  o.root = dir.path().string();
   ViperExporter e(o);
   auto drawList = [](const dataset::RowMajor4& view) {
     DrawList d;

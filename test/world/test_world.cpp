@@ -43,7 +43,7 @@ std::set<uint32_t> evaluatedClasses() {
 
 TEST(World, SameSeedGivesIdenticalFramesOtherSeedDiffers) {
   const TempDir da, db, dc;
-  const std::string &a = da.path(), &b = db.path(), &c = dc.path();
+  const std::string a = da.path(), b = db.path(), c = dc.path();
   const std::string common = std::string(kSmall) + " --condition rain --frames 4 --dump-dir ";
   ASSERT_EQ(runWorld(common + a + " --seed 5", a + "/log"), 0);
   ASSERT_EQ(runWorld(common + b + " --seed 5", b + "/log"), 0);
@@ -205,7 +205,7 @@ TEST(World, EachConditionDiffersFromDay) {
   for (const char* c : {"day", "sunset", "rain", "snow", "night"}) {
     for (bool effects : {true, false}) {
       const TempDir dir;
-      ASSERT_EQ(runWorld(std::string(kSmall) + " --frames 2 --condition " + c + " --dump-dir " + dir.path() +
+      ASSERT_EQ(runWorld(std::string(kSmall) + " --frames 2 --condition " + c + " --dump-dir " + dir.path().string() +
                              (effects ? "" : " --no-effects"),
                          dir / "log"), 0) << c;
       (effects ? frames : plain)[c] = readPpm(framePath(dir.path(), 1));

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -15,18 +14,6 @@ int runWorld(const std::string& args, const std::string& log_path) {
   const std::string command = std::string(VIPER_WORLD_BINARY) + " " + args + " > " + log_path + " 2>&1";
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-TempDir::TempDir() {
-  char pattern[] = "/tmp/viper_world_test_XXXXXX";
-  const char* dir = mkdtemp(pattern);
-  if (!dir) throw std::runtime_error("mkdtemp failed");
-  path_ = dir;
-}
-
-TempDir::~TempDir() {
-  std::error_code ignored;
-  std::filesystem::remove_all(path_, ignored);
 }
 
 Image readPpm(const std::string& path) {

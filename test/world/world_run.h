@@ -1,6 +1,8 @@
 // Helpers of the world tests: run the built `world` binary, read its PPM frames, image statistics.
 #pragma once
 
+#include "../common/temp_dir.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -16,19 +18,9 @@ struct Image {
 
 /// Runs the world binary with `args` (stdout/stderr to `log_path`); returns its exit status.
 int runWorld(const std::string& args, const std::string& log_path);
-/// A fresh temporary directory, removed with its contents when the object goes.
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::string& path() const { return path_; }
-  /// path() + "/" + name
-  std::string operator/(const std::string& name) const { return path_ + "/" + name; }
-
- private:
-  std::string path_;
+/// A fresh temporary directory (viper_world_test_XXXXXX), removed with its contents when the object goes.
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("viper_world_test_") {}
 };
 /// Reads a binary PPM (P6, maxval 255); throws std::runtime_error naming the file otherwise.
 Image readPpm(const std::string& path);

@@ -341,18 +341,10 @@ TEST(FrameConversions, CameraInfo) {
   EXPECT_EQ(info.height, 480u);
   EXPECT_EQ(info.distortion_model, "plumb_bob");
   EXPECT_EQ(info.D, std::vector<double>(5, 0.0));
-  EXPECT_EQ(info.K[0], 500);
-  EXPECT_EQ(info.K[2], 319.5);
-  EXPECT_EQ(info.K[4], 510);
-  EXPECT_EQ(info.K[5], 239.5);
-  EXPECT_EQ(info.K[8], 1);
-  EXPECT_EQ(info.P[0], 500);
-  EXPECT_EQ(info.P[2], 319.5);
-  EXPECT_EQ(info.P[3], 0);
-  EXPECT_EQ(info.P[6], 239.5);
-  EXPECT_EQ(info.P[10], 1);
-  EXPECT_EQ(info.R[0], 1);
-  EXPECT_EQ(info.R[4], 1);
+  // K and P (row-major) hold the intrinsics, P with a zero last column (one camera); R is the identity.
+  EXPECT_EQ(info.K, (decltype(info.K){500, 0, 319.5, 0, 510, 239.5, 0, 0, 1}));
+  EXPECT_EQ(info.P, (decltype(info.P){500, 0, 319.5, 0, 0, 510, 239.5, 0, 0, 0, 1, 0}));
+  EXPECT_EQ(info.R, (decltype(info.R){1, 0, 0, 0, 1, 0, 0, 0, 1}));
 
   const sensor_msgs::CameraInfo none = cameraInfo(nullptr, 640, 480, sampleHeader());
   EXPECT_EQ(none.K[0], 0);  // uncalibrated

@@ -4,6 +4,9 @@
 // with the data, a stamp older than the previous frame, a non-rigid (scaled) view matrix, a NaN
 // world matrix (the object is skipped, the frame kept), a draw whose mesh never arrived, and
 // missing frames (a gap of four frames: the moving car keeps its track id).
+#include "tester_draws.h"
+#include "tester_main.h"
+
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -34,18 +37,7 @@ struct Outputs {
   }
 };
 
-viper::Draw draw(uint32_t index, uint64_t mesh, float x) {
-  viper::Draw d;
-  d.index = index;
-  d.mesh_key = mesh;
-  d.matrix_flags = viper::Draw::HAS_WORLD | viper::Draw::HAS_VIEW | viper::Draw::HAS_PROJECTION;
-  for (int i = 0; i < 16; ++i) d.world[i] = d.view[i] = (i % 5 == 0) ? 1.0f : 0.0f;
-  d.world[12] = x;
-  d.view[14] = -10.0f;  // camera 10 m behind the origin
-  d.projection = {1.5f, 0, 0, 0, 0, 2, 0, 0, 0, 0, -1.0004f, -1, 0, 0, -0.20004f, 0};
-  d.visible_pixels = 4;
-  return d;
-}
+viper::Draw draw(uint32_t index, uint64_t mesh, float x) { return viper::test::draw(index, mesh, x, 4); }
 
 class BadInput : public ::testing::Test {
  protected:
@@ -205,7 +197,5 @@ TEST_F(BadInput, BrokenFramesAreDroppedAndTheNodesKeepRunning) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "bad_input_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "bad_input_tester");
 }

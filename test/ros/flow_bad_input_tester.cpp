@@ -6,6 +6,9 @@
 // than the previous frame.
 // The scene: 8x4 pixels, columns 0-1 a static road (draw 0), 2-3 a car moving along x (draw 1,
 // track 7), 4-5 a person (draw 2, track 8: one deformed triangle), 6-7 sky; every surface 10 m away.
+#include "tester_draws.h"
+#include "tester_main.h"
+
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
@@ -31,18 +34,7 @@ struct Frame {
   viper::ObjectArray objects;
 };
 
-viper::Draw draw(uint32_t index, uint64_t mesh, float x) {
-  viper::Draw d;
-  d.index = index;
-  d.mesh_key = mesh;
-  d.matrix_flags = viper::Draw::HAS_WORLD | viper::Draw::HAS_VIEW | viper::Draw::HAS_PROJECTION;
-  for (int i = 0; i < 16; ++i) d.world[i] = d.view[i] = (i % 5 == 0) ? 1.0f : 0.0f;
-  d.world[12] = x;
-  d.view[14] = -10.0f;  // camera 10 m from the z = 0 plane, looking at it
-  d.projection = {1.5f, 0, 0, 0, 0, 2, 0, 0, 0, 0, -1.0004f, -1, 0, 0, -0.20004f, 0};
-  d.visible_pixels = 8;
-  return d;
-}
+viper::Draw draw(uint32_t index, uint64_t mesh, float x) { return viper::test::draw(index, mesh, x, 8); }
 
 sensor_msgs::Image image(const std_msgs::Header& header, const std::string& encoding, const void* data,
                          uint32_t w = kW, uint32_t h = kH) {
@@ -307,7 +299,5 @@ TEST_F(FlowBadInput, BrokenInputLosesOnlyItsPixelsAndTheNodeKeepsRunning) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "flow_bad_input_tester");
-  return RUN_ALL_TESTS();
+  return viper::test::runTester(argc, argv, "flow_bad_input_tester");
 }

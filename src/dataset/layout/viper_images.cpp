@@ -50,6 +50,11 @@ bool endsWith(const std::string& s, const std::string& tail) {
 
 bool isJpegPath(const std::string& path) { return endsWith(path, ".jpg") || endsWith(path, ".jpeg"); }
 
+// Whether `bytes` start with JPEG's start-of-image marker.
+bool startsAsJpeg(const std::vector<uint8_t>& bytes) {
+  return bytes.size() >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8;
+}
+
 
 void checkImage(const Image8& image, uint32_t channels, const char* what) {
   if (image.width == 0 || image.height == 0 || image.channels != channels ||
@@ -241,12 +246,18 @@ void encodeJpeg(const std::string& path, const ImageView8& rgb, int quality, Fil
   detail::writeFileAtomically(path, bytes, "JPEG", digests);
 }
 
+// A PNG that must be lossless (`what`: "class ids" or "instance images"): a JPEG is refused.
+Image8 readLosslessPng(const std::string& path, PngKind kind, const char* what) {
+  const std::vector<uint8_t> bytes = readFile(path);
+  if (startsAsJpeg(bytes)) throw std::runtime_error(path + ": is a JPEG; " + what + " must be a lossless PNG");
+  return decodePng(path, bytes, kind);
+}
+
 }  // namespace
 
 Image8 readViperColorImage(const std::string& path) {
   const std::vector<uint8_t> bytes = readFile(path);
-  if (bytes.size() >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8) return decodeJpeg(path, bytes);
-  if (isJpegPath(path)) return decodeJpeg(path, bytes);
+  if (startsAsJpeg(bytes) || isJpegPath(path)) return decodeJpeg(path, bytes);
   return decodePng(path, bytes, PngKind::kColor);
 }
 
@@ -262,10 +273,7 @@ void writeViperColorImage(const std::string& path, const ImageView8& rgb, const 
 }
 
 Image8 readViperClassImage(const std::string& path) {
-  const std::vector<uint8_t> bytes = readFile(path);
-  if (bytes.size() >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8)
-    throw std::runtime_error(path + ": is a JPEG; class ids must be a lossless PNG");
-  return decodePng(path, bytes, PngKind::kClassIds);
+  return readLosslessPng(path, PngKind::kClassIds, "class ids");
 }
 
 void writeViperClassImage(const std::string& path, const Image8& class_ids, const ClassPalette& palette,
@@ -282,10 +290,7 @@ void writeViperClassImage(const std::string& path, const ImageView8& class_ids, 
 }
 
 Image8 readViperInstanceImage(const std::string& path) {
-  const std::vector<uint8_t> bytes = readFile(path);
-  if (bytes.size() >= 2 && bytes[0] == 0xFF && bytes[1] == 0xD8)
-    throw std::runtime_error(path + ": is a JPEG; instance images must be a lossless PNG");
-  return decodePng(path, bytes, PngKind::kInstances);
+  return readLosslessPng(path, PngKind::kInstances, "instance images");
 }
 
 void writeViperInstanceImage(const std::string& path, const Image8& instances, const ImageWriteOptions& options) {

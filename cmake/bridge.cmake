@@ -2,9 +2,6 @@
 
 # viper_ros: the capture bridge and the bag player (nodes + nodelets), their pacing (src/ros/pacing:
 # replay stamps and back-pressure) and the measurement nodelets and CPU meter (src/ros/measurement).
-# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
-find_package(pluginlib REQUIRED)
-find_package(class_loader REQUIRED)
 viper_ros_library(viper_ros SOURCES
   src/ros/pacing/replay_timing.cpp
   src/ros/pacing/pace_gate.cpp
@@ -17,7 +14,7 @@ viper_ros_library(viper_ros SOURCES
   src/ros/bridge/bag_player.cpp
   src/ros/bridge/bag_player_nodelet.cpp
   src/ros/bridge/raw_frames.cpp
-  SYSTEM_INCLUDES ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS}
+  SYSTEM_INCLUDES ${VIPER_ROSBAG_INCLUDE_DIRS}
   # viper_dataset (cmake/dataset.cmake) for its bag file writer (BagWriter, raw bags).
   LINK viper_conversions viper_core viper_dataset ${catkin_LIBRARIES})
 
@@ -86,11 +83,8 @@ if(CATKIN_ENABLE_TESTING)
 endif()
 
 # capture_to_bag: a capture into the raw bag capture_bridge would publish (viper::frameMessages).
-# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
-find_package(pluginlib REQUIRED)
-find_package(class_loader REQUIRED)
 add_executable(capture_to_bag tools/capture_to_bag.cpp)
-target_include_directories(capture_to_bag SYSTEM PRIVATE ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
+target_include_directories(capture_to_bag SYSTEM PRIVATE ${VIPER_ROSBAG_INCLUDE_DIRS})
 target_link_libraries(capture_to_bag viper_ros)
 viper_program(capture_to_bag)
 
@@ -98,36 +92,27 @@ if(CATKIN_ENABLE_TESTING)
   # The command on make_test_capture's captures (above): topics, stamps and content against
   # viper::frameMessages, a truncated capture, usage. The comparison with the running bridge is the
   # rostest capture_to_bag.test (cmake/dataset.cmake, on the world).
-  catkin_add_gtest(test_capture_to_bag test/ros/test_capture_to_bag.cpp)
-  if(TARGET test_capture_to_bag)
-    target_include_directories(test_capture_to_bag SYSTEM PRIVATE ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
-    target_link_libraries(test_capture_to_bag viper_ros gtest_main)
-    target_compile_definitions(test_capture_to_bag PRIVATE
+  viper_gtest(test_capture_to_bag test/ros/test_capture_to_bag.cpp SYSTEM_INCLUDES ${VIPER_ROSBAG_INCLUDE_DIRS}
+    DEFINITIONS
       VIPER_CAPTURE_TO_BAG="$<TARGET_FILE:capture_to_bag>"
       VIPER_TEST_CAPTURE_OK="${PROJECT_BINARY_DIR}/test_data/bridge_ok.vcap"
-      VIPER_TEST_CAPTURE_TRUNCATED="${PROJECT_BINARY_DIR}/test_data/bridge_truncated.vcap")
-    add_dependencies(test_capture_to_bag capture_to_bag viper_ros_test_captures)
-  endif()
+      VIPER_TEST_CAPTURE_TRUNCATED="${PROJECT_BINARY_DIR}/test_data/bridge_truncated.vcap"
+    LINK viper_ros gtest_main
+    DEPENDS capture_to_bag viper_ros_test_captures)
   # CaptureReader's image sink and FrameImageMessages (the bridge's): on make_test_capture's capture and
   # on the same frames as an earlier build wrote them (test/capture/data: format versions 3 and 4).
-  catkin_add_gtest(test_frame_image_messages test/ros/test_frame_image_messages.cpp)
-  if(TARGET test_frame_image_messages)
-    target_link_libraries(test_frame_image_messages viper_ros gtest_main)
-    target_compile_definitions(test_frame_image_messages PRIVATE
+  viper_gtest(test_frame_image_messages test/ros/test_frame_image_messages.cpp
+    DEFINITIONS
       VIPER_TEST_CAPTURE_OK="${PROJECT_BINARY_DIR}/test_data/bridge_ok.vcap"
       VIPER_TEST_CAPTURE_V3="${PROJECT_SOURCE_DIR}/test/capture/data/test_capture_v3_zstd.vcap"
-      VIPER_TEST_CAPTURE_V4="${PROJECT_SOURCE_DIR}/test/capture/data/test_capture_v4_lz4.vcap")
-    add_dependencies(test_frame_image_messages viper_ros_test_captures)
-  endif()
+      VIPER_TEST_CAPTURE_V4="${PROJECT_SOURCE_DIR}/test/capture/data/test_capture_v4_lz4.vcap"
+    LINK viper_ros gtest_main
+    DEPENDS viper_ros_test_captures)
   # test_bag_writer: BagWriter's files against rosbag's C++ and Python readers and rosbag reindex.
   # test_bag_reader: BagFileReader (bag_player's) against rosbag::View, on rosbag's and BagFileWriter's
   # bags and the committed test bag.
   foreach(t test_bag_writer test_bag_reader)
-    catkin_add_gtest(${t} test/ros/${t}.cpp)
-    if(TARGET ${t})
-      target_include_directories(${t} SYSTEM PRIVATE ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
-      target_link_libraries(${t} viper_ros gtest_main)
-      target_compile_definitions(${t} PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-    endif()
+    viper_gtest(${t} test/ros/${t}.cpp SYSTEM_INCLUDES ${VIPER_ROSBAG_INCLUDE_DIRS}
+      DEFINITIONS VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}" LINK viper_ros gtest_main)
   endforeach()
 endif()

@@ -24,11 +24,37 @@ set(VIPER_INTERCEPT_SOURCES
   src/capture/layer/matrix_stack.cpp
   src/capture/layer/hooks_winsys.cpp
   src/capture/layer/pixel_transfer.cpp)
-add_library(viper_intercept SHARED ${VIPER_INTERCEPT_SOURCES})
+# viper_capture_layer(NAME SOURCE...): a layer loaded into the programs it captures (this one, the
+# Vulkan layer): a shared library exporting only the entry points it marks, in the devel space.
+function(viper_capture_layer name)
+  add_library(${name} SHARED ${ARGN})
+  set_target_properties(${name} PROPERTIES CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
+  viper_lib_output(${name})
+endfunction()
+
+# viper_sanitized_layer(NAME SOURCES SRC... [OPTIONS OPT...] [INCLUDES DIR...] [LINK LIB...]): a layer
+# again with AddressSanitizer and UndefinedBehaviorSanitizer, with the capture sources of the core it
+# uses compiled in, into the build folder's sanitized/ (built only for the tests that name it).
+function(viper_sanitized_layer name)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "SOURCES;OPTIONS;INCLUDES;LINK")
+  set(sanitize -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
+  add_library(${name} SHARED EXCLUDE_FROM_ALL ${arg_SOURCES} ${VIPER_CAPTURE_CORE_SOURCES})
+  set_target_properties(${name} PROPERTIES
+    CXX_VISIBILITY_PRESET hidden
+    VISIBILITY_INLINES_HIDDEN ON
+    LIBRARY_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/sanitized)
+  target_compile_options(${name} PRIVATE ${sanitize} -O1 ${arg_OPTIONS})
+  target_link_options(${name} PRIVATE ${sanitize})
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/src/capture
+    ${arg_INCLUDES})
+  target_include_directories(${name} SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
+  target_link_libraries(${name} PRIVATE PkgConfig::ZSTD PkgConfig::LIBLZ4 PkgConfig::XXHASH PkgConfig::YAMLCPP
+    ${arg_LINK} Threads::Threads ${CMAKE_DL_LIBS})
+endfunction()
+
 # Only the hooked GL/EGL/GLX entry points and dlsym are exported; GL and EGL are not linked
 # (the real functions are looked up at run time, past the interceptor's own symbols).
-set_target_properties(viper_intercept PROPERTIES CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
-viper_lib_output(viper_intercept)
+viper_capture_layer(viper_intercept ${VIPER_INTERCEPT_SOURCES})
 # Of the package, only the capture stage is loaded into the program (test_stage_dependencies).
 target_link_libraries(viper_intercept PRIVATE viper_capture_core Threads::Threads ${CMAKE_DL_LIBS})
 
@@ -42,8 +68,39 @@ viper_install(viper_intercept)
 viper_program(viper_capture)
 install(DIRECTORY config/profiles DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/config)
 
+# viper_capture_run(CAPTURE PROGRAM TARGET PROFILE FILE CONDITION C [CODEC C] [ORACLE FILE] [ARGS ARG...]
+# COMMENT TEXT): the rule that captures the program TARGET (run with the ARGS, and --oracle FILE with
+# ORACLE) into CAPTURE at build time, at 15 fps (test data of the later stages).
+function(viper_capture_run capture)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "PROGRAM;PROFILE;CONDITION;CODEC;ORACLE;COMMENT" "ARGS")
+  set(codec)
+  if(arg_CODEC)
+    set(codec --codec ${arg_CODEC})
+  endif()
+  set(oracle)
+  if(arg_ORACLE)
+    set(oracle --oracle ${arg_ORACLE})
+  endif()
+  get_filename_component(folder ${capture} DIRECTORY)
+  add_custom_command(OUTPUT ${capture} ${arg_ORACLE}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${folder}
+    COMMAND $<TARGET_FILE:viper_capture> ${codec} --output ${capture} --profile ${arg_PROFILE}
+            --condition ${arg_CONDITION} --fps 15 -- $<TARGET_FILE:${arg_PROGRAM}> ${arg_ARGS} ${oracle}
+    DEPENDS viper_capture viper_intercept ${arg_PROGRAM}
+    COMMENT "${arg_COMMENT}")
+endfunction()
+
 if(CATKIN_ENABLE_TESTING)
   find_package(X11 REQUIRED)
+  # viper_capture_gtest(NAME SOURCE... [viper_gtest's options]): a gtest that runs `capture`
+  # (VIPER_CAPTURE_EXE) and its interceptor, from the source folder.
+  function(viper_capture_gtest name)
+    cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "DEFINITIONS;DEPENDS")
+    viper_gtest(${name} ${arg_UNPARSED_ARGUMENTS} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+      DEFINITIONS VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>" ${arg_DEFINITIONS}
+      DEPENDS viper_capture viper_intercept ${arg_DEPENDS})
+  endfunction()
+
   # GL test program: knows what it draws where (test/capture/test_scene_layout.h).
   add_executable(viper_gl_test_program test/capture/gl_test_program.cpp)
   target_include_directories(viper_gl_test_program SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
@@ -83,53 +140,35 @@ if(CATKIN_ENABLE_TESTING)
   else()
     set(VIPER_STRESS_SANITIZED_TARGET viper_intercept_asan)
   endif()
-  set(VIPER_SANITIZE_FLAGS -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer)
   if(VIPER_STRESS_SANITIZED_TARGET STREQUAL "viper_intercept_asan")
-    add_library(viper_intercept_asan SHARED EXCLUDE_FROM_ALL ${VIPER_INTERCEPT_SOURCES} ${VIPER_CAPTURE_CORE_SOURCES})
-    set_target_properties(viper_intercept_asan PROPERTIES
-      CXX_VISIBILITY_PRESET hidden
-      VISIBILITY_INLINES_HIDDEN ON
-      LIBRARY_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/sanitized)
-    target_compile_options(viper_intercept_asan PRIVATE ${VIPER_SANITIZE_FLAGS} -O1)
-    target_link_options(viper_intercept_asan PRIVATE ${VIPER_SANITIZE_FLAGS})
-    target_include_directories(viper_intercept_asan PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/src/capture)
-    target_include_directories(viper_intercept_asan SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
-    target_link_libraries(viper_intercept_asan PRIVATE PkgConfig::ZSTD PkgConfig::LIBLZ4 PkgConfig::XXHASH
-      PkgConfig::YAMLCPP Threads::Threads ${CMAKE_DL_LIBS})
+    viper_sanitized_layer(viper_intercept_asan SOURCES ${VIPER_INTERCEPT_SOURCES})
   endif()
 
-  catkin_add_gtest(test_capture_stress test/capture/test_capture_stress.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_include_directories(test_capture_stress PRIVATE ${PROJECT_SOURCE_DIR}/test/capture)
-  target_compile_definitions(test_capture_stress PRIVATE
-    VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-    VIPER_INTERCEPT_ASAN_LIB="$<TARGET_FILE:${VIPER_STRESS_SANITIZED_TARGET}>"
-    VIPER_GL_STRESS_PROGRAM="$<TARGET_FILE:viper_gl_stress_program>"
-    VIPER_STRESS_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/stress_profile.yaml")
-  target_link_libraries(test_capture_stress viper_core gtest_main)
-  add_dependencies(test_capture_stress viper_capture viper_intercept ${VIPER_STRESS_SANITIZED_TARGET} viper_gl_stress_program)
+  viper_capture_gtest(test_capture_stress test/capture/test_capture_stress.cpp
+    INCLUDES ${PROJECT_SOURCE_DIR}/test/capture
+    DEFINITIONS VIPER_INTERCEPT_ASAN_LIB="$<TARGET_FILE:${VIPER_STRESS_SANITIZED_TARGET}>"
+      VIPER_GL_STRESS_PROGRAM="$<TARGET_FILE:viper_gl_stress_program>"
+      VIPER_STRESS_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/stress_profile.yaml"
+    LINK viper_core gtest_main
+    DEPENDS ${VIPER_STRESS_SANITIZED_TARGET} viper_gl_stress_program)
 
   # The layer's pixel format table against the driver's own bounds checks (needs a GL context).
   catkin_add_gtest(test_pixel_transfer test/capture/test_pixel_transfer.cpp src/capture/layer/pixel_transfer.cpp)
   target_include_directories(test_pixel_transfer PRIVATE ${PROJECT_SOURCE_DIR}/src/capture/layer ${PROJECT_SOURCE_DIR})
   target_link_libraries(test_pixel_transfer viper_gl_common PkgConfig::EGL PkgConfig::GL gtest_main)
 
-  catkin_add_gtest(test_capture_legacy test/capture/test_capture_legacy.cpp src/capture/layer/matrix_stack.cpp
-    WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_compile_definitions(test_capture_legacy PRIVATE
-    VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-    VIPER_GL_LEGACY_PROGRAM="$<TARGET_FILE:viper_gl_legacy_program>"
-    VIPER_LEGACY_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/legacy_profile.yaml")
-  target_include_directories(test_capture_legacy PRIVATE ${PROJECT_SOURCE_DIR}/src/capture/layer)
-  target_link_libraries(test_capture_legacy viper_core gtest_main)
-  add_dependencies(test_capture_legacy viper_capture viper_intercept viper_gl_legacy_program)
+  viper_capture_gtest(test_capture_legacy test/capture/test_capture_legacy.cpp src/capture/layer/matrix_stack.cpp
+    INCLUDES ${PROJECT_SOURCE_DIR}/src/capture/layer
+    DEFINITIONS VIPER_GL_LEGACY_PROGRAM="$<TARGET_FILE:viper_gl_legacy_program>"
+      VIPER_LEGACY_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/legacy_profile.yaml"
+    LINK viper_core gtest_main
+    DEPENDS viper_gl_legacy_program)
 
-  catkin_add_gtest(test_capture_engine test/capture/test_capture_engine.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_compile_definitions(test_capture_engine PRIVATE
-    VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-    VIPER_GL_ENGINE_PROGRAM="$<TARGET_FILE:viper_gl_engine_program>"
-    VIPER_ENGINE_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/engine_profile.yaml")
-  target_link_libraries(test_capture_engine viper_core gtest_main)
-  add_dependencies(test_capture_engine viper_capture viper_intercept viper_gl_engine_program)
+  viper_capture_gtest(test_capture_engine test/capture/test_capture_engine.cpp
+    DEFINITIONS VIPER_GL_ENGINE_PROGRAM="$<TARGET_FILE:viper_gl_engine_program>"
+      VIPER_ENGINE_PROFILE="${PROJECT_SOURCE_DIR}/test/capture/engine_profile.yaml"
+    LINK viper_core gtest_main
+    DEPENDS viper_gl_engine_program)
 
   # The real-context part of the shader rewrite test needs EGL and GL.
   if(TARGET test_shader_rewrite)
@@ -146,68 +185,40 @@ if(CATKIN_ENABLE_TESTING)
   target_include_directories(test_finish_frame PRIVATE ${PROJECT_SOURCE_DIR}/src/capture/layer)
   target_link_libraries(test_finish_frame viper_core)
 
-  catkin_add_gtest(test_capture_run test/capture/test_capture_run.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_include_directories(test_capture_run PRIVATE ${PROJECT_SOURCE_DIR}/test/capture)
-  target_compile_definitions(test_capture_run PRIVATE
-    VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-    VIPER_INTERCEPT_LIB="$<TARGET_FILE:viper_intercept>"
-    VIPER_GL_TEST_PROGRAM="$<TARGET_FILE:viper_gl_test_program>"
-    VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles")
-  target_link_libraries(test_capture_run viper_core)
-  add_dependencies(test_capture_run viper_capture viper_intercept viper_gl_test_program)
+  viper_capture_gtest(test_capture_run test/capture/test_capture_run.cpp
+    INCLUDES ${PROJECT_SOURCE_DIR}/test/capture
+    DEFINITIONS VIPER_INTERCEPT_LIB="$<TARGET_FILE:viper_intercept>"
+      VIPER_GL_TEST_PROGRAM="$<TARGET_FILE:viper_gl_test_program>" VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles"
+    LINK viper_core
+    DEPENDS viper_gl_test_program)
 
   # capture's verdict and --require-ids, capture_check's judged checks and the ones it cannot run.
-  catkin_add_gtest(test_capture_verdict test/capture/test_capture_verdict.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  target_compile_definitions(test_capture_verdict PRIVATE
-    VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-    VIPER_CAPTURE_CHECK_EXE="$<TARGET_FILE:capture_check>"
-    VIPER_GL_TEST_PROGRAM="$<TARGET_FILE:viper_gl_test_program>"
-    VIPER_GL_FIXED_FUNCTION_PROGRAM="$<TARGET_FILE:viper_gl_fixed_function_program>"
-    VIPER_TEST_SCENE="$<TARGET_FILE:test_scene>"
-    VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles")
-  target_link_libraries(test_capture_verdict viper_core)
-  add_dependencies(test_capture_verdict viper_capture viper_intercept capture_check viper_gl_test_program
-    viper_gl_fixed_function_program test_scene)
+  viper_capture_gtest(test_capture_verdict test/capture/test_capture_verdict.cpp
+    DEFINITIONS VIPER_CAPTURE_CHECK_EXE="$<TARGET_FILE:capture_check>"
+      VIPER_GL_TEST_PROGRAM="$<TARGET_FILE:viper_gl_test_program>"
+      VIPER_GL_FIXED_FUNCTION_PROGRAM="$<TARGET_FILE:viper_gl_fixed_function_program>"
+      VIPER_TEST_SCENE="$<TARGET_FILE:test_scene>" VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles"
+    LINK viper_core
+    DEPENDS capture_check viper_gl_test_program viper_gl_fixed_function_program test_scene)
 endif()
 
 if(CATKIN_ENABLE_TESTING)
   # SuperTuxKart traced once and replayed plainly and under capture (needs supertuxkart, apitrace
   # and xvfb-run: scripts/setup.sh --test-programs, which scripts/test.sh runs).
   # Minetest captured live (needs minetest and xvfb: scripts/setup.sh --test-programs).
-  catkin_add_gtest(test_minetest test/capture/test_minetest.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  if(TARGET test_minetest)
-    target_compile_definitions(test_minetest PRIVATE
-      VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-      VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles")
-    target_link_libraries(test_minetest viper_core gtest_main)
-    add_dependencies(test_minetest viper_capture viper_intercept)
-  endif()
-  catkin_add_gtest(test_supertuxkart test/capture/test_supertuxkart.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  if(TARGET test_supertuxkart)
-    target_include_directories(test_supertuxkart SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
-    target_compile_definitions(test_supertuxkart PRIVATE
-      VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-      VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles"
-      VIPER_STK_LABELS="${PROJECT_SOURCE_DIR}/config/labels/supertuxkart_candela_city.yaml")
-    target_link_libraries(test_supertuxkart viper_core gtest_main ${OpenCV_LIBS})
-    add_dependencies(test_supertuxkart viper_capture viper_intercept viper_vulkan_layer)
-  endif()
+  viper_capture_gtest(test_minetest test/capture/test_minetest.cpp
+    DEFINITIONS VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles" LINK viper_core gtest_main)
+  viper_capture_gtest(test_supertuxkart test/capture/test_supertuxkart.cpp SYSTEM_INCLUDES ${OpenCV_INCLUDE_DIRS}
+    DEFINITIONS VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles"
+      VIPER_STK_LABELS="${PROJECT_SOURCE_DIR}/config/labels/supertuxkart_candela_city.yaml"
+    LINK viper_core gtest_main ${OpenCV_LIBS}
+    DEPENDS viper_vulkan_layer)
   # Programs the package was not written for, the fast ones (scripts/capture_corpus.sh; needs them,
   # apitrace and xvfb: scripts/setup.sh --test-programs).
-  catkin_add_gtest(test_corpus test/capture/test_corpus.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  if(TARGET test_corpus)
-    target_compile_definitions(test_corpus PRIVATE VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>")
-    target_link_libraries(test_corpus gtest_main)
-    add_dependencies(test_corpus viper_capture viper_intercept capture_check)
-  endif()
+  viper_capture_gtest(test_corpus test/capture/test_corpus.cpp LINK gtest_main DEPENDS capture_check)
   # Mesa's conformance suite piglit plainly and under capture (scripts/piglit_compare.sh's ci slice;
   # needs piglit, waffle-utils and xvfb: scripts/setup.sh --test-programs).
-  catkin_add_gtest(test_piglit test/capture/test_piglit.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  if(TARGET test_piglit)
-    target_compile_definitions(test_piglit PRIVATE VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>")
-    target_link_libraries(test_piglit gtest_main)
-    add_dependencies(test_piglit viper_capture viper_intercept)
-  endif()
+  viper_capture_gtest(test_piglit test/capture/test_piglit.cpp LINK gtest_main)
 endif()
 
 # Command-line tools of the package (run with rosrun viper NAME).
@@ -237,15 +248,10 @@ viper_executable(make_label_table tools/make_label_table.cpp LINK viper_core)
 if(CATKIN_ENABLE_TESTING)
   # The labelling page in headless Chromium, driven by Playwright (test/label_page; needs chromium,
   # node and the page driver's npm package: scripts/setup.sh --test-programs).
-  catkin_add_gtest(test_label_page test/label_page/test_label_page.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
-  if(TARGET test_label_page)
-    target_compile_definitions(test_label_page PRIVATE
-      VIPER_CAPTURE_EXE="$<TARGET_FILE:viper_capture>"
-      VIPER_GL_TEST_PROGRAM="$<TARGET_FILE:viper_gl_test_program>"
-      VIPER_LABEL_RESOURCES="$<TARGET_FILE:label_resources>"
-      VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles"
-      VIPER_LABEL_PAGE_TEST_DIR="${PROJECT_SOURCE_DIR}/test/label_page")
-    target_link_libraries(test_label_page viper_core gtest_main)
-    add_dependencies(test_label_page viper_capture viper_intercept viper_gl_test_program label_resources)
-  endif()
+  viper_capture_gtest(test_label_page test/label_page/test_label_page.cpp
+    DEFINITIONS VIPER_GL_TEST_PROGRAM="$<TARGET_FILE:viper_gl_test_program>"
+      VIPER_LABEL_RESOURCES="$<TARGET_FILE:label_resources>" VIPER_PROFILE_DIR="${PROJECT_SOURCE_DIR}/config/profiles"
+      VIPER_LABEL_PAGE_TEST_DIR="${PROJECT_SOURCE_DIR}/test/label_page"
+    LINK viper_core gtest_main
+    DEPENDS viper_gl_test_program label_resources)
 endif()

@@ -19,11 +19,9 @@ set(VIPER_VULKAN_LAYER_SOURCES
   src/capture/layer/capture_settings.cpp
   src/capture/layer/finish_frame.cpp
   src/capture/layer/mesh_extract.cpp)
-add_library(viper_vulkan_layer SHARED ${VIPER_VULKAN_LAYER_SOURCES})
 # Only the loader's entry points are exported; the Vulkan loader is not linked (the layer is
 # called through the dispatch chain the loader gives it).
-set_target_properties(viper_vulkan_layer PROPERTIES CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
-viper_lib_output(viper_vulkan_layer)
+viper_capture_layer(viper_vulkan_layer ${VIPER_VULKAN_LAYER_SOURCES})
 target_include_directories(viper_vulkan_layer PRIVATE ${Vulkan_INCLUDE_DIRS})
 # Vulkan structures are written `{VK_STRUCTURE_TYPE_...}`, the rest zeroed, as Vulkan code is.
 target_compile_options(viper_vulkan_layer PRIVATE -Wno-missing-field-initializers)
@@ -33,18 +31,20 @@ target_link_libraries(viper_vulkan_layer PRIVATE viper_capture_core SPIRV-Tools-
 
 # The layer's manifest, next to the library in the devel space and in the install space: `capture`
 # points the loader at the folder (VK_ADD_LAYER_PATH) and enables the layer by name.
+# viper_vulkan_manifest(FOLDER LAYER_TARGET DESCRIPTION): the manifest VK_LAYER_VIPER_capture.json in
+# FOLDER, naming LAYER_TARGET's library.
 set(VIPER_VULKAN_LAYER_NAME VK_LAYER_VIPER_capture)
-set(VIPER_VULKAN_LAYER_LIBRARY $<TARGET_FILE:viper_vulkan_layer>)
-file(GENERATE OUTPUT ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/vulkan/${VIPER_VULKAN_LAYER_NAME}.json
-  CONTENT "{
+function(viper_vulkan_manifest folder layer description)
+  file(GENERATE OUTPUT ${folder}/${VIPER_VULKAN_LAYER_NAME}.json
+    CONTENT "{
   \"file_format_version\": \"1.1.2\",
   \"layer\": {
     \"name\": \"${VIPER_VULKAN_LAYER_NAME}\",
     \"type\": \"GLOBAL\",
-    \"library_path\": \"$<TARGET_FILE:viper_vulkan_layer>\",
+    \"library_path\": \"$<TARGET_FILE:${layer}>\",
     \"api_version\": \"1.3.239\",
     \"implementation_version\": \"1\",
-    \"description\": \"viper: records what a Vulkan program draws into a capture stream\",
+    \"description\": \"${description}\",
     \"functions\": {
       \"vkGetInstanceProcAddr\": \"viper_vkGetInstanceProcAddr\",
       \"vkGetDeviceProcAddr\": \"viper_vkGetDeviceProcAddr\",
@@ -53,6 +53,9 @@ file(GENERATE OUTPUT ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/
   }
 }
 ")
+endfunction()
+viper_vulkan_manifest(${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/vulkan viper_vulkan_layer
+  "viper: records what a Vulkan program draws into a capture stream")
 viper_install(viper_vulkan_layer)
 
 if(CATKIN_ENABLE_TESTING)
@@ -71,50 +74,23 @@ add_dependencies(viper_capture viper_vulkan_layer)
 if(CATKIN_ENABLE_TESTING)
   # The layer on our Vulkan oracle program in every way it draws, against its truth, its own
   # pictures and the Khronos validation layer (each run under xvfb-run).
-  catkin_add_gtest(test_capture_vulkan test/capture/test_capture_vulkan.cpp)
-  if(TARGET test_capture_vulkan)
-    target_link_libraries(test_capture_vulkan viper_core gtest_main)
-    target_include_directories(test_capture_vulkan PRIVATE ${PROJECT_SOURCE_DIR})
-    target_compile_definitions(test_capture_vulkan PRIVATE
+  viper_gtest(test_capture_vulkan test/capture/test_capture_vulkan.cpp INCLUDES ${PROJECT_SOURCE_DIR}
+    DEFINITIONS
       VIPER_CAPTURE_BIN="$<TARGET_FILE:viper_capture>"
       VIPER_VK_TEST_SCENE_BIN="$<TARGET_FILE:vk_test_scene>"
       VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-      VIPER_VULKAN_LAYER_DIR="${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/vulkan")
-    add_dependencies(test_capture_vulkan viper_capture viper_vulkan_layer viper_intercept vk_test_scene)
+      VIPER_VULKAN_LAYER_DIR="${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/vulkan"
+    LINK viper_core gtest_main
+    DEPENDS viper_capture viper_vulkan_layer viper_intercept vk_test_scene)
+  if(TARGET test_capture_vulkan)
     # The layer again with AddressSanitizer and UndefinedBehaviorSanitizer (as viper_intercept_asan,
     # cmake/capture.cmake), with a manifest of its own, for test_capture_vulkan's sanitized run; in a
     # ThreadSanitizer tree (scripts/sanitize.sh tsan) the tree's own layer is the sanitized one.
     if(VIPER_STRESS_SANITIZED_TARGET STREQUAL "viper_intercept_asan")
-      add_library(viper_vulkan_layer_asan SHARED EXCLUDE_FROM_ALL ${VIPER_VULKAN_LAYER_SOURCES} ${VIPER_CAPTURE_CORE_SOURCES})
-      set_target_properties(viper_vulkan_layer_asan PROPERTIES
-        CXX_VISIBILITY_PRESET hidden
-        VISIBILITY_INLINES_HIDDEN ON
-        LIBRARY_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/sanitized)
-      target_compile_options(viper_vulkan_layer_asan PRIVATE ${VIPER_SANITIZE_FLAGS} -O1 -Wno-missing-field-initializers)
-      target_link_options(viper_vulkan_layer_asan PRIVATE ${VIPER_SANITIZE_FLAGS})
-      target_include_directories(viper_vulkan_layer_asan PRIVATE ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR}/src/capture
-        ${Vulkan_INCLUDE_DIRS})
-      target_include_directories(viper_vulkan_layer_asan SYSTEM PRIVATE ${EIGEN3_INCLUDE_DIR})
-      target_link_libraries(viper_vulkan_layer_asan PRIVATE PkgConfig::ZSTD PkgConfig::LIBLZ4 PkgConfig::XXHASH
-        PkgConfig::YAMLCPP SPIRV-Tools-static Threads::Threads ${CMAKE_DL_LIBS})
-      file(GENERATE OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/sanitized/vulkan/${VIPER_VULKAN_LAYER_NAME}.json
-        CONTENT "{
-  \"file_format_version\": \"1.1.2\",
-  \"layer\": {
-    \"name\": \"${VIPER_VULKAN_LAYER_NAME}\",
-    \"type\": \"GLOBAL\",
-    \"library_path\": \"$<TARGET_FILE:viper_vulkan_layer_asan>\",
-    \"api_version\": \"1.3.239\",
-    \"implementation_version\": \"1\",
-    \"description\": \"viper: records what a Vulkan program draws (AddressSanitizer build)\",
-    \"functions\": {
-      \"vkGetInstanceProcAddr\": \"viper_vkGetInstanceProcAddr\",
-      \"vkGetDeviceProcAddr\": \"viper_vkGetDeviceProcAddr\",
-      \"vkNegotiateLoaderLayerInterfaceVersion\": \"vkNegotiateLoaderLayerInterfaceVersion\"
-    }
-  }
-}
-")
+      viper_sanitized_layer(viper_vulkan_layer_asan SOURCES ${VIPER_VULKAN_LAYER_SOURCES}
+        OPTIONS -Wno-missing-field-initializers INCLUDES ${Vulkan_INCLUDE_DIRS} LINK SPIRV-Tools-static)
+      viper_vulkan_manifest(${CMAKE_CURRENT_BINARY_DIR}/sanitized/vulkan viper_vulkan_layer_asan
+        "viper: records what a Vulkan program draws (AddressSanitizer build)")
       target_compile_definitions(test_capture_vulkan PRIVATE
         VIPER_INTERCEPT_ASAN_LIB="$<TARGET_FILE:viper_intercept_asan>"
         VIPER_VULKAN_LAYER_ASAN_DIR="${CMAKE_CURRENT_BINARY_DIR}/sanitized/vulkan")

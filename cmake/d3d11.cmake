@@ -22,13 +22,9 @@ add_custom_target(d3d11_scene ALL DEPENDS ${VIPER_D3D11_SCENE_EXE})
 
 if(CATKIN_ENABLE_TESTING)
   # d3d11_scene under wine and `capture`, against its own truth (the test skips without wine or Xvfb).
-  catkin_add_gtest(test_capture_d3d11 test/capture/test_capture_d3d11.cpp)
-  if(TARGET test_capture_d3d11)
-    target_link_libraries(test_capture_d3d11 viper_core gtest_main)
-    target_include_directories(test_capture_d3d11 PRIVATE ${PROJECT_SOURCE_DIR})
-    target_compile_definitions(test_capture_d3d11 PRIVATE
-      VIPER_CAPTURE_BIN="$<TARGET_FILE:viper_capture>"
-      VIPER_D3D11_SCENE_EXE="${VIPER_D3D11_SCENE_EXE}" VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-    add_dependencies(test_capture_d3d11 viper_capture viper_intercept d3d11_scene)
-  endif()
+  viper_gtest(test_capture_d3d11 test/capture/test_capture_d3d11.cpp INCLUDES ${PROJECT_SOURCE_DIR}
+    DEFINITIONS VIPER_CAPTURE_BIN="$<TARGET_FILE:viper_capture>" VIPER_D3D11_SCENE_EXE="${VIPER_D3D11_SCENE_EXE}"
+      VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    LINK viper_core gtest_main
+    DEPENDS viper_capture viper_intercept d3d11_scene)
 endif()

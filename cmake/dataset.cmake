@@ -35,12 +35,8 @@ viper_lib_output(viper_dataset)
 viper_install(viper_dataset)
 
 # export_flow: 32FC2 flow messages of a bag -> VIPER layout (.npz) and/or .flo files.
-# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
-find_package(pluginlib REQUIRED)
-find_package(class_loader REQUIRED)
 add_executable(export_flow tools/export_flow.cpp)
-target_include_directories(export_flow SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-  ${class_loader_INCLUDE_DIRS})
+target_include_directories(export_flow SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${VIPER_ROSBAG_INCLUDE_DIRS})
 target_link_libraries(export_flow viper_dataset viper_conversions ${catkin_LIBRARIES})
 viper_program(export_flow)
 
@@ -69,8 +65,7 @@ viper_library(viper_submission SOURCES src/dataset/layout/viper_submission.cpp
 add_executable(viper_submission_tool tools/viper_submission.cpp)
 set_target_properties(viper_submission_tool PROPERTIES OUTPUT_NAME viper_submission)
 viper_program(viper_submission_tool)
-target_include_directories(viper_submission_tool SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-  ${class_loader_INCLUDE_DIRS})
+target_include_directories(viper_submission_tool SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${VIPER_ROSBAG_INCLUDE_DIRS})
 target_link_libraries(viper_submission_tool viper_submission viper_evaluate_ros viper_conversions ${catkin_LIBRARIES})
 add_dependencies(viper_submission_tool viper_generate_messages_cpp)
 
@@ -97,8 +92,7 @@ if(CATKIN_ENABLE_TESTING)
   # test/dataset/test_viper_submission.cpp: generate's ground truth of the test bag, a bag of predictions
   # made from it, the viper_submission command on it, its files read back.
   if(TARGET test_viper_submission)
-    target_include_directories(test_viper_submission SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-      ${class_loader_INCLUDE_DIRS})
+    target_include_directories(test_viper_submission SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${VIPER_ROSBAG_INCLUDE_DIRS})
     target_link_libraries(test_viper_submission viper_submission viper_conversions ${catkin_LIBRARIES})
     target_compile_definitions(test_viper_submission PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
       VIPER_GENERATE="$<TARGET_FILE:generate>" VIPER_SUBMISSION="$<TARGET_FILE:viper_submission_tool>")
@@ -108,8 +102,7 @@ if(CATKIN_ENABLE_TESTING)
     target_link_libraries(test_viper_submission_files viper_submission)
   endif()
   if(TARGET test_export_flow)
-    target_include_directories(test_export_flow SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-      ${class_loader_INCLUDE_DIRS})
+    target_include_directories(test_export_flow SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${VIPER_ROSBAG_INCLUDE_DIRS})
     target_link_libraries(test_export_flow ${catkin_LIBRARIES})
     add_dependencies(test_export_flow export_flow)
   endif()
@@ -140,9 +133,6 @@ foreach(t test_dataset_statistics test_generate_statistics)
 endforeach()
 
 # viper_layout_ros: layout <-> messages, the exporter, the player and the live exporter (nodes + nodelets).
-# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders.
-find_package(pluginlib REQUIRED)
-find_package(class_loader REQUIRED)
 viper_ros_library(viper_layout_ros SOURCES
   src/ros/dataset/viper_layout_conversions.cpp
   src/ros/dataset/viper_exporter.cpp
@@ -153,7 +143,7 @@ viper_ros_library(viper_layout_ros SOURCES
   src/ros/dataset/viper_exporter_node.cpp
   src/ros/dataset/viper_exporter_nodelet.cpp
   src/ros/dataset/sequence_generator.cpp
-  SYSTEM_INCLUDES ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
+  SYSTEM_INCLUDES ${VIPER_ROSBAG_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
   LINK viper_flow_ros viper_ground_truth_ros viper_ros viper_core viper_dataset viper_layout_writer
     ${catkin_LIBRARIES})
 
@@ -216,12 +206,9 @@ if(CATKIN_ENABLE_TESTING)
   # turned into a raw bag by capture_to_bag (cmake/capture.cmake).
   set(VIPER_WORLD_ROUNDTRIP_CAPTURE ${PROJECT_BINARY_DIR}/test_data/world_roundtrip.vcap)
   set(VIPER_WORLD_RAW_BAG ${PROJECT_BINARY_DIR}/test_data/world_raw.bag)
-  add_custom_command(OUTPUT ${VIPER_WORLD_ROUNDTRIP_CAPTURE}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/test_data
-    COMMAND $<TARGET_FILE:viper_capture> --codec zstd --output ${VIPER_WORLD_ROUNDTRIP_CAPTURE}
-            --profile ${PROJECT_SOURCE_DIR}/config/profiles/world.yaml --condition day --fps 15
-            -- $<TARGET_FILE:world> --condition day --ego drive --frames 20 --width 480 --height 270
-    DEPENDS viper_capture viper_intercept world
+  set(_world_roundtrip_run PROGRAM world PROFILE ${PROJECT_SOURCE_DIR}/config/profiles/world.yaml CONDITION day
+    ARGS --condition day --ego drive --frames 20 --width 480 --height 270)
+  viper_capture_run(${VIPER_WORLD_ROUNDTRIP_CAPTURE} CODEC zstd ${_world_roundtrip_run}
     COMMENT "Capturing the world for the VIPER layout round trip")
   add_custom_command(OUTPUT ${VIPER_WORLD_RAW_BAG}
     COMMAND capture_to_bag ${VIPER_WORLD_ROUNDTRIP_CAPTURE} --output ${VIPER_WORLD_RAW_BAG}
@@ -230,12 +217,7 @@ if(CATKIN_ENABLE_TESTING)
   # The same run captured with --codec lz4 (the world is deterministic at a fixed --fps; the one
   # above is zstd): the reading test compares its frames with the zstd capture's.
   set(VIPER_WORLD_LZ4_CAPTURE ${PROJECT_BINARY_DIR}/test_data/world_roundtrip_lz4.vcap)
-  add_custom_command(OUTPUT ${VIPER_WORLD_LZ4_CAPTURE}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/test_data
-    COMMAND $<TARGET_FILE:viper_capture> --codec lz4 --output ${VIPER_WORLD_LZ4_CAPTURE}
-            --profile ${PROJECT_SOURCE_DIR}/config/profiles/world.yaml --condition day --fps 15
-            -- $<TARGET_FILE:world> --condition day --ego drive --frames 20 --width 480 --height 270
-    DEPENDS viper_capture viper_intercept world
+  viper_capture_run(${VIPER_WORLD_LZ4_CAPTURE} CODEC lz4 ${_world_roundtrip_run}
     COMMENT "Capturing the world with LZ4 for the capture reading test")
   add_custom_target(world_raw_bag DEPENDS ${VIPER_WORLD_RAW_BAG})
   add_custom_target(world_lz4_capture DEPENDS ${VIPER_WORLD_LZ4_CAPTURE})
@@ -360,8 +342,7 @@ endif()
 # bench/bench_viper_layout.cpp (built by cmake/bench.cmake when Google Benchmark is there).
 # bench/bench_bag_writer.cpp: rosbag against BagFileWriter on a ground-truth bag's messages.
 if(TARGET bench_bag_writer)
-  target_include_directories(bench_bag_writer SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${pluginlib_INCLUDE_DIRS}
-    ${class_loader_INCLUDE_DIRS})
+  target_include_directories(bench_bag_writer SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${VIPER_ROSBAG_INCLUDE_DIRS})
   target_link_libraries(bench_bag_writer viper_dataset ${catkin_LIBRARIES})
 endif()
 # bench/bench_bag_reader.cpp: rosbag::View against BagFileReader, reading a bag as bag_player does

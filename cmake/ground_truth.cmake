@@ -23,12 +23,8 @@ if(CATKIN_ENABLE_TESTING)
   function(viper_oracle_check name program profile program_args)
     set(capture ${VIPER_GT_DATA}/${name}.vcap)
     set(oracle ${VIPER_GT_DATA}/${name}.oracle)
-    add_custom_command(OUTPUT ${capture} ${oracle}
-      COMMAND ${CMAKE_COMMAND} -E make_directory ${VIPER_GT_DATA}
-      COMMAND $<TARGET_FILE:viper_capture> --output ${capture} --profile ${PROJECT_SOURCE_DIR}/${profile}
-              --condition day --fps 15 -- $<TARGET_FILE:${program}> ${program_args} --oracle ${oracle}
-      DEPENDS viper_capture viper_intercept ${program}
-      COMMENT "Capturing ${program} for the ground-truth oracle checks")
+    viper_capture_run(${capture} PROGRAM ${program} PROFILE ${PROJECT_SOURCE_DIR}/${profile} CONDITION day
+      ARGS ${program_args} ORACLE ${oracle} COMMENT "Capturing ${program} for the ground-truth oracle checks")
     add_custom_target(${name}_capture DEPENDS ${capture} ${oracle})
     catkin_add_gtest(test_${name}_against_oracle test/ground_truth/test_against_oracle.cpp)
     target_link_libraries(test_${name}_against_oracle viper_core gtest_main)
@@ -95,27 +91,21 @@ if(CATKIN_ENABLE_TESTING)
   foreach(condition day sunset rain snow night)
     set(capture ${VIPER_FLOW_TRUTH_DATA}/world_${condition}.vcap)
     set(oracle ${VIPER_FLOW_TRUTH_DATA}/world_${condition}.oracle)
-    add_custom_command(OUTPUT ${capture} ${oracle}
-      COMMAND ${CMAKE_COMMAND} -E make_directory ${VIPER_FLOW_TRUTH_DATA}
-      COMMAND $<TARGET_FILE:viper_capture> --output ${capture} --profile ${PROJECT_SOURCE_DIR}/config/profiles/world.yaml
-              --condition ${condition} --fps 15 -- $<TARGET_FILE:world> --condition ${condition} --ego ${ego_${condition}}
-              --frames ${frames_${condition}} --width 480 --height 270 --oracle ${oracle}
-      DEPENDS viper_capture viper_intercept world
-      COMMENT "Capturing the world (${condition}) for the flow and box truth checks")
+    viper_capture_run(${capture} PROGRAM world PROFILE ${PROJECT_SOURCE_DIR}/config/profiles/world.yaml
+      CONDITION ${condition} ARGS --condition ${condition} --ego ${ego_${condition}} --frames ${frames_${condition}}
+      --width 480 --height 270 ORACLE ${oracle} COMMENT "Capturing the world (${condition}) for the flow and box truth checks")
     list(APPEND VIPER_FLOW_TRUTH_FILES ${capture} ${oracle})
   endforeach()
   add_custom_target(flow_truth_captures DEPENDS ${VIPER_FLOW_TRUTH_FILES})
 
-  catkin_add_gtest(test_flow_against_oracle
+  viper_gtest(test_flow_against_oracle
     test/ground_truth/test_flow_against_oracle.cpp
     test/ground_truth/test_boxes_against_oracle.cpp
-    test/ground_truth/oracle_truth.cpp)
-  if(TARGET test_flow_against_oracle)
-    target_link_libraries(test_flow_against_oracle viper_core gtest_main)
-    target_compile_definitions(test_flow_against_oracle PRIVATE
+    test/ground_truth/oracle_truth.cpp
+    DEFINITIONS
       VIPER_FLOW_TRUTH_DIR="${VIPER_FLOW_TRUTH_DATA}"
       VIPER_WORLD_LABELS="${PROJECT_SOURCE_DIR}/config/labels/world_labels.yaml"
-      VIPER_CLASSES_CSV="${PROJECT_SOURCE_DIR}/config/viper_classes.csv")
-    add_dependencies(test_flow_against_oracle flow_truth_captures)
-  endif()
+      VIPER_CLASSES_CSV="${PROJECT_SOURCE_DIR}/config/viper_classes.csv"
+    LINK viper_core gtest_main
+    DEPENDS flow_truth_captures)
 endif()

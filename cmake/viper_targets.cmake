@@ -2,6 +2,12 @@
 # space, where rosrun and the nodelet manager find it), how it is installed, and the package's two
 # kinds of library (ROS-free, ROS layer).
 
+# rosbag/bag.h includes pluginlib and class_loader, which Debian installs under their own folders:
+# VIPER_ROSBAG_INCLUDE_DIRS, the system headers of every target that includes it.
+find_package(pluginlib REQUIRED)
+find_package(class_loader REQUIRED)
+set(VIPER_ROSBAG_INCLUDE_DIRS ${pluginlib_INCLUDE_DIRS} ${class_loader_INCLUDE_DIRS})
+
 # viper_lib_output(TARGET...): shared libraries into the devel space's lib folder.
 function(viper_lib_output)
   set_target_properties(${ARGN} PROPERTIES
@@ -64,4 +70,35 @@ function(viper_ros_library name)
   cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "SOURCES;SYSTEM_INCLUDES;LINK")
   viper_library(${name} SOURCES ${arg_SOURCES} SYSTEM_INCLUDES ${catkin_INCLUDE_DIRS} ${arg_SYSTEM_INCLUDES}
     LINK PUBLIC ${arg_LINK} MESSAGES)
+endfunction()
+
+# viper_gtest(NAME SOURCE... [WORKING_DIRECTORY DIR] [INCLUDES DIR...] [SYSTEM_INCLUDES DIR...]
+# [DEFINITIONS DEF...] [LINK LIB...] [DEPENDS TARGET...]): a plain gtest (no roscore) and, where
+# gtest is there to build it, its private headers (the DIRs, then the system DIRs), definitions,
+# libraries (plain signature) and the targets it runs or reads.
+function(viper_gtest name)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "WORKING_DIRECTORY" "INCLUDES;SYSTEM_INCLUDES;DEFINITIONS;LINK;DEPENDS")
+  if(arg_WORKING_DIRECTORY)
+    catkin_add_gtest(${name} ${arg_UNPARSED_ARGUMENTS} WORKING_DIRECTORY ${arg_WORKING_DIRECTORY})
+  else()
+    catkin_add_gtest(${name} ${arg_UNPARSED_ARGUMENTS})
+  endif()
+  if(NOT TARGET ${name})
+    return()
+  endif()
+  if(arg_INCLUDES)
+    target_include_directories(${name} PRIVATE ${arg_INCLUDES})
+  endif()
+  if(arg_SYSTEM_INCLUDES)
+    target_include_directories(${name} SYSTEM PRIVATE ${arg_SYSTEM_INCLUDES})
+  endif()
+  if(arg_DEFINITIONS)
+    target_compile_definitions(${name} PRIVATE ${arg_DEFINITIONS})
+  endif()
+  if(arg_LINK)
+    target_link_libraries(${name} ${arg_LINK})
+  endif()
+  if(arg_DEPENDS)
+    add_dependencies(${name} ${arg_DEPENDS})
+  endif()
 endfunction()

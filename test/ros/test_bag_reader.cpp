@@ -3,8 +3,9 @@
 // chunks that overlap in time, and on the committed test bag: every message comes back with its
 // topic, time, connection header and bytes, in rosbag's order. And the errors: a bag without its
 // index names `rosbag reindex`; a damaged chunk names its byte offset after every message before it
-// came back; damaged bags never crash the reader. Then viper::BagReader, the typed reader over it
-// (generate's and the tools'), against rosbag::View with a TopicQuery and MessageInstance::instantiate.
+// came back, and reading goes on after it; damaged bags never crash the reader. Then
+// viper::BagReader, the typed reader over it (generate's and the tools'), against rosbag::View with a
+// TopicQuery and MessageInstance::instantiate; a damaged chunk of other topics is not read.
 #include "viper/dataset/bag_file_reader.h"
 #include "viper/ros/bridge/bag_reader.h"
 #include "viper/ros/bridge/bag_writer.h"
@@ -23,6 +24,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <random>
 #include <set>
@@ -100,6 +102,32 @@ std::vector<Read> readWithReader(const std::string& path, std::string* error = n
   } catch (const std::runtime_error& e) {
     if (error == nullptr) ADD_FAILURE() << e.what();
     else *error = e.what();
+  }
+  return out;
+}
+
+// BagFileReader's messages of the connections `wanted` selects (nullptr: all), reading on after
+// each damaged chunk; `errors` gets each (nullptr: fail the test; their skipped messages'
+// connections are gone with the reader). Another error ends the reading.
+std::vector<Read> readOnWithReader(const std::string& path, std::vector<viper::dataset::BagDamagedChunk>* errors,
+                                   const std::function<bool(const viper::dataset::BagConnection&)>* wanted = nullptr) {
+  std::vector<Read> out;
+  try {
+    BagFileReader bag(path);
+    if (wanted) bag.select(*wanted);
+    viper::dataset::BagMessage m;
+    for (size_t damaged = 0; damaged <= 1000;) {
+      try {
+        if (!bag.next(m)) break;
+        out.push_back({m.connection->topic, m.sec, m.nsec, m.connection->fields, {m.data, m.data + m.size}});
+      } catch (const viper::dataset::BagDamagedChunk& e) {
+        if (errors == nullptr) ADD_FAILURE() << e.what();
+        else errors->push_back(e);
+        EXPECT_FALSE(e.skipped().empty()) << e.what();
+        if (++damaged > 1000) ADD_FAILURE() << "read on after 1000 damaged chunks";
+      }
+    }
+  } catch (const std::runtime_error&) {  // the index, or the file: nothing to read on after
   }
   return out;
 }
@@ -424,14 +452,14 @@ void writeTextBag(const std::string& path, rosbag::compression::CompressionType 
   }
 }
 
-// A copy of `intact` at `damaged` with 16 bytes of its third chunk's data inverted (chunks compressed
-// with `compression`); returns the chunk's offset (npos: the bag has no third chunk).
-size_t damageThirdChunk(const std::string& intact, const std::string& compression, const std::string& damaged) {
+// A copy of `intact` at `damaged` with 16 bytes of its n-th chunk's data (from 1) inverted (chunks
+// written by rosbag, compressed with `compression`); returns the chunk's offset (npos: no n-th chunk).
+size_t damageChunk(const std::string& intact, const std::string& compression, const std::string& damaged, int n) {
   std::string bytes = readFile(intact);
   // rosbag writes a chunk's header fields by name: compression first, after the record's and the
   // field's lengths.
   size_t field = 0;
-  for (int k = 0; k < 3 && field != std::string::npos; ++k) field = bytes.find("compression=" + compression, field + 1);
+  for (int k = 0; k < n && field != std::string::npos; ++k) field = bytes.find("compression=" + compression, field + 1);
   if (field == std::string::npos) return field;
   const size_t chunk = field - 8;
   uint32_t header_size;
@@ -441,21 +469,48 @@ size_t damageThirdChunk(const std::string& intact, const std::string& compressio
   return chunk;
 }
 
-// A chunk's data with 16 bytes inverted (the third chunk of a bag of one topic, times rising): the
-// error names the chunk's offset, after the messages of the chunks before it, as many as rosbag gives.
-TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
+size_t damageThirdChunk(const std::string& intact, const std::string& compression, const std::string& damaged) {
+  return damageChunk(intact, compression, damaged, 3);
+}
+
+// Twelve texts of 5000 bytes, one a chunk (rosbag's writer, 4 KB chunks): /a at times 1, 3, .., 11
+// (chunks 1, 3, ..), /b at 2, 4, .., 12.
+void writeOneMessageChunks(const std::string& path, rosbag::compression::CompressionType compression) {
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  bag.setCompression(compression);
+  bag.setChunkThreshold(4096);
+  std::mt19937 random(13);
+  for (uint32_t t = 1; t <= 12; ++t) {
+    std_msgs::String s;
+    s.data = text(5000, random);
+    bag.write(t % 2 ? "/a" : "/b", ros::Time(t, 0), s);
+  }
+  bag.close();
+}
+
+// For each compression that can be damaged (lz4, bz2): the bag `write` writes with its n-th chunk
+// damaged, checked by check(its path, the chunk's offset, the intact bag's messages by rosbag).
+void withDamagedChunk(void (*write)(const std::string&, rosbag::compression::CompressionType), int n,
+                      const std::function<void(const std::string&, size_t, const std::vector<Read>&)>& check) {
   const std::string dir = tempDir("viper_bag_reader_");
   for (const auto& [name, compression] : {std::pair{"lz4", rosbag::compression::LZ4},
                                           std::pair{"bz2", rosbag::compression::BZ2}}) {
     SCOPED_TRACE(name);
     const std::string intact = dir + "/intact_" + name + ".bag", damaged = dir + "/damaged_" + name + ".bag";
-    writeTextBag(intact, compression);
-    const size_t chunk = damageThirdChunk(intact, name, damaged);
+    write(intact, compression);
+    const size_t chunk = damageChunk(intact, name, damaged, n);
     ASSERT_NE(chunk, std::string::npos);
+    check(damaged, chunk, readWithRosbag(intact));
+  }
+}
 
+// A chunk's data with 16 bytes inverted (the third chunk of a bag of one topic, times rising): the
+// error names the chunk's offset, after the messages of the chunks before it, as many as rosbag gives.
+TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
+  withDamagedChunk(writeTextBag, 3, [](const std::string& damaged, size_t chunk, const std::vector<Read>& all) {
     std::string error, rosbag_error;
     const std::vector<Read> got = readWithReader(damaged, &error);
-    const std::vector<Read> before = readWithRosbag(damaged, &rosbag_error), all = readWithRosbag(intact);
+    const std::vector<Read> before = readWithRosbag(damaged, &rosbag_error);
     EXPECT_NE(error.find(damaged + ": damaged chunk at byte " + std::to_string(chunk) + ": "), std::string::npos) << error;
     EXPECT_FALSE(rosbag_error.empty()) << "rosbag read the damaged chunk";
     EXPECT_GT(got.size(), 0u);
@@ -463,7 +518,7 @@ TEST(BagFileReader, ADamagedChunkIsNamedAfterTheMessagesBeforeIt) {
     ASSERT_LT(got.size(), all.size());
     for (size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(got[i] == all[i]) << "message " << i;
     std::cout << got.size() << " of " << all.size() << " messages, then: " << error << "\n";
-  }
+  });
 }
 
 // An LZ4 chunk that still decodes, to other bytes: its last literal changed (the last 5 bytes of an
@@ -495,7 +550,47 @@ TEST(BagFileReader, AnLz4ChunkThatDecodesToOtherBytesFailsItsChecksum) {
     ASSERT_GT(got.size(), 0u);
     ASSERT_LT(got.size(), all.size());
     for (size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(got[i] == all[i]) << "message " << i;
+    // Read on: the chunk's messages skipped, every other one as in the intact bag.
+    std::vector<viper::dataset::BagDamagedChunk> errors;
+    const std::vector<Read> on = readOnWithReader(damaged, &errors);
+    ASSERT_EQ(errors.size(), 1u);
+    EXPECT_EQ(errors[0].position(), chunk);
+    const size_t lost = errors[0].skipped().size();
+    ASSERT_EQ(on.size() + lost, all.size());
+    for (size_t i = 0; i < on.size(); ++i) EXPECT_TRUE(on[i] == all[i < got.size() ? i : i + lost]) << "message " << i;
   }
+}
+
+// The first two chunks, read and checked side by side, both decoding to other bytes (their last
+// literals changed): each is an error when it is reached, the first's not hiding the second's.
+TEST(BagFileReader, TwoChunksCheckedSideBySideAreEachNamedAndReadingGoesOn) {
+  const std::string dir = tempDir("viper_bag_reader_"), intact = dir + "/intact.bag", damaged = dir + "/damaged.bag";
+  writeTextBag(intact, rosbag::compression::LZ4);
+  std::string bytes = readFile(intact);
+  std::vector<size_t> chunks;
+  for (size_t field = bytes.find("compression=lz4"); chunks.size() < 2; field = bytes.find("compression=lz4", field + 1)) {
+    ASSERT_NE(field, std::string::npos);
+    const size_t chunk = field - 8;
+    uint32_t header_size, data_size;
+    std::memcpy(&header_size, bytes.data() + chunk, 4);
+    std::memcpy(&data_size, bytes.data() + chunk + 4 + header_size, 4);
+    const size_t last_literal = chunk + 8 + header_size + data_size - 9;
+    bytes[last_literal] = static_cast<char>(bytes[last_literal] ^ 0x20);
+    chunks.push_back(chunk);
+  }
+  writeFile(damaged, bytes);
+  const std::vector<Read> all = readWithRosbag(intact);
+  std::vector<viper::dataset::BagDamagedChunk> errors;
+  const std::vector<Read> on = readOnWithReader(damaged, &errors);
+  ASSERT_EQ(errors.size(), 2u);
+  size_t lost = 0;
+  for (size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(errors[k].position(), chunks[k]);
+    EXPECT_NE(std::string(errors[k].what()).find("ERROR_contentChecksum_invalid"), std::string::npos) << errors[k].what();
+    lost += errors[k].skipped().size();
+  }
+  ASSERT_EQ(on.size() + lost, all.size());
+  for (size_t i = 0; i < on.size(); ++i) EXPECT_TRUE(on[i] == all[i + lost]) << "message " << i;
 }
 
 // The index's second entry pointing past its chunk (rosbag writes an index record's fields by name:
@@ -539,6 +634,8 @@ TEST(BagFileReader, DamageAnywhereIsAnErrorNotACrash) {
     std::string error;
     readWithReader(dir + "/damaged.bag", &error);
     errors += !error.empty();
+    std::vector<viper::dataset::BagDamagedChunk> damaged;
+    readOnWithReader(dir + "/damaged.bag", &damaged);  // and reading on after damaged chunks
   }
   EXPECT_GT(errors, 100) << "most damage is noticed";
 }
@@ -747,6 +844,84 @@ TEST(BagReader, ErrorsNameTheFile) {
     EXPECT_EQ(e.problem().rfind("damaged chunk at byte ", 0), 0u) << e.problem();
   }
   EXPECT_GT(read, 0u);
+}
+
+std::vector<Read> ofTopic(const std::vector<Read>& all, const std::string& topic) {
+  std::vector<Read> out;
+  for (const Read& r : all)
+    if (r.topic == topic) out.push_back(r);
+  return out;
+}
+
+// A damaged chunk that holds none of the topics asked for is not read, by BagReader nor by
+// BagFileReader with that selection: every message asked for comes, no error.
+TEST(BagReader, ADamagedChunkOfOtherTopicsIsNotRead) {
+  withDamagedChunk(writeOneMessageChunks, 4, [](const std::string& damaged, size_t chunk, const std::vector<Read>& all) {
+    ASSERT_EQ(all.size(), 12u);  // the damaged chunk: /b at time 4
+    const std::vector<Read> a = ofTopic(all, "/a");
+    ASSERT_EQ(a.size(), 6u);
+    std::string error;
+    readWithReader(damaged, &error);
+    EXPECT_NE(error.find("damaged chunk at byte " + std::to_string(chunk) + ": "), std::string::npos)
+        << "the whole bag's reading meets it: " << error;
+
+    EXPECT_TRUE(readWithBagReader(damaged, Topics({"/a"})) == a);
+    EXPECT_EQ(viper::BagReader(damaged, {"/a"}).size(), 6u);
+    const std::function<bool(const viper::dataset::BagConnection&)> only_a =
+        [](const viper::dataset::BagConnection& c) { return c.topic == "/a"; };
+    EXPECT_TRUE(readOnWithReader(damaged, nullptr, &only_a) == a);
+    BagFileReader selected(damaged);
+    selected.select(only_a);
+    EXPECT_EQ(selected.messageCount(), 6u);
+    EXPECT_EQ(selected.connections().size(), 2u) << "the whole bag's connections";
+    viper::dataset::BagMessage m;
+    ASSERT_TRUE(selected.next(m));
+    EXPECT_THROW(selected.select(only_a), std::logic_error) << "a selection after next()";
+  });
+}
+
+// A damaged chunk of the topics asked for: BagReadError once, naming the chunk, with its message
+// skipped; the next call reads on with the next chunk's messages. BagFileReader over every topic
+// the same (the damaged chunk is read ahead there, with the one before it).
+TEST(BagReader, ADamagedChunkIsAnErrorOnceThenReadingGoesOn) {
+  withDamagedChunk(writeOneMessageChunks, 3, [](const std::string& damaged, size_t chunk, std::vector<Read> all) {
+    ASSERT_EQ(all.size(), 12u);  // the damaged chunk: /a at time 3
+    std::vector<Read> a = ofTopic(all, "/a");
+    ASSERT_EQ(a[1].sec, 3u);
+    a.erase(a.begin() + 1);
+    ASSERT_EQ(all[2].sec, 3u);
+    all.erase(all.begin() + 2);
+
+    viper::BagReader reader(damaged, {"/a"});
+    viper::BagReadMessage m;
+    std::vector<Read> got;
+    size_t errors = 0;
+    for (;;) {
+      try {
+        if (!reader.next(m)) break;
+        got.push_back({m.topic(), m.time().sec, m.time().nsec, m.connection().fields, {m.data(), m.data() + m.size()}});
+      } catch (const viper::BagReadError& e) {
+        ++errors;
+        EXPECT_EQ(got.size(), 1u) << "after the message before it";
+        const std::string what = e.what();
+        EXPECT_EQ(what.rfind(damaged + ": damaged chunk at byte " + std::to_string(chunk) + ": ", 0), 0u) << what;
+        EXPECT_NE(what.find("(1 message skipped)"), std::string::npos) << what;
+        ASSERT_EQ(e.skipped().size(), 1u);
+        EXPECT_EQ(e.skipped()[0].topic(), "/a");
+        EXPECT_EQ(e.skipped()[0].time, ros::Time(3, 0));
+        ASSERT_LT(errors, 5u);
+      }
+    }
+    EXPECT_EQ(errors, 1u);
+    EXPECT_TRUE(got == a);
+
+    std::vector<viper::dataset::BagDamagedChunk> damages;
+    EXPECT_TRUE(readOnWithReader(damaged, &damages) == all);
+    ASSERT_EQ(damages.size(), 1u);
+    EXPECT_EQ(damages[0].position(), chunk);
+    ASSERT_EQ(damages[0].skipped().size(), 1u);
+    EXPECT_EQ(damages[0].skipped()[0].sec, 3u);
+  });
 }
 
 }  // namespace

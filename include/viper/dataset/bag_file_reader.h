@@ -11,6 +11,9 @@
 // The messages come in the order rosbag::View over the whole bag plays them: by time, and for equal
 // times in file order (chunk position, then offset in the chunk). rosbag orders equal times of one
 // connection so too; equal times across connections it orders as its sort happens to leave them.
+// select() keeps the messages of some connections only (rosbag::View with a query), in the same
+// order: chunks without any of them are never read. A damaged chunk is an error once, naming it and
+// the messages of it skipped; reading then goes on after them (rosbag reads on after one too).
 // ROS-free: connections are given as their header fields, messages as serialised bytes.
 #pragma once
 
@@ -19,8 +22,11 @@
 #include <array>
 #include <climits>
 #include <cstdint>
+#include <exception>
+#include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -56,6 +62,28 @@ struct BagMessage {
   uint32_t bulk_offset = 0;
 };
 
+/// A message as the bag's index has it: its connection and its time (its bytes not read).
+struct BagIndexedMessage {
+  const BagConnection* connection = nullptr;  // the reader's: valid while it lives
+  uint32_t sec = 0, nsec = 0;
+};
+
+/// next()'s error for a damaged chunk. what(): the file, the chunk's byte offset, what is wrong and
+/// how many messages are skipped. Those are the chunk's messages (of the selected connections) that
+/// next() has not given, in play order; the next call goes on with the first message after them.
+class BagDamagedChunk : public std::runtime_error {
+ public:
+  BagDamagedChunk(const std::string& what, uint64_t position, std::vector<BagIndexedMessage> skipped)
+      : std::runtime_error(what), position_(position), skipped_(std::move(skipped)) {}
+  /// The byte offset of the chunk's record.
+  uint64_t position() const { return position_; }
+  const std::vector<BagIndexedMessage>& skipped() const { return skipped_; }
+
+ private:
+  uint64_t position_;
+  std::vector<BagIndexedMessage> skipped_;
+};
+
 /// Storage for the bulk of large messages (an image's pixels): an LZ4 chunk's blocks that fall in it
 /// are decompressed straight there rather than into the chunk, to be copied out of it again.
 class BagBulkSink {
@@ -83,14 +111,20 @@ class BagFileReader {
 
   /// Every connection of the bag's index, by id.
   const std::vector<BagConnection>& connections() const { return connections_; }
-  /// The messages next() gives in all.
+  /// The messages next() gives in all (of the selected connections).
   size_t messageCount() const { return entries_.size(); }
+
+  /// Keeps only the messages of the connections `wanted` says true for (of those kept before), in
+  /// the same order; chunks without any of them are not read. Before the first next() (else throws
+  /// std::logic_error). connections() and their `messages` stay the whole bag's.
+  void select(const std::function<bool(const BagConnection&)>& wanted);
 
   /// Hands the bulk of large messages to `sink` (nullptr: none), which must outlive the reader's use.
   void setBulkSink(BagBulkSink* sink) { sink_ = sink; }
 
-  /// The next message; false after the last. Throws std::runtime_error naming the file, the byte
-  /// offset of a damaged chunk and what is wrong with it (every message before it was given).
+  /// The next message; false after the last. For a damaged chunk, throws BagDamagedChunk (every
+  /// message before it given; its own skipped), and the next call goes on after it. Throws
+  /// std::runtime_error naming the file for a file that cannot be read.
   bool next(BagMessage& message);
 
   const std::string& path() const { return path_; }
@@ -103,7 +137,9 @@ class BagFileReader {
     uint32_t size;           // decompressed
     BagCompression compression;
     uint32_t last_entry = 0;  // the offset of its last indexed record (the one a sink may take)
-    uint32_t last_connection = UINT32_MAX;  // that record's connection (UINT32_MAX: none indexed)
+    // That record's connection (UINT32_MAX: none indexed, or not selected: no sink for it).
+    uint32_t last_connection = UINT32_MAX;
+    bool skipped = false;  // found damaged: its messages not given
   };
   // A message in the index: its time, the chunk and its record's offset there, its connection
   // (an index into connections_).
@@ -119,7 +155,7 @@ class BagFileReader {
     // are not in `bytes`.
     uint32_t bulk_record = UINT32_MAX, bulk_offset = 0;
     uint8_t* bulk = nullptr;
-    std::string error;  // a chunk read ahead that turned out damaged: thrown when it is reached
+    std::exception_ptr error;  // a chunk read ahead that turned out damaged: thrown when it is reached
   };
   struct Record;
   class BulkRouter;
@@ -137,6 +173,8 @@ class BagFileReader {
   uint32_t chunkAhead(uint32_t chunk) const;
   CachedChunk* cached(uint32_t chunk);
   [[noreturn]] void damaged(uint32_t chunk, const std::string& problem) const;
+  // Marks `chunk` skipped; the error for it (`what` says what is wrong), with its messages not given.
+  BagDamagedChunk skip(uint32_t chunk, const std::string& what);
 
   std::string path_;
   std::unique_ptr<detail::PreadFile> file_;

@@ -197,8 +197,32 @@ void BagFileReader::readChunkIndex(uint32_t chunk, const std::map<uint32_t, uint
   }
 }
 
+void BagFileReader::select(const std::function<bool(const BagConnection&)>& wanted) {
+  if (next_ != 0) throw std::logic_error("BagFileReader::select after next()");
+  std::vector<char> keep(connections_.size());
+  for (size_t i = 0; i < connections_.size(); ++i) keep[i] = wanted(connections_[i]);
+  entries_.erase(std::remove_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return !keep[e.connection]; }),
+                 entries_.end());
+  // A chunk's last message not selected: not offered to the sink, it is never given.
+  for (Chunk& c : chunks_)
+    if (c.last_connection != UINT32_MAX && !keep[c.last_connection]) c.last_connection = UINT32_MAX;
+}
+
 void BagFileReader::damaged(uint32_t chunk, const std::string& problem) const {
-  throw std::runtime_error(path_ + ": damaged chunk at byte " + std::to_string(chunks_[chunk].position) + ": " + problem);
+  throw BagDamagedChunk(path_ + ": damaged chunk at byte " + std::to_string(chunks_[chunk].position) + ": " + problem,
+                        chunks_[chunk].position, {});
+}
+
+BagDamagedChunk BagFileReader::skip(uint32_t chunk, const std::string& what) {
+  chunks_[chunk].skipped = true;
+  for (CachedChunk& c : cache_)
+    if (c.chunk == chunk) c.used = 0, c.error = nullptr;
+  std::vector<BagIndexedMessage> skipped;
+  for (size_t i = next_; i < entries_.size(); ++i)
+    if (entries_[i].chunk == chunk)
+      skipped.push_back({&connections_[entries_[i].connection], entries_[i].sec, entries_[i].nsec});
+  const std::string count = std::to_string(skipped.size()) + (skipped.size() == 1 ? " message" : " messages");
+  return BagDamagedChunk(what + " (" + count + " skipped)", chunks_[chunk].position, std::move(skipped));
 }
 
 namespace {
@@ -281,7 +305,7 @@ uint32_t BagFileReader::chunkAhead(uint32_t chunk) const {
   constexpr size_t kLookAhead = 64;  // entries: a frame's messages
   for (size_t i = next_; i < entries_.size() && i < next_ + kLookAhead; ++i) {
     const uint32_t c = entries_[i].chunk;
-    if (c == chunk) continue;
+    if (c == chunk || chunks_[c].skipped) continue;
     for (const CachedChunk& s : cache_)
       if (s.used != 0 && s.chunk == c) return UINT32_MAX;  // in already: its own turn comes later
     return chunks_[c].compression == BagCompression::kLz4 ? c : UINT32_MAX;
@@ -292,7 +316,7 @@ uint32_t BagFileReader::chunkAhead(uint32_t chunk) const {
 void BagFileReader::loadChunk(uint32_t chunk, CachedChunk& slot, detail::DeferredChecksum* deferred) {
   slot.used = 0;  // holds nothing until the chunk is in
   slot.bulk_record = UINT32_MAX, slot.bulk = nullptr;
-  slot.error.clear();
+  slot.error = nullptr;
   const Chunk& c = chunks_[chunk];
   if (c.compression == BagCompression::kNone) {
     if (c.data_size != c.size)
@@ -318,7 +342,7 @@ void BagFileReader::loadChunk(uint32_t chunk, CachedChunk& slot, detail::Deferre
 
 BagFileReader::CachedChunk& BagFileReader::chunkData(uint32_t chunk) {
   if (CachedChunk* c = cached(chunk)) {
-    if (!c->error.empty()) throw std::runtime_error(c->error);
+    if (c->error) std::rethrow_exception(c->error);
     c->used = ++uses_;
     return *c;
   }
@@ -339,9 +363,9 @@ BagFileReader::CachedChunk& BagFileReader::chunkData(uint32_t chunk) {
     }
     try {
       loadChunk(batch[i], *slot, &sums[i]);
-    } catch (const std::runtime_error& e) {  // the chunk ahead: named once it is reached
+    } catch (const std::runtime_error&) {  // the chunk ahead: named once it is reached
       sums[i].pending = false;
-      slot->error = e.what(), slot->chunk = batch[i], slot->used = ++uses_;
+      slot->error = std::current_exception(), slot->chunk = batch[i], slot->used = ++uses_;
     }
   }
   std::vector<const std::vector<detail::BytePiece>*> streams;
@@ -350,47 +374,52 @@ BagFileReader::CachedChunk& BagFileReader::chunkData(uint32_t chunk) {
     if (sums[i].pending) streams.push_back(&sums[i].pieces), of.push_back(i);
   std::vector<uint32_t> hashes(streams.size());
   detail::xxh32Streams(streams, hashes.data());
+  // Every verdict is kept before the chunk asked for may throw: reading goes on after it.
   for (size_t k = 0; k < streams.size(); ++k) {
     const int i = of[k];
     if (hashes[k] == sums[i].expected) continue;
-    if (i == 0) {
-      slots[0]->used = 0;
-      damaged(batch[0], detail::kLz4ChecksumProblem);
-    }
     try {
       damaged(batch[i], detail::kLz4ChecksumProblem);
-    } catch (const std::runtime_error& e) {
-      slots[i]->error = e.what();
+    } catch (const BagDamagedChunk&) {
+      slots[i]->error = std::current_exception();
     }
+  }
+  if (slots[0]->error) {
+    const std::exception_ptr error = slots[0]->error;
+    slots[0]->used = 0, slots[0]->error = nullptr;
+    std::rethrow_exception(error);
   }
   return *slots[0];
 }
 
 bool BagFileReader::next(BagMessage& message) {
+  while (next_ < entries_.size() && chunks_[entries_[next_].chunk].skipped) ++next_;
   if (next_ == entries_.size()) return false;
   const Entry& e = entries_[next_];
-  CachedChunk& slot = chunkData(e.chunk);
-  const uint8_t* bytes = slot.bytes.data();
-  const uint64_t size = chunks_[e.chunk].size;
-  // The record at the entry's offset; connection records before it are skipped (rosbag's writer
-  // indexes a connection's first message at its connection record).
-  uint64_t at = e.offset;
-  for (;;) {
-    const ChunkRecord r = chunkRecord(bytes, size, size, at);
-    if (r.status != ChunkRecord::kOk) damaged(e.chunk, r.problem);
-    if (r.op != kOpMessageData) {
-      at = r.data_at + r.data_size;
-      continue;
+  CachedChunk* found = nullptr;
+  ChunkRecord r;
+  try {
+    found = &chunkData(e.chunk);
+    const uint64_t size = chunks_[e.chunk].size;
+    // The record at the entry's offset; connection records before it are skipped (rosbag's writer
+    // indexes a connection's first message at its connection record).
+    for (uint64_t at = e.offset;; at = r.data_at + r.data_size) {
+      r = chunkRecord(found->bytes.data(), size, size, at);
+      if (r.status != ChunkRecord::kOk) damaged(e.chunk, r.problem);
+      if (r.op == kOpMessageData) break;
     }
-    message = {&connections_[e.connection], e.sec, e.nsec, bytes + r.data_at, r.data_size};
-    if (slot.bulk_record == e.offset) {
-      // Its bulk is the sink's now, and the chunk's copy has a hole: decoded again if asked again.
-      message.bulk = slot.bulk, message.bulk_offset = slot.bulk_offset;
-      slot.used = 0;
-    }
-    ++next_;
-    return true;
+  } catch (const BagDamagedChunk& d) {
+    throw skip(e.chunk, d.what());
   }
+  CachedChunk& slot = *found;
+  message = {&connections_[e.connection], e.sec, e.nsec, slot.bytes.data() + r.data_at, r.data_size};
+  if (slot.bulk_record == e.offset) {
+    // Its bulk is the sink's now, and the chunk's copy has a hole: decoded again if asked again.
+    message.bulk = slot.bulk, message.bulk_offset = slot.bulk_offset;
+    slot.used = 0;
+  }
+  ++next_;
+  return true;
 }
 
 }  // namespace viper::dataset

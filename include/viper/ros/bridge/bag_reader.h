@@ -3,9 +3,9 @@
 // (topic, type, md5sum, message definition, callerid), its time in the bag and its bytes;
 // instantiate<M>() deserialises one as rosbag's MessageInstance::instantiate does (null where the
 // connection's md5sum is not M's). The file is read by dataset::BagFileReader (faster than
-// rosbag, LZ4 checksums verified). It reads every chunk, also where only a few topics are asked
-// for (rosbag then skips chunks without them; the bags here mix every topic in each chunk): a
-// damaged chunk ends the reading even where it holds none of them.
+// rosbag, LZ4 checksums verified), which reads only the chunks that hold messages of the topics
+// asked for, as rosbag does. A damaged chunk among them is an error once (BagReadError, with the
+// messages of it skipped); the next call reads on after it, as rosbag reads on after one.
 // Messages of equal time come in file order; rosbag orders those of different connections as its
 // sort of per-connection iterators leaves them.
 #pragma once
@@ -30,17 +30,29 @@
 
 namespace viper {
 
+/// A message of a damaged chunk, not read: its connection and time, as the bag's index has them.
+struct BagSkippedMessage {
+  const dataset::BagConnection* connection = nullptr;  // the reader's: valid while it lives
+  ros::Time time;
+  const std::string& topic() const { return connection->topic; }
+};
+
 /// A bag that cannot be opened or read on: what() names the file and what is wrong, problem()
-/// says only what is wrong.
+/// says only what is wrong. From next(), for a damaged chunk: skipped() lists its messages of the
+/// topics asked for (at least one), and reading can go on after them.
 class BagReadError : public std::runtime_error {
  public:
-  BagReadError(const std::string& path, const std::string& what)
+  BagReadError(const std::string& path, const std::string& what, std::vector<BagSkippedMessage> skipped = {})
       : std::runtime_error(what),
-        problem_(what.compare(0, path.size() + 2, path + ": ") == 0 ? what.substr(path.size() + 2) : what) {}
+        problem_(what.compare(0, path.size() + 2, path + ": ") == 0 ? what.substr(path.size() + 2) : what),
+        skipped_(std::move(skipped)) {}
   const std::string& problem() const { return problem_; }
+  /// The messages of a damaged chunk, skipped, in play order; empty where the bag cannot be read on.
+  const std::vector<BagSkippedMessage>& skipped() const { return skipped_; }
 
  private:
   std::string problem_;
+  std::vector<BagSkippedMessage> skipped_;
 };
 
 /// A message of a bag, valid until its reader's next call.
@@ -99,17 +111,34 @@ class BagReader {
   uint64_t size() const { return size_; }
 
   /// The next message of the wanted topics; false after the last. Throws BagReadError naming the
-  /// file and where it is damaged, after every message before the damage.
+  /// file and where it is damaged, after every message before the damage; for a damaged chunk, with
+  /// its messages skipped(), and the next call reads on after them.
   bool next(BagReadMessage& m) {
     try {
-      do {
-        if (!bag_->next(m.message_)) return false;
-      } while (!wanted(m.message_.connection->topic));
+      if (!bag_->next(m.message_)) return false;
+    } catch (const dataset::BagDamagedChunk& e) {
+      std::vector<BagSkippedMessage> skipped;
+      for (const dataset::BagIndexedMessage& s : e.skipped()) skipped.push_back({s.connection, ros::Time(s.sec, s.nsec)});
+      throw BagReadError(path(), e.what(), std::move(skipped));
     } catch (const std::runtime_error& e) {
       throw BagReadError(path(), e.what());
     }
     m.header_ = &headers_.at(m.message_.connection->id);
     return true;
+  }
+  /// next(), reading on after each damaged chunk: `damaged(const BagReadError&)` is called with it
+  /// (its skipped() messages, in play order, where the first of them would have come), then the
+  /// next message follows. Other errors are thrown as next() throws them.
+  template <typename OnDamagedChunk>
+  bool nextReadingOn(BagReadMessage& m, OnDamagedChunk&& damaged) {
+    for (;;) {
+      try {
+        return next(m);
+      } catch (const BagReadError& e) {
+        if (e.skipped().empty()) throw;
+        damaged(e);
+      }
+    }
   }
 
  private:
@@ -119,6 +148,7 @@ class BagReader {
     } catch (const std::runtime_error& e) {
       throw BagReadError(path, e.what());
     }
+    if (topics_) bag_->select([this](const dataset::BagConnection& c) { return wanted(c.topic); });
     for (const dataset::BagConnection& c : bag_->connections()) {
       headers_.emplace(c.id, boost::make_shared<std::map<std::string, std::string>>(c.fields));
       if (c.messages == 0) continue;  // rosbag::View lists the connections with messages

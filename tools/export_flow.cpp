@@ -153,12 +153,36 @@ int run(const Options& o) {
 
   Progress progress(view.size());
   size_t index = 0, written = 0, skipped = 0;
+  // The message's frame: its index, or its stamp's among --frames-from's (false: not among them).
+  auto frameOf = [&](uint64_t message, const ros::Time& stamp, uint64_t& frame) {
+    frame = o.first_frame + message;
+    if (frames.empty()) return true;
+    const auto f = frames.find(stamp);
+    if (f == frames.end()) return false;
+    frame = o.first_frame + f->second;
+    return true;
+  };
+  auto skip = [&](uint64_t message, const ros::Time& stamp, const std::string& problem) {
+    uint64_t frame = 0;
+    const bool frame_known = frameOf(message, stamp, frame);
+    ++skipped;
+    progress.interrupt();
+    std::cerr << "export_flow: skipping " << o.topic << " at stamp " << stampText(stamp) << " ("
+              << (frame_known ? "frame " + std::to_string(frame) : "message " + std::to_string(message))
+              << "): " << problem << "\n";
+    progress.update(index, skipped);
+  };
+  // A damaged chunk's messages cannot be read: each is skipped, as a bad message, and keeps its number.
+  const auto damaged = [&](const viper::BagReadError& e) {
+    for (const viper::BagSkippedMessage& s : e.skipped()) {
+      const uint64_t message = index++;
+      skip(message, s.time, "cannot be read: " + e.problem());
+    }
+  };
   FlowImage flow;
   viper::BagReadMessage m;
-  while (view.next(m)) {
+  while (view.nextReadingOn(m, damaged)) {
     const uint64_t message = index++;
-    uint64_t frame = o.first_frame + message;
-    bool frame_known = frames.empty();
     std::string problem;
     ros::Time stamp = m.time();
     try {
@@ -171,21 +195,11 @@ int run(const Options& o) {
     } catch (const std::exception& e) {
       problem = std::string("cannot be read: ") + e.what();
     }
-    if (!frames.empty()) {
-      const auto f = frames.find(stamp);
-      if (f != frames.end()) {
-        frame = o.first_frame + f->second;
-        frame_known = true;
-      }
-      else if (problem.empty()) problem = "its stamp is not among the " + std::to_string(frames.size()) + " stamps of " + o.frames_from;
-    }
+    uint64_t frame = 0;
+    if (!frameOf(message, stamp, frame) && problem.empty())
+      problem = "its stamp is not among the " + std::to_string(frames.size()) + " stamps of " + o.frames_from;
     if (!problem.empty()) {
-      ++skipped;
-      progress.interrupt();
-      std::cerr << "export_flow: skipping " << o.topic << " at stamp " << stampText(stamp) << " ("
-                << (frame_known ? "frame " + std::to_string(frame) : "message " + std::to_string(message))
-                << "): " << problem << "\n";
-      progress.update(index, skipped);
+      skip(message, stamp, problem);
       continue;
     }
     try {

@@ -139,9 +139,22 @@ int exportBag(Options& o) {
     std::cerr << "export_viper: " << text << "\n";
     ++notes;
   };
+  auto skipping = [&](const std::string& topic, const ros::Time& stamp, const std::string& problem) {
+    const auto frame = frame_of.find(stamp);
+    note("skipping " + topic + " at stamp " + stampText(stamp) +
+         (frame != frame_of.end() ? " (frame " + std::to_string(frame->second) + ")" : "") + ": " + problem);
+  };
+  // A damaged chunk's messages cannot be read: each is noted, as a bad message, and skipped.
+  const auto damaged = [&](const viper::BagReadError& e) {
+    for (const viper::BagSkippedMessage& s : e.skipped()) {
+      ++done;
+      skipping(s.topic(), s.time, "cannot be read: " + e.problem());
+      bar.update(done);
+    }
+  };
   try {
     viper::BagReadMessage m;
-    while (view.next(m)) {
+    while (view.nextReadingOn(m, damaged)) {
       ++done;
       const std::string& r = role_of[m.topic()];
       ros::Time stamp = m.time();
@@ -156,13 +169,11 @@ int exportBag(Options& o) {
       if (problem.empty() && frame == frame_of.end())
         problem = "its stamp is not among the " + std::to_string(frame_of.size()) + " stamps of " + reference;
       if (problem.empty()) problem = dispatch(*exporter, frame->second);
-      if (!problem.empty())
-        note("skipping " + m.topic() + " at stamp " + stampText(stamp) +
-             (frame != frame_of.end() ? " (frame " + std::to_string(frame->second) + ")" : "") + ": " + problem);
+      if (!problem.empty()) skipping(m.topic(), stamp, problem);
       bar.update(done);
     }
     for (const std::string& n : exporter->finish()) note(n);
-  } catch (const std::exception& e) {  // a file that cannot be written, or a damaged bag
+  } catch (const std::exception& e) {  // a file that cannot be written, or a bag that cannot be read on
     bar.interrupt();
     std::cerr << "export_viper: " << e.what() << "\n";
     return 2;

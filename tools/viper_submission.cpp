@@ -261,7 +261,15 @@ int run(const Options& o) {
   Writer writer(o, frames);
   std::map<std::string, size_t> written, skipped;
   viper::BagReadMessage m;
-  while (view.next(m)) {
+  // A damaged chunk's messages cannot be read: each is skipped, as a bad message.
+  const auto damaged = [&](const viper::BagReadError& e) {
+    for (const viper::BagSkippedMessage& s : e.skipped()) {
+      ++skipped[s.topic()];
+      std::cerr << "viper_submission: skipping " << s.topic() << " at stamp " << s.time << ": cannot be read: "
+                << e.problem() << "\n";
+    }
+  };
+  while (view.nextReadingOn(m, damaged)) {
     ros::Time stamp = m.time();
     std::string problem;
     try {

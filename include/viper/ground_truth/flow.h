@@ -39,7 +39,7 @@ struct FlowStats {
   size_t missing_geometry = 0;       ///< deformed draw without positions / mesh, or singular matrices
   /// Pixels whose surface point is not in front of b's near plane (b's camera passed it, or is
   /// about to): b's camera cannot image the point, and its projection runs off to infinity at the
-  /// camera plane (a SuperTuxKart kart passing a wall gave flows of 65,520 px and more).
+  /// camera plane.
   size_t behind_b = 0;
   /// Pixels of a draw without depth (not in [0, 1) as window depth; not positive and finite as
   /// metres, or no projection to read them with) where the same draw has depth elsewhere: a draw

@@ -1,7 +1,8 @@
-// What the EGL test programs (gl_engine_program.cpp, gl_legacy_program.cpp) share: a message and
-// exit on failure, a shader compiled (gl_common's compileShader) or the program ended, and a pbuffer
-// made current with an OpenGL context of their own version that they never tear down (the capture
-// layer is tested on programs that exit so). Include after the program's GL header.
+// What the EGL test programs (gl_engine_program.cpp, gl_legacy_program.cpp,
+// gl_fixed_function_program.cpp) share: a message and exit on failure, their common options, a
+// shader compiled (gl_common's compileShader) or the program ended, and a pbuffer made current with
+// an OpenGL context of their own version that they never tear down (the capture layer is tested on
+// programs that exit so). Include after the program's GL header.
 #pragma once
 
 #include <EGL/egl.h>
@@ -20,6 +21,28 @@ namespace test_program {
 [[noreturn]] inline void die(const char* program, const std::string& what) {
   std::fprintf(stderr, "%s: %s\n", program, what.c_str());
   std::exit(1);
+}
+
+/// The options the programs share, each followed by its value: --size WxH, --frames N and, where
+/// `takes_out`, --out FILE (else an unknown option).
+struct Options {
+  int width = 160, height = 120, frames = 3;
+  std::string out;
+};
+
+/// The options of argv; `own(option, value)` takes the program's other options and returns whether
+/// it knew the option. An option nobody knows ends the program ("unknown option --x").
+template <typename Own>
+Options parseOptions(const char* program, int argc, char** argv, bool takes_out, Own own) {
+  Options o;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i], v = argv[i + 1];
+    if (a == "--size") std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height);
+    else if (a == "--frames") o.frames = std::atoi(v.c_str());
+    else if (takes_out && a == "--out") o.out = v;
+    else if (!own(a, v)) die(program, "unknown option " + a);
+  }
+  return o;
 }
 
 /// A compiled shader of `type`, or the program ended with the GLSL log.

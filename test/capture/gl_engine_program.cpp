@@ -18,6 +18,7 @@
 #include <GL/glcorearb.h>
 
 #include "egl_pbuffer.h"
+#include "fullscreen_triangle.h"
 #include "gl_common/sanitizer_options.h"
 
 #include <cstdio>
@@ -83,13 +84,6 @@ const char* kOverlayFs = R"(#version 330 core
 out vec4 color;
 void main() { color = vec4(1.0, 0.9, 0.1, 1.0); }
 )";
-const char* kCompositeVs = R"(#version 330 core
-out vec2 uv;
-void main() {
-  uv = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-  gl_Position = vec4(uv * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kCompositeFs = R"(#version 330 core
 uniform sampler2D u_color;
 uniform sampler2D u_normal;
@@ -119,17 +113,16 @@ GLuint texture2d(GLenum internal, GLenum format, GLenum type, int w, int h) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int width = 160, height = 120, frames = 3, offscreen = 0, indirect = 0;
-  std::string out;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--size") std::sscanf(v.c_str(), "%dx%d", &width, &height);
-    else if (a == "--frames") frames = std::atoi(v.c_str());
-    else if (a == "--out") out = v;
-    else if (a == "--offscreen") offscreen = std::atoi(v.c_str());
-    else if (a == "--indirect") indirect = std::atoi(v.c_str());
-    else die("unknown option " + a);
-  }
+  int offscreen = 0, indirect = 0;
+  const viper::test_program::Options options = viper::test_program::parseOptions(
+      "gl_engine_program", argc, argv, true, [&](const std::string& a, const std::string& v) {
+        if (a == "--offscreen") offscreen = std::atoi(v.c_str());
+        else if (a == "--indirect") indirect = std::atoi(v.c_str());
+        else return false;
+        return true;
+      });
+  const int width = options.width, height = options.height, frames = options.frames;
+  const std::string& out = options.out;
 
   const EGLint ctx_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
                               EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
@@ -214,7 +207,7 @@ int main(int argc, char** argv) {
     const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glDrawBuffers(2, bufs);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("G-buffer incomplete");
-    composite = program(kCompositeVs, kCompositeFs);
+    composite = program(viper::test_program::kFullScreenTriangleVs, kCompositeFs);
     glUseProgram(composite);
     glUniform1i(glGetUniformLocation(composite, "u_color"), 0);
     glUniform1i(glGetUniformLocation(composite, "u_normal"), 1);

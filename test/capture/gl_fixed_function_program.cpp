@@ -23,13 +23,9 @@ namespace {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int width = 160, height = 120, frames = 3;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--size") std::sscanf(v.c_str(), "%dx%d", &width, &height);
-    else if (a == "--frames") frames = std::atoi(v.c_str());
-    else die("unknown option " + a);
-  }
+  const viper::test_program::Options options = viper::test_program::parseOptions(
+      "gl_fixed_function_program", argc, argv, false, [](const std::string&, const std::string&) { return false; });
+  const int width = options.width, height = options.height, frames = options.frames;
   const EGLint ctx_attrs[] = {EGL_NONE};  // the default: a compatibility context
   const viper::test_program::EglPbuffer pbuffer = viper::test_program::makeCurrentPbuffer(
       "gl_fixed_function_program", width, height, ctx_attrs, "OpenGL context");

@@ -75,15 +75,10 @@ void loadMatrices(const Eigen::Matrix4f& projection, const std::optional<Eigen::
 }  // namespace
 
 int main(int argc, char** argv) {
-  int width = 160, height = 120, frames = 3;
-  std::string out;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--size") std::sscanf(v.c_str(), "%dx%d", &width, &height);
-    else if (a == "--frames") frames = std::atoi(v.c_str());
-    else if (a == "--out") out = v;
-    else die("unknown option " + a);
-  }
+  const viper::test_program::Options options = viper::test_program::parseOptions(
+      "gl_legacy_program", argc, argv, true, [](const std::string&, const std::string&) { return false; });
+  const int width = options.width, height = options.height, frames = options.frames;
+  const std::string& out = options.out;
   const EGLint ctx_attrs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0, EGL_NONE};
   const viper::test_program::EglPbuffer pbuffer =
       viper::test_program::makeCurrentPbuffer("gl_legacy_program", width, height, ctx_attrs, "GL 3.0 context");

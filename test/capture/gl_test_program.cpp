@@ -12,6 +12,7 @@
 // instead of the renderbuffer, after a shadow-map-like pass (the quad into a 64x64 depth-only
 // framebuffer object) that a capture must leave out.
 #include "test_scene_layout.h"  // Eigen before X11 (X11 defines Success)
+#include "fullscreen_triangle.h"
 #include "gl_common/sanitizer_options.h"
 
 #define GL_GLEXT_PROTOTYPES 1
@@ -143,15 +144,8 @@ void main() {
 }
 )";
 
-// The composite pass: a triangle over the whole screen (no vertex buffer) showing the scene's
+// The composite pass (fullscreen_triangle.h's triangle over the whole screen) shows the scene's
 // colors inverted.
-const char* kPostVs = R"(#version 330 core
-out vec2 uv;
-void main() {
-  uv = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-  gl_Position = vec4(uv * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 const char* kPostFs = R"(#version 330 core
 uniform sampler2D uScene;
 in vec2 uv;
@@ -374,7 +368,7 @@ int main(int argc, char** argv) {
       g.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, scene_depth, 0);
     }
     if (g.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) die("scene framebuffer incomplete");
-    post = program(g, kPostVs, kPostFs);
+    post = program(g, viper::test_program::kFullScreenTriangleVs, kPostFs);
     g.UseProgram(post);
     g.Uniform1i(g.GetUniformLocation(post, "uScene"), 2);
     post_vao = vao();

@@ -15,6 +15,9 @@
 #   --size WxH      window size (chromium-bsu has no smaller mode than 512x384 and uses that)
 #   --retrace       trace again even where DIR has a trace of that program at that size
 #   --keep-images   keep the snapshots (DIR/NAME/{plain,plain_again,captured}/)
+#   --replay-seconds S  the longest a replay may take (default 180): a plain replay that takes
+#                   longer (llvmpipe has been seen to stall on one frame of a trace for 11 min)
+#                   is stopped, and the program is traced once more and replayed again
 # Fast (under 60 s each here, trace and three replays at 320x240 included): glmark2, supertux,
 # neverball, chromium-bsu, extremetuxracer, glxgears; foobillardplus takes longer (its 3D table
 # through display lists). Prints one row per program: frames compared, identical pixels, pixels
@@ -31,7 +34,7 @@ source "$here/scripts/layer_copies.sh"
 source "$here/scripts/package_binaries.sh"
 all_programs=(glmark2 neverball supertux foobillardplus chromium-bsu extremetuxracer glxgears)
 programs=(); out="$here/build/corpus"; frames=""; seconds=""; size=320x240
-bin=""; retrace=0; keep=0; list=0
+bin=""; retrace=0; keep=0; list=0; replay_secs=180
 while [ $# -gt 0 ]; do
   case "$1" in
     --program) programs+=("$2"); shift 2 ;;
@@ -42,6 +45,7 @@ while [ $# -gt 0 ]; do
     --bin) bin="$2"; shift 2 ;;
     --retrace) retrace=1; shift ;;
     --keep-images) keep=1; shift ;;
+    --replay-seconds) replay_secs="$2"; shift 2 ;;
     --list) list=1; shift ;;
     -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) echo "capture_corpus: unknown option '$1' (see --help)" >&2; exit 2 ;;
@@ -50,6 +54,7 @@ done
 [[ "$size" =~ ^[0-9]+x[0-9]+$ ]] || { echo "capture_corpus: --size must be WxH, got '$size'" >&2; exit 2; }
 [ -z "$frames" ] || [[ "$frames" =~ ^[1-9][0-9]*$ ]] || { echo "capture_corpus: --frames must be a positive number" >&2; exit 2; }
 [ -z "$seconds" ] || [[ "$seconds" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "capture_corpus: --seconds must be a number" >&2; exit 2; }
+[[ "$replay_secs" =~ ^[1-9][0-9]*$ ]] || { echo "capture_corpus: --replay-seconds must be a positive number" >&2; exit 2; }
 
 # One program of the corpus: its executable and package, how long to trace it and how many frames
 # to keep, its command line (window $w x $h, a fresh HOME per trace), the X screen it needs, and
@@ -220,7 +225,8 @@ for p in "${programs[@]}"; do
   xvfb=(xvfb-run -a -s "-screen 0 ${screen}x24")
   start=$SECONDS
   echo "== $p (${w}x$h): $known" >&2
-  if [ "$retrace" -eq 1 ] || [ ! -s "$trace" ]; then
+  for attempt in 1 2; do
+  if [ "$retrace" -eq 1 ] || [ "$attempt" -eq 2 ] || [ ! -s "$trace" ]; then
     home=$(mktemp -d); trap 'rm -rf "$home"' EXIT
     eval "$prepare"
     status=0
@@ -230,23 +236,33 @@ for p in "${programs[@]}"; do
     rm -rf "$home"
     if [ "$status" -ne 0 ] && [ "$status" -ne 124 ] || [ ! -s "$d/full.trace" ]; then
       failures+=("$p: apitrace of the program failed (status $status; log $d/trace.log)")
-      rows+=("$(printf '%-16s %s' "$p" "trace failed")"); continue
+      rows+=("$(printf '%-16s %s' "$p" "trace failed")"); continue 2
     fi
     apitrace trim --frames="0-$((nframes - 1))" -o "$trace" "$d/full.trace" > "$d/trim.log" 2>&1 ||
-      { failures+=("$p: apitrace trim failed ($d/trim.log)"); continue; }
+      { failures+=("$p: apitrace trim failed ($d/trim.log)"); continue 2; }
     rm -f "$d/full.trace"
   fi
   rm -rf "$d/plain" "$d/plain_again" "$d/captured" "$d/$p.vcap"
   mkdir -p "$d/plain" "$d/plain_again" "$d/captured"
-  replay_ok=1
+  replay_ok=1; stalled=0
   for r in plain plain_again; do
-    "${xvfb[@]}" glretrace -b -s "$d/$r/" "$trace" > "$d/$r.log" 2>&1 ||
-      { failures+=("$p: the $r replay failed ($d/$r.log)"); replay_ok=0; }
+    status=0
+    "${xvfb[@]}" timeout -k 5 -s TERM "$replay_secs" glretrace -b -s "$d/$r/" "$trace" > "$d/$r.log" 2>&1 || status=$?
+    if [ "$status" -eq 124 ]; then stalled=1; break; fi
+    [ "$status" -eq 0 ] || { failures+=("$p: the $r replay failed ($d/$r.log)"); replay_ok=0; }
+  done
+  [ "$stalled" -eq 1 ] || break
+  if [ "$attempt" -eq 1 ]; then
+    echo "$p: a plain replay of its trace ran past $replay_secs s (llvmpipe stalled); tracing it again" >&2
+  else
+    failures+=("$p: a plain replay ran past $replay_secs s on two traces ($d/plain.log)")
+    rows+=("$(printf '%-16s %s' "$p" "replay stalled")"); continue 2
+  fi
   done
   profile="$here/config/profiles/$p.yaml"
   profile_args=(); [ ! -f "$profile" ] || profile_args=(--profile "$profile")
   status=0
-  "${xvfb[@]}" "$bin/capture" --library "$bin/libviper_intercept.so" --output "$d/$p.vcap" "${profile_args[@]}" -- glretrace -b -s "$d/captured/" "$trace" \
+  "${xvfb[@]}" timeout -k 5 -s TERM "$replay_secs" "$bin/capture" --library "$bin/libviper_intercept.so" --output "$d/$p.vcap" "${profile_args[@]}" -- glretrace -b -s "$d/captured/" "$trace" \
     > "$d/captured.log" 2>&1 || status=$?
   verdict=$(grep -m1 "^capture: $d/$p.vcap" "$d/captured.log" || true)
   verdicts+=("$p: ${verdict:-no verdict (see $d/captured.log)}")

@@ -23,7 +23,7 @@ viper_executable(bag_player nodes/bag_player_node.cpp LINK viper_ros)
 install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(DIRECTORY launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(PROGRAMS scripts/make_test_bag.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
-install(FILES scripts/package_binaries.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})  # make_test_bag.sh sources it
+install(FILES scripts/package_binaries.sh scripts/options.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})  # make_test_bag.sh sources them
 
 if(CATKIN_ENABLE_TESTING)
   find_package(rostest REQUIRED)

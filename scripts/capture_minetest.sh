@@ -14,21 +14,10 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=60; width=640; height=480; seed=42; skip=60
 out="$here/build/minetest"; bag=1; check=1; bin=""
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --frames) frames="$2"; shift 2 ;;
-    --width) width="$2"; shift 2 ;;
-    --height) height="$2"; shift 2 ;;
-    --seed) seed="$2"; shift 2 ;;
-    --skip) skip="$2"; shift 2 ;;
-    --out) out="$2"; shift 2 ;;
-    --bin) bin="$2"; shift 2 ;;
-    --no-bag) bag=0; shift ;;
-    --no-check) check=0; shift ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
-    *) echo "capture_minetest: unknown option '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
+# shellcheck source=options.sh
+source "$here/scripts/options.sh"
+viper_options '2,12' "capture_minetest: unknown option '{}' (see --help)" --frames=frames --width=width \
+  --height=height --seed=seed --skip=skip --out=out --bin=bin --no-bag=bag:0 --no-check=check:0 -- "$@"
 game=/usr/games/minetest
 # shellcheck source=game_capture.sh
 source "$here/scripts/game_capture.sh"

@@ -19,27 +19,11 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 track=candela_city; frames=60; width=1280; height=720; karts=4; seed=1; skip=0
 out="$here/build/stk"; bag=1; display=""; bin=""; game_args=""; driver=gl
 check=1
-while [ $# -gt 0 ]; do
-  case "$1" in
-    __*:=*) shift ;;  # roslaunch's __name:= and __log:= (launch/supertuxkart_live.launch)
-    --no-check) check=0; shift ;;
-    --track) track="$2"; shift 2 ;;
-    --frames) frames="$2"; shift 2 ;;
-    --width) width="$2"; shift 2 ;;
-    --height) height="$2"; shift 2 ;;
-    --karts) karts="$2"; shift 2 ;;
-    --seed) seed="$2"; shift 2 ;;
-    --skip) skip="$2"; shift 2 ;;
-    --out) out="$2"; shift 2 ;;
-    --display) display="$2"; shift 2 ;;
-    --bin) bin="$2"; shift 2 ;;
-    --game-args) game_args="$2"; shift 2 ;;
-    --no-bag) bag=0; shift ;;
-    --render-driver) driver="$2"; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
-    *) echo "capture_supertuxkart: unknown option '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
+# shellcheck source=options.sh
+source "$here/scripts/options.sh"
+viper_options '2,16' "capture_supertuxkart: unknown option '{}' (see --help)" '__*:=*=' --no-check=check:0 \
+  --track=track --frames=frames --width=width --height=height --karts=karts --seed=seed --skip=skip \
+  --out=out --display=display --bin=bin --game-args=game_args --no-bag=bag:0 --render-driver=driver -- "$@"
 case "$driver" in
   gl) profile="$here/config/profiles/supertuxkart.yaml"; driver_args="" ;;
   vulkan) profile="$here/config/profiles/supertuxkart_vulkan.yaml"; driver_args="--render-driver=vulkan" ;;

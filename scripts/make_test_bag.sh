@@ -11,15 +11,12 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 frames=20
 bag="$here/bags/test_scene_raw.bag"
 capture=""
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --frames) frames="$2"; shift 2 ;;
-    --output) bag="$2"; shift 2 ;;
-    --capture) capture="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--output BAG] [--capture FILE.vcap]" >&2; exit 2 ;;
-  esac
-done
-# Beside this script, in the source tree and where it is installed (lib/viper: cmake/bridge.cmake).
+# options.sh and package_binaries.sh lie beside this script, in the source tree and where it is
+# installed (lib/viper: cmake/bridge.cmake).
+# shellcheck source=options.sh
+source "$(dirname "$0")/options.sh"
+viper_options '' "usage: $0 [--frames N] [--output BAG] [--capture FILE.vcap]" --frames=frames --output=bag \
+  --capture=capture -- "$@"
 # shellcheck source=package_binaries.sh
 source "$(dirname "$0")/package_binaries.sh"
 viper_ros_env make_test_bag

@@ -17,17 +17,10 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=45 width=1920 height=1080 rate=1.0 queue=10 source=manager
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --frames) frames="$2"; shift 2 ;;
-    --width) width="$2"; shift 2 ;;
-    --height) height="$2"; shift 2 ;;
-    --rate) rate="$2"; shift 2 ;;
-    --queue-size) queue="$2"; shift 2 ;;
-    --source) source="$2"; shift 2 ;;
-    *) echo "usage: $0 [--frames N] [--width W] [--height H] [--rate R] [--queue-size Q] [--source manager|rosbag]" >&2; exit 2 ;;
-  esac
-done
+# shellcheck source=options.sh
+source "$here/scripts/options.sh"
+viper_options '' "usage: $0 [--frames N] [--width W] [--height H] [--rate R] [--queue-size Q] [--source manager|rosbag]" \
+  --frames=frames --width=width --height=height --rate=rate --queue-size=queue --source=source -- "$@"
 case "$source" in manager|rosbag) ;; *) echo "measure_evaluate: --source is manager or rosbag" >&2; exit 2 ;; esac
 source "$here/scripts/measure_common.sh" measure_evaluate capture world $([ "$source" = manager ] || echo evaluate)
 port=$(( 20000 + RANDOM % 20000 ))

@@ -23,14 +23,9 @@ usage="usage: $0 CAPTURE.vcap [--bag RAW.bag] [--labels LABELS.yaml] [--repetiti
 [ $# -ge 1 ] || { echo "$usage" >&2; exit 2; }
 capture=$1; shift
 bag="" labels="$here/config/labels/world_labels.yaml" reps=3
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --bag) bag="$2"; shift 2 ;;
-    --labels) labels="$2"; shift 2 ;;
-    --repetitions) reps="$2"; shift 2 ;;
-    *) echo "$usage" >&2; exit 2 ;;
-  esac
-done
+# shellcheck source=options.sh
+source "$here/scripts/options.sh"
+viper_options '' "$usage" --bag=bag --labels=labels --repetitions=reps -- "$@"
 [ -f "$capture" ] || { echo "measure_kernels: no capture at $capture" >&2; exit 2; }
 [ -z "$bag" ] || [ -f "$bag" ] || { echo "measure_kernels: no bag at $bag" >&2; exit 2; }
 source "$here/scripts/measure_common.sh" measure_kernels bench_ground_truth ${bag:+bench_bag_reader}  # $bin, $work

@@ -9,17 +9,10 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 sizes="1280x720 1920x1080"; runs=3; seconds=4; pipeline=forward; out="$here/build/measure_stk"
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --sizes) sizes="$2"; shift 2 ;;
-    --runs) runs="$2"; shift 2 ;;
-    --seconds) seconds="$2"; shift 2 ;;
-    --pipeline) pipeline="$2"; shift 2 ;;
-    --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
-    *) echo "measure_supertuxkart: unknown option '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
+# shellcheck source=options.sh
+source "$here/scripts/options.sh"
+viper_options '2,9' "measure_supertuxkart: unknown option '{}' (see --help)" --sizes=sizes --runs=runs \
+  --seconds=seconds --pipeline=pipeline --out=out -- "$@"
 case "$pipeline" in
   forward) lights=--disable-dynamic-lights ;;
   deferred) lights=--enable-dynamic-lights ;;

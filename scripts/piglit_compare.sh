@@ -98,19 +98,10 @@ full_exclude=(
 slice=ci; out="$here/build/piglit_compare"; bin=""
 jobs=$(nproc); timeout=300
 user_include=(); user_exclude=()
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --slice) slice="$2"; shift 2 ;;
-    --out) out="$2"; shift 2 ;;
-    -t) user_include+=("$2"); shift 2 ;;
-    -x) user_exclude+=("$2"); shift 2 ;;
-    --jobs) jobs="$2"; shift 2 ;;
-    --timeout) timeout="$2"; shift 2 ;;
-    --bin) bin="$2"; shift 2 ;;
-    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
-    *) echo "piglit_compare: unknown option '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
+# shellcheck source=options.sh
+source "$here/scripts/options.sh"
+viper_options '2,31' "piglit_compare: unknown option '{}' (see --help)" --slice=slice --out=out \
+  -t=user_include+ -x=user_exclude+ --jobs=jobs --timeout=timeout --bin=bin -- "$@"
 case "$slice" in
   ci) include=("${ci_include[@]}"); exclude=("${ci_exclude[@]}") ;;
   full)

@@ -7,18 +7,10 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 program=world; frames=30; width=640; height=480; condition=day; out="$here/build/run"
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --program) program="$2"; shift 2 ;;
-    --frames) frames="$2"; shift 2 ;;
-    --width) width="$2"; shift 2 ;;
-    --height) height="$2"; shift 2 ;;
-    --condition) condition="$2"; shift 2 ;;
-    --out) out="$2"; shift 2 ;;
-    -h|--help) sed -n '2,6p' "$0"; exit 0 ;;
-    *) echo "run.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
+# shellcheck source=options.sh
+source "$here/scripts/options.sh"
+viper_options '2,6' "run.sh: unknown option '{}' (see --help)" --program=program --frames=frames \
+  --width=width --height=height --condition=condition --out=out -- "$@"
 case "$program" in
   world) program_args=(--condition "$condition") ;;
   test_scene) program_args=() ;;

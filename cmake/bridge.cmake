@@ -109,9 +109,10 @@ if(CATKIN_ENABLE_TESTING)
     LINK viper_ros gtest_main
     DEPENDS viper_ros_test_captures)
   # test_bag_writer: BagWriter's files against rosbag's C++ and Python readers and rosbag reindex.
-  # test_bag_reader: BagFileReader (bag_player's) against rosbag::View, on rosbag's and BagFileWriter's
-  # bags and the committed test bag.
-  foreach(t test_bag_writer test_bag_reader)
+  # test_bag_reader: BagFileReader (bag_player's) and BagReader against rosbag::View, on rosbag's and
+  # BagFileWriter's bags and the committed test bag; test_bag_reader_damage: the same readers on
+  # damaged bags.
+  foreach(t test_bag_writer test_bag_reader test_bag_reader_damage)
     viper_gtest(${t} test/ros/${t}.cpp SYSTEM_INCLUDES ${VIPER_ROSBAG_INCLUDE_DIRS}
       DEFINITIONS VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}" LINK viper_ros gtest_main)
   endforeach()

@@ -6,6 +6,7 @@
 // so every mesh store received must be the bag's one with the same stamp, and the last ones equal.
 //
 // Private parameters: bag (path, required), namespace (/capture), timeout_s (90).
+#include "message_bytes.h"
 #include "tester_main.h"
 
 #include <gtest/gtest.h>
@@ -25,13 +26,7 @@ namespace {
 
 using Bytes = std::vector<uint8_t>;
 
-template <typename M>
-Bytes bytesOf(const M& m) {
-  Bytes out(m.size());
-  ros::serialization::OStream stream(out.data(), static_cast<uint32_t>(out.size()));
-  m.write(stream);
-  return out;
-}
+using viper::test::heldBytes;
 
 // The stamp of a message whose first field is a std_msgs/Header (seq, then stamp).
 ros::Time stampOf(const Bytes& b) {
@@ -63,8 +58,8 @@ TEST(CaptureToBag, BagHoldsWhatTheBridgePublishes) {
     if (c->header && c->header->count("latching")) latching[c->topic] = c->header->at("latching");
   }
   for (const rosbag::MessageInstance& m : view) {
-    EXPECT_EQ(m.getTime(), stampOf(bytesOf(m))) << m.getTopic() << ": written at its header stamp";
-    expected[m.getTopic()].push_back(bytesOf(m));
+    EXPECT_EQ(m.getTime(), stampOf(heldBytes(m))) << m.getTopic() << ": written at its header stamp";
+    expected[m.getTopic()].push_back(heldBytes(m));
   }
   const std::vector<std::string> per_frame = {"color/image_raw", "color/camera_info", "depth/image_raw",
                                               "depth/camera_info", "draw_ids", "primitive_ids", "draws"};
@@ -85,7 +80,7 @@ TEST(CaptureToBag, BagHoldsWhatTheBridgePublishes) {
     const std::string t = topic;
     subs.push_back(nh.subscribe<topic_tools::ShapeShifter>(t, 1000, [&, t](const topic_tools::ShapeShifter::ConstPtr& m) {
       std::lock_guard<std::mutex> lock(mutex);
-      got[t].push_back(bytesOf(*m));
+      got[t].push_back(heldBytes(*m));
       got_types[t] = m->getDataType();
     }));
   }
@@ -141,7 +136,7 @@ TEST(BagPlayer, NamesTheDamageAndKeepsWhatCameBefore) {
   {
     rosbag::Bag bag(intact_path, rosbag::bagmode::Read);
     for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery("/capture/draws")))
-      intact.push_back(bytesOf(m));
+      intact.push_back(heldBytes(m));
   }
   ASSERT_GE(intact.size(), 2u);
   std::mutex mutex;
@@ -149,7 +144,7 @@ TEST(BagPlayer, NamesTheDamageAndKeepsWhatCameBefore) {
   std::string error;
   auto draws = nh.subscribe<topic_tools::ShapeShifter>("/capture/draws", 1000, [&](const topic_tools::ShapeShifter::ConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
-    got.push_back(bytesOf(*m));
+    got.push_back(heldBytes(*m));
   });
   auto rosout = nh.subscribe<rosgraph_msgs::Log>("/rosout", 100, [&](const rosgraph_msgs::Log::ConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);

@@ -7,6 +7,7 @@
 #include "viper/ros/bridge/bag_writer.h"
 
 #include "../common/process_util.h"
+#include "message_bytes.h"
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -36,14 +37,6 @@ struct Written {
   bool latched;
 };
 
-template <typename M>
-std::vector<uint8_t> serialized(const M& m) {
-  std::vector<uint8_t> out(ros::serialization::serializationLength(m));
-  ros::serialization::OStream s(out.data(), static_cast<uint32_t>(out.size()));
-  ros::serialization::serialize(s, m);
-  return out;
-}
-
 // 12 frames of a 640x360 image pair (one compresses 100:1, one is noise), a small image and a
 // latched transform, interleaved as a frame's topics are.
 std::vector<Written> writeBag(const std::string& path, const std::string& compression) {
@@ -65,7 +58,7 @@ std::vector<Written> writeBag(const std::string& path, const std::string& compre
                                    std::pair{"/ground_truth/flow/forward", image(640, 360, true)},
                                    std::pair{"/small", image(8, 2, false)}}) {
       bag.write(topic, m);
-      written.push_back({topic, t, serialized(*m), "sensor_msgs/Image", false});
+      written.push_back({topic, t, viper::test::serialized(*m), "sensor_msgs/Image", false});
     }
     if (f % 5 == 0) {
       auto tf = boost::make_shared<tf2_msgs::TFMessage>();
@@ -73,7 +66,7 @@ std::vector<Written> writeBag(const std::string& path, const std::string& compre
       tf->transforms[0].header.stamp = t;
       tf->transforms[0].child_frame_id = "frame " + std::to_string(f);
       bag.writeAt("/tf_static", t, tf, /*latched=*/true);
-      written.push_back({"/tf_static", t, serialized(*tf), "tf2_msgs/TFMessage", true});
+      written.push_back({"/tf_static", t, viper::test::serialized(*tf), "tf2_msgs/TFMessage", true});
     }
   }
   bag.close();
@@ -88,10 +81,7 @@ void expectSameMessages(const std::string& path, const std::vector<Written>& wri
   std::vector<Written> sorted = written, read;
   std::sort(sorted.begin(), sorted.end(), order);
   for (const rosbag::MessageInstance& m : view) {
-    std::vector<uint8_t> bytes(m.size());
-    ros::serialization::OStream s(bytes.data(), static_cast<uint32_t>(bytes.size()));
-    m.write(s);
-    read.push_back({m.getTopic(), m.getTime(), bytes, m.getDataType(), m.isLatching()});
+    read.push_back({m.getTopic(), m.getTime(), viper::test::heldBytes(m), m.getDataType(), m.isLatching()});
     EXPECT_EQ(m.getCallerId(), "/test_bag_writer");
     if (m.getDataType() == "sensor_msgs/Image") {
       EXPECT_EQ(m.getMD5Sum(), ros::message_traits::md5sum<sensor_msgs::Image>());

@@ -4,6 +4,7 @@
 // intact frames, is named with the byte offset of the damage and ends with exit status 1; bad usage
 // prints the usage and exits 2. capture_to_bag.test compares the bag with the running bridge.
 #include "../common/temp_dir.h"
+#include "message_bytes.h"
 
 #include "viper/capture/capture_stream.h"
 #include "viper/ros/conversions/frame_conversions.h"
@@ -53,21 +54,6 @@ class CaptureToBagTest : public testing::Test {
   viper::test::TempDir work_{"viper_capture_to_bag_"};
 };
 
-template <typename M>
-std::vector<uint8_t> bytesOf(const M& m) {
-  std::vector<uint8_t> out(ros::serialization::serializationLength(m));
-  ros::serialization::OStream stream(out.data(), static_cast<uint32_t>(out.size()));
-  ros::serialization::serialize(stream, m);
-  return out;
-}
-
-std::vector<uint8_t> bytesOf(const rosbag::MessageInstance& m) {
-  std::vector<uint8_t> out(m.size());
-  ros::serialization::OStream stream(out.data(), static_cast<uint32_t>(out.size()));
-  m.write(stream);
-  return out;
-}
-
 struct Expected {
   std::string topic;
   ros::Time stamp;
@@ -93,15 +79,15 @@ std::vector<Expected> bridgeMessages(const std::string& capture, size_t max_fram
       h->seq = static_cast<uint32_t>(n);
     if (m.mesh_store) {
       m.mesh_store->header.seq = stores++;
-      out.push_back({ns + "/mesh_store", header.stamp, bytesOf(*m.mesh_store)});
+      out.push_back({ns + "/mesh_store", header.stamp, viper::test::serialized(*m.mesh_store)});
     }
-    out.push_back({ns + "/color/image_raw", header.stamp, bytesOf(*m.color)});
-    out.push_back({ns + "/color/camera_info", header.stamp, bytesOf(*m.camera_info)});
-    out.push_back({ns + "/depth/image_raw", header.stamp, bytesOf(*m.depth)});
-    out.push_back({ns + "/depth/camera_info", header.stamp, bytesOf(*m.camera_info)});
-    out.push_back({ns + "/draw_ids", header.stamp, bytesOf(*m.draw_ids)});
-    out.push_back({ns + "/primitive_ids", header.stamp, bytesOf(*m.primitive_ids)});
-    out.push_back({ns + "/draws", header.stamp, bytesOf(*m.draws)});
+    out.push_back({ns + "/color/image_raw", header.stamp, viper::test::serialized(*m.color)});
+    out.push_back({ns + "/color/camera_info", header.stamp, viper::test::serialized(*m.camera_info)});
+    out.push_back({ns + "/depth/image_raw", header.stamp, viper::test::serialized(*m.depth)});
+    out.push_back({ns + "/depth/camera_info", header.stamp, viper::test::serialized(*m.camera_info)});
+    out.push_back({ns + "/draw_ids", header.stamp, viper::test::serialized(*m.draw_ids)});
+    out.push_back({ns + "/primitive_ids", header.stamp, viper::test::serialized(*m.primitive_ids)});
+    out.push_back({ns + "/draws", header.stamp, viper::test::serialized(*m.draws)});
   }
   return out;
 }
@@ -124,7 +110,7 @@ void expectBagHolds(const std::string& bag_path, const std::vector<Expected>& ex
     for (const rosbag::MessageInstance& m : view) {
       const Expected& e = *messages[i++];
       EXPECT_EQ(m.getTime(), e.stamp) << topic << " is written at its header stamp";
-      EXPECT_TRUE(bytesOf(m) == e.bytes) << topic << " stamped " << e.stamp << " differs";
+      EXPECT_TRUE(viper::test::heldBytes(m) == e.bytes) << topic << " stamped " << e.stamp << " differs";
       const auto& header = *m.getConnectionHeader();
       EXPECT_EQ(header.at("latching"), topic == "/capture/mesh_store" ? "1" : "0") << topic;
       EXPECT_EQ(header.at("type"), m.getDataType());

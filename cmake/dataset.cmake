@@ -101,6 +101,17 @@ if(CATKIN_ENABLE_TESTING)
   if(TARGET test_viper_submission_files)
     target_link_libraries(test_viper_submission_files viper_submission)
   endif()
+  # The training formats' fixture (docs/training_formats.md): write_training_format_cases writes the
+  # frames of test/dataset/training_format_cases.h, scripts/training_formats_reference.sh runs the
+  # formats' reference code on them into test/dataset/data/training_formats, test_training_formats
+  # checks the writers against it (OpenCV decodes the PNG files as the reference did).
+  add_executable(write_training_format_cases test/dataset/write_training_format_cases.cpp)
+  target_link_libraries(write_training_format_cases viper_dataset)
+  viper_bin_output(write_training_format_cases)
+  if(TARGET test_training_formats)
+    target_include_directories(test_training_formats SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+    target_link_libraries(test_training_formats opencv_core opencv_imgcodecs)
+  endif()
   if(TARGET test_export_flow)
     target_include_directories(test_export_flow SYSTEM PRIVATE ${catkin_INCLUDE_DIRS} ${VIPER_ROSBAG_INCLUDE_DIRS})
     target_link_libraries(test_export_flow ${catkin_LIBRARIES})

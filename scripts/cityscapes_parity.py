@@ -100,6 +100,20 @@ def cityscapes_instance_ids(cls_path, inst_path):
     return out.astype(np.uint16)
 
 
+def evaluate_instances(instance, pred_lists, gt_instances, prediction_path, work):
+    """evalInstanceLevelSemanticLabeling.evaluateImgLists' averages, its caches and matches.json in `work`."""
+    instance.args.gtInstancesFile = os.path.join(work, "gtInstances.json")
+    instance.args.predictionPath = prediction_path
+    instance.args.JSONOutput = False
+    instance.args.quiet = True
+    cwd = os.getcwd()
+    os.chdir(work)  # the reference writes matches.json into the current folder
+    try:
+        return instance.evaluateImgLists(pred_lists, gt_instances, instance.args)["averages"]
+    finally:
+        os.chdir(cwd)
+
+
 def score_case(case_dir, work, pixel, instance, classes):
     frames = sorted(f[:-4] for f in os.listdir(os.path.join(case_dir, "cls")) if f.endswith(".png"))
     if not frames:
@@ -129,16 +143,7 @@ def score_case(case_dir, work, pixel, instance, classes):
     pixel.args.quiet = True
     semantic = pixel.evaluateImgLists(pred_labels, gt_labels, pixel.args)
 
-    instance.args.gtInstancesFile = os.path.join(work, "gtInstances.json")
-    instance.args.predictionPath = os.path.abspath(case_dir)
-    instance.args.JSONOutput = False
-    instance.args.quiet = True
-    cwd = os.getcwd()
-    os.chdir(work)  # the reference writes matches.json into the current folder
-    try:
-        averages = instance.evaluateImgLists(pred_lists, gt_instances, instance.args)["averages"]
-    finally:
-        os.chdir(cwd)
+    averages = evaluate_instances(instance, pred_lists, gt_instances, os.path.abspath(case_dir), work)
 
     rows = []
     for cid, name, scored, inst in classes:

@@ -23,12 +23,18 @@ enum class DeflateWrapper { kRaw, kZlib };
 /// std::invalid_argument for another level.
 void deflateInto(std::vector<uint8_t>& out, const uint8_t* in, size_t n, int level, DeflateWrapper wrapper);
 
-enum class PngColor : uint8_t { kGray = 0, kRgb = 2, kPalette = 3 };
+enum class PngColor : uint8_t { kGray = 0, kRgb = 2, kPalette = 3, kRgba = 6 };
 
-/// A PNG of 8-bit samples (1 channel for gray and palette, 3 for RGB), every row filtered with
-/// PNG's Up filter, the image data deflated at `level` (deflateInto).
+/// A PNG of 8-bit samples (1 channel for gray and palette, 3 for RGB, 4 for RGBA), every row
+/// filtered with PNG's Up filter, the image data deflated at `level` (deflateInto).
 std::vector<uint8_t> pngBytes(const uint8_t* pixels, uint32_t width, uint32_t height, PngColor color,
                               const std::vector<std::array<uint8_t, 3>>& palette, int level);
+
+/// A PNG of 16-bit samples (gray, RGB or RGBA; `samples` in host order, channels interleaved),
+/// written big-endian as PNG stores them, otherwise as pngBytes. Throws std::invalid_argument
+/// for kPalette.
+std::vector<uint8_t> pngBytes16(const uint16_t* samples, uint32_t width, uint32_t height, PngColor color,
+                                int level);
 
 /// A zip archive of `entries` in order, each deflated at `level` (deflateInto; 0: stored entries), with the fixed entry
 /// time 1980-01-01 12:00 so that equal entries give equal bytes. Throws std::invalid_argument for

@@ -20,12 +20,19 @@ void chunk(std::vector<uint8_t>& out, const char type[4], const uint8_t* data, s
   put32(out, libdeflate_crc32(0, out.data() + start, out.size() - start));
 }
 
-}  // namespace
+size_t channelsOf(PngColor color) {
+  switch (color) {
+    case PngColor::kRgb: return 3;
+    case PngColor::kRgba: return 4;
+    default: return 1;
+  }
+}
 
-std::vector<uint8_t> pngBytes(const uint8_t* pixels, uint32_t width, uint32_t height, PngColor color,
-                              const std::vector<std::array<uint8_t, 3>>& palette, int level) {
+// A PNG of `pixels`: rows of samples of `depth` bits (8, or 16 big-endian), no padding.
+std::vector<uint8_t> pngOfRows(const uint8_t* pixels, uint32_t width, uint32_t height, PngColor color,
+                               const std::vector<std::array<uint8_t, 3>>& palette, int level, uint8_t depth) {
   if (level < 0 || level > 12) throw std::invalid_argument("PNG deflate level must be 0..12");
-  const size_t channels = color == PngColor::kRgb ? 3 : 1, row = width * channels;
+  const size_t row = static_cast<size_t>(width) * channelsOf(color) * (depth / 8);
   // Filtered rows: a filter-type byte (2, Up: each byte minus the one above it) and the row.
   // The filtered rows and the deflated data reuse this thread's buffers: fresh megabytes a frame
   // cost page faults on every image.
@@ -50,7 +57,7 @@ std::vector<uint8_t> pngBytes(const uint8_t* pixels, uint32_t width, uint32_t he
   std::vector<uint8_t> ihdr;
   put32(ihdr, width);
   put32(ihdr, height);
-  ihdr.insert(ihdr.end(), {8, static_cast<uint8_t>(color), 0, 0, 0});  // depth, color, deflate, filtering, no interlace
+  ihdr.insert(ihdr.end(), {depth, static_cast<uint8_t>(color), 0, 0, 0});  // depth, color, deflate, filtering, no interlace
   chunk(out, "IHDR", ihdr.data(), ihdr.size());
   if (color == PngColor::kPalette) {
     std::vector<uint8_t> plte;
@@ -60,6 +67,25 @@ std::vector<uint8_t> pngBytes(const uint8_t* pixels, uint32_t width, uint32_t he
   chunk(out, "IDAT", idat.data(), deflated);
   chunk(out, "IEND", nullptr, 0);
   return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> pngBytes(const uint8_t* pixels, uint32_t width, uint32_t height, PngColor color,
+                              const std::vector<std::array<uint8_t, 3>>& palette, int level) {
+  return pngOfRows(pixels, width, height, color, palette, level, 8);
+}
+
+std::vector<uint8_t> pngBytes16(const uint16_t* samples, uint32_t width, uint32_t height, PngColor color,
+                                int level) {
+  if (color == PngColor::kPalette) throw std::invalid_argument("a 16-bit PNG cannot have a palette");
+  const size_t n = static_cast<size_t>(width) * height * channelsOf(color);
+  std::vector<uint8_t> big_endian(2 * n);
+  for (size_t i = 0; i < n; ++i) {
+    big_endian[2 * i] = static_cast<uint8_t>(samples[i] >> 8);
+    big_endian[2 * i + 1] = static_cast<uint8_t>(samples[i]);
+  }
+  return pngOfRows(big_endian.data(), width, height, color, {}, level, 16);
 }
 
 }  // namespace viper::dataset::detail

@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""Runs the training formats' reference code on the files write_training_format_cases wrote and
+writes what it read and scored as the fixture test_training_formats checks the writers against.
+
+Usage: training_formats_reference.py CASES_DIR OUT_DIR --cityscapes CHECKOUT
+
+CASES_DIR: what `write_training_format_cases CASES_DIR` wrote. OUT_DIR gets one text file per
+format (test/dataset/data/training_formats): lines of space-separated fields,
+  file NAME MODE HEIGHTxWIDTHxCHANNELS SHA256   what the reference's reader gave for a file: the
+      reader's mode or dtype, the array's shape, the SHA-256 of its values as little-endian int32,
+      row-major, channels interleaved in the reader's order;
+  score NAME VALUE                              a score of the reference's evaluation (repr).
+
+--cityscapes: a checkout of github.com/mcordts/cityscapesScripts (not part of this package; fetch it
+yourself). Its images are read as its evaluation reads them (PIL's Image.open, numpy.array); its
+evalPixelLevelSemanticLabeling and evalInstanceLevelSemanticLabeling score the ground truth as
+predictions of itself (every prediction file made from the ground-truth files alone), with its own
+label table and settings. Needs Debian's python3-numpy and python3-pil (run it with
+/usr/bin/python3); pyquaternion, which the reference's helpers import for 3D boxes only, is stubbed
+when it is absent.
+"""
+import argparse
+import glob
+import hashlib
+import os
+import sys
+import tempfile
+
+import numpy as np
+from PIL import Image
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cityscapes_parity import evaluate_instances, stub_pyquaternion  # noqa: E402  (as the parity check)
+
+
+def values_line(name, mode, array):
+    a = np.ascontiguousarray(np.asarray(array).astype("<i4"))
+    shape = list(np.asarray(array).shape) + [1] * (3 - np.asarray(array).ndim)
+    return "file {} {} {} {}".format(name, mode, "x".join(str(s) for s in shape), hashlib.sha256(a.tobytes()).hexdigest())
+
+
+def cityscapes(checkout, cases, out):
+    sys.path.insert(0, os.path.abspath(checkout))
+    stub_pyquaternion()
+    from cityscapesscripts.evaluation import evalInstanceLevelSemanticLabeling as instance
+    from cityscapesscripts.evaluation import evalPixelLevelSemanticLabeling as pixel
+
+    root = os.path.join(cases, "cityscapes", "gtFine")
+    lines = []
+    files = sorted(glob.glob(os.path.join(root, "*", "*", "*_gtFine_*.png")))
+    if not files:
+        sys.exit("{}: no gtFine files".format(root))
+    for path in files:
+        image = Image.open(path)
+        lines.append(values_line(os.path.relpath(path, root), image.mode, np.array(image)))
+
+    label_files = [f for f in files if f.endswith("_gtFine_labelIds.png")]
+    instance_files = [f for f in files if f.endswith("_gtFine_instanceIds.png")]
+    with tempfile.TemporaryDirectory() as work:
+        # Perfect predictions: the labelIds files themselves, and one mask per ground-truth instance.
+        pixel.args.evalInstLevelScore = True
+        pixel.args.JSONOutput = False
+        pixel.args.quiet = True
+        semantic = pixel.evaluateImgLists(label_files, label_files, pixel.args)
+        lists = []
+        for path in instance_files:
+            ids = np.array(Image.open(path))
+            stem = os.path.basename(path)[:-len("_gtFine_instanceIds.png")]
+            txt = os.path.join(work, stem + ".txt")
+            with open(txt, "w") as f:
+                for k, i in enumerate(np.unique(ids[ids >= 1000])):
+                    mask = stem + "_{}.png".format(k)
+                    Image.fromarray(((ids == i) * 255).astype(np.uint8)).save(os.path.join(work, mask))
+                    f.write("{} {} 1.0\n".format(mask, int(i) // 1000))
+            lists.append(txt)
+        averages = evaluate_instances(instance, lists, instance_files, work, work)
+    lines.append("score pixel_averageScoreClasses {!r}".format(float(semantic["averageScoreClasses"])))
+    lines.append("score pixel_averageScoreInstClasses {!r}".format(float(semantic["averageScoreInstClasses"])))
+    for name, value in sorted(semantic["classScores"].items()):
+        if not np.isnan(value):
+            lines.append("score pixel_iou_{} {!r}".format(name.replace(" ", "_"), float(value)))
+    lines.append("score instance_allAp {!r}".format(float(averages["allAp"])))
+    lines.append("score instance_allAp50 {!r}".format(float(averages["allAp50%"])))
+    for name, value in sorted(averages["classes"].items()):
+        if not np.isnan(value["ap"]):
+            lines.append("score instance_ap_{} {!r}".format(name.replace(" ", "_"), float(value["ap"])))
+    write(out, "cityscapes.txt", "cityscapesScripts (evaluation/evalPixelLevelSemanticLabeling.py, "
+          "evalInstanceLevelSemanticLabeling.py)", lines)
+
+
+def write(out, name, reference, lines):
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, name), "w") as f:
+        f.write("# Made by scripts/training_formats_reference.sh with {}.\n".format(reference))
+        f.write("\n".join(lines) + "\n")
+    print("{}: {} lines".format(os.path.join(out, name), len(lines)), file=sys.stderr)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("cases")
+    parser.add_argument("out")
+    parser.add_argument("--cityscapes", required=True)
+    a = parser.parse_args()
+    if not os.path.isfile(os.path.join(a.cityscapes, "cityscapesscripts", "evaluation",
+                                       "evalInstanceLevelSemanticLabeling.py")):
+        sys.exit("{}: not a cityscapesScripts checkout (no cityscapesscripts/evaluation)".format(a.cityscapes))
+    cityscapes(a.cityscapes, a.cases, a.out)
+
+
+if __name__ == "__main__":
+    main()

@@ -163,11 +163,7 @@ void computeFlow(const FlowFramePixels& a, const FlowFramePixels& b, const std::
                  const FlowOptions& options, FlowStats* stats_out) {
   checkSameSize(a.width, a.height, b.width, b.height);
   const size_t n = static_cast<size_t>(a.width) * a.height;
-  if (!a.draws || !b.draws || a_to_b.size() != a.draws->size() || (n > 0 && (!b_depth_m || !a.draw_ids ||
-      !a.primitive_ids || !(a.depth_window || a.depth_metres) || !uv || !visible)))
-    throw std::invalid_argument("computeFlow: an input's size does not match its frame");
-  if (a.depth_window && a.depth_metres)
-    throw std::invalid_argument("computeFlow: frame a has both window depth and metres");
+  flow_detail::checkFramePixels("computeFlow", a, b, a_to_b, b_depth_m && uv && visible);
   const bool metres = a.depth_metres != nullptr;
   const std::vector<DrawRecord>& a_draws = *a.draws;
   const std::vector<DrawRecord>& b_draws = *b.draws;

@@ -12,6 +12,8 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace viper {
@@ -139,6 +141,19 @@ __attribute__((always_inline)) inline std::optional<Eigen::Vector4d> nonRigidCli
   const float *b0 = tri.b[0], *b1 = tri.b[1], *b2 = tri.b[2];
   return Eigen::Vector4d(k0 * b0[0] + k1 * b1[0] + k2 * b2[0], k0 * b0[1] + k1 * b1[1] + k2 * b2[1],
                          k0 * b0[2] + k1 * b1[2] + k2 * b2[2], k0 * b0[3] + k1 * b1[3] + k2 * b2[3]);
+}
+
+// The checks computeFlow and computeSceneFlow (`who`) share: a's pixels and draws, b's draws and
+// `buffers` (the caller's other pointers) present, and a's depth in one form. Throws
+// std::invalid_argument.
+inline void checkFramePixels(const char* who, const FlowFramePixels& a, const FlowFramePixels& b,
+                             const std::vector<int32_t>& a_to_b, bool buffers) {
+  const size_t n = static_cast<size_t>(a.width) * a.height;
+  if (!a.draws || !b.draws || a_to_b.size() != a.draws->size() ||
+      (n > 0 && (!buffers || !a.draw_ids || !a.primitive_ids || !(a.depth_window || a.depth_metres))))
+    throw std::invalid_argument(std::string(who) + ": an input's size does not match its frame");
+  if (a.depth_window && a.depth_metres)
+    throw std::invalid_argument(std::string(who) + ": frame a has both window depth and metres");
 }
 
 struct Counts {

@@ -65,6 +65,23 @@ namespace {
 
 using namespace viper::stress_program;
 
+// The start of the scenarios that draw the objects with one colour program: their surface made and
+// current, the program (kUniformVs, kColourFs), the quad.
+struct ColourScene {
+  Surface s;
+  GLuint p = 0;
+  Quad q;
+};
+
+ColourScene makeColourScene() {
+  ColourScene c;
+  c.s = makeSurface(ss::kSize);
+  makeCurrent(c.s);
+  c.p = program(kUniformVs, kColourFs);
+  c.q = makeQuad();
+  return c;
+}
+
 // ---- scenarios ----
 
 void mdi(int frames, const std::string& out) {
@@ -484,10 +501,7 @@ void destroyMidFrame(int frames, const std::string& out) {
 /// stays; with --draw-through-exit 1 it draws on meanwhile (checking nothing: the driver is torn
 /// down under it, and a swap may fail).
 void exitThread(int frames, const std::string& out) {
-  Surface s = makeSurface(ss::kSize);
-  makeCurrent(s);
-  const GLuint p = program(kUniformVs, kColourFs);
-  const Quad q = makeQuad();
+  auto [s, p, q] = makeColourScene();
   static std::atomic<bool> written{false}, parked{false};
   std::thread exiter([] {
     while (!written.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -558,10 +572,7 @@ void blendDepth(int frames, const std::string& out) {
 // equal depth with depth writes off, opaque, and a third time blended over that (a texture layer).
 // The ids are those of the pre-pass, which decided what is visible.
 void depthPrepass(int frames, const std::string& out) {
-  Surface s = makeSurface(ss::kSize);
-  makeCurrent(s);
-  const GLuint p = program(kUniformVs, kColourFs);
-  const Quad q = makeQuad();
+  auto [s, p, q] = makeColourScene();
   for (int f = 0; f < frames; ++f) {
     beginFrame(f);
     GL(glUseProgram(p));

@@ -190,30 +190,30 @@ class BridgeTester : public testing::Test {
     checkImage(r, m, sensor_msgs::image_encodings::RGB8, 3);
     r.color_key = contentKey(m.data.data(), m.data.size());
   }
-  void onDepth(const sensor_msgs::Image& m) {
+  // An image of 4-byte pixels that the cross-check reads: counted in `count`, checked as `encoding`,
+  // its pixels copied into `pixels`. Returns its frame.
+  template <typename T>
+  ReceivedFrame& onPixels(const sensor_msgs::Image& m, int ReceivedFrame::*count, const std::string& encoding,
+                          std::vector<T> ReceivedFrame::*pixels) {
     ReceivedFrame& r = frameOf(m.header);
-    ++r.depth;
-    checkImage(r, m, sensor_msgs::image_encodings::TYPE_32FC1, 4);
-    r.depth_m.resize(m.data.size() / 4);
-    std::memcpy(r.depth_m.data(), m.data.data(), r.depth_m.size() * 4);
-    crossCheck(r);
+    ++(r.*count);
+    checkImage(r, m, encoding, 4);
+    std::vector<T>& to = r.*pixels;
+    to.resize(m.data.size() / 4);
+    std::memcpy(to.data(), m.data.data(), to.size() * 4);
+    return r;
+  }
+  void onDepth(const sensor_msgs::Image& m) {
+    crossCheck(onPixels(m, &ReceivedFrame::depth, sensor_msgs::image_encodings::TYPE_32FC1, &ReceivedFrame::depth_m));
   }
   void onDrawIds(const sensor_msgs::Image& m) {
-    ReceivedFrame& r = frameOf(m.header);
-    ++r.draw_ids;
-    checkImage(r, m, sensor_msgs::image_encodings::TYPE_32SC1, 4);
+    ReceivedFrame& r = onPixels(m, &ReceivedFrame::draw_ids, sensor_msgs::image_encodings::TYPE_32SC1, &ReceivedFrame::ids);
     r.draw_ids_key = contentKey(m.data.data(), m.data.size());
-    r.ids.resize(m.data.size() / 4);
-    std::memcpy(r.ids.data(), m.data.data(), r.ids.size() * 4);
     crossCheck(r);
   }
   void onPrimitiveIds(const sensor_msgs::Image& m) {
-    ReceivedFrame& r = frameOf(m.header);
-    ++r.primitive_ids;
-    checkImage(r, m, sensor_msgs::image_encodings::TYPE_32SC1, 4);
-    r.primitives.resize(m.data.size() / 4);
-    std::memcpy(r.primitives.data(), m.data.data(), r.primitives.size() * 4);
-    crossCheck(r);
+    crossCheck(onPixels(m, &ReceivedFrame::primitive_ids, sensor_msgs::image_encodings::TYPE_32SC1,
+                        &ReceivedFrame::primitives));
   }
   void onInfo(const sensor_msgs::CameraInfo& m, bool color) {
     ReceivedFrame& r = frameOf(m.header);

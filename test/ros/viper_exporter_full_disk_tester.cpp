@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <random>
 #include <thread>
 
@@ -90,24 +91,34 @@ fs::path freshDir(const char* name) {
   return dir;
 }
 
-TEST(ViperExporterFullDisk, NodeEndsWithExitCode2) {
-  const fs::path dir = freshDir("node");
+// The exporter that `command(~bin, its output folder)` starts, fed on `topic` in a fresh folder
+// `name` under the file size limit: full disk handled (expectFullDiskHandled).
+void expectFullDiskHandledBy(const char* name, const std::function<std::string(const std::string&, const std::string&)>& command,
+                             const std::string& topic) {
+  const fs::path dir = freshDir(name);
   std::string bin;
   ASSERT_TRUE(ros::param::get("~bin", bin));
-  const Exported r = exportUnderLimit(bin + "/viper_exporter __name:=full_disk_exporter _root:=" + (dir / "out").string() +
-                                     " _camera:=none",
-                                 "/capture/color/image_raw", dir);
+  const Exported r = exportUnderLimit(command(bin, (dir / "out").string()), topic, dir);
   expectFullDiskHandled(r, dir / "out");
 }
 
+TEST(ViperExporterFullDisk, NodeEndsWithExitCode2) {
+  expectFullDiskHandledBy(
+      "node",
+      [](const std::string& bin, const std::string& out) {
+        return bin + "/viper_exporter __name:=full_disk_exporter _root:=" + out + " _camera:=none";
+      },
+      "/capture/color/image_raw");
+}
+
 TEST(ViperExporterFullDisk, ExportViperLiveEndsWithExitCode2) {
-  const fs::path dir = freshDir("live");
-  std::string bin;
-  ASSERT_TRUE(ros::param::get("~bin", bin));
-  const Exported r = exportUnderLimit(bin + "/export_viper --live --out " + (dir / "out").string() +
-                                     " --camera none --topic color=/full_disk/live/image __name:=full_disk_live",
-                                 "/full_disk/live/image", dir);
-  expectFullDiskHandled(r, dir / "out");
+  expectFullDiskHandledBy(
+      "live",
+      [](const std::string& bin, const std::string& out) {
+        return bin + "/export_viper --live --out " + out +
+               " --camera none --topic color=/full_disk/live/image __name:=full_disk_live";
+      },
+      "/full_disk/live/image");
 }
 
 }  // namespace

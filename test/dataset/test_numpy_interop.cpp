@@ -6,6 +6,7 @@
 #include "viper/dataset/viper_images.h"
 
 #include "dataset_test_util.h"
+#include "flow_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -38,10 +39,7 @@ float fromBits(uint32_t x) {
 
 TEST(NumpyInterop, NumpyReadsOurFilesAsItsOwnFloat16Conversion) {
   TempDir dir;
-  FlowImage flow;
-  flow.width = 37;
-  flow.height = 23;
-  flow.uv.resize(2 * flow.pixels());
+  FlowImage flow = viper_dataset_test::zeroFlow(37, 23);
   std::mt19937 rng(5);
   std::normal_distribution<float> motion(0.0f, 30.0f);
   std::uniform_int_distribution<uint32_t> bits;

@@ -6,6 +6,7 @@
 #include "viper/ground_truth/capture_invariants.h"
 #include "viper/capture/capture_stream.h"
 #include "viper/ground_truth/flow.h"
+#include "viper/ground_truth/scene_flow.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +27,79 @@ inline void readCapture(const std::string& path, std::vector<CaptureFrame>& fram
   }
 }
 
+/// The scene flow a -> b against the optical flow and both depths, on pixels whose draw has the
+/// frame camera's projection (a's point p lifted from a's depth with a's camera alone):
+/// - reprojection_px: p + scene flow, taken into b's optical frame and projected with b's camera,
+///   against the pixel plus its optical flow;
+/// - depth_relative: p's depth plus the depth change against b's depth image at the target, where
+///   the flow's mask says visible and the four pixels around the target show the same triangle
+///   (1 / depth bilinear there: it is affine in the image over a triangle), relative to it;
+/// - static_relative: |scene flow| / depth of static surfaces (same mesh, same world matrix in both
+///   frames): a point the world holds still does not move, whatever the camera does.
+struct SceneFlowCheck {
+  std::vector<float> reprojection_px, depth_relative, static_relative;
+  uint64_t mask_differs = 0;  ///< values NaN where the flow is not, or finite where it is NaN
+
+  void add(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b, const FrameCamera& ca,
+           const FrameCamera& cb, const FlowField& flow, const std::vector<float>& b_depth,
+           const std::vector<float>& sf) {
+    const Eigen::Matrix4d unproject = ca.projection.cast<double>().inverse();
+    const Eigen::Matrix4d project = cb.projection.cast<double>();
+    const Eigen::Isometry3d b_from_a = opticalMotion(cb.view, ca.view);
+    const Eigen::Matrix3d flip = opticalFromGlCamera();
+    const uint32_t W = a.width, H = a.height;
+    for (uint32_t y = 0; y < H; ++y)
+      for (uint32_t x = 0; x < W; ++x) {
+        const size_t p = static_cast<size_t>(y) * W + x;
+        const float* v = &sf[kSceneFlowChannels * p];
+        const bool has_flow = !std::isnan(flow.uv[2 * p]);
+        for (size_t c = 0; c < kSceneFlowChannels; ++c) mask_differs += std::isnan(v[c]) == has_flow;
+        const uint32_t id = a.draw_ids[p];
+        if (!has_flow || std::isnan(v[0]) || id == 0 || id > a.draws.size()) continue;
+        const DrawRecord& da = a.draws[id - 1];
+        if (!(da.matrix_flags & kHasProjection) || da.projection != ca.projection) continue;
+        const Eigen::Vector4d h = unproject * Eigen::Vector4d(2.0 * (x + 0.5) / W - 1.0, 1.0 - 2.0 * (y + 0.5) / H,
+                                                              2.0 * a.depth_window[p] - 1.0, 1.0);
+        const Eigen::Vector3d point = flip * (h.head<3>() / h.w());
+        const Eigen::Vector3d moved = b_from_a * (point + Eigen::Vector3d(v[0], v[1], v[2]));
+        const Eigen::Vector4d clip = project * Eigen::Vector4d(moved.x(), -moved.y(), -moved.z(), 1.0);
+        const Eigen::Vector2d target((clip.x() / clip.w() + 1.0) * 0.5 * W - 0.5, (1.0 - clip.y() / clip.w()) * 0.5 * H - 0.5);
+        const Eigen::Vector2d want(x + flow.uv[2 * p], y + flow.uv[2 * p + 1]);
+        reprojection_px.push_back(static_cast<float>((target - want).norm()));
+        const int32_t j = a_to_b[id - 1];
+        const DrawRecord& db = b.draws[static_cast<size_t>(j)];
+        if (da.deformed_clip_xyzw.empty() && db.deformed_clip_xyzw.empty() && da.mesh_key == db.mesh_key &&
+            (da.matrix_flags & kHasWorld) && (db.matrix_flags & kHasWorld) && da.world == db.world)
+          static_relative.push_back(static_cast<float>(Eigen::Vector3d(v[0], v[1], v[2]).norm() / point.z()));
+        if (flow.visible[p] != 255) continue;
+        const double fx = std::floor(want.x()), fy = std::floor(want.y());
+        if (fx < 0 || fy < 0 || fx + 1 >= W || fy + 1 >= H) continue;
+        double inverse_depth = 0.0;
+        bool same = true;
+        for (int k = 0; k < 4 && same; ++k) {
+          const size_t q = static_cast<size_t>(fy + (k >> 1)) * W + static_cast<size_t>(fx + (k & 1));
+          same = b.draw_ids[q] == static_cast<uint32_t>(j + 1) && b.primitive_ids[q] == a.primitive_ids[p] &&
+                 b_depth[q] > 0.0f;
+          if (same)
+            inverse_depth += ((k & 1) ? want.x() - fx : 1.0 - (want.x() - fx)) *
+                             ((k >> 1) ? want.y() - fy : 1.0 - (want.y() - fy)) / b_depth[q];
+        }
+        if (!same || !(da.deformed_clip_xyzw.empty() && db.deformed_clip_xyzw.empty())) continue;
+        const double depth_b = 1.0 / inverse_depth;
+        depth_relative.push_back(static_cast<float>(std::abs(point.z() + v[3] - depth_b) / depth_b));
+      }
+  }
+  void print() const {
+    std::printf("scene flow: p + scene flow projected into the next frame vs pixel + flow: median %.2e p99 %.2e max "
+                "%.2e px (%zu px); depth + change vs the next depth image: median %.2e p99 %.2e (%zu px); static "
+                "surfaces |scene flow| / depth: median %.2e p99 %.2e max %.2e (%zu px)\n",
+                quantile(reprojection_px, 0.5), quantile(reprojection_px, 0.99), quantile(reprojection_px, 1.0),
+                reprojection_px.size(), quantile(depth_relative, 0.5), quantile(depth_relative, 0.99),
+                depth_relative.size(), quantile(static_relative, 0.5), quantile(static_relative, 0.99),
+                quantile(static_relative, 1.0), static_relative.size());
+  }
+};
+
 /// Forward and backward flow of each pair of consecutive frames (draws associated by draw order
 /// and content, no tracking), checked against each other, against the next frame's colors, and
 /// (static surfaces) against the camera's own motion.
@@ -33,6 +107,7 @@ inline void readCapture(const std::string& path, std::vector<CaptureFrame>& fram
 struct FlowSequenceCheck {
   FlowConsistencyCheck flow;
   StaticFlowCheck statics;  ///< forward flow of static surfaces against the camera's own motion
+  SceneFlowCheck scene;      ///< forward scene flow against the flow and the depths
   std::string problem;
   /// Id pixels of a whose draw is associated with a draw of b (the same mesh, drawn again), and of
   /// those the ones with a forward flow: flow can only be defined where a draw has a counterpart
@@ -57,6 +132,7 @@ struct FlowSequenceCheck {
     std::printf("static surfaces (%.1f%% of id pixels) against the ego flow: median %.2e p99 %.2e px\n",
                 100.0 * statics.static_pixels / std::max<uint64_t>(flow.id_pixels, 1), quantile(statics.error_px, 0.5),
                 quantile(statics.error_px, 0.99));
+    scene.print();
   }
 };
 
@@ -72,7 +148,10 @@ inline FlowSequenceCheck checkFlowSequence(const std::vector<CaptureFrame>& fram
       return c;
     }
     const std::vector<int32_t> a_to_b = associateDraws(a, none_a, b, none_b);
-    const FlowField fwd = computeFlow(a, b, a_to_b, depthMetres(b, &*cb), meshes);
+    const std::vector<float> b_depth = depthMetres(b, &*cb);
+    const FlowField fwd = computeFlow(a, b, a_to_b, b_depth, meshes);
+    c.scene.add(a, b, a_to_b, *ca, *cb, fwd, b_depth,
+                computeSceneFlow(a, b, a_to_b, meshes, opticalMotion(ca->view, cb->view), fwd));
     for (size_t p = 0; p < a.draw_ids.size() && 2 * p + 1 < fwd.uv.size(); ++p) {
       const uint32_t id = a.draw_ids[p];
       if (id == 0 || id > a_to_b.size() || a_to_b[id - 1] < 0) continue;

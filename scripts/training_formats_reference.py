@@ -2,13 +2,14 @@
 """Runs the training formats' reference code on the files write_training_format_cases wrote and
 writes what it read and scored as the fixture test_training_formats checks the writers against.
 
-Usage: training_formats_reference.py CASES_DIR OUT_DIR --cityscapes CHECKOUT
+Usage: training_formats_reference.py CASES_DIR OUT_DIR --cityscapes CHECKOUT --cocoapi PYTHONAPI
 
 CASES_DIR: what `write_training_format_cases CASES_DIR` wrote. OUT_DIR gets one text file per
 format (test/dataset/data/training_formats): lines of space-separated fields,
   file NAME MODE HEIGHTxWIDTHxCHANNELS SHA256   what the reference's reader gave for a file: the
       reader's mode or dtype, the array's shape, the SHA-256 of its values as little-endian int32,
       row-major, channels interleaved in the reader's order;
+  rle NAME COUNTS AREA X,Y,W,H                  the reference's own encoding of a decoded mask;
   score NAME VALUE                              a score of the reference's evaluation (repr).
 
 --cityscapes: a checkout of github.com/mcordts/cityscapesScripts (not part of this package; fetch it
@@ -18,6 +19,12 @@ predictions of itself (every prediction file made from the ground-truth files al
 label table and settings. Needs Debian's python3-numpy and python3-pil (run it with
 /usr/bin/python3); pyquaternion, which the reference's helpers import for 3D boxes only, is stubbed
 when it is absent.
+
+--cocoapi: the PythonAPI folder of github.com/cocodataset/cocoapi with pycocotools' extension built
+(`python3 setup.py build_ext --inplace` there: Debian's cython3, python3-dev, and python3-matplotlib,
+which coco.py imports). Each annotation of coco/instances.json and instances_amodal.json is decoded
+by COCO.annToMask and encoded again by mask.encode (column-major); COCOeval scores the annotations
+as detections of themselves (score 1), segm and bbox.
 """
 import argparse
 import glob
@@ -88,6 +95,43 @@ def cityscapes(checkout, cases, out):
           "evalInstanceLevelSemanticLabeling.py)", lines)
 
 
+def coco(api, cases, out):
+    """Per annotation: the mask pycocotools decodes from the file, its own encoding of that mask,
+    toBbox and area; COCOeval (segm and bbox) of the annotations as detections of themselves."""
+    sys.path.insert(0, os.path.abspath(api))
+    if not hasattr(np, "float"):
+        np.float = float  # cocoapi's cocoeval.py uses numpy's alias, gone since numpy 1.24
+    from pycocotools import mask as mask_utils
+    from pycocotools.coco import COCO
+    from pycocotools.cocoeval import COCOeval
+
+    lines = []
+    for name in ("instances.json", "instances_amodal.json"):
+        gt = COCO(os.path.join(cases, "coco", name))
+        for ann_id in sorted(gt.getAnnIds()):
+            ann = gt.loadAnns(ann_id)[0]
+            decoded = gt.annToMask(ann)
+            again = mask_utils.encode(np.asfortranarray(decoded))
+            lines.append("file {}:{} mask {}x{}x1 {}".format(name, ann_id, decoded.shape[0], decoded.shape[1],
+                                                           values_line("", "", decoded).split()[-1]))
+            lines.append("rle {}:{} {} {} {}".format(name, ann_id, again["counts"].decode(),
+                                                     int(mask_utils.area(again)),
+                                                     ",".join(str(int(v)) for v in mask_utils.toBbox(again))))
+        for iou_type in ("segm", "bbox"):
+            detections = [dict(ann, score=1.0) for ann in gt.loadAnns(gt.getAnnIds())]
+            for d in detections:
+                d.pop("area")  # loadRes computes it from the mask or box
+                if iou_type == "bbox":
+                    d.pop("segmentation")
+            evaluation = COCOeval(gt, gt.loadRes(detections), iou_type)
+            evaluation.evaluate()
+            evaluation.accumulate()
+            evaluation.summarize()
+            lines.append("score {}_{}_AP {!r}".format(name[:-5], iou_type, float(evaluation.stats[0])))
+            lines.append("score {}_{}_AP50 {!r}".format(name[:-5], iou_type, float(evaluation.stats[1])))
+    write(out, "coco.txt", "the COCO API (PythonAPI pycocotools: coco.COCO, mask, cocoeval.COCOeval)", lines)
+
+
 def write(out, name, reference, lines):
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, name), "w") as f:
@@ -101,11 +145,15 @@ def main():
     parser.add_argument("cases")
     parser.add_argument("out")
     parser.add_argument("--cityscapes", required=True)
+    parser.add_argument("--cocoapi", required=True)
     a = parser.parse_args()
     if not os.path.isfile(os.path.join(a.cityscapes, "cityscapesscripts", "evaluation",
                                        "evalInstanceLevelSemanticLabeling.py")):
         sys.exit("{}: not a cityscapesScripts checkout (no cityscapesscripts/evaluation)".format(a.cityscapes))
+    if not os.path.isfile(os.path.join(a.cocoapi, "pycocotools", "cocoeval.py")):
+        sys.exit("{}: not the COCO API's PythonAPI folder (no pycocotools/cocoeval.py)".format(a.cocoapi))
     cityscapes(a.cityscapes, a.cases, a.out)
+    coco(a.cocoapi, a.cases, a.out)
 
 
 if __name__ == "__main__":

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -30,8 +31,13 @@ struct FileValues {
   std::string mode, shape, sha256;
 };
 
+struct RleValues {
+  std::string counts, area, box;
+};
+
 struct Fixture {
   std::map<std::string, FileValues> files;
+  std::map<std::string, RleValues> rles;
   std::map<std::string, std::string> scores;
 };
 
@@ -49,6 +55,10 @@ Fixture readFixture(const std::string& name) {
       FileValues v;
       fields >> v.mode >> v.shape >> v.sha256;
       fixture.files[key] = v;
+    } else if (kind == "rle") {
+      RleValues v;
+      fields >> v.counts >> v.area >> v.box;
+      fixture.rles[key] = v;
     } else if (kind == "score") {
       fields >> fixture.scores[key];
     } else {
@@ -108,6 +118,110 @@ TEST(Cityscapes, WrittenFilesHoldWhatCityscapesScriptsRead) {
   for (const char* score : {"pixel_averageScoreClasses", "pixel_averageScoreInstClasses", "instance_allAp",
                             "instance_allAp50", "instance_ap_car", "instance_ap_person", "instance_ap_truck"})
     EXPECT_EQ(fixture.scores.count(score) ? fixture.scores.at(score) : "", "1.0") << score;
+}
+
+// The annotations of a COCO file as written: counts (JSON unescaped), area, "x,y,w,h", in order.
+std::vector<RleValues> cocoAnnotations(const std::string& json) {
+  std::vector<RleValues> out;
+  const std::string counts_key = "\"counts\": \"", area_key = "\"area\": ", box_key = "\"bbox\": [";
+  for (size_t at = json.find(counts_key); at != std::string::npos; at = json.find(counts_key, at)) {
+    RleValues v;
+    for (at += counts_key.size(); json[at] != '"'; ++at) {
+      if (json[at] == '\\') ++at;
+      v.counts += json[at];
+    }
+    at = json.find(area_key, at) + area_key.size();
+    v.area = json.substr(at, json.find(',', at) - at);
+    at = json.find(box_key, at) + box_key.size();
+    v.box = json.substr(at, json.find(']', at) - at);
+    v.box.erase(std::remove(v.box.begin(), v.box.end(), ' '), v.box.end());
+    out.push_back(v);
+  }
+  return out;
+}
+
+// A mask from its counts (column-major runs), row-major 0/1 values as int32.
+std::vector<int32_t> decodeRle(const std::string& counts, uint32_t width, uint32_t height) {
+  // Inverse of cocoRleString (maskApi's rleFrString).
+  std::vector<int64_t> runs;
+  for (size_t p = 0; p < counts.size();) {
+    int64_t x = 0;
+    int k = 0;
+    bool more = true;
+    while (more) {
+      const int64_t c = counts[p] - 48;
+      x |= (c & 0x1f) << (5 * k);
+      more = (c & 0x20) != 0;
+      ++p;
+      ++k;
+      if (!more && (c & 0x10)) x |= -1LL << (5 * k);
+    }
+    if (runs.size() > 2) x += runs[runs.size() - 2];
+    runs.push_back(x);
+  }
+  std::vector<int32_t> mask(static_cast<size_t>(width) * height);
+  uint64_t at = 0;
+  for (size_t j = 0; j < runs.size(); ++j) {
+    for (int64_t r = 0; r < runs[j]; ++r, ++at)
+      if (j % 2 == 1) mask[(at % height) * width + at / height] = 1;
+  }
+  EXPECT_EQ(at, static_cast<uint64_t>(width) * height);
+  return mask;
+}
+
+TEST(Coco, AnnotationsAreWhatTheCocoApiEncodesAndDecodes) {
+  const Fixture fixture = readFixture("coco.txt");
+  const auto [visible, amodal] = viper_dataset_test::trainingFormatCoco();
+  const std::map<std::string, std::string> files = {{"instances.json", visible.json()},
+                                                    {"instances_amodal.json", amodal.json()}};
+  size_t checked = 0;
+  for (const auto& [file, json] : files) {
+    const std::vector<RleValues> annotations = cocoAnnotations(json);
+    for (size_t i = 0; i < annotations.size(); ++i) {
+      const std::string key = file + ":" + std::to_string(i + 1);
+      SCOPED_TRACE(key);
+      ASSERT_EQ(fixture.rles.count(key), 1u);
+      // pycocotools' encoding of the mask it decoded from our file is our string, area and box.
+      EXPECT_EQ(annotations[i].counts, fixture.rles.at(key).counts);
+      EXPECT_EQ(annotations[i].area, fixture.rles.at(key).area);
+      EXPECT_EQ(annotations[i].box, fixture.rles.at(key).box);
+      // And the mask it decoded is ours.
+      const auto mask = decodeRle(annotations[i].counts, TrainingFormatFrame::kWidth, TrainingFormatFrame::kHeight);
+      EXPECT_EQ(ds::sha256Hex(mask.data(), mask.size() * sizeof(int32_t)), fixture.files.at(key).sha256);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, fixture.rles.size());
+  EXPECT_EQ(checked, 16u);
+  // The visible masks of the first frame are the instance ids' pixels, as the COCO API decoded them.
+  const TrainingFormatFrame frame = trainingFormatFrame(0);
+  for (const auto& [key, id] : std::vector<std::pair<std::string, int32_t>>{
+           {"instances.json:1", 3}, {"instances.json:2", 7}, {"instances.json:3", 12}, {"instances.json:4", 40000}}) {
+    std::vector<int32_t> mask(frame.instances.size());
+    for (size_t i = 0; i < mask.size(); ++i) mask[i] = frame.instances[i] == id;
+    EXPECT_EQ(ds::sha256Hex(mask.data(), mask.size() * sizeof(int32_t)), fixture.files.at(key).sha256) << key;
+  }
+  EXPECT_EQ(visible.skipped_objects(), 2u);  // the traffic sign in both frames
+  for (const char* score : {"instances_segm_AP", "instances_segm_AP50", "instances_bbox_AP", "instances_amodal_segm_AP",
+                            "instances_amodal_bbox_AP"})
+    EXPECT_EQ(fixture.scores.count(score) ? fixture.scores.at(score) : "", "1.0") << score;
+}
+
+TEST(Coco, EdgeMasks) {
+  // Empty mask: one run of 0s; a mask from the first pixel: a first run of length 0.
+  const auto empty = ds::cocoRleOfBoxMask(3, 2, 0, 0, 0, 0, nullptr);
+  EXPECT_EQ(empty.counts, (std::vector<uint32_t>{6}));
+  EXPECT_EQ(ds::cocoRleBox(empty), (std::vector<uint32_t>{0, 0, 0, 0}));
+  const uint8_t first[1] = {1};
+  const auto corner = ds::cocoRleOfBoxMask(3, 2, 0, 0, 1, 1, first);
+  EXPECT_EQ(corner.counts, (std::vector<uint32_t>{0, 1, 5}));
+  EXPECT_EQ(ds::cocoRleString(corner), "015");
+  // A box wholly outside the image gives an empty mask.
+  EXPECT_EQ(ds::cocoRleOfBoxMask(3, 2, 5, 5, 1, 1, first).counts, (std::vector<uint32_t>{6}));
+  ds::CocoInstancesWriter writer({{1, "a", "b"}});
+  EXPECT_THROW(writer.addAnnotation(1, {1, 1, corner}), std::invalid_argument);  // no image 1 yet
+  const int image = writer.addImage("x.png", 4, 2, "s", 0);
+  EXPECT_THROW(writer.addAnnotation(image, {1, 1, corner}), std::invalid_argument);  // 3x2 mask, 4x2 image
 }
 
 TEST(Cityscapes, EncodesLabelsInstancesAndGroups) {

@@ -4,9 +4,13 @@
 // test_training_formats checks that the package's writers still produce what the reference read.
 #pragma once
 
+#include "viper/dataset/coco.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace viper_dataset_test {
@@ -68,6 +72,56 @@ inline TrainingFormatFrame trainingFormatFrame(int f) {
   frame.flow_uv[2 * (6 * W + 7)] = 600.0f;    // beyond KITTI's range (+-512 px): no flow there
   frame.depth_m[40 * W + 50] = 300.0f;         // beyond KITTI's range (256 m): no depth there
   return frame;
+}
+
+/// The COCO categories of the fixture: VIPER's instance classes (config/viper_classes.csv,
+/// instance_eval 1); the traffic sign's instance is left out.
+inline std::vector<std::pair<int, const char*>> trainingFormatCategories() {
+  return {{13, "trafficlight"}, {16, "firehydrant"}, {17, "chair"}, {19, "trashcan"}, {20, "person"},
+          {23, "motorcycle"}, {24, "car"}, {25, "van"}, {26, "bus"}, {27, "truck"}};
+}
+
+/// An amodal object of frame `f`: its whole rectangle (x, y, width, height in px, possibly beyond
+/// the image), class and instance id. The car's is partly hidden by the van; the truck's runs past
+/// the image's right and bottom borders.
+struct AmodalRectangle {
+  int x, y;
+  uint32_t width, height;
+  int class_id;
+  int32_t instance_id;
+};
+inline std::vector<AmodalRectangle> trainingFormatAmodal(int f) {
+  return {{4 * (2 + f), 36, 28, 20, 24, 7}, {4 * (6 + f), 32, 24, 20, 25, 3}, {84, 44, 24, 28, 27, 40000}};
+}
+
+/// The fixture's COCO files: visible instances, and the amodal rectangles with two more masks on
+/// an image of their own.
+inline std::pair<viper::dataset::CocoInstancesWriter, viper::dataset::CocoInstancesWriter> trainingFormatCoco() {
+  std::vector<viper::dataset::CocoCategory> categories;
+  for (const auto& [id, name] : trainingFormatCategories()) categories.push_back({id, name, "viper"});
+  viper::dataset::CocoInstancesWriter visible(categories), amodal(categories);
+  constexpr uint32_t W = TrainingFormatFrame::kWidth, H = TrainingFormatFrame::kHeight;
+  for (int f = 0; f < 2; ++f) {
+    const auto frame = trainingFormatFrame(f);
+    const std::string file = "train/img/001/001_0000" + std::to_string(f) + ".png";
+    visible.addVisibleInstances(visible.addImage(file, W, H, "001", f), frame.classes.data(), frame.instances.data());
+    const int image = amodal.addImage(file, W, H, "001", f);
+    for (const auto& r : trainingFormatAmodal(f)) {
+      const std::vector<uint8_t> ones(static_cast<size_t>(r.width) * r.height, 1);
+      amodal.addAnnotation(image, {r.class_id, r.instance_id,
+                                   viper::dataset::cocoRleOfBoxMask(W, H, r.x, r.y, r.width, r.height, ones.data())});
+    }
+  }
+  // Masks of every shape of run: random pixels in a box across the top-left corner (a first run of
+  // length 0), and the whole image (one run, no 0s).
+  const int image = amodal.addImage("random.png", W, H, "002", 0);
+  uint32_t state = 12345;
+  std::vector<uint8_t> random(40 * 30);
+  for (auto& m : random) m = ((state = state * 1664525u + 1013904223u) >> 28) < 7;
+  amodal.addAnnotation(image, {20, 1, viper::dataset::cocoRleOfBoxMask(W, H, -5, -3, 40, 30, random.data())});
+  const std::vector<uint8_t> all(static_cast<size_t>(W) * H, 1);
+  amodal.addAnnotation(image, {24, 2, viper::dataset::cocoRleOfBoxMask(W, H, 0, 0, W, H, all.data())});
+  return {std::move(visible), std::move(amodal)};
 }
 
 }  // namespace viper_dataset_test

@@ -1,15 +1,17 @@
 // Writes the training-format fixture's frames (training_format_cases.h) with the package's writers,
 // for scripts/training_formats_reference.sh to run the formats' reference code on:
 //   OUT/cityscapes/gtFine/train/viper/viper_000001_00000F_gtFine_*.png (F = 0, 1)
+//   OUT/coco/instances.json          visible masks of both frames
+//   OUT/coco/instances_amodal.json   the amodal rectangles of both frames
 // Usage: write_training_format_cases OUT_DIR
 #include "training_format_cases.h"
 
 #include "viper/dataset/cityscapes.h"
 
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
-
 int main(int argc, char** argv) {
   if (argc != 2) {
     std::cerr << "usage: write_training_format_cases OUT_DIR\n";
@@ -28,6 +30,10 @@ int main(int argc, char** argv) {
           out + "/cityscapes", name,
           viper::dataset::cityscapesGroundTruth(frame.classes.data(), frame.instances.data(), W, H), nullptr);
     }
+    std::filesystem::create_directories(out + "/coco");
+    const auto [visible, amodal] = viper_dataset_test::trainingFormatCoco();
+    visible.write(out + "/coco/instances.json");
+    amodal.write(out + "/coco/instances_amodal.json");
   } catch (const std::exception& e) {
     std::cerr << "write_training_format_cases: " << e.what() << "\n";
     return 1;

@@ -1,7 +1,7 @@
 # Ground truth of the scene's geometry: surface normals per pixel and labelled point clouds.
 # Cores in viper_core (src/ground_truth/normals.cpp, labelled_cloud.cpp); docs/geometry_nodes.md.
 if(CATKIN_ENABLE_TESTING)
-  foreach(t test_normals)
+  foreach(t test_normals test_labelled_cloud)
     viper_gtest(${t} test/ground_truth/${t}.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} LINK viper_core gtest_main)
   endforeach()
   # Normals against the oracle's triangles, on the world captures of the flow truth checks

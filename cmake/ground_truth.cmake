@@ -35,6 +35,15 @@ if(CATKIN_ENABLE_TESTING)
   viper_oracle_check(gt_scene test_scene config/profiles/test_scene.yaml "--frames;30;--width;320;--height;240")
   viper_oracle_check(gt_world world config/profiles/world.yaml "--frames;90;--width;480;--height;270")
 
+  # Amodal masks: the rasteriser's rules, bad input, and the invariants on the world capture above.
+  viper_gtest(test_amodal test/ground_truth/test_amodal.cpp
+    DEFINITIONS
+      VIPER_WORLD_CAPTURE="${VIPER_GT_DATA}/gt_world.vcap"
+      VIPER_WORLD_LABELS="${PROJECT_SOURCE_DIR}/config/labels/world_labels.yaml"
+      VIPER_CLASSES_CSV="${PROJECT_SOURCE_DIR}/config/viper_classes.csv"
+    LINK viper_core gtest_main
+    DEPENDS gt_world_capture)
+
   # The committed raw bag through replay.launch's nodelets, fed and checked by replay_tester.
   # SuperTuxKart live through replay.launch's nodelets (needs scripts/setup.sh --test-programs).
   viper_add_tester(supertuxkart_tester test/ros/supertuxkart_tester.cpp)

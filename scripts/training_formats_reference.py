@@ -3,6 +3,7 @@
 writes what it read and scored as the fixture test_training_formats checks the writers against.
 
 Usage: training_formats_reference.py CASES_DIR OUT_DIR --cityscapes CHECKOUT --cocoapi PYTHONAPI
+                                     --kitti-devkit DIR
 
 CASES_DIR: what `write_training_format_cases CASES_DIR` wrote. OUT_DIR gets one text file per
 format (test/dataset/data/training_formats): lines of space-separated fields,
@@ -25,11 +26,16 @@ when it is absent.
 which coco.py imports). Each annotation of coco/instances.json and instances_amodal.json is decoded
 by COCO.annToMask and encoded again by mask.encode (column-major); COCOeval scores the annotations
 as detections of themselves (score 1), segm and bbox.
+
+--kitti-devkit: a folder with KITTI's io_flow.h (flow 2012/2015 devkit, cpp/), io_depth.h (depth
+completion devkit, cpp/) and the log_colormap.h they include; a small reader is compiled against them
+(g++, Debian's libpng++-dev) and reads each flow and depth PNG with their FlowImage and DepthImage.
 """
 import argparse
 import glob
 import hashlib
 import os
+import subprocess
 import sys
 import tempfile
 
@@ -132,6 +138,66 @@ def coco(api, cases, out):
     write(out, "coco.txt", "the COCO API (PythonAPI pycocotools: coco.COCO, mask, cocoeval.COCOeval)", lines)
 
 
+# Reads KITTI PNGs with the devkits' own classes and prints their values, one pixel a line.
+KITTI_HARNESS = r"""
+#include <algorithm>
+#include <cmath>
+#include "io_flow.h"
+#include "io_depth.h"
+#include <cstdio>
+#include <string>
+int main(int argc, char** argv) {
+  for (int i = 2; i < argc; ++i) {
+    if (std::string(argv[1]) == "flow") {
+      FlowImage f(argv[i]);
+      std::printf("%s %d %d\n", argv[i], f.height(), f.width());
+      for (int v = 0; v < f.height(); ++v)
+        for (int u = 0; u < f.width(); ++u)
+          std::printf("%.9g %.9g %d\n", f.getFlowU(u, v), f.getFlowV(u, v), f.isValid(u, v) ? 1 : 0);
+    } else {
+      DepthImage d(argv[i]);
+      std::printf("%s %d %d\n", argv[i], d.height(), d.width());
+      for (int v = 0; v < d.height(); ++v)
+        for (int u = 0; u < d.width(); ++u) std::printf("%.9g\n", d.getDepth(u, v));
+    }
+  }
+  return 0;
+}
+"""
+
+
+def kitti(devkit, cases, out):
+    """Each flow PNG read by the flow devkit's FlowImage (io_flow.h), each depth PNG by the depth
+    devkit's DepthImage (io_depth.h): their values as float32 (flow: u, v, valid a pixel)."""
+    lines = []
+    with tempfile.TemporaryDirectory() as work:
+        source = os.path.join(work, "read_kitti.cpp")
+        with open(source, "w") as f:
+            f.write(KITTI_HARNESS)
+        binary = os.path.join(work, "read_kitti")
+        subprocess.run(["g++", "-O0", "-w",  # -O0: io_depth.h's setInvalid returns no value (undefined at -O1)
+                        "-I", devkit, source, "-o", binary, "-lpng"], check=True)
+        for kind, pattern, channels in (("flow", "flow/*.png", 3), ("depth", "depth/*.png", 1)):
+            files = sorted(glob.glob(os.path.join(cases, "kitti", pattern)))
+            if not files:
+                sys.exit("{}: no KITTI {} files".format(cases, kind))
+            text = subprocess.run([binary, kind] + files, check=True, capture_output=True, text=True).stdout.split("\n")
+            at = 0
+            for path in files:
+                name, height, width = text[at].split()
+                at += 1
+                values = np.array([[float(v) for v in line.split()] for line in text[at:at + int(height) * int(width)]],
+                                  dtype="<f4")
+                at += int(height) * int(width)
+                lines.append("file {} devkit {}x{}x{} {}".format(os.path.relpath(path, os.path.join(cases, "kitti")),
+                                                                 height, width, channels,
+                                                                 hashlib.sha256(values.tobytes()).hexdigest()))
+                valid = values[:, 2] > 0.5 if kind == "flow" else values[:, 0] >= 0
+                lines.append("score {}_valid_pixels {}".format(os.path.relpath(path, os.path.join(cases, "kitti")),
+                                                               int(valid.sum())))
+    write(out, "kitti.txt", "the KITTI flow devkit's io_flow.h and the depth devkit's io_depth.h", lines)
+
+
 def write(out, name, reference, lines):
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, name), "w") as f:
@@ -146,6 +212,7 @@ def main():
     parser.add_argument("out")
     parser.add_argument("--cityscapes", required=True)
     parser.add_argument("--cocoapi", required=True)
+    parser.add_argument("--kitti-devkit", required=True)
     a = parser.parse_args()
     if not os.path.isfile(os.path.join(a.cityscapes, "cityscapesscripts", "evaluation",
                                        "evalInstanceLevelSemanticLabeling.py")):
@@ -154,6 +221,10 @@ def main():
         sys.exit("{}: not the COCO API's PythonAPI folder (no pycocotools/cocoeval.py)".format(a.cocoapi))
     cityscapes(a.cityscapes, a.cases, a.out)
     coco(a.cocoapi, a.cases, a.out)
+    for header in ("io_flow.h", "io_depth.h"):
+        if not os.path.isfile(os.path.join(a.kitti_devkit, header)):
+            sys.exit("{}: no {} (the KITTI devkits' cpp folder)".format(a.kitti_devkit, header))
+    kitti(a.kitti_devkit, a.cases, a.out)
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@
 
 #include "viper/dataset/cityscapes.h"
 #include "viper/dataset/file_digests.h"
+#include "viper/dataset/kitti_images.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -222,6 +223,84 @@ TEST(Coco, EdgeMasks) {
   EXPECT_THROW(writer.addAnnotation(1, {1, 1, corner}), std::invalid_argument);  // no image 1 yet
   const int image = writer.addImage("x.png", 4, 2, "s", 0);
   EXPECT_THROW(writer.addAnnotation(image, {1, 1, corner}), std::invalid_argument);  // 3x2 mask, 4x2 image
+}
+
+// A KITTI PNG read as the devkits read it: flow (u, v, valid) with u = (red - 2^15) / 64 where blue
+// > 0, else (0, 0, 0); depth value / 256 where non-zero, else -1. Float32 values.
+std::vector<float> kittiDevkitValues(const std::string& path, bool flow) {
+  const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
+  EXPECT_EQ(image.depth(), CV_16U) << path;
+  EXPECT_EQ(image.channels(), flow ? 3 : 1) << path;
+  std::vector<float> values;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x) {
+      if (flow) {
+        const cv::Vec3w bgr = image.at<cv::Vec3w>(y, x);
+        const bool valid = bgr[0] > 0;
+        values.push_back(valid ? (static_cast<float>(bgr[2]) - 32768.0f) / 64.0f : 0.0f);
+        values.push_back(valid ? (static_cast<float>(bgr[1]) - 32768.0f) / 64.0f : 0.0f);
+        values.push_back(valid ? 1.0f : 0.0f);
+      } else {
+        const uint16_t d = image.at<uint16_t>(y, x);
+        values.push_back(d == 0 ? -1.0f : static_cast<float>(d) / 256.0f);
+      }
+    }
+  return values;
+}
+
+TEST(Kitti, FlowAndDepthAreWhatTheDevkitsRead) {
+  const Fixture fixture = readFixture("kitti.txt");
+  ASSERT_EQ(fixture.files.size(), 4u);
+  viper_dataset_test::TempDir dir;
+  const std::string root = dir.path().string();
+  std::filesystem::create_directories(root + "/flow");
+  std::filesystem::create_directories(root + "/depth");
+  constexpr uint32_t W = TrainingFormatFrame::kWidth, H = TrainingFormatFrame::kHeight;
+  for (int f = 0; f < 2; ++f) {
+    SCOPED_TRACE(f);
+    const TrainingFormatFrame frame = trainingFormatFrame(f);
+    const std::string flow_name = "flow/00000" + std::to_string(f) + "_10.png";
+    const std::string depth_name = "depth/00000" + std::to_string(f) + ".png";
+    const auto flow_stats = ds::writeKittiFlow(root + "/" + flow_name, viper_dataset_test::trainingFormatFlow(frame));
+    const auto depth_stats = ds::writeKittiDepth(root + "/" + depth_name, frame.depth_m.data(), W, H);
+    EXPECT_EQ(flow_stats.not_finite, 7u);  // the NaN corner and an inf
+    EXPECT_EQ(flow_stats.out_of_range, 1u);  // 600 px
+    EXPECT_EQ(std::to_string(flow_stats.valid), fixture.scores.at(flow_name + "_valid_pixels"));
+    EXPECT_EQ(depth_stats.not_finite, 1503u);  // the sky
+    EXPECT_EQ(depth_stats.out_of_range, 1u);   // 300 m
+    EXPECT_EQ(std::to_string(depth_stats.valid), fixture.scores.at(depth_name + "_valid_pixels"));
+
+    const std::vector<float> flow = kittiDevkitValues(root + "/" + flow_name, true);
+    const std::vector<float> depth = kittiDevkitValues(root + "/" + depth_name, false);
+    EXPECT_EQ(ds::sha256Hex(flow.data(), flow.size() * sizeof(float)), fixture.files.at(flow_name).sha256);
+    EXPECT_EQ(ds::sha256Hex(depth.data(), depth.size() * sizeof(float)), fixture.files.at(depth_name).sha256);
+    // What the devkits read is the input within half a step of the encoding, where it is valid.
+    for (size_t i = 0; i < frame.depth_m.size(); ++i) {
+      if (flow[3 * i + 2] > 0.5f) {
+        EXPECT_NEAR(flow[3 * i], frame.flow_uv[2 * i], 1.0 / 128) << i;
+        EXPECT_NEAR(flow[3 * i + 1], frame.flow_uv[2 * i + 1], 1.0 / 128) << i;
+      }
+      if (depth[i] >= 0) EXPECT_NEAR(depth[i], frame.depth_m[i], 1.0 / 512) << i;
+    }
+  }
+}
+
+TEST(Kitti, EdgeValues) {
+  ds::FlowImage flow;
+  flow.width = 5;
+  flow.height = 1;
+  // Exactly representable, the largest and smallest encodable, one past them.
+  flow.uv = {1.5f, -2.25f, 511.984375f, -512.0f, 511.995f, 0.0f, -512.01f, 0.0f, 0.0f, 0.0f};
+  ds::KittiEncodeStats stats;
+  const auto values = ds::kittiFlowValues(flow, &stats);
+  EXPECT_EQ(values, (std::vector<uint16_t>{32864, 32624, 1, 65535, 0, 1, 0, 0, 0, 0, 0, 0, 32768, 32768, 1}));
+  EXPECT_EQ(stats.valid, 3u);
+  EXPECT_EQ(stats.out_of_range, 2u);
+  const float depth[5] = {0.001f, 0.0f, -1.0f, 255.99f, 256.0f};
+  const auto d = ds::kittiDepthValues(depth, 5, 1, &stats);
+  EXPECT_EQ(d, (std::vector<uint16_t>{1, 0, 0, 65533, 0}));
+  EXPECT_EQ(stats.valid, 2u);
+  EXPECT_EQ(stats.out_of_range, 3u);
 }
 
 TEST(Cityscapes, EncodesLabelsInstancesAndGroups) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "viper/dataset/coco.h"
+#include "viper/dataset/flow_image.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -72,6 +73,15 @@ inline TrainingFormatFrame trainingFormatFrame(int f) {
   frame.flow_uv[2 * (6 * W + 7)] = 600.0f;    // beyond KITTI's range (+-512 px): no flow there
   frame.depth_m[40 * W + 50] = 300.0f;         // beyond KITTI's range (256 m): no depth there
   return frame;
+}
+
+/// The frame's flow as the writers take it.
+inline viper::dataset::FlowImage trainingFormatFlow(const TrainingFormatFrame& frame) {
+  viper::dataset::FlowImage flow;
+  flow.width = TrainingFormatFrame::kWidth;
+  flow.height = TrainingFormatFrame::kHeight;
+  flow.uv = frame.flow_uv;
+  return flow;
 }
 
 /// The COCO categories of the fixture: VIPER's instance classes (config/viper_classes.csv,

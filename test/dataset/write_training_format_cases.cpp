@@ -3,10 +3,12 @@
 //   OUT/cityscapes/gtFine/train/viper/viper_000001_00000F_gtFine_*.png (F = 0, 1)
 //   OUT/coco/instances.json          visible masks of both frames
 //   OUT/coco/instances_amodal.json   the amodal rectangles of both frames
+//   OUT/kitti/flow/00000F_10.png, OUT/kitti/depth/00000F.png  KITTI's 16-bit flow and depth
 // Usage: write_training_format_cases OUT_DIR
 #include "training_format_cases.h"
 
 #include "viper/dataset/cityscapes.h"
+#include "viper/dataset/kitti_images.h"
 
 #include <exception>
 #include <filesystem>
@@ -29,6 +31,15 @@ int main(int argc, char** argv) {
       viper::dataset::writeCityscapesFrame(
           out + "/cityscapes", name,
           viper::dataset::cityscapesGroundTruth(frame.classes.data(), frame.instances.data(), W, H), nullptr);
+    }
+    std::filesystem::create_directories(out + "/kitti/flow");
+    std::filesystem::create_directories(out + "/kitti/depth");
+    for (int f = 0; f < 2; ++f) {
+      const auto frame = viper_dataset_test::trainingFormatFrame(f);
+      const auto flow = viper_dataset_test::trainingFormatFlow(frame);
+      viper::dataset::writeKittiFlow(out + "/kitti/flow/00000" + std::to_string(f) + "_10.png", flow);
+      viper::dataset::writeKittiDepth(out + "/kitti/depth/00000" + std::to_string(f) + ".png", frame.depth_m.data(),
+                                      flow.width, flow.height);
     }
     std::filesystem::create_directories(out + "/coco");
     const auto [visible, amodal] = viper_dataset_test::trainingFormatCoco();

@@ -1,12 +1,14 @@
 #include "viper/ground_truth/flow_step.h"
 
 #include "viper/ground_truth/ego_motion.h"
+#include "viper/ground_truth/scene_flow.h"
 
 #include <time.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <future>
+#include <limits>
 #include <stdexcept>
 
 namespace viper {
@@ -73,6 +75,7 @@ FlowStep::HeldPtr FlowStep::makeHeldFrame(const GroundTruthInputPtr& input, cons
     try {
       egoPoseFromView(camera->view, 0.0);  // throws unless the view matrix is rigid
       held->optical_from_world = opticalFromWorld(camera->view);
+      held->camera_view = camera->view;
     } catch (const std::exception& e) {
       problems.push_back({StepInput::kDraws, StepSeverity::kWarning, "view",
                           frameText(number) + "camera view matrix: " + e.what() + "; no relative pose for this frame"});
@@ -111,8 +114,8 @@ FlowStep::HeldPtr FlowStep::makeHeldFrame(const GroundTruthInputPtr& input, cons
   return held;
 }
 
-void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, const MeshRegistry& meshes, FlowBuffers buffers,
-                           StepProblems& problems) {
+bool FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, const MeshRegistry& meshes, FlowBuffers buffers,
+                           StepProblems& problems, float* scene_xyzd) {
   std::vector<int32_t> a_to_b = associateDraws(a.frame(), a.object_ids, b.frame(), b.object_ids);
   for (size_t i = 0; i < a_to_b.size(); ++i) {
     int32_t& j = a_to_b[i];
@@ -145,6 +148,19 @@ void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, const MeshReg
     problems.push_back({StepInput::kDepth, StepSeverity::kError, "bad_depth",
                         format(" (frame %lu): %zu pixels of a draw have no finite positive depth (or no projection); "
                                "their flow is undefined", static_cast<unsigned long>(a.frame().number), stats.no_depth)});
+  if (!scene_xyzd) return true;
+  if (!a.camera_view || !b.camera_view) {
+    std::fill(scene_xyzd, scene_xyzd + kSceneFlowChannels * a.frame().pixelCount(),
+              std::numeric_limits<float>::quiet_NaN());
+    problems.push_back({StepInput::kDraws, StepSeverity::kError, "scene_flow",
+                        format(" (frame %lu -> %lu): no usable camera view in %s: no scene flow",
+                               static_cast<unsigned long>(a.frame().number), static_cast<unsigned long>(b.frame().number),
+                               a.camera_view ? "the second" : "the first")});
+    return false;
+  }
+  computeSceneFlow(a.pixels, b.pixels, a_to_b, meshes, opticalMotion(*a.camera_view, *b.camera_view), buffers.uv,
+                   scene_xyzd);
+  return true;
 }
 
 // Forward on this thread, backward on another, side by side: the frame's flow is ready in about half
@@ -152,16 +168,17 @@ void FlowStep::flowBetween(const HeldFrame& a, const HeldFrame& b, const MeshReg
 // writes only its outputs; the buffers come from the sink here, on this thread. The future of
 // std::async waits for the helper in its destructor, also when the forward flow throws.
 void FlowStep::bothWays(const HeldFrame& prev, const HeldFrame& cur, const MeshRegistry& meshes, FlowSink& sink,
-                        StepProblems& problems) {
+                        StepProblems& problems, bool want_scene, bool& scene_done) {
   const FlowBuffers forward = sink.take(FlowKind::kForward, *prev.input);
   const FlowBuffers backward = sink.take(FlowKind::kBackward, *cur.input);
+  float* const scene = want_scene ? sink.takeSceneFlow(*prev.input) : nullptr;
   StepProblems backward_problems;
   std::future<void> done = std::async(std::launch::async, [&] {
     const int64_t start = threadCpuNs();
     flowBetween(cur, prev, meshes, backward, backward_problems);
     helper_cpu_ns_ = threadCpuNs() - start;
   });
-  flowBetween(prev, cur, meshes, forward, problems);
+  scene_done = flowBetween(prev, cur, meshes, forward, problems, scene) && scene;
   done.get();  // its exception, if any
   problems.insert(problems.end(), backward_problems.begin(), backward_problems.end());
 }
@@ -230,12 +247,15 @@ bool FlowStep::process(const GroundTruthInputPtr& input, const std::optional<Fra
     if (n >= 2) {
       const HeldFrame& prev = *window_[n - 2];
       out.forward_from = prev.input->stamp;
-      if (want.forward && want.backward) {
-        bothWays(prev, *cur, meshes, sink, problems);
+      const bool forward = want.forward || want.scene_flow;  // the scene flow needs the forward flow
+      if (forward && want.backward) {
+        bothWays(prev, *cur, meshes, sink, problems, want.scene_flow, out.scene_flow);
         out.forward = out.backward = true;
       } else {
-        if (want.forward) {
-          flowBetween(prev, *cur, meshes, sink.take(FlowKind::kForward, *prev.input), problems);
+        if (forward) {
+          const FlowBuffers buffers = sink.take(FlowKind::kForward, *prev.input);
+          float* const scene = want.scene_flow ? sink.takeSceneFlow(*prev.input) : nullptr;
+          out.scene_flow = flowBetween(prev, *cur, meshes, buffers, problems, scene) && scene;
           out.forward = true;
         }
         if (want.backward) {

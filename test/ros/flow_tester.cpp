@@ -12,6 +12,7 @@
 #include "viper/ground_truth/camera_model.h"
 #include "viper/capture/capture_frame.h"
 #include "viper/ground_truth/ego_motion.h"
+#include "viper/ground_truth/scene_flow.h"
 #include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/conversions/pose_conversions.h"
 
@@ -117,7 +118,8 @@ class FlowReplay : public ::testing::Test {
 
 const std::string kFwd = "/ground_truth/flow/forward", kFwdVis = "/ground_truth/flow/forward_visible",
                   kBwd = "/ground_truth/flow/backward", kBwdVis = "/ground_truth/flow/backward_visible",
-                  kWide = "/ground_truth/flow/wide", kWideVis = "/ground_truth/flow/wide_visible";
+                  kWide = "/ground_truth/flow/wide", kWideVis = "/ground_truth/flow/wide_visible",
+                  kScene = "/ground_truth/flow/scene_flow";
 
 TEST_F(FlowReplay, FlowOfEveryFramePair) {
   ros::NodeHandle nh, pnh("~");
@@ -129,7 +131,7 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
   ASSERT_GE(k_, 2);
 
   std::vector<ros::Subscriber> subs;
-  for (const std::string& t : {kFwd, kFwdVis, kBwd, kBwdVis, kWide, kWideVis}) {
+  for (const std::string& t : {kFwd, kFwdVis, kBwd, kBwdVis, kWide, kWideVis, kScene}) {
     subs.push_back(nh.subscribe<sensor_msgs::Image>(t, 100, [this, t](const sensor_msgs::Image::ConstPtr& m) {
       std::lock_guard<std::mutex> lock(mutex_);
       images_[t][m->header.stamp] = Received{m};
@@ -208,7 +210,7 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
   const size_t n = frames_.size();
   ASSERT_GE(n, static_cast<size_t>(k_ + 3));
   while ((count(kFwd) < n - 1 || count(kFwdVis) < n - 1 || count(kBwd) < n - 1 || count(kBwdVis) < n - 1 ||
-          count(kWide) < n - k_ || count(kWideVis) < n - k_ || odom_.size() < n) &&
+          count(kWide) < n - k_ || count(kWideVis) < n - k_ || count(kScene) < n - 1 || odom_.size() < n) &&
          ros::WallTime::now() < deadline)
     ros::WallDuration(0.01).sleep();
 
@@ -241,14 +243,15 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
   EXPECT_EQ(stamps(kBwdVis), rest);
   EXPECT_EQ(stamps(kWide), wide_first);
   EXPECT_EQ(stamps(kWideVis), wide_first);
+  EXPECT_EQ(stamps(kScene), first);
   const uint32_t w = bag_[frames_[0]].frame.width, h = bag_[frames_[0]].frame.height;
   for (const auto& [t, by_stamp] : images_) {
     const bool is_flow = t == kFwd || t == kBwd || t == kWide;
     for (const auto& [stamp, img] : by_stamp) {
       EXPECT_EQ(img.msg->width, w) << t;
       EXPECT_EQ(img.msg->height, h) << t;
-      EXPECT_EQ(img.msg->encoding, is_flow ? "32FC2" : "mono8") << t;
-      EXPECT_EQ(img.msg->data.size(), static_cast<size_t>(w) * h * (is_flow ? 8 : 1)) << t;
+      EXPECT_EQ(img.msg->encoding, t == kScene ? "32FC4" : is_flow ? "32FC2" : "mono8") << t;
+      EXPECT_EQ(img.msg->data.size(), static_cast<size_t>(w) * h * (t == kScene ? 16 : is_flow ? 8 : 1)) << t;
     }
   }
   for (size_t i = 0; i + 1 < n; ++i)
@@ -258,7 +261,8 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
   for (size_t i = 0; i + k_ < n; ++i)
     if (!images_[kWide].count(frames_[i]) || !images_[kWideVis].count(frames_[i])) FAIL() << "missing wide flow " << i;
 
-  std::vector<double> fb_err, fb_err_non_rigid, static_err, wide_err;
+  std::vector<double> fb_err, fb_err_non_rigid, static_err, wide_err, scene_err, scene_static;
+  size_t scene_mask_differs = 0;
   size_t surface = 0, valid = 0, visible = 0, moving_objects = 0, non_rigid = 0, non_rigid_valid = 0;
   std::map<int32_t, double> moving_median;  // per moving track, worst (lowest) median over frames
   std::map<int32_t, std::string> track_class;
@@ -314,6 +318,9 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
     const viper::PinholeIntrinsics kb = viper::intrinsicsFromGlProjection(cam_b->projection, w, h);
     const Eigen::Isometry3d b_from_a = viper::opticalFromWorld(cam_b->view) * viper::opticalFromWorld(cam_a->view).inverse();
     const Eigen::Matrix3d ka_inv = ka.K().inverse();
+    // The scene flow a -> b: p + scene flow (a's optical frame) lands where the flow does in b.
+    const float* scene = reinterpret_cast<const float*>(image(kScene, frames_[i]).msg->data.data());
+    const Eigen::Isometry3d scene_b_from_a = viper::opticalMotion(cam_b->view, cam_a->view);
     std::map<int32_t, std::vector<double>> moving_err;
 
     for (uint32_t y = 0; y < h; ++y) {
@@ -325,6 +332,14 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
         ++surface;
         non_rigid += deformed;
         const Eigen::Vector2d f(fwd.uv()[2 * p], fwd.uv()[2 * p + 1]);
+        const float* sf = scene + 4 * p;
+        for (int c = 0; c < 4; ++c) scene_mask_differs += std::isfinite(sf[c]) != f.allFinite();
+        if (f.allFinite() && std::isfinite(sf[0]) && std::isfinite(a.depth_m[p])) {
+          const Eigen::Vector3d pa = a.depth_m[p] * (ka_inv * Eigen::Vector3d(x, y, 1.0));
+          const Eigen::Vector3d moved = pa + Eigen::Vector3d(sf[0], sf[1], sf[2]);
+          scene_err.push_back((kb.project(scene_b_from_a * moved) - (Eigen::Vector2d(x, y) + f)).norm());
+          if (draw_motion[draw] == kStatic && !deformed) scene_static.push_back(Eigen::Vector3d(sf[0], sf[1], sf[2]).norm());
+        }
         if (!f.allFinite()) continue;
         ++valid;
         non_rigid_valid += deformed;
@@ -386,7 +401,10 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
             << "[flow_tester] forward-backward round trip (non-occluded, same surface), non-rigid: " << describe(fb_nr)
             << "\n"
             << "[flow_tester] static surfaces vs ego-motion flow: " << describe(st) << "\n"
-            << "[flow_tester] wide baseline k=" << k_ << " vs composed single steps: " << describe(wd) << "\n";
+            << "[flow_tester] wide baseline k=" << k_ << " vs composed single steps: " << describe(wd) << "\n"
+            << "[flow_tester] scene flow: p + scene flow projected into the next frame vs pixel + flow: "
+            << describe(percentiles(scene_err)) << "; static surfaces' |scene flow| (m): "
+            << describe(percentiles(scene_static)) << "\n";
   for (const auto& [track, med] : moving_median)
     std::cout << "[flow_tester] moving track " << track << " (" << track_class[track] << "): lowest per-frame median |flow - ego-motion flow| " << med
               << " px\n";
@@ -406,6 +424,15 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
   EXPECT_GE(wd.n, visible / (4 * (n - 1))) << "too few pixels for the wide-baseline check";
   EXPECT_LT(wd.median, 0.01) << describe(wd);
   EXPECT_LT(wd.p90, 0.05) << describe(wd);
+  // Scene flow: where the flow is and nowhere else, consistent with it (both from the same double
+  // point; p here from the depth topic's float metres and the pinhole intrinsics), and static
+  // surfaces do not move.
+  const Percentiles sc = percentiles(scene_err), ss = percentiles(scene_static);
+  EXPECT_EQ(scene_mask_differs, 0u) << "scene flow NaN where the flow is not, or the reverse";
+  EXPECT_GE(sc.n, valid * 9 / 10) << "too few pixels for the scene flow check";
+  EXPECT_LT(sc.p99, 1e-3) << describe(sc);
+  EXPECT_GE(ss.n, surface / 4) << "too few static pixels for the scene flow check";
+  EXPECT_LT(ss.p99, 1e-5) << "static |scene flow| (m): " << describe(ss);
 
   // The service: the same flow as the topics, a pose that agrees with odometry, and a refusal for
   // a frame no longer held.

@@ -46,6 +46,13 @@ class FlowSink {
   /// Storage for flow `kind` starting from frame `from` (its size). Called on the thread that calls
   /// FlowStep::process, before the flow is computed.
   virtual FlowBuffers take(FlowKind kind, const GroundTruthInput& from) = 0;
+  /// Storage for the scene flow f-1 -> f (scene_flow.h: kSceneFlowChannels floats per pixel of
+  /// `from`, the frame it starts from), asked for after the forward flow's storage when
+  /// FlowStep::Want::scene_flow is set; null (the default): no scene flow.
+  virtual float* takeSceneFlow(const GroundTruthInput& from) {
+    (void)from;
+    return nullptr;
+  }
 };
 
 class FlowStep {
@@ -55,11 +62,14 @@ class FlowStep {
   /// Which flows to compute.
   struct Want {
     bool forward = true, backward = true, wide = true;
+    /// The scene flow f-1 -> f beside the forward flow (which it needs: computed then too).
+    bool scene_flow = false;
   };
   /// Which flows were computed into the sink's buffers, and the stamps of the frames they start
   /// from (the backward flow's is the frame's own).
   struct Output {
     bool forward = false, backward = false, wide = false;
+    bool scene_flow = false;  ///< into takeSceneFlow's buffer, from forward_from
     FrameStamp forward_from, wide_from;
   };
   /// Whether a frame of `stamp` comes after the newest held one; if not, says so in `problems`
@@ -107,6 +117,7 @@ class FlowStep {
     std::vector<int32_t> object_ids;  ///< per draw: track id of its object, 0 for none / stuff
     std::vector<bool> excluded;       ///< per draw: visible, placed (kHasWorld), but in no object
     std::optional<Eigen::Isometry3d> optical_from_world;  ///< nullopt: no usable camera
+    std::optional<GlMatrix> camera_view;                  ///< its view matrix, where it is usable
     const CaptureFrame& frame() const { return input->frame; }
   };
   using HeldPtr = std::shared_ptr<const HeldFrame>;
@@ -114,12 +125,15 @@ class FlowStep {
   HeldPtr makeHeldFrame(const GroundTruthInputPtr& frame, const std::optional<FrameCamera>& camera,
                         const std::vector<TrackedObject>& objects, StepProblems& problems);
   HeldPtr find(const FrameStamp& stamp) const;
-  /// Flow a -> b into a's width*height (u, v) pairs and mask values.
-  void flowBetween(const HeldFrame& a, const HeldFrame& b, const MeshRegistry& meshes, FlowBuffers buffers,
-                   StepProblems& problems);
-  /// Forward (prev to cur) and backward flow side by side, on this thread and another.
+  /// Flow a -> b into a's width*height (u, v) pairs and mask values; and, where `scene_xyzd` is
+  /// not null, the scene flow a -> b into it. Returns false if the scene flow was asked for but
+  /// could not be computed (no camera in a frame: NaN everywhere, said in `problems`).
+  bool flowBetween(const HeldFrame& a, const HeldFrame& b, const MeshRegistry& meshes, FlowBuffers buffers,
+                   StepProblems& problems, float* scene_xyzd = nullptr);
+  /// Forward (prev to cur) and backward flow side by side, on this thread and another; the scene
+  /// flow after the forward one where `want_scene` (`scene_done`: computed).
   void bothWays(const HeldFrame& prev, const HeldFrame& cur, const MeshRegistry& meshes, FlowSink& sink,
-                StepProblems& problems);
+                StepProblems& problems, bool want_scene, bool& scene_done);
 
   FlowSettings settings_;
   std::deque<HeldPtr> window_;  // oldest first; consecutive capture frames

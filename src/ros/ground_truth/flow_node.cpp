@@ -40,6 +40,7 @@ bool Flow::start() {
   forward_visible_pub_ = it_.advertise("flow/forward_visible", queue_size);
   backward_pub_ = it_.advertise("flow/backward", queue_size);
   backward_visible_pub_ = it_.advertise("flow/backward_visible", queue_size);
+  scene_flow_pub_ = it_.advertise("flow/scene_flow", queue_size);
   if (settings.wide_baseline > 0) {
     wide_pub_ = it_.advertise("flow/wide", queue_size);
     wide_visible_pub_ = it_.advertise("flow/wide_visible", queue_size);
@@ -102,6 +103,7 @@ void Flow::onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, 
   want.forward = forward_pub_.getNumSubscribers() > 0 || forward_visible_pub_.getNumSubscribers() > 0;
   want.backward = backward_pub_.getNumSubscribers() > 0 || backward_visible_pub_.getNumSubscribers() > 0;
   want.wide = wide_pub_.getNumSubscribers() > 0 || wide_visible_pub_.getNumSubscribers() > 0;
+  want.scene_flow = scene_flow_pub_.getNumSubscribers() > 0;
   FlowMessageStep::Output out;
   StepProblems problems;
   bool kept = false;
@@ -115,6 +117,7 @@ void Flow::onFrame(const DrawList::ConstPtr& draws, const ImageConstPtr& depth, 
   if (out.forward.flow) forward_pub_.publish(out.forward.flow), forward_visible_pub_.publish(out.forward.visible);
   if (out.backward.flow) backward_pub_.publish(out.backward.flow), backward_visible_pub_.publish(out.backward.visible);
   if (out.wide.flow) wide_pub_.publish(out.wide.flow), wide_visible_pub_.publish(out.wide.visible);
+  if (out.scene_flow) scene_flow_pub_.publish(out.scene_flow);
   ++frames_;
 }
 

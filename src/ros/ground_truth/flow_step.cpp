@@ -1,13 +1,23 @@
 #include "viper/ros/ground_truth/flow_step.h"
 
 #include "viper/ground_truth/camera_model.h"
+#include "viper/ground_truth/scene_flow.h"
 #include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/conversions/object_conversions.h"
 #include "viper/ros/conversions/pose_conversions.h"
 
+#include <sensor_msgs/image_encodings.h>
+
 #include <stdexcept>
 
 namespace viper {
+
+float* FlowMessageStep::Pools::takeSceneFlow(const GroundTruthInput& from) {
+  // computeSceneFlow writes every pixel: a recycled message needs no clearing.
+  scene_flow = scene_pool_.take(headerOf(from), from.frame.width, from.frame.height,
+                                sensor_msgs::image_encodings::TYPE_32FC4, 4 * kSceneFlowChannels);
+  return reinterpret_cast<float*>(scene_flow->data.data());
+}
 
 void FlowMessageStep::addMeshes(const MeshStore& store, StepProblems& problems) {
   std::vector<std::string> bad;
@@ -21,6 +31,7 @@ bool FlowMessageStep::process(const DrawList& draws, const sensor_msgs::ImageCon
                               const Want& want, Output& out, StepProblems& problems) {
   out = Output();
   pools_.clear();
+  pools_.clearScene();
   const unsigned long number = draws.frame_number;
   if (!step_.inOrder(toFrameStamp(draws.header.stamp), number, problems)) return false;
   // A frame of its own: the window holds it (and the messages its pixels are in).
@@ -48,6 +59,7 @@ bool FlowMessageStep::process(const DrawList& draws, const sensor_msgs::ImageCon
   if (computed.forward) out.forward = pools_.messages(FlowKind::kForward);
   if (computed.backward) out.backward = pools_.messages(FlowKind::kBackward);
   if (computed.wide) out.wide = pools_.messages(FlowKind::kWide);
+  if (computed.scene_flow) out.scene_flow = pools_.scene_flow;
   return true;
 }
 

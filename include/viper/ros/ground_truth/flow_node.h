@@ -84,6 +84,7 @@ class Flow {
   ros::Subscriber mesh_store_sub_;
   image_transport::Publisher forward_pub_, forward_visible_pub_, backward_pub_, backward_visible_pub_, wide_pub_,
       wide_visible_pub_;
+  image_transport::Publisher scene_flow_pub_;  // flow/scene_flow: computed only while subscribed
   ros::ServiceServer correspondences_srv_;
   StepLog log_;
 

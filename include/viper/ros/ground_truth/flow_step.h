@@ -6,6 +6,7 @@
 
 #include "viper/ground_truth/flow_step.h"
 #include "viper/ros/conversions/ground_truth_conversions.h"
+#include "viper/ros/conversions/image_msg_pool.h"
 #include "viper/ros/ground_truth/step_problems.h"
 
 #include <sensor_msgs/Image.h>
@@ -25,9 +26,12 @@ class FlowMessageStep {
 
   using Want = FlowStep::Want;
   /// A frame's flows; a field is null where it was not computed. forward: frame f-1 -> f, with
-  /// f-1's header; backward: f -> f-1, with f's header; wide: f-k -> f, with f-k's header.
+  /// f-1's header; backward: f -> f-1, with f's header; wide: f-k -> f, with f-k's header;
+  /// scene_flow: f-1 -> f (32FC4: dx, dy, dz, d_depth in metres, f-1's optical frame, NaN where the
+  /// forward flow is; scene_flow.h), with f-1's header, where `want.scene_flow`.
   struct Output {
     FlowMessages forward, backward, wide;
+    sensor_msgs::ImagePtr scene_flow;
   };
   /// Takes one synchronised frame into the window and computes what `want` asks for. Returns false
   /// if the frame was dropped (the window then starts over: no flow spans it). `problems` gets what
@@ -47,9 +51,20 @@ class FlowMessageStep {
   const FlowSettings& settings() const { return step_.settings(); }
 
  private:
+  /// The flow messages, and the scene flow's (recycled 32FC4 messages).
+  class Pools : public FlowMessagePools {
+   public:
+    float* takeSceneFlow(const GroundTruthInput& from) override;
+    sensor_msgs::ImagePtr scene_flow;  ///< the last frame's, null if none was taken since clearScene()
+    void clearScene() { scene_flow.reset(); }
+
+   private:
+    ImageMsgPool scene_pool_{64};
+  };
+
   FlowStep step_;
   MeshRegistry meshes_;
-  FlowMessagePools pools_;
+  Pools pools_;
 };
 
 }  // namespace viper

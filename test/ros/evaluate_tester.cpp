@@ -45,6 +45,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <utility>
 
 namespace {
 
@@ -112,14 +113,23 @@ class EvaluateTest : public ::testing::Test {
     semantic_pub_.publish(pred);
   }
 
+  // The ground-truth images of topics `a` and `b` at t, the first time both are here and t is not
+  // in `predicted` yet (which then holds it); else none.
+  std::optional<std::pair<sensor_msgs::Image::ConstPtr, sensor_msgs::Image::ConstPtr>> bothOnce(
+      const ros::Time& t, const std::string& a, const std::string& b, std::set<ros::Time>& predicted) {
+    const auto in_a = gt_[a].find(t), in_b = gt_[b].find(t);
+    if (in_a == gt_[a].end() || in_b == gt_[b].end() || predicted.count(t)) return std::nullopt;
+    predicted.insert(t);
+    return std::make_pair(in_a->second, in_b->second);
+  }
+
   // Instances: one mask per ground-truth instance id, of its majority class, score 1; corrupted:
   // never the dropped class.
   void predictInstances(const ros::Time& t) {
-    const auto sem = gt_[kGtSemantic].find(t), ids = gt_[kGtIds].find(t);
-    if (sem == gt_[kGtSemantic].end() || ids == gt_[kGtIds].end() || instances_sent_.count(t)) return;
-    instances_sent_.insert(t);
-    const sensor_msgs::Image& s = *sem->second;
-    const int32_t* id = reinterpret_cast<const int32_t*>(ids->second->data.data());
+    const auto gt = bothOnce(t, kGtSemantic, kGtIds, instances_sent_);
+    if (!gt) return;
+    const sensor_msgs::Image& s = *gt->first;
+    const int32_t* id = reinterpret_cast<const int32_t*>(gt->second->data.data());
     std::map<int32_t, std::map<int, uint64_t>> votes;
     for (size_t i = 0; i < s.data.size(); ++i)
       if (id[i] > 0) ++votes[id[i]][s.data[i]];
@@ -182,12 +192,11 @@ class EvaluateTest : public ::testing::Test {
   // Dense flow (the ground truth, or zero) and sparse flow (every 4th pixel of the ground truth,
   // stamped with the next frame as opencv_apps does; corrupted: lk_flow's convention, 0.25 px off).
   void predictFlow(const ros::Time& t) {
-    const auto flow = gt_[kGtFlow].find(t), vis = gt_[kGtVisible].find(t);
-    if (flow == gt_[kGtFlow].end() || vis == gt_[kGtVisible].end() || sparse_sent_.count(t)) return;
-    sparse_sent_.insert(t);
-    const sensor_msgs::Image& f = *flow->second;
+    const auto gt = bothOnce(t, kGtFlow, kGtVisible, sparse_sent_);
+    if (!gt) return;
+    const sensor_msgs::Image& f = *gt->first;
     const float* uv = reinterpret_cast<const float*>(f.data.data());
-    const uint8_t* visible = vis->second->data.data();
+    const uint8_t* visible = gt->second->data.data();
     Expected& ex = expected_[condition_of_.at(t)];
     sensor_msgs::Image dense = f;
     if (corrupted_) {

@@ -35,22 +35,11 @@ source "$here/scripts/package_binaries.sh"
 all_programs=(glmark2 neverball supertux foobillardplus chromium-bsu extremetuxracer glxgears)
 programs=(); out="$here/build/corpus"; frames=""; seconds=""; size=320x240
 bin=""; retrace=0; keep=0; list=0; replay_secs=180
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --program) programs+=("$2"); shift 2 ;;
-    --out) out="$2"; shift 2 ;;
-    --frames) frames="$2"; shift 2 ;;
-    --seconds) seconds="$2"; shift 2 ;;
-    --size) size="$2"; shift 2 ;;
-    --bin) bin="$2"; shift 2 ;;
-    --retrace) retrace=1; shift ;;
-    --keep-images) keep=1; shift ;;
-    --replay-seconds) replay_secs="$2"; shift 2 ;;
-    --list) list=1; shift ;;
-    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
-    *) echo "capture_corpus: unknown option '$1' (see --help)" >&2; exit 2 ;;
-  esac
-done
+# shellcheck source=options.sh
+source "$here/scripts/options.sh"
+viper_options '2,25' "capture_corpus: unknown option '{}' (see --help)" --program=programs+ --out=out \
+  --frames=frames --seconds=seconds --size=size --bin=bin --retrace=retrace:1 --keep-images=keep:1 \
+  --replay-seconds=replay_secs --list=list:1 -- "$@"
 [[ "$size" =~ ^[0-9]+x[0-9]+$ ]] || { echo "capture_corpus: --size must be WxH, got '$size'" >&2; exit 2; }
 [ -z "$frames" ] || [[ "$frames" =~ ^[1-9][0-9]*$ ]] || { echo "capture_corpus: --frames must be a positive number" >&2; exit 2; }
 [ -z "$seconds" ] || [[ "$seconds" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "capture_corpus: --seconds must be a number" >&2; exit 2; }

@@ -23,10 +23,13 @@ struct SceneMapping {
   enum Kind : uint8_t { kNone, kRigid, kNonRigid } kind = kNone;
   // Rigid: a's optical coordinates of the point (homogeneous) from a's homogeneous NDC point, and
   // b's. The two share their last row up to b's view * world being affine, so each is divided by
-  // its own.
+  // its own. Row-major for the pixel loop: a's (a), b's taken into a's optical frame (b_in_a, whose
+  // last row is b's), and b's depth row (b_z).
   Eigen::Matrix4d optical_a, optical_b;
+  double a[4][4], b_in_a[4][4], b_z[4];
   DepthForm depth = DepthForm::kWindow;
   double p22 = 0, p23 = 0, p32 = 0, p33 = 0;  // the projection a's metres came from
+  double z_scale = 0, z_offset = 0;           // kMetres: z_ndc m = z_scale m + z_offset
   bool has_depth_rows = false;                // kConverted: whether there is one
   // Non-rigid: a's and b's clip coordinates into their optical coordinates (homogeneous), and
   // the triangle lookup the flow kernel uses (its barycentrics).
@@ -62,6 +65,7 @@ void setMetres(SceneMapping& s, const GlMatrix* p) {
                       std::isfinite(s.p32) && std::isfinite(0.5 - 0.5 * s.p22 / s.p32) &&
                       std::isfinite(0.5 * s.p23 / s.p32);
   s.depth = affine ? DepthForm::kMetres : DepthForm::kConverted;
+  if (affine) s.z_scale = s.p22 / s.p32, s.z_offset = -s.p23 / s.p32;
 }
 
 // Writes (dx, dy, dz, d_depth) from the point in a's and b's optical frames; false if not finite.
@@ -115,6 +119,10 @@ void computeSceneFlow(const FlowFramePixels& a, const FlowFramePixels& b, const 
       s.triangles.clip_b = &db.deformed_clip_xyzw;
     } else if (setRigid(s, da, db)) {
       s.kind = SceneMapping::kRigid;
+      const Eigen::Matrix4d b_in_a = a_from_b.matrix() * s.optical_b;
+      for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) s.a[r][c] = s.optical_a(r, c), s.b_in_a[r][c] = b_in_a(r, c);
+      for (int c = 0; c < 4; ++c) s.b_z[c] = s.optical_b(2, c);
       if (metres) setMetres(s, (da.matrix_flags & kHasProjection) ? &da.projection : a.depth_projection);
     }
   }
@@ -135,21 +143,30 @@ void computeSceneFlow(const FlowFramePixels& a, const FlowFramePixels& b, const 
       const double ndc_x = 2.0 * (x + 0.5) / width - 1.0;
       bool formed = false;
       if (s.kind == SceneMapping::kRigid) {
-        Eigen::Vector4d ndc(ndc_x, ndc_y, 0.0, 1.0);
+        double ndc[4] = {ndc_x, ndc_y, 0.0, 1.0};
         if (!metres) {
-          ndc.z() = 2.0 * a.depth_window[p] - 1.0;
+          ndc[2] = 2.0 * a.depth_window[p] - 1.0;
         } else if (s.depth == DepthForm::kMetres) {
           // Times the metres m: (x m, y m, z_ndc m, m), with z_ndc m = (P22 m - P23) / P32.
           const double m = a.depth_metres[p];
-          ndc = Eigen::Vector4d(ndc_x * m, ndc_y * m, (s.p22 * m - s.p23) / s.p32, m);
+          ndc[0] = ndc_x * m, ndc[1] = ndc_y * m, ndc[2] = s.z_scale * m + s.z_offset, ndc[3] = m;
         } else {
           DrawMapping rows;
           rows.has_depth_rows = s.has_depth_rows, rows.p22 = s.p22, rows.p23 = s.p23, rows.p32 = s.p32,
           rows.p33 = s.p33;
-          ndc.z() = 2.0 * flow_detail::windowDepthOf(rows, a.depth_metres[p]) - 1.0;
+          ndc[2] = 2.0 * flow_detail::windowDepthOf(rows, a.depth_metres[p]) - 1.0;
         }
-        const Eigen::Vector4d ha = s.optical_a * ndc, hb = s.optical_b * ndc;
-        formed = writePoint(ha.head<3>() / ha.w(), hb.head<3>() / hb.w(), a_from_b, out);
+        double ha[4], hb[4];
+        for (int r = 0; r < 4; ++r) {
+          ha[r] = s.a[r][0] * ndc[0] + s.a[r][1] * ndc[1] + s.a[r][2] * ndc[2] + s.a[r][3] * ndc[3];
+          hb[r] = s.b_in_a[r][0] * ndc[0] + s.b_in_a[r][1] * ndc[1] + s.b_in_a[r][2] * ndc[2] + s.b_in_a[r][3] * ndc[3];
+        }
+        const double zb = s.b_z[0] * ndc[0] + s.b_z[1] * ndc[1] + s.b_z[2] * ndc[2] + s.b_z[3] * ndc[3];
+        const double ia = 1.0 / ha[3], ib = 1.0 / hb[3];
+        const double d[4] = {hb[0] * ib - ha[0] * ia, hb[1] * ib - ha[1] * ia, hb[2] * ib - ha[2] * ia,
+                             zb * ib - ha[2] * ia};
+        formed = std::isfinite(d[0]) && std::isfinite(d[1]) && std::isfinite(d[2]) && std::isfinite(d[3]);
+        for (int c = 0; c < 4 && formed; ++c) out[c] = static_cast<float>(d[c]);
       } else if (s.kind == SceneMapping::kNonRigid) {
         DrawMapping& t = s.triangles;
         const uint32_t prim = a.primitive_ids[p];

@@ -43,6 +43,16 @@ if(CATKIN_ENABLE_TESTING)
       VIPER_CLASSES_CSV="${PROJECT_SOURCE_DIR}/config/viper_classes.csv"
     LINK viper_core gtest_main
     DEPENDS gt_world_capture)
+  # And against GL: every tracked object of that capture drawn alone from the oracle's meshes.
+  viper_gtest(test_amodal_gl test/ground_truth/test_amodal_gl.cpp test/ground_truth/oracle_truth.cpp
+    DEFINITIONS
+      VIPER_WORLD_CAPTURE="${VIPER_GT_DATA}/gt_world.vcap"
+      VIPER_WORLD_ORACLE="${VIPER_GT_DATA}/gt_world.oracle"
+      VIPER_FLOW_TRUTH_DIR="${VIPER_GT_DATA}/flow_truth"
+      VIPER_WORLD_LABELS="${PROJECT_SOURCE_DIR}/config/labels/world_labels.yaml"
+      VIPER_CLASSES_CSV="${PROJECT_SOURCE_DIR}/config/viper_classes.csv"
+    LINK viper_core viper_gl_common gtest_main
+    DEPENDS gt_world_capture)
 
   # The committed raw bag through replay.launch's nodelets, fed and checked by replay_tester.
   # SuperTuxKart live through replay.launch's nodelets (needs scripts/setup.sh --test-programs).

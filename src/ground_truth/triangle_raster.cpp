@@ -18,10 +18,10 @@ constexpr int kMaxPolygon = 12;
 
 using Vec4 = Eigen::Vector4f;
 
-// llvmpipe's subpixel_snap: util_iround(v * 256), rounding half away from zero.
+// llvmpipe's snapping (SSE cvtps2dq): v * 256 rounded to nearest, ties to even.
 int64_t snap(float v) {
   const float s = v * static_cast<float>(kSubpixel);
-  return s >= 0.0f ? static_cast<int64_t>(s + 0.5f) : static_cast<int64_t>(s - 0.5f);
+  return std::lrintf(s);
 }
 
 // Distance of `v` to plane `p` (>= 0 inside): near, far, then the four side planes.

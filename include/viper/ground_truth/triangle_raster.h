@@ -3,8 +3,8 @@
 // that it covers the pixels GL covers for the same triangles: triangles clipped in clip space
 // against the near and far planes and the image's sides (new vertices interpolated in float),
 // perspective divide and viewport transform in float into the picture's rows (y down), window
-// coordinates snapped to 1/256 px (8 bits of sub-pixel precision, (v - 0.5) * 256 rounded half away
-// from zero: pixel centres at half-integers), a pixel covered when its centre is inside the
+// coordinates snapped to 1/256 px (8 bits of sub-pixel precision, (v - 0.5) * 256 rounded to
+// nearest, ties to even, as SSE rounds: pixel centres at half-integers), a pixel covered when its centre is inside the
 // triangle, and a centre exactly on an edge owned by one triangle only: the bottom-left rule of the
 // picture, what llvmpipe gives for OpenGL. No culling: every triangle of either winding is drawn;
 // zero-area triangles (after snapping) are not. docs/amodal.md.

@@ -165,22 +165,28 @@ void TriangleRasterizer::fillSnapped(const int64_t* x_in, const int64_t* y_in) {
     step_x[k] = -dy * kSubpixel;
     step_y[k] = dx * kSubpixel;
   }
+  // Each row's span solved from the three edges (exact integers): E + k step_x > 0 gives a first k
+  // for edges that rise along the row and a last k for those that fall.
+  const int64_t span = i1 - i0;
   for (int64_t j = j0; j <= j1; ++j) {
-    int64_t e0 = e_row[0], e1 = e_row[1], e2 = e_row[2];
-    const int row = static_cast<int>(j);
-    uint8_t* line = mask_.data() + static_cast<size_t>(row) * width_;
-    int first = -1, last = -1;
-    for (int64_t i = i0; i <= i1; ++i) {
-      if (e0 > 0 && e1 > 0 && e2 > 0) {
-        if (first < 0) first = static_cast<int>(i);
-        last = static_cast<int>(i);
-        if (!line[i]) line[i] = 1, ++covered_;
-      } else if (first >= 0) {
-        break;  // a triangle's span of a row is one run
+    int64_t k_first = 0, k_last = span;
+    for (int k = 0; k < 3; ++k) {
+      const int64_t e = e_row[k], step = step_x[k];
+      if (step > 0) {
+        if (e <= 0) k_first = std::max(k_first, -e / step + 1);
+      } else if (step < 0) {
+        k_last = e > 0 ? std::min(k_last, (e - 1) / -step) : -1;
+      } else if (e <= 0) {
+        k_last = -1;
       }
-      e0 += step_x[0], e1 += step_x[1], e2 += step_x[2];
     }
-    if (first >= 0) box_.add(first, row), box_.add(last, row);
+    if (k_first <= k_last) {
+      const int row = static_cast<int>(j);
+      uint8_t* line = mask_.data() + static_cast<size_t>(row) * width_;
+      const int first = static_cast<int>(i0 + k_first), last = static_cast<int>(i0 + k_last);
+      for (int i = first; i <= last; ++i) covered_ += line[i] == 0, line[i] = 1;
+      box_.add(first, row), box_.add(last, row);
+    }
     for (int k = 0; k < 3; ++k) e_row[k] += step_y[k];
   }
 }

@@ -22,6 +22,8 @@ list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/layout/(viper_subm
 list(FILTER VIPER_DATASET_SOURCES EXCLUDE REGEX "/src/dataset/layout/(viper_layout_writer|viper_layout_geometry)\\.cpp$")
 add_library(viper_dataset ${VIPER_DATASET_SOURCES})
 target_include_directories(viper_dataset PUBLIC ${PROJECT_SOURCE_DIR}/include)
+# Eigen (header-only): the KITTI labels' boxes (kitti_labels.h).
+target_include_directories(viper_dataset SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR})
 # The float16 loops vectorise only at -O3, and only when GCC 12 may execute the float operations
 # of every branch (no floating-point exceptions are ever enabled here).
 target_compile_options(viper_dataset PRIVATE -O3 -fno-trapping-math)

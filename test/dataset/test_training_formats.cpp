@@ -8,6 +8,7 @@
 #include "viper/dataset/cityscapes.h"
 #include "viper/dataset/file_digests.h"
 #include "viper/dataset/kitti_images.h"
+#include "viper/dataset/kitti_labels.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -301,6 +302,50 @@ TEST(Kitti, EdgeValues) {
   EXPECT_EQ(d, (std::vector<uint16_t>{1, 0, 0, 65533, 0}));
   EXPECT_EQ(stats.valid, 2u);
   EXPECT_EQ(stats.out_of_range, 3u);
+}
+
+TEST(KittiLabels, BoxesInKittisCameraConventions) {
+  // A car 10 m ahead, 2 m right, its long axis (object x, 4 m) along the camera's x, its up axis
+  // (object y) along the camera's -y: rotation_y 0, location at its bottom (+y by half its height).
+  const Eigen::Quaterniond upright(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));  // object y -> camera -y
+  ds::KittiObject o = ds::kittiObjectOfBox({2, 0.5, 10}, upright, {4, 1.5, 1.8});
+  EXPECT_DOUBLE_EQ(o.height, 1.5);
+  EXPECT_DOUBLE_EQ(o.length, 4);
+  EXPECT_DOUBLE_EQ(o.width, 1.8);
+  EXPECT_TRUE(o.location.isApprox(Eigen::Vector3d(2, 1.25, 10)));
+  EXPECT_NEAR(o.rotation_y, 0, 1e-12);
+  EXPECT_NEAR(o.alpha, -std::atan2(2, 10), 1e-12);
+  // Turned 90 degrees about the camera's Y so that its long axis points at the camera's -z (towards
+  // it): KITTI's rotation_y is then +pi/2 (x axis turned into -z).
+  const Eigen::Quaterniond turned = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()) * upright;
+  o = ds::kittiObjectOfBox({0, 0, 20}, turned, {4, 1.5, 1.8});
+  EXPECT_NEAR(o.rotation_y, M_PI / 2, 1e-12);
+  EXPECT_NEAR(o.alpha, M_PI / 2, 1e-12);  // straight ahead: alpha = rotation_y
+  o.type = ds::kittiTypeOfViperClass(24);
+  o.truncated = 0.125;
+  o.occluded = 1;
+  o.box = {{100.25, 50, 200, 120.5}};
+  EXPECT_EQ(ds::kittiLabelLine(o), "Car 0.12 1 1.57 100.25 50.00 200.00 120.50 1.50 1.80 4.00 0.00 0.75 20.00 1.57");
+  EXPECT_EQ(ds::kittiTrackingLine(7, 12, o).substr(0, 9), "7 12 Car ");
+  EXPECT_EQ(ds::kittiTypeOfViperClass(25), "Van");
+  EXPECT_EQ(ds::kittiTypeOfViperClass(20), "Pedestrian");
+  EXPECT_EQ(ds::kittiTypeOfViperClass(22), "Cyclist");
+  EXPECT_EQ(ds::kittiTypeOfViperClass(2), "DontCare");
+}
+
+TEST(KittiLabels, CalibHasEveryMatrixKittiReads) {
+  Eigen::Matrix<double, 3, 4> P;
+  P << 721.5377, 0, 609.5593, 0, 0, 721.5377, 172.854, 0, 0, 0, 1, 0;
+  const std::string calib = ds::kittiCalibText(P);
+  EXPECT_NE(calib.find("P2: 7.215377000000e+02 0.000000000000e+00 6.095593000000e+02 0.000000000000e+00 "
+                       "0.000000000000e+00 7.215377000000e+02 1.728540000000e+02 0.000000000000e+00 "
+                       "0.000000000000e+00 0.000000000000e+00 1.000000000000e+00 0.000000000000e+00\n"),
+            std::string::npos)
+      << calib;
+  EXPECT_EQ(calib.rfind("P0: ", 0), 0u);
+  for (const char* name : {"P1: ", "P3: ", "R0_rect: ", "Tr_velo_to_cam: ", "Tr_imu_to_velo: "})
+    EXPECT_NE(calib.find(std::string("\n") + name), std::string::npos) << name;
+  EXPECT_EQ(std::count(calib.begin(), calib.end(), '\n'), 7);
 }
 
 TEST(Cityscapes, EncodesLabelsInstancesAndGroups) {

@@ -110,31 +110,14 @@ TEST_F(Baselines, ScoredAgainstGroundTruth) {
 
   std::map<ros::Time, std::vector<float>> gray;  // the bag's images, for the textured-pixel mask
   // Group the bag's messages by header stamp; camera_info goes first so the VO has K for the image.
-  std::map<ros::Time, std::vector<std::pair<std::string, topic_tools::ShapeShifter::ConstPtr>>> by_stamp;
-  for (const rosbag::MessageInstance& m : view) {
-    const std::string& topic = m.getTopic();
-    auto shape = m.instantiate<topic_tools::ShapeShifter>();
-    if (topic == "/capture/mesh_store") {
-      pubs[topic].publish(shape);
-      continue;
-    }
-    ros::Time stamp;
-    if (auto draws = m.instantiate<viper::DrawList>()) stamp = draws->header.stamp;
-    else if (auto img = m.instantiate<sensor_msgs::Image>()) {
-      stamp = img->header.stamp;
-      if (topic == kImage && img->encoding == "rgb8") {
-        std::vector<float>& g = gray[stamp];
-        g.resize(static_cast<size_t>(img->width) * img->height);
-        for (size_t p = 0; p < g.size(); ++p)
-          g[p] = (img->data[3 * p] + img->data[3 * p + 1] + img->data[3 * p + 2]) / 3.0f;
-      }
-    }
-    else if (auto info = m.instantiate<sensor_msgs::CameraInfo>()) stamp = info->header.stamp;
-    else continue;
-    auto& list = by_stamp[stamp];
-    if (topic.find("camera_info") != std::string::npos) list.insert(list.begin(), {topic, shape});
-    else list.emplace_back(topic, shape);
-  }
+  auto keep_gray = [&](const rosbag::MessageInstance& m, const ros::Time& stamp) {
+    auto img = m.instantiate<sensor_msgs::Image>();
+    if (!img || m.getTopic() != kImage || img->encoding != "rgb8") return;
+    std::vector<float>& g = gray[stamp];
+    g.resize(static_cast<size_t>(img->width) * img->height);
+    for (size_t p = 0; p < g.size(); ++p) g[p] = (img->data[3 * p] + img->data[3 * p + 1] + img->data[3 * p + 2]) / 3.0f;
+  };
+  const auto by_stamp = viper::test::messagesByStamp(view, pubs, /*camera_info_first=*/true, keep_gray);
   std::vector<ros::Time> frames;
   auto done = [&](size_t i) {  // frame i is through every node that can finish it before frame i+1
     const ros::Time t = frames[i];

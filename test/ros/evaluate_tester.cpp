@@ -310,27 +310,11 @@ TEST_F(EvaluateTest, ScoresMatchWhatThePredictionsDeserve) {
   rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
   rosbag::View view(bag);
   std::map<std::string, ros::Publisher> pubs = viper::test::advertiseBagTopics(nh, view);
-  std::map<ros::Time, std::vector<std::pair<std::string, topic_tools::ShapeShifter::ConstPtr>>> by_stamp;
   std::map<ros::Time, viper::DrawList> draws;
-  for (const rosbag::MessageInstance& m : view) {
-    auto shape = m.instantiate<topic_tools::ShapeShifter>();
-    if (m.getTopic() == "/capture/mesh_store") {
-      pubs[m.getTopic()].publish(shape);
-      continue;
-    }
-    ros::Time stamp;
-    if (auto d = m.instantiate<viper::DrawList>()) {
-      stamp = d->header.stamp;
-      draws[stamp] = *d;
-    } else if (auto img = m.instantiate<sensor_msgs::Image>()) {
-      stamp = img->header.stamp;
-    } else if (auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
-      stamp = info->header.stamp;
-    } else {
-      continue;
-    }
-    by_stamp[stamp].emplace_back(m.getTopic(), shape);
-  }
+  auto keep_draws = [&](const rosbag::MessageInstance& m, const ros::Time& stamp) {
+    if (auto d = m.instantiate<viper::DrawList>()) draws[stamp] = *d;
+  };
+  auto by_stamp = viper::test::messagesByStamp(view, pubs, /*camera_info_first=*/false, keep_draws);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& [stamp, msgs] : by_stamp) frames_.push_back(stamp);

@@ -168,36 +168,22 @@ TEST_F(FlowReplay, FlowOfEveryFramePair) {
   // The bag interleaves the messages of neighbouring frames: group them by header stamp, send the
   // mesh store first, then each frame once the previous one came out of instances and, from the
   // second frame on, out of flow as backward flow.
-  std::map<ros::Time, std::vector<std::pair<std::string, topic_tools::ShapeShifter::ConstPtr>>> by_stamp;
-  for (const rosbag::MessageInstance& m : view) {
-    const std::string& topic = m.getTopic();
-    auto shape = m.instantiate<topic_tools::ShapeShifter>();
-    if (topic == "/capture/mesh_store") {
-      pubs[topic].publish(shape);
-      continue;
-    }
-    ros::Time stamp;
+  auto keep_frame = [&](const rosbag::MessageInstance& m, const ros::Time& stamp) {
     if (auto draws = m.instantiate<viper::DrawList>()) {
-      stamp = draws->header.stamp;
       viper::fromDrawListMsg(*draws, bag_[stamp].frame);
     } else if (auto img = m.instantiate<sensor_msgs::Image>()) {
-      stamp = img->header.stamp;
       BagFrame& f = bag_[stamp];
       f.frame.width = img->width, f.frame.height = img->height;
-      if (topic == "/capture/draw_ids") {
+      if (m.getTopic() == "/capture/draw_ids") {
         f.frame.draw_ids.resize(img->data.size() / 4);
         std::memcpy(f.frame.draw_ids.data(), img->data.data(), img->data.size());
-      } else if (topic == "/capture/depth/image_raw") {
+      } else if (m.getTopic() == "/capture/depth/image_raw") {
         f.depth_m.resize(img->data.size() / 4);
         std::memcpy(f.depth_m.data(), img->data.data(), img->data.size());
       }
-    } else if (auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
-      stamp = info->header.stamp;
-    } else {
-      continue;
     }
-    by_stamp[stamp].emplace_back(topic, shape);
-  }
+  };
+  const auto by_stamp = viper::test::messagesByStamp(view, pubs, /*camera_info_first=*/false, keep_frame);
   for (const auto& [stamp, messages] : by_stamp) {
     if (!frames_.empty()) {
       const ros::Time prev = frames_.back();

@@ -8,6 +8,8 @@
 #include "viper/ground_truth/flow.h"
 #include "viper/ground_truth/scene_flow.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -135,6 +137,21 @@ struct FlowSequenceCheck {
     scene.print();
   }
 };
+
+/// The scene flow's expectations (gtest) on a FlowSequenceCheck of a real capture: NaN exactly where
+/// the flow is; p + scene flow lands where the flow does in the next frame (two float results of
+/// the same double point: p99 <= 1e-3 px), at the next frame's depth (24-bit depth buffers: median
+/// <= 1e-4, p99 <= 1e-3 relative); static surfaces do not move (<= 1e-6 of their depth).
+inline void expectSceneFlowHolds(const FlowSequenceCheck& c) {
+  const SceneFlowCheck& scene = c.scene;
+  EXPECT_EQ(scene.mask_differs, 0u);
+  EXPECT_GE(scene.reprojection_px.size(), c.flow.flow_pixels / 2);
+  EXPECT_LE(quantile(scene.reprojection_px, 0.99), 1e-3f);
+  EXPECT_LE(quantile(scene.depth_relative, 0.5), 1e-4f);
+  EXPECT_LE(quantile(scene.depth_relative, 0.99), 1e-3f);
+  EXPECT_GE(scene.static_relative.size(), c.flow.id_pixels / 2);
+  EXPECT_LE(quantile(scene.static_relative, 1.0), 1e-6f);
+}
 
 inline FlowSequenceCheck checkFlowSequence(const std::vector<CaptureFrame>& frames, const MeshRegistry& meshes) {
   FlowSequenceCheck c;

@@ -3,6 +3,7 @@
 // meshes and its own camera), odometry, tracks, boxes with velocities and flows into the caller's
 // storage; frames out of order and frames without draw ids are dropped and named.
 #include "viper/ground_truth/ground_truth_pipeline.h"
+#include "viper/ground_truth/scene_flow.h"
 
 #include <gtest/gtest.h>
 
@@ -241,6 +242,66 @@ TEST(GroundTruthPipeline, NoFlowWhenItIsOff) {
   for (const GroundTruthInputPtr& f : s.frames) ASSERT_TRUE(pipeline.process(f, InstanceImagesInto(), sink, out, problems));
   EXPECT_TRUE(sink.flows.empty());
   EXPECT_FALSE(out.flow.forward);
+}
+
+// The flow step's scene flow: taken from the sink only when asked for; then beside the forward flow
+// (computed for it although not asked for), NaN exactly where that flow is, and the motion the
+// sequence has: the road does not move (the camera does), the car drives 0.5 m along x a frame,
+// both stay 10 m away (depth change 0).
+class SceneFlowSink : public VectorSink {
+ public:
+  float* takeSceneFlow(const GroundTruthInput& from) override {
+    scene.assign(kSceneFlowChannels * from.frame.pixelCount(), -12345.0f);
+    ++taken;
+    return scene.data();
+  }
+  std::vector<float> scene;
+  int taken = 0;
+};
+
+TEST(GroundTruthPipeline, FlowStepGivesTheSceneFlowOnlyWhenAsked) {
+  Sequence s;
+  FlowStep step{FlowSettings()};
+  MeshRegistry meshes;
+  meshes.add({s.car_mesh});
+  std::vector<TrackedObject> objects(2);
+  objects[0].object.draws = {0};  // the road: stuff
+  objects[1].track_id = 1, objects[1].object.draws = {1};
+  FlowStep::Want plain, scene_only;
+  scene_only.forward = scene_only.backward = scene_only.wide = false;
+  scene_only.scene_flow = true;
+  for (size_t i = 0; i < s.frames.size(); ++i) {
+    const FrameCamera camera{s.frames[i]->frame.draws[0].view, s.frames[i]->frame.draws[0].projection, 0};
+    SceneFlowSink sink;
+    FlowStep::Output out;
+    StepProblems problems;
+    ASSERT_TRUE(step.process(s.frames[i], camera, objects, meshes, i % 2 ? plain : scene_only, sink, out, problems));
+    EXPECT_TRUE(problems.empty());
+    if (i == 0 || i % 2) {
+      EXPECT_EQ(sink.taken, 0) << "frame " << i;
+      EXPECT_FALSE(out.scene_flow);
+      continue;
+    }
+    ASSERT_EQ(sink.taken, 1);
+    ASSERT_TRUE(out.scene_flow && out.forward);
+    EXPECT_FALSE(out.backward);
+    const std::vector<float>& uv = sink.flows[static_cast<int>(FlowKind::kForward)].uv;
+    const std::vector<uint32_t>& ids = *s.ids[i - 1];
+    size_t road = 0, car = 0;
+    for (size_t p = 0; p < kW * kH; ++p) {
+      const float* v = &sink.scene[kSceneFlowChannels * p];
+      ASSERT_EQ(std::isnan(v[0]), std::isnan(uv[2 * p])) << "pixel " << p;
+      if (std::isnan(v[0])) continue;
+      const float dx = ids[p] == 2 ? 0.5f : 0.0f;
+      EXPECT_NEAR(v[0], dx, 1e-5) << "pixel " << p;
+      EXPECT_NEAR(v[1], 0.0f, 1e-5) << "pixel " << p;
+      EXPECT_NEAR(v[2], 0.0f, 1e-5) << "pixel " << p;
+      EXPECT_NEAR(v[3], 0.0f, 1e-5) << "pixel " << p;
+      ++(ids[p] == 2 ? car : road);
+    }
+    EXPECT_EQ(road, 12u);
+    EXPECT_EQ(car, 4u);
+  }
 }
 
 }  // namespace

@@ -13,3 +13,20 @@ if(CATKIN_ENABLE_TESTING)
     LINK viper_core gtest_main
     DEPENDS flow_truth_captures)
 endif()
+# viper_geometry_ros: the normals and labelled cloud nodes and their nodelets, each computing only
+# while its output has subscribers. Cores: src/ground_truth/normals.cpp, labelled_cloud.cpp.
+viper_ros_library(viper_geometry_ros SOURCES
+  src/ros/ground_truth/normals_node.cpp
+  src/ros/ground_truth/labelled_cloud_node.cpp
+  src/ros/ground_truth/geometry_nodelets.cpp
+  LINK viper_ground_truth_ros viper_ros viper_core ${catkin_LIBRARIES})
+foreach(node normals labelled_cloud)
+  viper_executable(${node} nodes/${node}_node.cpp LINK viper_geometry_ros)
+endforeach()
+if(CATKIN_ENABLE_TESTING)
+  # The committed raw bag through replay.launch's nodelets, fed and checked by geometry_tester.
+  viper_add_tester(geometry_tester test/ros/geometry_tester.cpp)
+  add_rostest(test/ros/geometry_replay.test DEPENDENCIES geometry_tester viper_geometry_ros viper_ground_truth_ros)
+  roslaunch_add_file_check(launch/view_bag.launch bag:=gt.bag normals:=true)
+endif()
+

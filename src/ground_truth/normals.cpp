@@ -24,6 +24,12 @@ struct DrawNormals {
   // eye = from_xyw (x, y, w) + xyw_offset, then to_eye (the camera's eye). Clip z is left out: it
   // is A z + B with |A z| far above |B| at a distance, and recovering z from it in float loses
   // digits (a vertex 10 m away moves ~3e-5 m along its ray: a degree on a centimetre triangle).
+  // kRigid with an affine to_eye (last row 0 0 0 1, as world and view matrices are): the normal is
+  // the cofactor matrix of its linear part L times the object-space normal, (L a) x (L b) =
+  // cof(L) (a x b), with the optical frame's axes folded in: one product per triangle, no vertex
+  // transformed.
+  bool affine = false;
+  Eigen::Matrix3d optical_cofactor = Eigen::Matrix3d::Identity();
   bool from_xyw_only = false;
   Eigen::Matrix3d from_xyw = Eigen::Matrix3d::Identity();
   Eigen::Vector3d xyw_offset = Eigen::Vector3d::Zero();
@@ -42,15 +48,12 @@ Eigen::Vector3d eyePoint(const Eigen::Matrix4d& m, double x, double y, double z,
   return h.head<3>() / h.w();
 }
 
-TriangleCache::Result triangleNormal(const DrawNormals& d, uint32_t primitive, float n[3]) {
-  const std::vector<uint32_t>& idx = d.mesh->indices;
-  const size_t t = 3 * static_cast<size_t>(primitive);
-  const size_t verts = d.mesh->positions_xyz.size() / 3;
-  if (t + 2 >= idx.size() || idx[t] >= verts || idx[t + 1] >= verts || idx[t + 2] >= verts)
-    return TriangleCache::kBadPrimitive;
+// The normal (not normalised) of the triangle of vertices idx[0..2] in the camera's OpenGL eye frame,
+// each vertex taken there.
+Eigen::Vector3d eyeNormal(const DrawNormals& d, const uint32_t* idx) {
   Eigen::Vector3d e[3];
   for (int k = 0; k < 3; ++k) {
-    const size_t v = idx[t + k];
+    const size_t v = idx[k];
     if (d.kind == DrawNormals::kRigid) {
       const float* p = d.mesh->positions_xyz.data() + 3 * v;
       e[k] = eyePoint(d.to_eye, p[0], p[1], p[2], 1.0);
@@ -63,9 +66,27 @@ TriangleCache::Result triangleNormal(const DrawNormals& d, uint32_t primitive, f
       e[k] = eyePoint(d.to_eye, c[0], c[1], c[2], c[3]);
     }
   }
-  // OpenGL eye axes (x right, y up, z backwards) to optical (x right, y down, z forward).
-  Eigen::Vector3d normal = (e[1] - e[0]).cross(e[2] - e[0]);
-  normal.y() = -normal.y(), normal.z() = -normal.z();
+  return (e[1] - e[0]).cross(e[2] - e[0]);
+}
+
+TriangleCache::Result triangleNormal(const DrawNormals& d, uint32_t primitive, float n[3]) {
+  const std::vector<uint32_t>& idx = d.mesh->indices;
+  const size_t t = 3 * static_cast<size_t>(primitive);
+  const size_t verts = d.mesh->positions_xyz.size() / 3;
+  if (t + 2 >= idx.size() || idx[t] >= verts || idx[t + 1] >= verts || idx[t + 2] >= verts)
+    return TriangleCache::kBadPrimitive;
+  Eigen::Vector3d normal;
+  if (d.affine) {
+    const float* p[3];
+    for (int k = 0; k < 3; ++k) p[k] = d.mesh->positions_xyz.data() + 3 * size_t{idx[t + k]};
+    const Eigen::Vector3d a(double(p[1][0]) - p[0][0], double(p[1][1]) - p[0][1], double(p[1][2]) - p[0][2]);
+    const Eigen::Vector3d b(double(p[2][0]) - p[0][0], double(p[2][1]) - p[0][1], double(p[2][2]) - p[0][2]);
+    normal = d.optical_cofactor * a.cross(b);
+  } else {
+    normal = eyeNormal(d, idx.data() + t);
+    // OpenGL eye axes (x right, y up, z backwards) to optical (x right, y down, z forward).
+    normal.y() = -normal.y(), normal.z() = -normal.z();
+  }
   const double length = normal.norm();
   if (!(length > 0.0) || !std::isfinite(length)) return TriangleCache::kDegenerate;
   for (int k = 0; k < 3; ++k) n[k] = static_cast<float>(normal[k] / length);
@@ -91,6 +112,15 @@ std::vector<DrawNormals> drawNormals(const std::vector<DrawRecord>& draws, const
     if (draw.deformed_clip_xyzw.empty()) {
       d.kind = DrawNormals::kRigid;
       d.to_eye = has_view ? Eigen::Matrix4d(camera_view * world) : world;
+      d.affine = d.to_eye.row(3) == Eigen::RowVector4d(0, 0, 0, 1);
+      if (d.affine) {
+        const Eigen::Matrix3d l = d.to_eye.topLeftCorner<3, 3>();
+        Eigen::Matrix3d cofactor;
+        cofactor.row(0) = l.row(1).cross(l.row(2));
+        cofactor.row(1) = l.row(2).cross(l.row(0));
+        cofactor.row(2) = l.row(0).cross(l.row(1));
+        d.optical_cofactor = Eigen::Vector3d(1, -1, -1).asDiagonal() * cofactor;
+      }
     } else if (draw.deformed_clip_xyzw.size() != 4 * (d.mesh->positions_xyz.size() / 3)) {
       d.kind = DrawNormals::kMissingDeformed;
       continue;

@@ -37,7 +37,7 @@ if(CATKIN_ENABLE_TESTING)
   target_compile_definitions(test_readme_commands PRIVATE VIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   target_link_libraries(test_readme_commands gtest_main)
   add_dependencies(test_readme_commands viper_capture world test_scene capture_check capture_info capture_sheet
-    label_resources capture_to_bag make_label_table export_flow viper_to_bag export_viper generate viper_exporter player
+    label_resources capture_to_bag make_label_table export_flow viper_to_bag export_viper export_training generate viper_exporter player
     dataset_statistics)
 
   # Test captures written by our own generator (CaptureWriter): intact, one flipped byte, truncated.

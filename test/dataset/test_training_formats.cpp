@@ -9,6 +9,7 @@
 #include "viper/dataset/file_digests.h"
 #include "viper/dataset/kitti_images.h"
 #include "viper/dataset/kitti_labels.h"
+#include "viper/dataset/training_export.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -346,6 +347,55 @@ TEST(KittiLabels, CalibHasEveryMatrixKittiReads) {
   for (const char* name : {"P1: ", "P3: ", "R0_rect: ", "Tr_velo_to_cam: ", "Tr_imu_to_velo: "})
     EXPECT_NE(calib.find(std::string("\n") + name), std::string::npos) << name;
   EXPECT_EQ(std::count(calib.begin(), calib.end(), '\n'), 7);
+}
+
+TEST(TrainingExport, WritesEveryFormatOfAFrameAndTheAmodalMasks) {
+  viper_dataset_test::TempDir dir;
+  ds::TrainingExportOptions options;
+  options.root = dir.path().string();
+  for (const auto& [id, name] : viper_dataset_test::trainingFormatCategories()) options.categories.push_back({id, name, "viper"});
+  ds::TrainingExport exporter(options);
+  const TrainingFormatFrame frame = trainingFormatFrame(0);
+  const auto flow = viper_dataset_test::trainingFormatFlow(frame);
+  // The fixture's amodal rectangles, as the amodal step gives them (box and cropped mask).
+  std::vector<std::vector<uint8_t>> masks;
+  std::vector<ds::TrainingAmodalMask> amodal;
+  for (const auto& r : viper_dataset_test::trainingFormatAmodal(0)) {
+    masks.emplace_back(static_cast<size_t>(r.width) * r.height, 1);
+    amodal.push_back({r.instance_id, r.class_id, r.x, r.y, r.width, r.height, masks.back().data()});
+  }
+  ds::TrainingFrame f;
+  f.frame = 0;
+  f.class_ids = frame.classes.data();
+  f.instance_ids = frame.instances.data();
+  f.width = TrainingFormatFrame::kWidth;
+  f.height = TrainingFormatFrame::kHeight;
+  f.flow = &flow;
+  f.depth_m = frame.depth_m.data();
+  f.amodal = &amodal;
+  exporter.addFrame(f);
+  exporter.finish();
+  const auto& s = exporter.stats();
+  EXPECT_EQ(s.cityscapes_frames, 1u);
+  EXPECT_EQ(s.coco_annotations, 4u);
+  EXPECT_EQ(s.coco_amodal_annotations, 3u);
+  EXPECT_EQ(s.kitti_flow, 1u);
+  EXPECT_EQ(s.kitti_depth, 1u);
+  const std::string root = options.root;
+  for (const char* file : {"/cityscapes/gtFine/train/viper/viper_000001_000000_gtFine_instanceIds.png",
+                           "/coco/annotations/instances_train_000001.json",
+                           "/coco/annotations/instances_amodal_train_000001.json",
+                           "/kitti/train/000001/flow_occ/000000_10.png",
+                           "/kitti/train/000001/proj_depth/groundtruth/image_02/0000000000.png"})
+    EXPECT_TRUE(std::filesystem::is_regular_file(root + file)) << file;
+  // The amodal file's masks are those the COCO API read in the fixture (instances_amodal.json's first image).
+  const Fixture fixture = readFixture("coco.txt");
+  const std::vector<uint8_t> bytes =
+      viper_dataset_test::readBytes(root + "/coco/annotations/instances_amodal_train_000001.json");
+  const auto written = cocoAnnotations(std::string(bytes.begin(), bytes.end()));
+  ASSERT_EQ(written.size(), 3u);
+  for (size_t i = 0; i < written.size(); ++i)
+    EXPECT_EQ(written[i].counts, fixture.rles.at("instances_amodal.json:" + std::to_string(i + 1)).counts) << i;
 }
 
 TEST(Cityscapes, EncodesLabelsInstancesAndGroups) {

@@ -26,7 +26,10 @@ TrainingExport::TrainingExport(TrainingExportOptions options) : options_(std::mo
   name.city = options_.city;
   name.sequence = options_.sequence;
   name.stem();  // throws for a bad city or sequence
-  if (options_.coco) coco_.emplace(options_.categories);
+  if (options_.coco) {
+    coco_.emplace(options_.categories);
+    coco_amodal_.emplace(options_.categories);
+  }
 }
 
 void TrainingExport::addFrame(const TrainingFrame& f) {
@@ -63,6 +66,18 @@ void TrainingExport::addFrame(const TrainingFrame& f) {
     stats_.coco_annotations += coco_->annotations() - before;
     stats_.coco_skipped_objects = coco_->skipped_objects();
   }
+  if (coco_amodal_ && f.amodal != nullptr && !f.amodal->empty()) {
+    if (f.width == 0 || f.height == 0)
+      throw std::invalid_argument("frame " + std::to_string(f.frame) + ": amodal masks without the image's size");
+    const std::string file = digits(options_.sequence, 6) + "_" + digits(f.frame, 6) + ".png";
+    const int image = coco_amodal_->addImage(file, f.width, f.height, digits(options_.sequence, 6), f.frame);
+    const size_t before = coco_amodal_->annotations();
+    for (const TrainingAmodalMask& m : *f.amodal)
+      coco_amodal_->addAnnotation(image, {m.class_id, m.track_id,
+                                          cocoRleOfBoxMask(f.width, f.height, m.box_x, m.box_y, m.box_width,
+                                                           m.box_height, m.mask)});
+    stats_.coco_amodal_annotations += coco_amodal_->annotations() - before;
+  }
   if (!options_.kitti) return;
   const fs::path kitti = root / "kitti" / options_.split / digits(options_.sequence, 6);
   if (f.flow != nullptr) {
@@ -83,10 +98,16 @@ void TrainingExport::addFrame(const TrainingFrame& f) {
 }
 
 void TrainingExport::finish() {
-  if (!coco_ || coco_->images() == 0) return;
   const std::filesystem::path dir = std::filesystem::path(options_.root) / "coco" / "annotations";
-  std::filesystem::create_directories(dir);
-  coco_->write((dir / ("instances_" + options_.split + "_" + digits(options_.sequence, 6) + ".json")).string());
+  const std::string name = options_.split + "_" + digits(options_.sequence, 6) + ".json";
+  if (coco_ && coco_->images() > 0) {
+    std::filesystem::create_directories(dir);
+    coco_->write((dir / ("instances_" + name)).string());
+  }
+  if (coco_amodal_ && coco_amodal_->images() > 0) {
+    std::filesystem::create_directories(dir);
+    coco_amodal_->write((dir / ("instances_amodal_" + name)).string());
+  }
 }
 
 }  // namespace viper::dataset

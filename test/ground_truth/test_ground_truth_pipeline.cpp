@@ -1,7 +1,9 @@
 // The ground-truth steps on core types and GroundTruthPipeline, which runs them all on one decoded
 // frame: the pipeline gives what the steps give one by one (as the nodes run them, each with its own
 // meshes and its own camera), odometry, tracks, boxes with velocities and flows into the caller's
-// storage; frames out of order and frames without draw ids are dropped and named.
+// storage; frames out of order and frames without draw ids are dropped and named. The modalities
+// beyond VIPER's (normals, labelled cloud, amodal masks, scene flow) are the steps' own, and computed
+// only when asked for.
 #include "viper/ground_truth/ground_truth_pipeline.h"
 #include "viper/ground_truth/scene_flow.h"
 
@@ -301,6 +303,117 @@ TEST(GroundTruthPipeline, FlowStepGivesTheSceneFlowOnlyWhenAsked) {
     }
     EXPECT_EQ(road, 12u);
     EXPECT_EQ(car, 4u);
+  }
+}
+
+// Normals and clouds into vectors, counting what was taken.
+class ModalityVectors : public ModalitySink {
+ public:
+  float* takeNormals(const GroundTruthInput& frame) override {
+    normals.assign(3 * frame.frame.pixelCount(), -12345.0f);
+    ++normals_taken;
+    return normals.data();
+  }
+  CloudPoint* takeCloud(const GroundTruthInput&, const CloudSize& size) override {
+    cloud.assign(size.points(), CloudPoint{-1, -1, -1, -1, 7, 7});
+    ++clouds_taken;
+    return cloud.data();
+  }
+  std::vector<float> normals;
+  std::vector<CloudPoint> cloud;
+  int normals_taken = 0, clouds_taken = 0;
+};
+
+bool sameFloats(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+TEST(GroundTruthPipeline, ModalitiesAreTheirStepsOwn) {
+  Sequence s;
+  // Colours for the cloud.
+  std::vector<std::vector<uint8_t>> colors;
+  for (GroundTruthInputPtr& f : s.frames) {
+    colors.emplace_back(3 * kW * kH);
+    for (size_t i = 0; i < colors.back().size(); ++i) colors.back()[i] = static_cast<uint8_t>(i * 7 + colors.size());
+    auto in = std::make_shared<GroundTruthInput>(*f);
+    in->color_rgb = colors.back().data();
+    f = in;
+  }
+  GroundTruthSettings settings;
+  settings.normals = true;
+  settings.cloud_decimation = 3;
+  settings.amodal = true;
+  settings.scene_flow = true;
+  GroundTruthPipeline pipeline(s.labels, s.classes, settings);
+  pipeline.addMeshes({s.car_mesh});
+  InstancesStep instances(s.labels, s.classes, settings.instances);
+  instances.addMeshes({s.car_mesh});
+  FlowStep flow(settings.flow);
+  AmodalStep amodal(settings.amodal_options);
+  MeshRegistry meshes;
+  meshes.add(s.car_mesh);
+  GroundTruthResult out;
+  InstanceFrame one_by_one;
+  size_t amodal_objects = 0;
+  for (size_t i = 0; i < s.frames.size(); ++i) {
+    const GroundTruthInputPtr& frame = s.frames[i];
+    SceneFlowSink a, b;
+    ModalityVectors m;
+    StepProblems pa, pb;
+    ASSERT_TRUE(pipeline.process(frame, InstanceImagesInto(), a, out, pa, nullptr, &m));
+    ASSERT_TRUE(instances.process(frame->frame, frame->stamp, frame->draw_ids, InstanceImagesInto(), one_by_one, pb));
+    const std::optional<FrameCamera> camera = chooseFrameCamera(frame->frame);
+
+    std::vector<float> normals(3 * kW * kH);
+    EXPECT_EQ(out.normals, NormalsStep().process(*frame, camera, meshes, normals.data(), pb));
+    EXPECT_TRUE(out.normals);
+    EXPECT_EQ(m.normals_taken, 1);
+    EXPECT_TRUE(sameFloats(m.normals, normals));
+
+    const CloudSize size = cloudSize(kW, kH, 3);
+    std::vector<CloudPoint> cloud(size.points());
+    CloudImages images{kW, kH, frame->depth_m, colors[i].data(), one_by_one.semantic.data(),
+                       one_by_one.instance_ids.data()};
+    labelledCloud(images, intrinsicsFromGlProjection(camera->projection, kW, kH), 3, cloud.data());
+    ASSERT_TRUE(out.cloud);
+    ASSERT_EQ(m.cloud.size(), cloud.size());
+    EXPECT_EQ(0, std::memcmp(m.cloud.data(), cloud.data(), cloud.size() * sizeof(CloudPoint)));
+
+    FrameAmodal fa;
+    amodal.process(frame->frame, one_by_one.objects, one_by_one.instance_ids.data(), meshes, fa, pb);
+    ASSERT_EQ(out.amodal.objects.size(), fa.objects.size());
+    for (size_t o = 0; o < fa.objects.size(); ++o) {
+      EXPECT_EQ(out.amodal.objects[o].track_id, fa.objects[o].track_id);
+      EXPECT_EQ(out.amodal.objects[o].mask, fa.objects[o].mask);
+      EXPECT_EQ(out.amodal.objects[o].visible_pixels, fa.objects[o].visible_pixels);
+    }
+    amodal_objects += fa.objects.size();
+
+    FlowStep::Want want;
+    want.scene_flow = true;
+    FlowStep::Output fo;
+    ASSERT_TRUE(flow.process(frame, camera, one_by_one.objects, meshes, want, b, fo, pb));
+    EXPECT_EQ(out.flow.scene_flow, fo.scene_flow);
+    EXPECT_EQ(out.flow.scene_flow, i > 0);
+    EXPECT_TRUE(sameFloats(a.scene, b.scene));
+    EXPECT_EQ(pa.size(), pb.size());
+  }
+  EXPECT_EQ(amodal_objects, s.frames.size()) << "the car, every frame";
+}
+
+TEST(GroundTruthPipeline, ModalitiesNotAskedForAreNotComputed) {
+  Sequence s;
+  GroundTruthPipeline pipeline(s.labels, s.classes, GroundTruthSettings());
+  pipeline.addMeshes({s.car_mesh});
+  GroundTruthResult out;
+  for (const GroundTruthInputPtr& f : s.frames) {
+    SceneFlowSink sink;
+    ModalityVectors m;
+    StepProblems problems;
+    ASSERT_TRUE(pipeline.process(f, InstanceImagesInto(), sink, out, problems, nullptr, &m));
+    EXPECT_EQ(m.normals_taken + m.clouds_taken + sink.taken, 0);
+    EXPECT_FALSE(out.normals || out.cloud || out.flow.scene_flow);
+    EXPECT_TRUE(out.amodal.objects.empty());
   }
 }
 

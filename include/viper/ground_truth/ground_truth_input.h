@@ -34,6 +34,7 @@ struct GroundTruthInput {
   const uint32_t* draw_ids = nullptr;       ///< draw index + 1, 0 = none
   const float* depth_m = nullptr;           ///< metres along the optical axis, NaN = no surface
   const uint32_t* primitive_ids = nullptr;  ///< triangle index within the draw
+  const uint8_t* color_rgb = nullptr;       ///< rgb8, 3 bytes a pixel (the labelled cloud's colours)
   std::shared_ptr<const void> owner;
 };
 using GroundTruthInputPtr = std::shared_ptr<const GroundTruthInput>;

@@ -259,9 +259,10 @@ if(CATKIN_ENABLE_TESTING)
   if(TARGET test_generate)
     target_compile_definitions(test_generate PRIVATE
       VIPER_GENERATE="$<TARGET_FILE:generate>"
+      VIPER_EXPORT_TRAINING="$<TARGET_FILE:export_training>"
       VIPER_TEST_DATA="${PROJECT_BINARY_DIR}/test_data"
       VIPER_WORLD_LABELS="${PROJECT_SOURCE_DIR}/config/labels/world_labels.yaml")
-    add_dependencies(test_generate generate world_raw_bag)
+    add_dependencies(test_generate generate export_training world_raw_bag)
   endif()
 
   # generate --plan on the tiny preset: the world under capture, whole and sharded (and merged with its

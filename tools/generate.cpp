@@ -27,6 +27,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 
 namespace {
 
@@ -62,8 +63,11 @@ void addOptions(CLI::App& app, Options& o, int& writer_threads, std::string& out
                "ROOT/statistics.md and ROOT/statistics/ (dataset_statistics computes them again)");
   app.add_option("--split", s.split, "the split")->type_name("SPLIT")->capture_default_str();
   app.add_option("--seq", s.seq, "the sequence (with --input)")->type_name("SEQ")->capture_default_str();
-  app.add_option("--outputs", outputs, "VIPER's layout, the ground-truth bag, or both")
-      ->type_name("layout,bag")
+  app.add_option("--outputs", outputs,
+                 "what to write, comma-separated: VIPER's layout, the ground-truth bag, and the training formats "
+                 "Cityscapes (gtFine), COCO (instances, visible and amodal), KITTI (flow, depth) under "
+                 "SPLIT/training/SEQ (docs/training_formats.md)")
+      ->type_name("layout,bag,cityscapes,coco,kitti")
       ->capture_default_str();
   app.add_option("--frames", s.max_frames, "only the first N frames (0: all)");
   app.add_flag("--force", o.force, "redo a finished sequence");
@@ -102,9 +106,18 @@ std::string check(Options& o, const CLI::App& app, int writer_threads, const std
     s.layout.writer_threads = static_cast<unsigned>(writer_threads);
   }
   if (app.count("--outputs")) {
-    s.outputs.layout = outputs.find("layout") != std::string::npos;
-    s.outputs.bag = outputs.find("bag") != std::string::npos;
-    if (!s.outputs.layout && !s.outputs.bag) return "--outputs takes layout, bag or layout,bag";
+    s.outputs.layout = s.outputs.bag = false;
+    std::istringstream list(outputs);
+    for (std::string name; std::getline(list, name, ',');) {
+      bool* flag = name == "layout"       ? &s.outputs.layout
+                   : name == "bag"        ? &s.outputs.bag
+                   : name == "cityscapes" ? &s.outputs.cityscapes
+                   : name == "coco"       ? &s.outputs.coco
+                   : name == "kitti"      ? &s.outputs.kitti
+                                          : nullptr;
+      if (!flag) return "--outputs takes a comma-separated list of layout, bag, cityscapes, coco, kitti; got '" + name + "'";
+      *flag = true;
+    }
   }
   if (!o.write_plan.empty()) return o.plan.empty() ? "--write-plan needs --plan (the file to write)" : "";
   if (o.merge && (o.plan.empty() || s.root.empty())) return "--merge needs --plan and --out";

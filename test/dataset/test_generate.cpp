@@ -114,6 +114,50 @@ TEST(Generate, CaptureAndItsRawBagGiveTheSameSequence) {
   EXPECT_EQ(viper::dataset::verifySequence(a, m), "");
 }
 
+// The training formats generate writes beside the layout and the bag are, byte for byte, what
+// export_training writes from that bag (whose files test_training_formats checks against the formats'
+// reference code), and COCO's amodal file besides, with an annotation for every visible one; they
+// are the sequence's, listed in its marker; a sequence name the formats cannot number is an error.
+TEST(Generate, TrainingFormatsAreExportTrainingsOfItsBag) {
+  const std::string root = tempDir("viper_generate_") + "/gen", again = tempDir("viper_generate_") + "/export";
+  const Result r = runGenerate(kRawBag, root, "--frames 8 --outputs bag,cityscapes,coco,kitti --seq 007");
+  ASSERT_EQ(r.rc, 0) << r.output;
+  const std::string training = root + "/train/training/007";
+  ASSERT_EQ(run(std::string(VIPER_EXPORT_TRAINING) + " --bag " + root + "/train/bag/007.bag --seq 7 --out " + again +
+                " > " + again + ".log 2>&1"),
+            0)
+      << readFile(again + ".log");
+  auto generated = files(training);
+  const std::string amodal = "coco/annotations/instances_amodal_train_000007.json";
+  ASSERT_TRUE(generated.count(amodal)) << "no amodal file";
+  const std::string amodal_json = generated[amodal];
+  generated.erase(amodal);
+  const auto exported = files(again);
+  EXPECT_EQ(differingFiles(exported, generated), "");
+  for (const char* f : {"cityscapes/gtFine/train/viper/viper_000007_000003_gtFine_instanceIds.png",
+                        "cityscapes/leftImg8bit/train/viper/viper_000007_000007_leftImg8bit.png",
+                        "coco/annotations/instances_train_000007.json", "kitti/train/000007/flow_occ/000006_10.png",
+                        "kitti/train/000007/proj_depth/groundtruth/image_02/0000000007.png"})
+    EXPECT_TRUE(generated.count(f)) << f << " not written";
+  auto count = [](const std::string& json, const std::string& key) {
+    size_t n = 0;
+    for (size_t at = json.find(key); at != std::string::npos; at = json.find(key, at + 1)) ++n;
+    return n;
+  };
+  const size_t visible = count(generated["coco/annotations/instances_train_000007.json"], "\"segmentation\"");
+  EXPECT_GT(visible, 0u);
+  EXPECT_GE(count(amodal_json, "\"segmentation\""), visible);
+  const viper::dataset::SequenceMarker m = viper::dataset::readSequenceMarker(root + "/train/007.done");
+  size_t listed = 0;
+  for (const auto& f : m.files) listed += f.relative_path.rfind("train/training/007/", 0) == 0;
+  EXPECT_EQ(listed, generated.size() + 1);
+  EXPECT_EQ(viper::dataset::verifySequence(root, m), "");
+
+  const Result bad = runGenerate(kRawBag, tempDir("viper_generate_") + "/bad", "--frames 2 --outputs coco --seq a7");
+  EXPECT_NE(bad.rc, 0);
+  EXPECT_NE(bad.output.find("must be 1 to 6 digits, got 'a7'"), std::string::npos) << bad.output;
+}
+
 // The per-pixel kernels' paths (VIPER_INSTRUCTIONS caps them: instructions.h) write the same files:
 // a dataset generated on nodes with other CPUs is the same dataset. A CPU without a path runs the
 // widest it has below it (that run then repeats another).

@@ -1,6 +1,7 @@
 #include "viper/ros/dataset/sequence_generator.h"
 
 #include "viper/dataset/file_digests.h"
+#include "viper/dataset/training_export.h"
 #include "viper/dataset/sequence_marker.h"
 #include "viper/ros/bridge/bag_writer.h"
 #include "viper/ros/conversions/frame_conversions.h"
@@ -8,10 +9,12 @@
 #include "viper/ros/ground_truth/step_problems.h"
 
 #include <boost/make_shared.hpp>
+#include <sensor_msgs/image_encodings.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 namespace viper {
@@ -28,7 +31,33 @@ std::vector<fs::path> sequencePaths(const SequenceSettings& s) {
   for (const char* m : {"img", "cls", "inst", "flow", "flowbw", "bb"}) out.push_back(fs::path(s.split) / m / s.seq);
   out.push_back(fs::path(s.split) / "camera" / (s.seq + ".csv"));
   out.push_back(fs::path(s.split) / "bag" / (s.seq + ".bag"));
+  out.push_back(fs::path(s.split) / "training" / s.seq);
   return out;
+}
+
+// The training formats' sequence number of a sequence name of 1 to 6 digits.
+uint32_t trainingSequenceNumber(const std::string& seq) {
+  if (seq.empty() || seq.size() > 6 || seq.find_first_not_of("0123456789") != std::string::npos)
+    throw std::runtime_error("the training formats (cityscapes, coco, kitti) number sequences: the sequence name "
+                             "must be 1 to 6 digits, got '" + seq + "'");
+  return static_cast<uint32_t>(std::stoul(seq));
+}
+
+// The training formats' writer of a sequence, or null when none is asked for.
+std::unique_ptr<dataset::TrainingExport> trainingExport(const SequenceSettings& s, const fs::path& partial,
+                                                        const ClassTable& classes) {
+  if (!s.outputs.cityscapes && !s.outputs.coco && !s.outputs.kitti) return nullptr;
+  dataset::TrainingExportOptions t;
+  t.root = (partial / s.split / "training" / s.seq).string();
+  t.cityscapes = s.outputs.cityscapes;
+  t.coco = s.outputs.coco;
+  t.kitti = s.outputs.kitti;
+  t.split = s.split;
+  t.sequence = trainingSequenceNumber(s.seq);
+  t.images = s.layout.images;
+  for (const auto& c : classes.classes())
+    if (c.instance_eval) t.categories.push_back({c.id, c.name, "viper"});
+  return std::make_unique<dataset::TrainingExport>(t);
 }
 
 // The ground truth of one frame as the nodes of replay.launch publish it, each null where a step
@@ -92,6 +121,44 @@ class GroundTruthBag {
   }
   BagWriter bag_;
 };
+
+// One kept frame into the training formats: its images, depth and amodal masks as frame `at`, and
+// the forward flow its step made (from the previous frame) as that frame's.
+void writeTrainingFrame(dataset::TrainingExport& training, uint64_t at, const FrameMessages& raw,
+                        const GroundTruthInput& decoded, const InstanceImageMessages& images,
+                        const GroundTruthResult& truth, const FlowMessages& forward,
+                        const std::map<ros::Time, uint64_t>& frame_of) {
+  const uint32_t w = decoded.frame.width, h = decoded.frame.height;
+  dataset::TrainingFrame f;
+  f.frame = static_cast<uint32_t>(at);
+  std::optional<dataset::ImageView8> rgb;
+  if (raw.color && raw.color->encoding == sensor_msgs::image_encodings::RGB8 && raw.color->width == w &&
+      raw.color->height == h && raw.color->step == 3 * w)
+    rgb.emplace(raw.color->data.data(), w, h, 3);
+  f.rgb = rgb ? &*rgb : nullptr;
+  f.class_ids = images.semantic->data.data();
+  f.instance_ids = reinterpret_cast<const int32_t*>(images.instance_ids->data.data());
+  f.width = w, f.height = h;
+  f.depth_m = decoded.depth_m;
+  std::vector<dataset::TrainingAmodalMask> amodal;
+  for (const AmodalObject& o : truth.amodal.objects)
+    if (!o.box.empty())
+      amodal.push_back({o.track_id, o.class_id, o.box.x_min, o.box.y_min, static_cast<uint32_t>(o.box.width()),
+                        static_cast<uint32_t>(o.box.height()), o.mask.data()});
+  f.amodal = &amodal;
+  training.addFrame(f);
+  if (!truth.flow.forward) return;
+  const auto from = frame_of.find(toRosTime(truth.flow.forward_from));
+  if (from == frame_of.end() || !forward.flow) return;
+  dataset::FlowImage flow;
+  flow.width = forward.flow->width, flow.height = forward.flow->height;
+  const float* uv = reinterpret_cast<const float*>(forward.flow->data.data());
+  flow.uv.assign(uv, uv + 2 * flow.pixels());
+  dataset::TrainingFrame g;
+  g.frame = static_cast<uint32_t>(from->second);
+  g.flow = &flow;
+  training.addFrame(g);
+}
 
 }  // namespace
 
@@ -160,7 +227,10 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
   std::unique_ptr<dataset::WriteQueue> bag_writer;
   if (bag && settings_.layout.writer_threads > 0) bag_writer = std::make_unique<dataset::WriteQueue>(1, 2, "viper-bag");
 
-  GroundTruthPipeline pipeline(labels_, classes_, settings_.ground_truth);
+  std::unique_ptr<dataset::TrainingExport> training = trainingExport(settings_, partial, classes_);
+  GroundTruthSettings ground_truth = settings_.ground_truth;
+  ground_truth.amodal = ground_truth.amodal || settings_.outputs.coco;  // COCO's amodal file
+  GroundTruthPipeline pipeline(labels_, classes_, ground_truth);
   // The ground truth's messages, made as the nodes make them (ground_truth_conversions.h).
   OdometrySettings odometry = settings_.odometry;
   odometry.make_path = false;  // the bag and the layout keep the poses; a path per frame is O(n^2)
@@ -201,7 +271,7 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
                             " (frame " + std::to_string(number) + ", frame_id '" + raw.draw_ids->header.frame_id +
                                 "'): " + ids_problem + "; frame dropped"});
       } else {
-        if (settings_.ground_truth.flow_enabled) {
+        if (settings_.ground_truth.flow_enabled || settings_.outputs.kitti) {
           std::string depth_problem, primitives_problem;
           decodeFlowMsgs(raw.depth, raw.primitive_ids, *decoded, depth_problem, primitives_problem);
           const std::string at = " (frame " + std::to_string(number) + "): ";
@@ -285,6 +355,11 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
         if (frame >= kFlushWindow)
           for (const std::string& n : exporter->flushUpTo(frame - kFlushWindow)) problem(n);
       }
+      if (training && kept) {
+        StageTimer t(times, "training");
+        writeTrainingFrame(*training, frame_of.find(stamp)->second, raw, *decoded, gt.images, truth, gt.flow_forward,
+                           frame_of);
+      }
     } catch (const std::exception& e) {
       throw std::runtime_error("sequence " + name + ", frame " + std::to_string(frame) + ": " + e.what() +
                                " (the partial sequence stays in " + partial.string() + ")");
@@ -299,6 +374,7 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
     StageTimer t(times, "finish");
     if (exporter)
       for (const std::string& n : exporter->finish()) problem(n);
+    if (training) training->finish();
     if (bag_writer) bag_writer->drain();
     if (bag) bag->close();
   } catch (const std::exception& e) {

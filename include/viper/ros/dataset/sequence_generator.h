@@ -23,6 +23,9 @@ namespace viper {
 struct SequenceOutputs {
   bool layout = true;  ///< VIPER's release layout: img, cls, inst, flow, flowbw, bb, camera
   bool bag = true;     ///< SPLIT/bag/SEQ.bag: raw and ground-truth topics at their header stamps
+  /// The formats training frameworks read (docs/training_formats.md), under SPLIT/training/SEQ/:
+  /// cityscapes/ (gtFine, leftImg8bit), coco/ (visible and amodal instances), kitti/ (flow, depth).
+  bool cityscapes = false, coco = false, kitti = false;
   std::string bag_compression = "lz4";
 };
 

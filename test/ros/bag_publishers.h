@@ -4,6 +4,7 @@
 #pragma once
 
 #include <ros/ros.h>
+#include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -12,6 +13,8 @@
 
 #include <functional>
 #include <map>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -58,6 +61,34 @@ inline std::map<ros::Time, BagFrameMessages> messagesByStamp(
     else frame.emplace_back(topic, shape);
   }
   return by_stamp;
+}
+
+/// A tester's bag: private parameter ~bag (required: throws without it) opened, a publisher for
+/// each of its topics (advertiseBagTopics), and the deadline ~timeout_s (default 120 s) from now.
+struct TesterBag {
+  explicit TesterBag(ros::NodeHandle& nh) {
+    ros::NodeHandle pnh("~");
+    std::string path;
+    if (!pnh.getParam("bag", path)) throw std::runtime_error("tester needs ~bag");
+    bag.open(path, rosbag::bagmode::Read);
+    view = std::make_unique<rosbag::View>(bag);
+    pubs = advertiseBagTopics(nh, *view);
+    deadline = ros::WallTime::now() + ros::WallDuration(pnh.param("timeout_s", 120.0));
+  }
+  rosbag::Bag bag;
+  std::unique_ptr<rosbag::View> view;
+  std::map<std::string, ros::Publisher> pubs;
+  ros::WallTime deadline;
+};
+
+/// Whether the master knows a publisher of every topic of `names`.
+inline bool allAdvertised(const std::vector<std::string>& names) {
+  ros::master::V_TopicInfo topics;
+  ros::master::getTopics(topics);
+  size_t found = 0;
+  for (const std::string& name : names)
+    for (const auto& t : topics) found += t.name == name;
+  return found == names.size();
 }
 
 }  // namespace test

@@ -3,7 +3,8 @@
 // frame id; a unit normal facing the camera exactly where the frame has a draw and depth, NaN
 // elsewhere) and a labelled cloud (fields x y z rgb label instance, organised at ~decimation; z the
 // depth, x and y on the pixel's ray, rgb the colour, label and instance the instances node's
-// images). Private parameters: bag (path, required), decimation (the cloud node's, 2), timeout_s (120).
+// images). Private parameters: bag (path, required), decimation (the cloud node's, 2), timeout_s (120;
+// TesterBag).
 #include "tester_main.h"
 #include "bag_publishers.h"
 
@@ -54,27 +55,16 @@ class GeometryReplay : public testing::Test {
 
 TEST_F(GeometryReplay, NormalsAndCloudOfEveryFrame) {
   ros::NodeHandle nh, pnh("~");
-  std::string bag_path;
-  ASSERT_TRUE(pnh.getParam("bag", bag_path)) << "tester needs ~bag";
-  double timeout_s = 120;
-  pnh.param("timeout_s", timeout_s, 120.0);
   int decimation = 2;
   pnh.param("decimation", decimation, 2);
-
-  rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
-  rosbag::View view(bag);
-  std::map<std::string, ros::Publisher> pubs = viper::test::advertiseBagTopics(nh, view);
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  viper::test::TesterBag bag(nh);
+  rosbag::View& view = *bag.view;
+  std::map<std::string, ros::Publisher>& pubs = bag.pubs;
+  const ros::WallTime deadline = bag.deadline;
   // Nobody listens yet: once both outputs are advertised, neither node reads its inputs (only
   // normals reads the primitive ids, only the cloud the camera info: flow is off).
-  auto advertised = [] {
-    ros::master::V_TopicInfo topics;
-    ros::master::getTopics(topics);
-    int found = 0;
-    for (const auto& t : topics) found += t.name == kNormals || t.name == kCloud;
-    return found == 2;
-  };
-  ASSERT_TRUE(viper::test::waitFor(advertised, deadline)) << kNormals << " and " << kCloud << " never advertised";
+  ASSERT_TRUE(viper::test::waitFor([] { return viper::test::allAdvertised({kNormals, kCloud}); }, deadline))
+      << kNormals << " and " << kCloud << " never advertised";
   EXPECT_EQ(pubs["/capture/primitive_ids"].getNumSubscribers(), 0u) << "normals reads its inputs unasked";
   EXPECT_EQ(pubs["/capture/color/camera_info"].getNumSubscribers(), 0u) << "labelled_cloud reads its inputs unasked";
 

@@ -13,14 +13,16 @@ if(CATKIN_ENABLE_TESTING)
     LINK viper_core gtest_main
     DEPENDS flow_truth_captures)
 endif()
-# viper_geometry_ros: the normals and labelled cloud nodes and their nodelets, each computing only
+# viper_geometry_ros: the normals, labelled cloud and amodal nodes and their nodelets, each computing only
 # while its output has subscribers. Cores: src/ground_truth/normals.cpp, labelled_cloud.cpp.
 viper_ros_library(viper_geometry_ros SOURCES
   src/ros/ground_truth/normals_node.cpp
   src/ros/ground_truth/labelled_cloud_node.cpp
   src/ros/ground_truth/geometry_nodelets.cpp
+  src/ros/ground_truth/amodal_node.cpp
+  src/ros/ground_truth/amodal_nodelet.cpp
   LINK viper_ground_truth_ros viper_ros viper_core ${catkin_LIBRARIES})
-foreach(node normals labelled_cloud)
+foreach(node normals labelled_cloud amodal)
   viper_executable(${node} nodes/${node}_node.cpp LINK viper_geometry_ros)
 endforeach()
 if(CATKIN_ENABLE_TESTING)
@@ -28,5 +30,8 @@ if(CATKIN_ENABLE_TESTING)
   viper_add_tester(geometry_tester test/ros/geometry_tester.cpp)
   add_rostest(test/ros/geometry_replay.test DEPENDENCIES geometry_tester viper_geometry_ros viper_ground_truth_ros)
   roslaunch_add_file_check(launch/view_bag.launch bag:=gt.bag normals:=true)
+  # The amodal node on the committed raw bag, checked against the instances node's images.
+  viper_add_tester(amodal_tester test/ros/amodal_tester.cpp viper_conversions)
+  add_rostest(test/ros/amodal_replay.test DEPENDENCIES amodal_tester viper_geometry_ros viper_ground_truth_ros)
 endif()
 

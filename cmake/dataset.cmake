@@ -157,8 +157,8 @@ viper_ros_library(viper_layout_ros SOURCES
   src/ros/dataset/viper_exporter_nodelet.cpp
   src/ros/dataset/sequence_generator.cpp
   SYSTEM_INCLUDES ${VIPER_ROSBAG_INCLUDE_DIRS} ${std_srvs_INCLUDE_DIRS}
-  LINK viper_flow_ros viper_ground_truth_ros viper_ros viper_core viper_dataset viper_layout_writer
-    ${catkin_LIBRARIES})
+  LINK viper_flow_ros viper_ground_truth_ros viper_geometry_ros viper_conversions viper_ros viper_core viper_dataset
+    viper_layout_writer ${catkin_LIBRARIES})
 
 viper_executable(player nodes/player_node.cpp LINK viper_layout_ros)
 viper_executable(viper_exporter nodes/viper_exporter_node.cpp LINK viper_layout_ros)
@@ -217,7 +217,7 @@ if(CATKIN_ENABLE_TESTING)
     ARGS export_viper:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/export_viper
          viper_to_bag:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/viper_to_bag
          generate:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}/generate
-    DEPENDENCIES viper_layout_tester export_viper viper_to_bag generate viper_ground_truth_ros viper_flow_ros)
+    DEPENDENCIES viper_layout_tester export_viper viper_to_bag generate viper_ground_truth_ros viper_flow_ros viper_geometry_ros)
 
   # The same round trip on the world: 20 frames of the town (day, driving) captured at build time and
   # turned into a raw bag by capture_to_bag (cmake/capture.cmake).
@@ -252,7 +252,7 @@ if(CATKIN_ENABLE_TESTING)
   # longer than a file name may be.)
   add_rostest(test/ros/viper_layout_roundtrip_world.test
     ARGS test_data:=${PROJECT_BINARY_DIR}/test_data bin:=${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION}
-    DEPENDENCIES viper_layout_tester export_viper viper_to_bag generate viper_ground_truth_ros viper_flow_ros world_raw_bag)
+    DEPENDENCIES viper_layout_tester export_viper viper_to_bag generate viper_ground_truth_ros viper_flow_ros viper_geometry_ros world_raw_bag)
 
   # The generate command on the world's capture and its raw bag (no roscore; test/dataset/test_*.cpp
   # are gtests, above).

@@ -33,6 +33,8 @@ namespace {
 
 struct Options {
   std::string input, labels, class_table;
+  std::string modalities;    // --modalities
+  int cloud_decimation = 1;  // --cloud-decimation
   std::string plan, write_plan;
   uint32_t task_index = 0, task_count = 0;
   bool task_index_given = false, task_count_given = false;  // both or neither (shard())
@@ -68,6 +70,13 @@ void addOptions(CLI::App& app, Options& o, int& writer_threads, std::string& out
                  "Cityscapes (gtFine), COCO (instances, visible and amodal), KITTI (flow, depth) under "
                  "SPLIT/training/SEQ (docs/training_formats.md)")
       ->type_name("layout,bag,cityscapes,coco,kitti")
+      ->capture_default_str();
+  app.add_option("--modalities", o.modalities,
+                 "ground truth beyond VIPER's into the bag, comma-separated, as their nodes publish it: "
+                 "normals (/ground_truth/normals), labelled_cloud (/ground_truth/labelled_cloud), scene_flow "
+                 "(/ground_truth/flow/scene_flow), amodal (/ground_truth/amodal/objects), or all")
+      ->type_name("normals,labelled_cloud,scene_flow,amodal|all");
+  app.add_option("--cloud-decimation", o.cloud_decimation, "labelled_cloud: every K-th pixel in both directions (>= 1)")
       ->capture_default_str();
   app.add_option("--frames", s.max_frames, "only the first N frames (0: all)");
   app.add_flag("--force", o.force, "redo a finished sequence");
@@ -119,6 +128,19 @@ std::string check(Options& o, const CLI::App& app, int writer_threads, const std
       *flag = true;
     }
   }
+  if (!o.modalities.empty()) {
+    std::istringstream list(o.modalities == "all" ? "normals,labelled_cloud,scene_flow,amodal" : o.modalities);
+    for (std::string name; std::getline(list, name, ',');) {
+      if (name == "normals") s.ground_truth.normals = true;
+      else if (name == "labelled_cloud") s.ground_truth.cloud_decimation = o.cloud_decimation;
+      else if (name == "scene_flow") s.ground_truth.scene_flow = true;
+      else if (name == "amodal") s.ground_truth.amodal = true;
+      else return "--modalities takes normals, labelled_cloud, scene_flow, amodal (comma-separated) or all; got '" + name + "'";
+    }
+    if (!s.outputs.bag) return "--modalities are written into the ground-truth bag: --outputs must have bag";
+    if (s.ground_truth.scene_flow && !s.ground_truth.flow_enabled) return "--modalities scene_flow needs the flow (not --no-flow)";
+  }
+  if (o.cloud_decimation < 1) return "--cloud-decimation must be >= 1";
   if (!o.write_plan.empty()) return o.plan.empty() ? "--write-plan needs --plan (the file to write)" : "";
   if (o.merge && (o.plan.empty() || s.root.empty())) return "--merge needs --plan and --out";
   if (!o.plan.empty()) {

@@ -24,7 +24,9 @@
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <topic_tools/shape_shifter.h>
+#include <viper/AmodalInstanceArray.h>
 #include <viper/Box3DArray.h>
 #include <viper/DrawList.h>
 #include <viper/ObjectArray.h>
@@ -97,7 +99,10 @@ TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
   const std::vector<std::string> outputs = {"/ground_truth/semantic",       "/ground_truth/instance_ids",
                                             "/ground_truth/instances_viper", "/ground_truth/flow/forward",
                                             "/ground_truth/flow/backward",   "/ground_truth/odom",
-                                            "/ground_truth/boxes_optical",   "/ground_truth/objects"};
+                                            "/ground_truth/boxes_optical",   "/ground_truth/objects",
+                                            // the modalities beyond VIPER's (generate --modalities all)
+                                            "/ground_truth/normals",         "/ground_truth/labelled_cloud",
+                                            "/ground_truth/flow/scene_flow", "/ground_truth/amodal/objects"};
   Truth truth;
   std::vector<ros::Subscriber> subs;
   for (const std::string& t : outputs)
@@ -189,7 +194,8 @@ TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
   // 3c. generate: the same raw bag in lockstep, without the nodes: the same ground truth, message
   // for message (header.seq aside: a publisher's count), and the same layout, byte for byte.
   const fs::path generated = work / "generated";
-  ASSERT_EQ(run(generate + " --input " + bag_path + " --labels " + label_table + " --out " + generated.string() + " > " +
+  ASSERT_EQ(run(generate + " --input " + bag_path + " --labels " + label_table + " --out " + generated.string() +
+                " --modalities all > " +
                 (work / "generate.log").string() + " 2>&1"),
             0)
       << "generate failed; see " << (work / "generate.log");
@@ -204,6 +210,10 @@ TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
     expectSameMessages<nav_msgs::Odometry>(gen, truth.messages, "/ground_truth/odom");
     expectSameMessages<viper::Box3DArray>(gen, truth.messages, "/ground_truth/boxes_optical");
     expectSameMessages<viper::ObjectArray>(gen, truth.messages, "/ground_truth/objects");
+    expectSameMessages<sensor_msgs::Image>(gen, truth.messages, "/ground_truth/normals");
+    expectSameMessages<sensor_msgs::PointCloud2>(gen, truth.messages, "/ground_truth/labelled_cloud");
+    expectSameMessages<sensor_msgs::Image>(gen, truth.messages, "/ground_truth/flow/scene_flow");
+    expectSameMessages<viper::AmodalInstanceArray>(gen, truth.messages, "/ground_truth/amodal/objects");
   }
   expectSameTree(layout, generated, [](const std::string& rel) {
     return rel.rfind("train/bag/", 0) == 0 || rel == "train/001.done";  // generate's own outputs

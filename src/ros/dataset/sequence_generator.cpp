@@ -4,8 +4,10 @@
 #include "viper/dataset/training_export.h"
 #include "viper/dataset/sequence_marker.h"
 #include "viper/ros/bridge/bag_writer.h"
+#include "viper/ros/conversions/amodal_conversions.h"
 #include "viper/ros/conversions/frame_conversions.h"
 #include "viper/ros/conversions/object_conversions.h"
+#include "viper/ros/ground_truth/labelled_cloud_node.h"
 #include "viper/ros/ground_truth/step_problems.h"
 
 #include <boost/make_shared.hpp>
@@ -68,6 +70,48 @@ struct GroundTruthMessages {
   BoxesMessages boxes;           // in map and in the optical frame
   std::optional<OdometryMessages::Output> odometry;
   FlowMessages flow_forward, flow_backward, flow_wide;  // between the previous frame and this one
+  // The modalities asked for (--modalities), as their nodes publish them.
+  sensor_msgs::ImagePtr normals, scene_flow;  // scene_flow: the previous frame -> this one
+  sensor_msgs::PointCloud2Ptr cloud;
+  AmodalInstanceArrayPtr amodal;
+};
+
+// The normals' and the cloud's messages of a frame (new ones each frame: the bag's thread may still
+// hold the last), shaped as the normals and labelled_cloud nodes shape theirs.
+class ModalityMessages : public ModalitySink {
+ public:
+  float* takeNormals(const GroundTruthInput& frame) override {
+    normals = boost::make_shared<sensor_msgs::Image>();
+    normals->header = headerOf(frame);
+    normals->width = frame.frame.width, normals->height = frame.frame.height;
+    normals->encoding = sensor_msgs::image_encodings::TYPE_32FC3;
+    normals->step = 12 * normals->width;
+    normals->data.resize(static_cast<size_t>(normals->step) * normals->height);
+    return reinterpret_cast<float*>(normals->data.data());
+  }
+  CloudPoint* takeCloud(const GroundTruthInput&, const CloudSize& size) override {
+    cloud = boost::make_shared<sensor_msgs::PointCloud2>();
+    shapeLabelledCloudMsg(size, *cloud);
+    return reinterpret_cast<CloudPoint*>(cloud->data.data());
+  }
+  sensor_msgs::ImagePtr normals;
+  sensor_msgs::PointCloud2Ptr cloud;
+};
+
+// The flows' messages, and the scene flow's (32FC4, with the header of the frame it starts from, as
+// the flow node's).
+class FlowAndSceneFlowMessages : public FlowMessagePools {
+ public:
+  float* takeSceneFlow(const GroundTruthInput& from) override {
+    scene_flow = boost::make_shared<sensor_msgs::Image>();
+    scene_flow->header = headerOf(from);
+    scene_flow->width = from.frame.width, scene_flow->height = from.frame.height;
+    scene_flow->encoding = sensor_msgs::image_encodings::TYPE_32FC4;
+    scene_flow->step = 16 * scene_flow->width;
+    scene_flow->data.resize(static_cast<size_t>(scene_flow->step) * scene_flow->height);
+    return reinterpret_cast<float*>(scene_flow->data.data());
+  }
+  sensor_msgs::ImagePtr scene_flow;
 };
 
 // The ground-truth bag of a sequence: the raw topics as the bridge publishes them and the ground
@@ -109,6 +153,10 @@ class GroundTruthBag {
     flow("/ground_truth/flow/forward", g.flow_forward);
     flow("/ground_truth/flow/backward", g.flow_backward);
     flow("/ground_truth/flow/wide", g.flow_wide);
+    if (g.scene_flow) bag_.write("/ground_truth/flow/scene_flow", g.scene_flow);
+    if (g.normals) bag_.write("/ground_truth/normals", g.normals);
+    if (g.cloud) bag_.write("/ground_truth/labelled_cloud", g.cloud);
+    if (g.amodal) bag_.write("/ground_truth/amodal/objects", g.amodal);
   }
 
   void close() { bag_.close(); }
@@ -236,7 +284,7 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
   odometry.make_path = false;  // the bag and the layout keep the poses; a path per frame is O(n^2)
   OdometryMessages odometry_messages(odometry);
   InstanceImagePools image_pools;
-  FlowMessagePools flow_pools;
+  FlowAndSceneFlowMessages flow_pools;
   GroundTruthResult truth;  // kept from frame to frame: its storage
   std::map<ros::Time, uint64_t> frame_of;  // header stamp -> frame number in the sequence
   FrameMessages raw;
@@ -271,7 +319,8 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
                             " (frame " + std::to_string(number) + ", frame_id '" + raw.draw_ids->header.frame_id +
                                 "'): " + ids_problem + "; frame dropped"});
       } else {
-        if (settings_.ground_truth.flow_enabled || settings_.outputs.kitti) {
+        if (settings_.ground_truth.flow_enabled || settings_.outputs.kitti || settings_.ground_truth.normals ||
+            settings_.ground_truth.cloud_decimation > 0) {
           std::string depth_problem, primitives_problem;
           decodeFlowMsgs(raw.depth, raw.primitive_ids, *decoded, depth_problem, primitives_problem);
           const std::string at = " (frame " + std::to_string(number) + "): ";
@@ -281,13 +330,19 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
             flow_input_problems.push_back({StepInput::kPrimitiveIds, StepSeverity::kError, "primitive_ids",
                                            at + primitives_problem + "; frame dropped"});
         }
+        if (raw.color && raw.color->encoding == sensor_msgs::image_encodings::RGB8 &&
+            raw.color->width == decoded->frame.width && raw.color->height == decoded->frame.height &&
+            raw.color->step == 3 * raw.color->width)
+          decoded->color_rgb = raw.color->data.data();  // the cloud's colours (raw.color outlives the frame)
         // The instance images are computed into the messages the bag and the layout take.
         gt.images = image_pools.take(headerOf(*decoded), decoded->frame.width, decoded->frame.height,
                                      InstanceImagesWanted(), into);
       }
     }
     flow_pools.clear();
-    const bool kept = pipeline.process(decoded, into, flow_pools, truth, problems, times);
+    flow_pools.scene_flow.reset();
+    ModalityMessages modalities;
+    const bool kept = pipeline.process(decoded, into, flow_pools, truth, problems, times, &modalities);
     problems.insert(problems.end(), flow_input_problems.begin(), flow_input_problems.end());
     {
       StageTimer t(times, "messages");
@@ -299,6 +354,14 @@ SequenceResult SequenceGenerator::run(RawFrames& input, bool force,
         if (truth.flow.forward) gt.flow_forward = flow_pools.messages(FlowKind::kForward);
         if (truth.flow.backward) gt.flow_backward = flow_pools.messages(FlowKind::kBackward);
         if (truth.flow.wide) gt.flow_wide = flow_pools.messages(FlowKind::kWide);
+        if (truth.flow.scene_flow) gt.scene_flow = flow_pools.scene_flow;
+        if (truth.normals) gt.normals = modalities.normals;
+        if (truth.cloud) {
+          gt.cloud = modalities.cloud;
+          gt.cloud->header = raw.depth->header;
+        }
+        if (settings_.ground_truth.amodal)
+          gt.amodal = boost::make_shared<AmodalInstanceArray>(toAmodalInstanceArrayMsg(truth.amodal, headerOf(*decoded)));
       }
     }
     for (const StepProblem& p : problems) {

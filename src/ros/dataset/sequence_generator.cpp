@@ -76,17 +76,23 @@ struct GroundTruthMessages {
   AmodalInstanceArrayPtr amodal;
 };
 
+// A new float image of `frame`'s size and header (its draw ids'), `channels` floats a pixel.
+sensor_msgs::ImagePtr floatImage(const GroundTruthInput& frame, const std::string& encoding, uint32_t channels) {
+  auto image = boost::make_shared<sensor_msgs::Image>();
+  image->header = headerOf(frame);
+  image->width = frame.frame.width, image->height = frame.frame.height;
+  image->encoding = encoding;
+  image->step = 4 * channels * image->width;
+  image->data.resize(static_cast<size_t>(image->step) * image->height);
+  return image;
+}
+
 // The normals' and the cloud's messages of a frame (new ones each frame: the bag's thread may still
 // hold the last), shaped as the normals and labelled_cloud nodes shape theirs.
 class ModalityMessages : public ModalitySink {
  public:
   float* takeNormals(const GroundTruthInput& frame) override {
-    normals = boost::make_shared<sensor_msgs::Image>();
-    normals->header = headerOf(frame);
-    normals->width = frame.frame.width, normals->height = frame.frame.height;
-    normals->encoding = sensor_msgs::image_encodings::TYPE_32FC3;
-    normals->step = 12 * normals->width;
-    normals->data.resize(static_cast<size_t>(normals->step) * normals->height);
+    normals = floatImage(frame, sensor_msgs::image_encodings::TYPE_32FC3, 3);
     return reinterpret_cast<float*>(normals->data.data());
   }
   CloudPoint* takeCloud(const GroundTruthInput&, const CloudSize& size) override {
@@ -103,12 +109,7 @@ class ModalityMessages : public ModalitySink {
 class FlowAndSceneFlowMessages : public FlowMessagePools {
  public:
   float* takeSceneFlow(const GroundTruthInput& from) override {
-    scene_flow = boost::make_shared<sensor_msgs::Image>();
-    scene_flow->header = headerOf(from);
-    scene_flow->width = from.frame.width, scene_flow->height = from.frame.height;
-    scene_flow->encoding = sensor_msgs::image_encodings::TYPE_32FC4;
-    scene_flow->step = 16 * scene_flow->width;
-    scene_flow->data.resize(static_cast<size_t>(scene_flow->step) * scene_flow->height);
+    scene_flow = floatImage(from, sensor_msgs::image_encodings::TYPE_32FC4, 4);
     return reinterpret_cast<float*>(scene_flow->data.data());
   }
   sensor_msgs::ImagePtr scene_flow;

@@ -58,9 +58,9 @@ void renderAmodalOverlay(const FrameAmodal& amodal, const int32_t* instance_ids,
   out.is_bigendian = false;
   out.step = 3 * out.width;
   out.data.assign(static_cast<size_t>(out.step) * out.height, 0);
-  // Occluded parts hatched first, visible parts filled after: no object's stripes cover what
-  // another shows.
-  for (const bool visible_pass : {false, true})
+  // Visible parts filled first, occluded parts hatched after, over whatever hides them (another
+  // object's fill between the stripes shows what is in front).
+  for (const bool visible_pass : {true, false})
     for (const AmodalObject& a : amodal.objects) {
       uint8_t rgb[3];
       amodalColor(a.track_id, rgb);

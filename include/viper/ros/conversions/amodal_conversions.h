@@ -19,10 +19,10 @@ AmodalInstanceArray toAmodalInstanceArrayMsg(const FrameAmodal& amodal, const st
 
 /// rgb8 picture of the frame's objects, amodal.width x amodal.height, for rviz: black where no
 /// object is; each object's visible pixels (instance_ids shows its track id) filled in its colour
-/// (amodalColor), the rest of its mask (its occluded part) hatched in that colour: diagonal
-/// stripes, 2 px of every 6 along x + y, where no object is visible. `instance_ids`: the frame's
-/// width * height track ids. Where two objects' occluded parts overlap, the later object's stripes
-/// win.
+/// (amodalColor), the rest of its mask (its occluded part) hatched in that colour over what hides
+/// it: diagonal stripes on the pixels where (x + y) % 6 < 2, so that an occluding object's fill
+/// shows between them. `instance_ids`: the frame's width * height track ids. Where occluded parts
+/// overlap, the later object's stripes win.
 void renderAmodalOverlay(const FrameAmodal& amodal, const int32_t* instance_ids, const std_msgs::Header& header,
                          sensor_msgs::Image& out);
 

@@ -30,6 +30,9 @@ if(CATKIN_ENABLE_TESTING)
   viper_add_tester(geometry_tester test/ros/geometry_tester.cpp)
   add_rostest(test/ros/geometry_replay.test DEPENDENCIES geometry_tester viper_geometry_ros viper_ground_truth_ros)
   roslaunch_add_file_check(launch/view_bag.launch bag:=gt.bag normals:=true)
+  # The amodal node's message step on bad input; no roscore.
+  catkin_add_gtest(test_amodal_message_step test/ros/test_amodal_message_step.cpp WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  target_link_libraries(test_amodal_message_step viper_geometry_ros gtest_main)
   # The amodal node on the committed raw bag, checked against the instances node's images.
   viper_add_tester(amodal_tester test/ros/amodal_tester.cpp viper_conversions)
   add_rostest(test/ros/amodal_replay.test DEPENDENCIES amodal_tester viper_geometry_ros viper_ground_truth_ros)

@@ -43,6 +43,15 @@ if(CATKIN_ENABLE_TESTING)
       VIPER_CLASSES_CSV="${PROJECT_SOURCE_DIR}/config/viper_classes.csv"
     LINK viper_core gtest_main
     DEPENDS gt_world_capture)
+  # capture_sheet --modalities on that capture: each tile drawn where its modality has values.
+  viper_gtest(test_capture_sheet test/capture/test_capture_sheet.cpp
+    SYSTEM_INCLUDES ${OpenCV_INCLUDE_DIRS}
+    DEFINITIONS
+      VIPER_CAPTURE_SHEET="$<TARGET_FILE:capture_sheet>"
+      VIPER_WORLD_CAPTURE="${VIPER_GT_DATA}/gt_world.vcap"
+      VIPER_WORLD_LABELS="${PROJECT_SOURCE_DIR}/config/labels/world_labels.yaml"
+    LINK viper_core ${OpenCV_LIBS} gtest_main
+    DEPENDS gt_world_capture capture_sheet)
   # And against GL: every tracked object of that capture drawn alone from the oracle's meshes.
   viper_gtest(test_amodal_gl test/ground_truth/test_amodal_gl.cpp test/ground_truth/oracle_truth.cpp
     DEFINITIONS

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "viper/ground_truth/amodal.h"
+#include "viper/ground_truth/amodal_overlay.h"
 
 #include <sensor_msgs/Image.h>
 #include <std_msgs/Header.h>
@@ -18,15 +19,10 @@ namespace viper {
 AmodalInstanceArray toAmodalInstanceArrayMsg(const FrameAmodal& amodal, const std_msgs::Header& header);
 
 /// rgb8 picture of the frame's objects, amodal.width x amodal.height, for rviz: black where no
-/// object is; each object's visible pixels (instance_ids shows its track id) filled in its colour
-/// (amodalColor), the rest of its mask (its occluded part) hatched in that colour over what hides
-/// it: diagonal stripes on the pixels where (x + y) % 6 < 2, so that an occluding object's fill
-/// shows between them. `instance_ids`: the frame's width * height track ids. Where occluded parts
-/// overlap, the later object's stripes win.
+/// object is; paintAmodalOverlay's picture on it (amodal_overlay.h: each object's visible pixels
+/// filled in its colour amodalColor, its occluded part hatched in it over what hides it).
+/// `instance_ids`: the frame's width * height track ids.
 void renderAmodalOverlay(const FrameAmodal& amodal, const int32_t* instance_ids, const std_msgs::Header& header,
                          sensor_msgs::Image& out);
-
-/// The overlay's colour of a track id (r, g, b): hues spread by the golden ratio, full saturation.
-void amodalColor(int32_t track_id, uint8_t rgb[3]);
 
 }  // namespace viper

@@ -35,12 +35,16 @@ inline void readCapture(const std::string& path, std::vector<CaptureFrame>& fram
 ///   against the pixel plus its optical flow;
 /// - depth_relative: p's depth plus the depth change against b's depth image at the target, where
 ///   the flow's mask says visible and the four pixels around the target show the same triangle
-///   (1 / depth bilinear there: it is affine in the image over a triangle), relative to it;
+///   (1 / depth bilinear there: it is affine in the image over a triangle), relative to it; draws
+///   without a mesh (key 0) are counted in `depth_unplaced` instead: the layer could not tell
+///   whether their vertex shader moves them (SuperTuxKart's banners under the Vulkan layer, whose
+///   depth changes while their matrices do not);
 /// - static_relative: |scene flow| / depth of static surfaces (same mesh, same world matrix in both
 ///   frames): a point the world holds still does not move, whatever the camera does.
 struct SceneFlowCheck {
   std::vector<float> reprojection_px, depth_relative, static_relative;
   uint64_t mask_differs = 0;  ///< values NaN where the flow is not, or finite where it is NaN
+  uint64_t depth_unplaced = 0;  ///< visible pixels of draws without a mesh, left out of depth_relative
 
   void add(const CaptureFrame& a, const CaptureFrame& b, const std::vector<int32_t>& a_to_b, const FrameCamera& ca,
            const FrameCamera& cb, const FlowField& flow, const std::vector<float>& b_depth,
@@ -87,17 +91,22 @@ struct SceneFlowCheck {
                              ((k >> 1) ? want.y() - fy : 1.0 - (want.y() - fy)) / b_depth[q];
         }
         if (!same || !(da.deformed_clip_xyzw.empty() && db.deformed_clip_xyzw.empty())) continue;
+        if (da.mesh_key == 0) {
+          ++depth_unplaced;
+          continue;
+        }
         const double depth_b = 1.0 / inverse_depth;
         depth_relative.push_back(static_cast<float>(std::abs(point.z() + v[3] - depth_b) / depth_b));
       }
   }
   void print() const {
     std::printf("scene flow: p + scene flow projected into the next frame vs pixel + flow: median %.2e p99 %.2e max "
-                "%.2e px (%zu px); depth + change vs the next depth image: median %.2e p99 %.2e (%zu px); static "
+                "%.2e px (%zu px); depth + change vs the next depth image: median %.2e p99 %.2e (%zu px; %llu px of "
+                "draws without a mesh left out); static "
                 "surfaces |scene flow| / depth: median %.2e p99 %.2e max %.2e (%zu px)\n",
                 quantile(reprojection_px, 0.5), quantile(reprojection_px, 0.99), quantile(reprojection_px, 1.0),
                 reprojection_px.size(), quantile(depth_relative, 0.5), quantile(depth_relative, 0.99),
-                depth_relative.size(), quantile(static_relative, 0.5), quantile(static_relative, 0.99),
+                depth_relative.size(), static_cast<unsigned long long>(depth_unplaced), quantile(static_relative, 0.5), quantile(static_relative, 0.99),
                 quantile(static_relative, 1.0), static_relative.size());
   }
 };

@@ -256,7 +256,9 @@ int main(int argc, char** argv) {
     path = (share.empty() ? std::string(VIPER_SOURCE_DIR) : share) + "/config/viper_classes.csv";
   }
   try {
-    for (const viper::ClassInfo& c : viper::ClassTable::load(path).classes())
+    // The table held while its classes are read (a temporary's classes() would dangle in the loop).
+    const viper::ClassTable table = viper::ClassTable::load(path);
+    for (const viper::ClassInfo& c : table.classes())
       if (c.instance_eval) o.out.categories.push_back({c.id, c.name, "viper"});
   } catch (const std::exception& e) {
     std::cerr << "export_training: " << e.what() << " (--class-table)\n";

@@ -127,6 +127,11 @@ TEST(ViperLayoutRoundTrip, GroundTruthExportPlayerGiveIdenticalTopics) {
     return live.inputsConnected();
   };
   ASSERT_TRUE(waitFor(connected, deadline)) << "ground-truth nodes did not connect";
+  // The normals, labelled_cloud and amodal nodes (and the flow node's scene flow) take their inputs
+  // only once their outputs have a subscriber, which the connections above do not show (the manager
+  // already takes those topics for the other nodes): under load the first frame came before the
+  // cloud's inputs were taken (19 of 20 clouds). Time for them to subscribe.
+  ros::WallDuration(2.0).sleep();
   std::vector<ros::Time> frames;
   std::map<std::string, std::vector<rosbag::MessageInstance>> raw_messages;
   // Each node takes the mesh store on a callback of its own, which may run after the frame's (then

@@ -49,7 +49,6 @@ bool GroundTruthPipeline::process(const GroundTruthInputPtr& input, const Instan
   }
   if (settings_.amodal) {
     StageTimer t(times, "amodal");
-    out.amodal.objects.clear();
     amodal_.process(frame, out.instances.objects, instance_ids, instances_.meshes(), out.amodal, problems);
   }
   if (settings_.flow_enabled) {
